@@ -1,0 +1,136 @@
+//! Errors of the whirl library.
+//!
+//! Input errors name the file, line and column, the field and what was expected, so the
+//! CLI can show them as they are; numerical failures say what failed and what to change.
+
+use std::ops::Range;
+use std::path::PathBuf;
+
+/// An error in a model file or in an analysis option, located in its source text.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InputError {
+    /// The file, when the input came from one.
+    pub file: Option<PathBuf>,
+    /// The field, as a path (`disk[0].mass`), when one is to blame.
+    pub field: Option<String>,
+    /// What is wrong and what was expected.
+    pub message: String,
+    /// How to fix it, when that is not obvious from the message.
+    pub help: Option<String>,
+    /// Byte range in the source text.
+    pub span: Option<Range<usize>>,
+    /// 1-based line and column of the span's start.
+    pub line_column: Option<(usize, usize)>,
+}
+
+impl InputError {
+    /// An error about a field, without a place in a file yet.
+    pub fn field(field: impl Into<String>, message: impl Into<String>) -> Self {
+        InputError {
+            file: None,
+            field: Some(field.into()),
+            message: message.into(),
+            help: None,
+            span: None,
+            line_column: None,
+        }
+    }
+
+    /// Adds the byte span of the offending value.
+    pub fn at(mut self, span: Range<usize>) -> Self {
+        self.span = Some(span);
+        self
+    }
+
+    /// Adds a hint on how to fix it.
+    pub fn help(mut self, help: impl Into<String>) -> Self {
+        self.help = Some(help.into());
+        self
+    }
+
+    /// Fills in file, line and column from the source text.
+    pub fn locate(mut self, file: Option<PathBuf>, source: &str) -> Self {
+        self.file = file;
+        if let Some(span) = &self.span {
+            self.line_column = Some(line_column(source, span.start));
+        }
+        self
+    }
+}
+
+/// 1-based line and column (in characters) of a byte offset.
+pub fn line_column(source: &str, offset: usize) -> (usize, usize) {
+    let offset = offset.min(source.len());
+    let before = source.get(..offset).unwrap_or(source);
+    let line = before.matches('\n').count() + 1;
+    let column = before
+        .rsplit('\n')
+        .next()
+        .map(|l| l.chars().count())
+        .unwrap_or(0)
+        + 1;
+    (line, column)
+}
+
+impl std::fmt::Display for InputError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if let Some(file) = &self.file {
+            write!(f, "{}", file.display())?;
+            if let Some((l, c)) = self.line_column {
+                write!(f, ":{l}:{c}")?;
+            }
+            write!(f, ": ")?;
+        } else if let Some((l, c)) = self.line_column {
+            write!(f, "line {l}, column {c}: ")?;
+        }
+        if let Some(field) = &self.field {
+            write!(f, "`{field}`: ")?;
+        }
+        write!(f, "{}", self.message)?;
+        if let Some(help) = &self.help {
+            write!(f, "\n  help: {help}")?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for InputError {}
+
+/// Everything that can go wrong in whirl.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The model file or an option is wrong.
+    #[error("{0}")]
+    Input(Box<InputError>),
+    /// A file could not be read or written.
+    #[error("cannot {action} `{path}`: {source}")]
+    Io {
+        action: &'static str,
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    /// A numerical method failed; the message says why and what to change.
+    #[error("{0}")]
+    Numerical(String),
+}
+
+impl From<InputError> for Error {
+    fn from(e: InputError) -> Self {
+        Error::Input(Box::new(e))
+    }
+}
+
+/// Result with whirl's error.
+pub type Result<T> = std::result::Result<T, Error>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn line_and_column_are_one_based() {
+        let src = "a = 1\nbb = -2\n";
+        assert_eq!(line_column(src, 0), (1, 1));
+        assert_eq!(line_column(src, src.find("-2").unwrap()), (2, 6));
+    }
+}

@@ -1,0 +1,61 @@
+//! Finite-element model of the rotor: element matrices, DOF numbering and assembly.
+//!
+//! Equation of motion (thesis eq. 2.4, SPEC section 2):
+//! `M q'' + (Omega G + C) q' + K q = F_lin(t) + F_nl(q, q', t)`.
+//!
+//! Global DOF numbering: four DOFs per node, node by node from z = 0:
+//! `q[4 n + 0] = ux`, `q[4 n + 1] = uy`, `q[4 n + 2] = tx`, `q[4 n + 3] = ty` with
+//! `ty = d(ux)/dz`, `tx = -d(uy)/dz`. Results files name DOFs `n<node>.<dir>` (e.g.
+//! `n10.uy`), never by raw index alone.
+
+mod assembly;
+pub mod beam;
+
+pub use assembly::{assemble, gravity_force, unbalance_force, Bearings, SystemMatrices};
+
+use serde::Serialize;
+
+/// The four DOFs of a node.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum Direction {
+    /// Translation along x (horizontal).
+    Ux = 0,
+    /// Translation along y (vertical, up).
+    Uy = 1,
+    /// Rotation about x: -d(uy)/dz.
+    Tx = 2,
+    /// Rotation about y: d(ux)/dz.
+    Ty = 3,
+}
+
+impl Direction {
+    /// All four, in DOF order.
+    pub const ALL: [Direction; 4] = [Direction::Ux, Direction::Uy, Direction::Tx, Direction::Ty];
+
+    /// Short name used in results files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Direction::Ux => "ux",
+            Direction::Uy => "uy",
+            Direction::Tx => "tx",
+            Direction::Ty => "ty",
+        }
+    }
+}
+
+/// DOFs per node.
+pub const DOFS_PER_NODE: usize = 4;
+
+/// Global index of a node's DOF.
+pub fn dof(node: usize, direction: Direction) -> usize {
+    DOFS_PER_NODE * node + direction as usize
+}
+
+/// Name of a global DOF, `n<node>.<dir>`.
+pub fn dof_name(index: usize) -> String {
+    format!(
+        "n{}.{}",
+        index / DOFS_PER_NODE,
+        Direction::ALL[index % DOFS_PER_NODE].name()
+    )
+}

@@ -1,0 +1,248 @@
+//! Complex (damped, gyroscopic) modes at a spin speed (thesis eqs. 2.21-2.27).
+//!
+//! In first-order form with the state z = (q, q'):
+//!
+//! ```text
+//! z' = A z,   A = [ 0            I                   ]
+//!                 [ -M^-1 K      -M^-1 (C + Omega G) ]
+//! ```
+//!
+//! Eigenvalues lambda = -zeta w_n +- i w_d; only the root with w_d > 0 of each pair is
+//! kept, and overdamped (real) roots are dropped from the results: Rayleigh damping makes
+//! the highest modes overdamped, and when spinning those can show up as spurious slow roots.
+//!
+//! [`ModalBasis`] holds the system either in full (coordinates = physical DOFs) or projected
+//! on its lowest undamped modes (q = Phi eta, Phi^T M Phi = I), which makes each speed of a
+//! Campbell diagram much cheaper. The projection error on the retained whirl modes is
+//! reported by the Campbell benchmark and tested against the full solve.
+
+use faer::{c64, Mat};
+use serde::Serialize;
+
+use super::undamped::{mass_cholesky, undamped_modes};
+use crate::error::{Error, Result};
+use crate::fe::{dof, Direction, SystemMatrices};
+
+/// Whirl direction of a mode, from the orbits of its nodes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Whirl {
+    /// Every node whirls with the spin.
+    Forward,
+    /// Every node whirls against the spin.
+    Backward,
+    /// Some nodes each way.
+    Mixed,
+}
+
+impl Whirl {
+    /// Lower-case name for tables.
+    pub fn name(self) -> &'static str {
+        match self {
+            Whirl::Forward => "forward",
+            Whirl::Backward => "backward",
+            Whirl::Mixed => "mixed",
+        }
+    }
+}
+
+/// One damped mode at one speed.
+#[derive(Debug, Clone, Serialize)]
+pub struct ComplexMode {
+    /// Eigenvalue, 1/s: (real, imaginary).
+    pub eigenvalue: (f64, f64),
+    /// Damped natural frequency w_d / 2 pi, Hz.
+    pub damped_frequency_hz: f64,
+    /// Undamped natural frequency |lambda| / 2 pi, Hz.
+    pub natural_frequency_hz: f64,
+    /// Damping ratio -Re(lambda) / |lambda|.
+    pub damping_ratio: f64,
+    /// Logarithmic decrement 2 pi zeta / sqrt(1 - zeta^2).
+    pub log_decrement: f64,
+    /// Whirl direction.
+    pub whirl: Whirl,
+    /// Displacement shape over the global DOFs, scaled so that the largest translation is 1.
+    #[serde(skip)]
+    pub shape: Vec<c64>,
+    /// The eigenvector in the basis' own coordinates, for mode tracking.
+    #[serde(skip)]
+    pub coordinates: Vec<c64>,
+}
+
+impl ComplexMode {
+    /// Forward and backward orbit radii (R_f, R_b) of a node: with ux = a e^{i w t},
+    /// uy = b e^{i w t}, the orbit x + i y = (a + i b)/2 e^{i w t} + conj(a - i b)/2 e^{-i w t}.
+    pub fn orbit_radii(&self, node: usize) -> (f64, f64) {
+        let a = self.shape[dof(node, Direction::Ux)];
+        let b = self.shape[dof(node, Direction::Uy)];
+        let i = c64::new(0.0, 1.0);
+        ((a + i * b).norm() / 2.0, (a - i * b).norm() / 2.0)
+    }
+}
+
+/// The system in the coordinates a modal solve works in.
+#[derive(Debug, Clone)]
+pub struct ModalBasis {
+    /// M^-1 K in the basis coordinates.
+    minv_k: Mat<f64>,
+    /// M^-1 C.
+    minv_c: Mat<f64>,
+    /// M^-1 G.
+    minv_g: Mat<f64>,
+    /// Physical shapes of the coordinates (None: the coordinates are the physical DOFs).
+    shapes: Option<Mat<f64>>,
+    /// Number of physical DOFs.
+    dofs: usize,
+}
+
+impl ModalBasis {
+    /// The full system: exact, one 2n x 2n eigen-solve per speed.
+    pub fn full(system: &SystemMatrices) -> Result<ModalBasis> {
+        let llt = mass_cholesky(&system.mass)?;
+        let solve = |a: &Mat<f64>| {
+            let mut x = a.clone();
+            faer::linalg::solvers::Solve::solve_in_place(&llt, x.as_mut());
+            x
+        };
+        Ok(ModalBasis {
+            minv_k: solve(&system.stiffness),
+            minv_c: solve(&system.damping),
+            minv_g: solve(&system.gyroscopic),
+            shapes: None,
+            dofs: system.dofs(),
+        })
+    }
+
+    /// The system projected on its `count` lowest undamped modes (q = Phi eta).
+    pub fn truncated(system: &SystemMatrices, count: usize) -> Result<ModalBasis> {
+        let phi = undamped_modes(system, count)?.shapes;
+        let project = |a: &Mat<f64>| phi.transpose() * a * &phi;
+        Ok(ModalBasis {
+            minv_k: project(&system.stiffness),
+            minv_c: project(&system.damping),
+            minv_g: project(&system.gyroscopic),
+            dofs: system.dofs(),
+            shapes: Some(phi),
+        })
+    }
+
+    /// Number of coordinates.
+    pub fn size(&self) -> usize {
+        self.minv_k.nrows()
+    }
+
+    /// Damped modes at spin speed `omega` (rad/s), ascending in damped frequency, overdamped
+    /// roots and roots with damping ratio above `max_damping_ratio` left out.
+    pub fn modes_at(&self, omega: f64, max_damping_ratio: f64) -> Result<Vec<ComplexMode>> {
+        let p = self.size();
+        let a = Mat::<f64>::from_fn(2 * p, 2 * p, |i, j| match (i < p, j < p) {
+            (true, true) => 0.0,
+            (true, false) => f64::from(u8::from(i + p == j)),
+            (false, true) => -self.minv_k[(i - p, j)],
+            (false, false) => {
+                -(self.minv_c[(i - p, j - p)] + omega * self.minv_g[(i - p, j - p)])
+            }
+        });
+        let eig = a.eigen().map_err(|_| {
+            Error::Numerical(format!(
+                "the eigen-solver did not converge at {omega} rad/s; check the model's matrices"
+            ))
+        })?;
+        let values = eig.S().column_vector();
+        let vectors = eig.U();
+        let scale = (0..2 * p).map(|k| values[k].norm()).fold(0.0, f64::max);
+        let mut modes = Vec::new();
+        for k in 0..2 * p {
+            let lambda = values[k];
+            let norm = lambda.norm();
+            // Keep one root of each complex pair; real roots (overdamped, or rigid-body
+            // roots at 0) have no whirl frequency.
+            if lambda.im <= 1e-9 * scale.max(1.0) || norm == 0.0 {
+                continue;
+            }
+            let zeta = -lambda.re / norm;
+            if zeta > max_damping_ratio {
+                continue;
+            }
+            let coordinates: Vec<c64> = (0..p).map(|i| vectors[(i, k)]).collect();
+            let shape = self.physical(&coordinates);
+            modes.push(make_mode(lambda, zeta, coordinates, shape));
+        }
+        modes.sort_by(|a, b| a.damped_frequency_hz.total_cmp(&b.damped_frequency_hz));
+        Ok(modes)
+    }
+
+    fn physical(&self, coordinates: &[c64]) -> Vec<c64> {
+        let mut shape = match &self.shapes {
+            None => coordinates.to_vec(),
+            Some(phi) => (0..self.dofs)
+                .map(|i| {
+                    (0..coordinates.len())
+                        .map(|j| coordinates[j] * phi[(i, j)])
+                        .sum()
+                })
+                .collect(),
+        };
+        normalise(&mut shape);
+        shape
+    }
+}
+
+/// Scales a shape so that its largest translation is 1 (real, positive).
+fn normalise(shape: &mut [c64]) {
+    let largest = shape
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| i % 4 < 2)
+        .map(|(_, v)| *v)
+        .max_by(|a, b| a.norm().total_cmp(&b.norm()));
+    if let Some(v) = largest.filter(|v| v.norm() > 0.0) {
+        let s = v.conj() / v.norm() / v.norm();
+        shape.iter_mut().for_each(|x| *x *= s);
+    }
+}
+
+fn make_mode(lambda: c64, zeta: f64, coordinates: Vec<c64>, shape: Vec<c64>) -> ComplexMode {
+    let two_pi = 2.0 * std::f64::consts::PI;
+    let mut mode = ComplexMode {
+        eigenvalue: (lambda.re, lambda.im),
+        damped_frequency_hz: lambda.im / two_pi,
+        natural_frequency_hz: lambda.norm() / two_pi,
+        damping_ratio: zeta,
+        log_decrement: two_pi * zeta / (1.0 - zeta * zeta).max(1e-300).sqrt(),
+        whirl: Whirl::Mixed,
+        shape,
+        coordinates,
+    };
+    mode.whirl = classify_whirl(&mode);
+    mode
+}
+
+/// Forward if every node that moves noticeably (orbit above 1 % of the largest) whirls
+/// forward, backward if every such node whirls backward, mixed otherwise.
+fn classify_whirl(mode: &ComplexMode) -> Whirl {
+    let nodes = mode.shape.len() / 4;
+    let radii: Vec<(f64, f64)> = (0..nodes).map(|n| mode.orbit_radii(n)).collect();
+    let largest = radii.iter().map(|(f, b)| f + b).fold(0.0, f64::max);
+    let (mut forward, mut backward) = (false, false);
+    for &(f, b) in &radii {
+        if f + b < 0.01 * largest {
+            continue;
+        }
+        if f >= b {
+            forward = true;
+        } else {
+            backward = true;
+        }
+    }
+    match (forward, backward) {
+        (true, false) => Whirl::Forward,
+        (false, true) => Whirl::Backward,
+        _ => Whirl::Mixed,
+    }
+}
+
+/// Damped modes of the full system at spin speed `omega` (rad/s); see [`ModalBasis`].
+pub fn complex_modes(system: &SystemMatrices, omega: f64) -> Result<Vec<ComplexMode>> {
+    ModalBasis::full(system)?.modes_at(omega, 1.0)
+}

@@ -1,0 +1,18 @@
+//! Modal analysis (thesis 2.2, SPEC section 4).
+//!
+//! - [`undamped_modes`]: K v = w^2 M v, mass-normalised shapes.
+//! - [`complex_modes`]: the damped gyroscopic system at a spin speed in first-order form
+//!   (thesis eqs. 2.21-2.27): eigenvalues lambda = -zeta w_n +- i w_d, whirl direction.
+//! - [`campbell`]: whirl frequencies over speed, tracked by mode-shape correlation, with
+//!   critical speeds where a branch crosses an excitation order.
+//! - [`convergence`]: frequencies versus element count (thesis fig. 2.8).
+
+mod campbell;
+mod complex;
+mod convergence;
+mod undamped;
+
+pub use campbell::{campbell, CampbellOptions, CampbellResult, CriticalSpeed, ModeBranch};
+pub use complex::{complex_modes, ComplexMode, ModalBasis, Whirl};
+pub use convergence::{convergence, ConvergenceResult};
+pub use undamped::{undamped_modes, UndampedModes};

@@ -1,0 +1,61 @@
+//! Undamped modes: K v = w^2 M v with M = L L^T (Cholesky), solved as the symmetric
+//! problem (L^-1 K L^-T) y = w^2 y, v = L^-T y. This avoids a general QZ solve and gives
+//! mass-normalised shapes (v^T M v = 1) directly.
+//!
+//! Cross-coupled bearings make K non-symmetric; the undamped problem uses its symmetric
+//! part, and the cross-coupling enters the damped analysis ([`super::complex_modes`]).
+
+use faer::{Mat, Side};
+use serde::Serialize;
+
+use crate::error::{Error, Result};
+use crate::fe::SystemMatrices;
+
+/// Undamped natural frequencies and mass-normalised mode shapes.
+#[derive(Debug, Clone, Serialize)]
+pub struct UndampedModes {
+    /// Natural frequencies, Hz, ascending.
+    pub frequencies_hz: Vec<f64>,
+    /// Mode shapes, one per column, mass-normalised; rows are global DOFs.
+    #[serde(skip)]
+    pub shapes: Mat<f64>,
+}
+
+/// Cholesky factor L of the mass matrix, with a clear error when M is not positive definite.
+pub(crate) fn mass_cholesky(mass: &Mat<f64>) -> Result<faer::linalg::solvers::Llt<f64>> {
+    mass.llt(Side::Lower).map_err(|_| {
+        Error::Numerical(
+            "the mass matrix is not positive definite: every node needs mass; check for \
+             zero-length or zero-density shaft sections"
+                .into(),
+        )
+    })
+}
+
+/// The `count` lowest undamped modes (all when `count` exceeds the DOF count).
+pub fn undamped_modes(system: &SystemMatrices, count: usize) -> Result<UndampedModes> {
+    let n = system.dofs();
+    let llt = mass_cholesky(&system.mass)?;
+    let l = llt.L();
+    let k = &system.stiffness;
+    let mut a = Mat::<f64>::from_fn(n, n, |i, j| 0.5 * (k[(i, j)] + k[(j, i)]));
+    // A = L^-1 K L^-T: two triangular solves, the second on the transpose.
+    l.solve_lower_triangular_in_place(a.as_mut());
+    let mut a = a.transpose().to_owned();
+    l.solve_lower_triangular_in_place(a.as_mut());
+    let a = Mat::<f64>::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
+    let eig = a
+        .self_adjoint_eigen(Side::Lower)
+        .map_err(|_| Error::Numerical("the symmetric eigen-solver did not converge".into()))?;
+    let m = count.min(n);
+    let mut shapes = Mat::<f64>::from_fn(n, m, |i, j| eig.U()[(i, j)]);
+    l.transpose().solve_upper_triangular_in_place(shapes.as_mut());
+    let s = eig.S().column_vector();
+    let frequencies_hz = (0..m)
+        .map(|j| s[j].max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
+        .collect();
+    Ok(UndampedModes {
+        frequencies_hz,
+        shapes,
+    })
+}

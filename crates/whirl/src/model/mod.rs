@@ -1,0 +1,390 @@
+//! The validated rotor model: every number in SI, every reference resolved.
+//!
+//! Data flows one way: model file ([`schema`]) -> [`Model`] (this module, after
+//! [`validate`]) -> finite-element mesh and matrices ([`crate::fe`]) -> solvers.
+//!
+//! Stations: a feature (disk, bearing, unbalance) sits at a node. The file may give the
+//! node index or the axial position `z`; both are kept, so that a re-meshed model (mesh
+//! convergence study) can place the feature at the same `z`.
+
+pub mod schema;
+mod validate;
+
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use crate::error::{Error, InputError, Result};
+
+/// A material of the shaft or of a disk.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Material {
+    /// Name used in the file.
+    pub name: String,
+    /// Young's modulus, Pa.
+    pub young_modulus: f64,
+    /// Density, kg/m^3.
+    pub density: f64,
+    /// Poisson's ratio.
+    pub poisson_ratio: f64,
+}
+
+/// A shaft section of constant circular (possibly hollow) cross-section.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ShaftSection {
+    /// Length, m.
+    pub length: f64,
+    /// Outer diameter, m.
+    pub outer_diameter: f64,
+    /// Inner diameter (bore), m; 0 for a solid shaft.
+    pub inner_diameter: f64,
+    /// Material.
+    pub material: Material,
+    /// Number of equal beam elements.
+    pub elements: usize,
+}
+
+impl ShaftSection {
+    /// Cross-section area, m^2.
+    pub fn area(&self) -> f64 {
+        std::f64::consts::PI / 4.0 * (self.outer_diameter.powi(2) - self.inner_diameter.powi(2))
+    }
+
+    /// Second moment of area about a diameter, m^4.
+    pub fn second_moment(&self) -> f64 {
+        std::f64::consts::PI / 64.0 * (self.outer_diameter.powi(4) - self.inner_diameter.powi(4))
+    }
+}
+
+/// Options that apply to every beam element.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ElementOptions {
+    /// Include the rotary inertia of the shaft's cross-sections.
+    pub rotary_inertia: bool,
+    /// Include the shaft's gyroscopic matrix.
+    pub gyroscopic: bool,
+    /// Axial force, N, tension positive (thesis eq. 2.3).
+    pub axial_load: f64,
+}
+
+impl Default for ElementOptions {
+    fn default() -> Self {
+        ElementOptions {
+            rotary_inertia: true,
+            gyroscopic: true,
+            axial_load: 0.0,
+        }
+    }
+}
+
+/// Where a feature sits on the shaft.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Station {
+    /// Node index (0 at z = 0).
+    pub node: usize,
+    /// Axial position, m.
+    pub z: f64,
+}
+
+/// A rigid disk (thesis eq. 2.13-2.14).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Disk {
+    /// Name for outputs.
+    pub name: String,
+    /// Where it sits.
+    pub station: Station,
+    /// Mass, kg.
+    pub mass: f64,
+    /// Polar moment of inertia about the spin axis, kg m^2.
+    pub polar_inertia: f64,
+    /// Diametral moment of inertia, kg m^2.
+    pub diametral_inertia: f64,
+}
+
+/// A linear bearing: forces -k u - c u' on the node's translations (x, y order).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LinearBearing {
+    /// Name for outputs.
+    pub name: String,
+    /// Where it sits.
+    pub station: Station,
+    /// [[kxx, kxy], [kyx, kyy]], N/m.
+    pub stiffness: [[f64; 2]; 2],
+    /// [[cxx, cxy], [cyx, cyy]], N s/m.
+    pub damping: [[f64; 2]; 2],
+}
+
+/// Internal radial clearance of a roller bearing (thesis eq. 3.1).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub enum Clearance {
+    /// The same at every speed, m.
+    Constant(f64),
+    /// gamma(Omega) = sum c_i Omega^i with gamma in m and Omega in rad/s.
+    Polynomial(Vec<f64>),
+}
+
+impl Clearance {
+    /// Clearance at spin speed `omega` (rad/s), m.
+    pub fn at_speed(&self, omega: f64) -> f64 {
+        match self {
+            Clearance::Constant(c) => *c,
+            Clearance::Polynomial(c) => c.iter().rev().fold(0.0, |acc, &ci| acc * omega + ci),
+        }
+    }
+}
+
+/// A cylindrical roller bearing with internal radial clearance (thesis ch. 3).
+/// The inner ring turns with the shaft; the outer ring is fixed.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RollerBearing {
+    /// Name for outputs.
+    pub name: String,
+    /// Where it sits.
+    pub station: Station,
+    /// Number of rollers N_b.
+    pub rollers: usize,
+    /// Pitch diameter D_p, m.
+    pub pitch_diameter: f64,
+    /// Roller diameter D_b, m.
+    pub roller_diameter: f64,
+    /// Roller length, m.
+    pub roller_length: f64,
+    /// Internal radial clearance gamma_0.
+    pub clearance: Clearance,
+    /// Contact stiffness K_c per roller, N/m^n.
+    pub contact_stiffness: f64,
+    /// Contact exponent n (10/9 for line contact).
+    pub contact_exponent: f64,
+    /// Contact damping C_c per roller, N s/m.
+    pub contact_damping: f64,
+    /// Angle of the first roller at t = 0, rad from +x towards +y.
+    pub cage_angle: f64,
+    /// Linearised radial stiffness used by linear analyses (modal, unbalance), N/m.
+    pub linear_stiffness: f64,
+    /// Linearised radial damping used by linear analyses, N s/m.
+    pub linear_damping: f64,
+}
+
+impl RollerBearing {
+    /// Palmgren's line-contact stiffness for one roller, inner and outer raceway contacts
+    /// in series, in N/m^(10/9).
+    ///
+    /// Per contact delta[mm] = 3.84e-5 Q[N]^0.9 / l[mm]^0.8 (Palmgren), i.e.
+    /// Q = k delta^(10/9) with k = (l_mm^0.8 / 3.84e-5 * 1e3)^(10/9) in SI. Two equal
+    /// contacts in series: K = (2 k^(-9/10))^(-10/9) = k 2^(-10/9) (SPEC section 6
+    /// erratum of thesis eq. 3.6, which used the ball-bearing exponent).
+    pub fn palmgren_stiffness(roller_length: f64) -> f64 {
+        let n = 10.0 / 9.0;
+        let l_mm = roller_length * 1e3;
+        let per_contact = (l_mm.powf(0.8) / 3.84e-5 * 1e3).powf(n);
+        per_contact * 2f64.powf(-n)
+    }
+}
+
+/// Rayleigh damping of the rotor: C = alpha M + beta K (shaft and disks only).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Default)]
+pub struct RayleighDamping {
+    /// Mass-proportional coefficient, 1/s.
+    pub alpha: f64,
+    /// Stiffness-proportional coefficient, s.
+    pub beta: f64,
+}
+
+impl RayleighDamping {
+    /// Coefficients that give damping ratios `zeta` at circular frequencies `omega` (rad/s):
+    /// zeta_i = alpha / (2 w_i) + beta w_i / 2.
+    pub fn from_ratios(zeta: [f64; 2], omega: [f64; 2]) -> Self {
+        let (w1, w2) = (omega[0], omega[1]);
+        let det = w2 * w2 - w1 * w1;
+        RayleighDamping {
+            alpha: 2.0 * w1 * w2 * (zeta[0] * w2 - zeta[1] * w1) / det,
+            beta: 2.0 * (zeta[1] * w2 - zeta[0] * w1) / det,
+        }
+    }
+
+    /// Damping ratio at circular frequency `omega` (rad/s).
+    pub fn ratio_at(&self, omega: f64) -> f64 {
+        self.alpha / (2.0 * omega) + self.beta * omega / 2.0
+    }
+}
+
+/// An unbalance: a force m e Omega^2 turning with the shaft.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Unbalance {
+    /// Where it sits.
+    pub station: Station,
+    /// Mass times eccentricity, kg m.
+    pub mass_radius: f64,
+    /// Angle at t = 0, rad from +x towards +y.
+    pub phase: f64,
+}
+
+/// The validated model. Build it with [`Model::from_file`] or [`Model::from_toml_str`].
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Model {
+    /// Name for plots and summaries.
+    pub name: String,
+    /// Gravity along -y, m/s^2.
+    pub gravity: f64,
+    /// Shaft sections from z = 0.
+    pub sections: Vec<ShaftSection>,
+    /// Beam element options.
+    pub options: ElementOptions,
+    /// Rigid disks.
+    pub disks: Vec<Disk>,
+    /// Linear bearings.
+    pub bearings: Vec<LinearBearing>,
+    /// Roller bearings.
+    pub roller_bearings: Vec<RollerBearing>,
+    /// Rotor damping.
+    pub damping: RayleighDamping,
+    /// Unbalances.
+    pub unbalances: Vec<Unbalance>,
+    /// Operating speed range (min, max), rad/s.
+    pub operating: Option<(f64, f64)>,
+}
+
+impl Model {
+    /// Reads and validates a model file.
+    pub fn from_file(path: &Path) -> Result<Model> {
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+            action: "read the model file",
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Model::from_toml_str(&text, Some(path.to_path_buf()))
+    }
+
+    /// Validates a model given as TOML text; `file` names it in error messages.
+    pub fn from_toml_str(text: &str, file: Option<PathBuf>) -> Result<Model> {
+        let raw: schema::ModelFile = toml::from_str(text).map_err(|e| {
+            let mut err = InputError {
+                file: None,
+                field: None,
+                message: e.message().to_string(),
+                help: None,
+                span: e.span(),
+                line_column: None,
+            };
+            if err.message.contains("unknown field") {
+                err.help = Some("see docs/model-file.md for the fields of each table".into());
+            }
+            err.locate(file.clone(), text)
+        })?;
+        validate::validate(raw).map_err(|e| Error::from(e.locate(file, text)))
+    }
+
+    /// Total length of the shaft, m.
+    pub fn length(&self) -> f64 {
+        self.sections.iter().map(|s| s.length).sum()
+    }
+
+    /// Axial positions of the nodes, m.
+    pub fn node_positions(&self) -> Vec<f64> {
+        node_positions(&self.sections)
+    }
+
+    /// Number of nodes.
+    pub fn node_count(&self) -> usize {
+        self.sections.iter().map(|s| s.elements).sum::<usize>() + 1
+    }
+
+    /// Nodes that carry a bearing of either kind, sorted, without repeats.
+    pub fn bearing_nodes(&self) -> Vec<usize> {
+        let mut nodes: Vec<usize> = self
+            .bearings
+            .iter()
+            .map(|b| b.station.node)
+            .chain(self.roller_bearings.iter().map(|b| b.station.node))
+            .collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        nodes
+    }
+
+    /// The same model with each section meshed with `elements[i]` elements; every feature
+    /// keeps its axial position. Fails when a feature does not fall on a node of the new mesh.
+    pub fn remeshed(&self, elements: &[usize]) -> Result<Model> {
+        let mut m = self.clone();
+        for (s, &n) in m.sections.iter_mut().zip(elements) {
+            s.elements = n.max(1);
+        }
+        let z = m.node_positions();
+        let tol = 1e-9 * m.length();
+        let place = |st: &mut Station| -> Result<()> {
+            st.node = z
+                .iter()
+                .position(|&zn| (zn - st.z).abs() <= tol)
+                .ok_or_else(|| {
+                    Error::Numerical(format!(
+                        "no node at z = {} m with elements {:?}",
+                        st.z, elements
+                    ))
+                })?;
+            Ok(())
+        };
+        for d in &mut m.disks {
+            place(&mut d.station)?;
+        }
+        for b in &mut m.bearings {
+            place(&mut b.station)?;
+        }
+        for b in &mut m.roller_bearings {
+            place(&mut b.station)?;
+        }
+        for u in &mut m.unbalances {
+            place(&mut u.station)?;
+        }
+        Ok(m)
+    }
+}
+
+/// Axial positions of the nodes of a list of sections, m.
+pub(crate) fn node_positions(sections: &[ShaftSection]) -> Vec<f64> {
+    let mut z = vec![0.0];
+    let mut start = 0.0;
+    for s in sections {
+        for i in 1..=s.elements {
+            z.push(start + s.length * i as f64 / s.elements as f64);
+        }
+        start += s.length;
+    }
+    z
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn palmgren_stiffness_of_the_reference_roller() {
+        // SPEC section 10: Palmgren with inner and outer in series gives 4.53e8 N/m^(10/9)
+        // for a 7 mm roller; the SPEC quotes three digits, hence 0.5 %.
+        let k = RollerBearing::palmgren_stiffness(0.007);
+        assert!((k / 4.53e8 - 1.0).abs() < 5e-3, "{k}");
+    }
+
+    #[test]
+    fn rayleigh_from_ratios_reproduces_the_ratios() {
+        let w = [2.0 * std::f64::consts::PI * 50.0, 2.0 * std::f64::consts::PI * 254.0];
+        let d = RayleighDamping::from_ratios([0.02, 0.03], w);
+        // Exact algebra: only round-off.
+        assert!((d.ratio_at(w[0]) - 0.02).abs() < 1e-14);
+        assert!((d.ratio_at(w[1]) - 0.03).abs() < 1e-14);
+    }
+
+    #[test]
+    fn clearance_polynomial_of_table_b1_read_as_inches_versus_rpm() {
+        // Table B.1 read as inches versus rpm: 16.1 um at rest, about 43.7 um at 45,000 rpm.
+        let a = [0.0006353, 2.129e-7, -9.172e-12, 1.535e-16, -9.53e-22];
+        let rpm = 2.0 * std::f64::consts::PI / 60.0;
+        let si: Vec<f64> = a
+            .iter()
+            .enumerate()
+            .map(|(i, c)| c * 0.0254 / rpm.powi(i as i32))
+            .collect();
+        let c = Clearance::Polynomial(si);
+        assert!((c.at_speed(0.0) - 16.137e-6).abs() < 1e-9);
+        assert!((c.at_speed(45_000.0 * rpm) - 43.746e-6).abs() < 1e-9);
+    }
+}

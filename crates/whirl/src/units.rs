@@ -1,0 +1,276 @@
+//! Physical quantities with units, as a person writes them in a model file or on the
+//! command line.
+//!
+//! A plain number always means SI (m, kg, rad/s, ...). A string carries its unit:
+//! `"3000 rpm"`, `"50 Hz"`, `"20 um"`, `"1.3 m"`. Units are converted to SI once, here,
+//! at the file boundary; everything inside whirl is SI.
+//!
+//! Speed ranges on the command line are written `start:stop:count`, with the unit on
+//! any of the bounds (`0:800Hz:161`, `1:750Hz:150`, `0Hz:3000rpm:31`). A unit given on
+//! one bound applies to a bound that has none.
+
+use std::f64::consts::PI;
+use std::fmt;
+
+/// What a quantity measures; decides which unit names are accepted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Dimension {
+    /// Metres (m, mm, um, µm, in).
+    Length,
+    /// Angular speed in rad/s (Hz, rpm, rad/s). `Hz` means revolutions per second.
+    AngularSpeed,
+    /// Kilograms (kg, g).
+    Mass,
+    /// Time in seconds (s, ms, us).
+    Time,
+}
+
+impl Dimension {
+    /// Each accepted unit with its factor to SI as numerator and denominator.
+    fn units(self) -> &'static [(&'static str, f64, f64)] {
+        match self {
+            Dimension::Length => &[
+                ("m", 1.0, 1.0),
+                ("mm", 1.0, 1e3),
+                ("um", 1.0, 1e6),
+                ("µm", 1.0, 1e6),
+                ("micron", 1.0, 1e6),
+                ("in", 0.0254, 1.0),
+            ],
+            Dimension::AngularSpeed => &[
+                ("rad/s", 1.0, 1.0),
+                ("Hz", 2.0 * PI, 1.0),
+                ("rpm", 2.0 * PI, 60.0),
+            ],
+            Dimension::Mass => &[("kg", 1.0, 1.0), ("g", 1.0, 1e3)],
+            Dimension::Time => &[("s", 1.0, 1.0), ("ms", 1.0, 1e3), ("us", 1.0, 1e6)],
+        }
+    }
+
+    /// The SI unit name, for messages.
+    pub fn si_name(self) -> &'static str {
+        match self {
+            Dimension::Length => "m",
+            Dimension::AngularSpeed => "rad/s",
+            Dimension::Mass => "kg",
+            Dimension::Time => "s",
+        }
+    }
+
+    fn accepted(self) -> String {
+        self.units()
+            .iter()
+            .map(|(n, _, _)| *n)
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+impl fmt::Display for Dimension {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let name = match self {
+            Dimension::Length => "length",
+            Dimension::AngularSpeed => "speed",
+            Dimension::Mass => "mass",
+            Dimension::Time => "time",
+        };
+        f.write_str(name)
+    }
+}
+
+/// Why a quantity could not be read.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum UnitError {
+    /// The number part is not a finite number.
+    #[error("`{text}` is not a finite number with a unit (expected e.g. {example})")]
+    BadNumber { text: String, example: String },
+    /// The unit is not one this dimension accepts.
+    #[error("unknown {dimension} unit `{unit}` in `{text}` (accepted: {accepted})")]
+    BadUnit {
+        text: String,
+        unit: String,
+        dimension: Dimension,
+        accepted: String,
+    },
+    /// A range is not `start:stop:count`.
+    #[error("`{text}` is not a range `start:stop:count` (e.g. `0:800Hz:161`): {why}")]
+    BadRange { text: String, why: String },
+}
+
+fn example(dimension: Dimension) -> String {
+    match dimension {
+        Dimension::Length => "\"20 um\"".into(),
+        Dimension::AngularSpeed => "\"3000 rpm\"".into(),
+        Dimension::Mass => "\"10 kg\"".into(),
+        Dimension::Time => "\"0.5 s\"".into(),
+    }
+}
+
+/// Splits `"3000 rpm"` or `"3000rpm"` into the number and the unit (possibly empty).
+fn split_number_unit(text: &str) -> (&str, &str) {
+    let t = text.trim();
+    let end = t
+        .char_indices()
+        .find(|&(i, c)| {
+            !(c.is_ascii_digit()
+                || c == '.'
+                || c == '+'
+                || c == '-'
+                || ((c == 'e' || c == 'E') && exponent_follows(&t[i..])))
+        })
+        .map(|(i, _)| i)
+        .unwrap_or(t.len());
+    (t[..end].trim(), t[end..].trim())
+}
+
+/// True when an `e` starts a numeric exponent (`e-5`, `e3`) rather than a unit.
+fn exponent_follows(rest: &str) -> bool {
+    let mut chars = rest.chars().skip(1);
+    match chars.next() {
+        Some(c) if c.is_ascii_digit() => true,
+        Some('+') | Some('-') => chars.next().is_some_and(|c| c.is_ascii_digit()),
+        _ => false,
+    }
+}
+
+/// Reads a quantity such as `"3000 rpm"` into SI. A bare number is SI.
+pub fn parse_quantity(text: &str, dimension: Dimension) -> Result<f64, UnitError> {
+    parse_with_default_unit(text, dimension, None)
+}
+
+fn parse_with_default_unit(
+    text: &str,
+    dimension: Dimension,
+    default_unit: Option<&str>,
+) -> Result<f64, UnitError> {
+    let (number, unit) = split_number_unit(text);
+    let value: f64 = number.parse().map_err(|_| UnitError::BadNumber {
+        text: text.to_string(),
+        example: example(dimension),
+    })?;
+    if !value.is_finite() {
+        return Err(UnitError::BadNumber {
+            text: text.to_string(),
+            example: example(dimension),
+        });
+    }
+    let unit = if unit.is_empty() {
+        default_unit.unwrap_or("")
+    } else {
+        unit
+    };
+    if unit.is_empty() {
+        return Ok(value);
+    }
+    let factor = dimension
+        .units()
+        .iter()
+        .find(|(name, _, _)| *name == unit)
+        .map(|(_, num, den)| (*num, *den))
+        .ok_or_else(|| UnitError::BadUnit {
+            text: text.to_string(),
+            unit: unit.to_string(),
+            dimension,
+            accepted: dimension.accepted(),
+        })?;
+    // Multiply then divide, so that "20 um" is exactly 2e-5.
+    Ok(value * factor.0 / factor.1)
+}
+
+/// Reads `start:stop:count` into `count` equally spaced SI values (inclusive bounds).
+/// `start:stop` alone (no count) is refused: the caller decides a default count.
+pub fn parse_range(text: &str, dimension: Dimension) -> Result<Vec<f64>, UnitError> {
+    let bad = |why: &str| UnitError::BadRange {
+        text: text.to_string(),
+        why: why.to_string(),
+    };
+    let parts: Vec<&str> = text.split(':').collect();
+    if parts.len() != 3 {
+        return Err(bad("expected three parts separated by ':'"));
+    }
+    let count: usize = parts[2]
+        .trim()
+        .parse()
+        .map_err(|_| bad("the count must be a whole number"))?;
+    if count == 0 {
+        return Err(bad("the count must be at least 1"));
+    }
+    let unit_of = |s: &str| split_number_unit(s).1.to_string();
+    let (u0, u1) = (unit_of(parts[0]), unit_of(parts[1]));
+    let shared = if !u1.is_empty() { u1.clone() } else { u0.clone() };
+    let start = parse_with_default_unit(parts[0], dimension, Some(&shared))?;
+    let stop = parse_with_default_unit(parts[1], dimension, Some(&shared))?;
+    if count == 1 {
+        if start != stop {
+            return Err(bad("a count of 1 needs start equal to stop"));
+        }
+        return Ok(vec![start]);
+    }
+    if stop < start {
+        return Err(bad("stop must not be below start"));
+    }
+    let step = (stop - start) / (count - 1) as f64;
+    Ok((0..count).map(|i| start + step * i as f64).collect())
+}
+
+/// Converts rad/s to Hz (revolutions or cycles per second).
+pub fn rad_s_to_hz(w: f64) -> f64 {
+    w / (2.0 * PI)
+}
+
+/// Converts Hz to rad/s.
+pub fn hz_to_rad_s(f: f64) -> f64 {
+    f * 2.0 * PI
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn speeds_convert_to_rad_per_second() {
+        let rpm = parse_quantity("3000 rpm", Dimension::AngularSpeed).unwrap();
+        let hz = parse_quantity("50Hz", Dimension::AngularSpeed).unwrap();
+        // 3000 rpm = 50 Hz = 100 pi rad/s exactly; only the last bit may differ.
+        assert!((rpm - 100.0 * PI).abs() < 1e-12);
+        assert!((hz - 100.0 * PI).abs() < 1e-12);
+        assert_eq!(parse_quantity("12.5", Dimension::AngularSpeed).unwrap(), 12.5);
+    }
+
+    #[test]
+    fn lengths_with_exponents_and_micro_units() {
+        assert_eq!(parse_quantity("20 um", Dimension::Length).unwrap(), 20e-6);
+        assert_eq!(parse_quantity("2e-5", Dimension::Length).unwrap(), 2e-5);
+        assert_eq!(parse_quantity("2e-5 m", Dimension::Length).unwrap(), 2e-5);
+        assert!((parse_quantity("1 in", Dimension::Length).unwrap() - 0.0254).abs() < 1e-15);
+    }
+
+    #[test]
+    fn bad_units_and_numbers_are_named() {
+        let e = parse_quantity("20 furlongs", Dimension::Length).unwrap_err();
+        assert!(e.to_string().contains("furlongs"));
+        assert!(parse_quantity("fast", Dimension::AngularSpeed).is_err());
+        assert!(parse_quantity("inf Hz", Dimension::AngularSpeed).is_err());
+        assert!(parse_quantity("NaN", Dimension::Length).is_err());
+        // A speed unit is not a length unit.
+        assert!(parse_quantity("3 rpm", Dimension::Length).is_err());
+    }
+
+    #[test]
+    fn ranges_share_the_unit_given_on_one_bound() {
+        let r = parse_range("0:800Hz:161", Dimension::AngularSpeed).unwrap();
+        assert_eq!(r.len(), 161);
+        assert_eq!(r[0], 0.0);
+        assert!((r[160] - hz_to_rad_s(800.0)).abs() < 1e-9);
+        assert!((r[1] - hz_to_rad_s(5.0)).abs() < 1e-9);
+        let mixed = parse_range("0Hz:3000rpm:3", Dimension::AngularSpeed).unwrap();
+        assert!((mixed[2] - 100.0 * PI).abs() < 1e-9);
+    }
+
+    #[test]
+    fn malformed_ranges_are_refused() {
+        for bad in ["0:800Hz", "0:800Hz:0", "800:0Hz:5", "a:b:c", "0:1:2.5"] {
+            assert!(parse_range(bad, Dimension::AngularSpeed).is_err(), "{bad}");
+        }
+    }
+}
