@@ -4,5 +4,4 @@
 pub const REFERENCE_ROTOR: &str = include_str!("../../../examples/reference_rotor.toml");
 
 /// The reference rotor on 1e6 N/m supports (`examples/reference_rotor_soft.toml`).
-pub const REFERENCE_ROTOR_SOFT: &str =
-    include_str!("../../../examples/reference_rotor_soft.toml");
+pub const REFERENCE_ROTOR_SOFT: &str = include_str!("../../../examples/reference_rotor_soft.toml");

@@ -197,7 +197,11 @@ pub fn parse_range(text: &str, dimension: Dimension) -> Result<Vec<f64>, UnitErr
     }
     let unit_of = |s: &str| split_number_unit(s).1.to_string();
     let (u0, u1) = (unit_of(parts[0]), unit_of(parts[1]));
-    let shared = if !u1.is_empty() { u1.clone() } else { u0.clone() };
+    let shared = if !u1.is_empty() {
+        u1.clone()
+    } else {
+        u0.clone()
+    };
     let start = parse_with_default_unit(parts[0], dimension, Some(&shared))?;
     let stop = parse_with_default_unit(parts[1], dimension, Some(&shared))?;
     if count == 1 {
@@ -234,7 +238,10 @@ mod tests {
         // 3000 rpm = 50 Hz = 100 pi rad/s exactly; only the last bit may differ.
         assert!((rpm - 100.0 * PI).abs() < 1e-12);
         assert!((hz - 100.0 * PI).abs() < 1e-12);
-        assert_eq!(parse_quantity("12.5", Dimension::AngularSpeed).unwrap(), 12.5);
+        assert_eq!(
+            parse_quantity("12.5", Dimension::AngularSpeed).unwrap(),
+            12.5
+        );
     }
 
     #[test]

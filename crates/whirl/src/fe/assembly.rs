@@ -99,7 +99,13 @@ pub fn assemble(model: &Model, bearings: Bearings) -> SystemMatrices {
     }
 
     for b in &model.bearings {
-        add_support(&mut stiffness, &mut damping, b.station.node, &b.stiffness, &b.damping);
+        add_support(
+            &mut stiffness,
+            &mut damping,
+            b.station.node,
+            &b.stiffness,
+            &b.damping,
+        );
     }
     if bearings == Bearings::Linearised {
         for b in &model.roller_bearings {

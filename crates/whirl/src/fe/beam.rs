@@ -167,7 +167,9 @@ mod tests {
     }
 
     /// Textbook closed forms in the plane (w, w') (Friswell et al. 2010, ch. 5).
-    fn planar_reference(p: &BeamProperties) -> ([[f64; 4]; 4], [[f64; 4]; 4], [[f64; 4]; 4]) {
+    type Mat4 = [[f64; 4]; 4];
+
+    fn planar_reference(p: &BeamProperties) -> (Mat4, Mat4, Mat4) {
         let l = p.length;
         let m = p.density * p.area * l / 420.0;
         let mt = [

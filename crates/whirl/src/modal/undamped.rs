@@ -22,7 +22,7 @@ pub struct UndampedModes {
 }
 
 /// Cholesky factor L of the mass matrix, with a clear error when M is not positive definite.
-pub(crate) fn mass_cholesky(mass: &Mat<f64>) -> Result<faer::linalg::solvers::Llt<f64>> {
+fn mass_cholesky(mass: &Mat<f64>) -> Result<faer::linalg::solvers::Llt<f64>> {
     mass.llt(Side::Lower).map_err(|_| {
         Error::Numerical(
             "the mass matrix is not positive definite: every node needs mass; check for \
@@ -49,7 +49,8 @@ pub fn undamped_modes(system: &SystemMatrices, count: usize) -> Result<UndampedM
         .map_err(|_| Error::Numerical("the symmetric eigen-solver did not converge".into()))?;
     let m = count.min(n);
     let mut shapes = Mat::<f64>::from_fn(n, m, |i, j| eig.U()[(i, j)]);
-    l.transpose().solve_upper_triangular_in_place(shapes.as_mut());
+    l.transpose()
+        .solve_upper_triangular_in_place(shapes.as_mut());
     let s = eig.S().column_vector();
     let frequencies_hz = (0..m)
         .map(|j| s[j].max(0.0).sqrt() / (2.0 * std::f64::consts::PI))

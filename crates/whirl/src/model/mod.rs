@@ -366,7 +366,10 @@ mod tests {
 
     #[test]
     fn rayleigh_from_ratios_reproduces_the_ratios() {
-        let w = [2.0 * std::f64::consts::PI * 50.0, 2.0 * std::f64::consts::PI * 254.0];
+        let w = [
+            2.0 * std::f64::consts::PI * 50.0,
+            2.0 * std::f64::consts::PI * 254.0,
+        ];
         let d = RayleighDamping::from_ratios([0.02, 0.03], w);
         // Exact algebra: only round-off.
         assert!((d.ratio_at(w[0]) - 0.02).abs() < 1e-14);

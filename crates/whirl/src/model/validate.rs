@@ -1,6 +1,9 @@
 //! Model file -> validated [`Model`]: units converted to SI, references resolved, and
 //! every value checked. Each check names the field and points at its place in the file.
 
+// Validation runs once per file; a large error type on this cold path is fine.
+#![allow(clippy::result_large_err)]
+
 use std::collections::HashMap;
 use std::f64::consts::PI;
 use std::ops::Range;
@@ -32,7 +35,11 @@ fn finite(value: f64, span: Range<usize>, field: &str) -> V<f64> {
     if value.is_finite() {
         Ok(value)
     } else {
-        Err(err(field, span, format!("must be a finite number, got {value}")))
+        Err(err(
+            field,
+            span,
+            format!("must be a finite number, got {value}"),
+        ))
     }
 }
 
@@ -41,7 +48,11 @@ fn positive(value: f64, span: Range<usize>, field: &str, unit: &str) -> V<f64> {
     if v > 0.0 {
         Ok(v)
     } else {
-        Err(err(field, span, format!("must be positive, got {v} {unit}")))
+        Err(err(
+            field,
+            span,
+            format!("must be positive, got {v} {unit}"),
+        ))
     }
 }
 
@@ -50,7 +61,11 @@ fn non_negative(value: f64, span: Range<usize>, field: &str, unit: &str) -> V<f6
     if v >= 0.0 {
         Ok(v)
     } else {
-        Err(err(field, span, format!("must not be negative, got {v} {unit}")))
+        Err(err(
+            field,
+            span,
+            format!("must not be negative, got {v} {unit}"),
+        ))
     }
 }
 
@@ -107,9 +122,15 @@ impl Nodes {
         match (node, z) {
             (Some(n), None) => {
                 let i = count(n, &format!("{field}.node"), 0, last as i64).map_err(|e| {
-                    e.help(format!("nodes are numbered 0 (z = 0) to {last} (z = {} m)", self.length))
+                    e.help(format!(
+                        "nodes are numbered 0 (z = 0) to {last} (z = {} m)",
+                        self.length
+                    ))
                 })?;
-                Ok(Station { node: i, z: self.z[i] })
+                Ok(Station {
+                    node: i,
+                    z: self.z[i],
+                })
             }
             (None, Some(q)) => {
                 let f = format!("{field}.z");
@@ -123,16 +144,21 @@ impl Nodes {
                     .min_by(|a, b| (a.1 - zv).abs().total_cmp(&(b.1 - zv).abs()))
                     .unwrap_or((0, 0.0));
                 if (zn - zv).abs() > tol {
-                    return Err(err(&f, q.span(), format!("z = {zv} m is not at a node"))
-                        .help(format!(
+                    return Err(
+                        err(&f, q.span(), format!("z = {zv} m is not at a node")).help(format!(
                             "the nearest node is {i} at z = {zn} m; adjust the shaft sections' \
                              lengths or element counts so that a node falls there"
-                        )));
+                        )),
+                    );
                 }
                 Ok(Station { node: i, z: zn })
             }
             (Some(_), Some(_)) => Err(err(field, table, "give `node` or `z`, not both")),
-            (None, None) => Err(err(field, table, "missing its position: give `node` or `z`")),
+            (None, None) => Err(err(
+                field,
+                table,
+                "missing its position: give `node` or `z`",
+            )),
         }
     }
 }
@@ -168,7 +194,12 @@ pub(super) fn validate(raw: ModelFile) -> V<Model> {
         .enumerate()
         .map(|(i, b)| roller_bearing(b, &format!("roller_bearing[{i}]"), &nodes))
         .collect::<V<Vec<_>>>()?;
-    let damping = raw.damping.as_ref().map(damping).transpose()?.unwrap_or_default();
+    let damping = raw
+        .damping
+        .as_ref()
+        .map(damping)
+        .transpose()?
+        .unwrap_or_default();
     let unbalances = raw
         .unbalance
         .iter()
@@ -196,16 +227,43 @@ fn materials(raw: &[Spanned<MaterialFile>]) -> V<HashMap<String, Material>> {
         let f = format!("material[{i}]");
         let mf = m.get_ref();
         let name = mf.name.get_ref().clone();
-        let e = positive(*mf.young_modulus.get_ref(), mf.young_modulus.span(), &format!("{f}.young_modulus"), "Pa")?;
-        let rho = positive(*mf.density.get_ref(), mf.density.span(), &format!("{f}.density"), "kg/m^3")?;
+        let e = positive(
+            *mf.young_modulus.get_ref(),
+            mf.young_modulus.span(),
+            &format!("{f}.young_modulus"),
+            "Pa",
+        )?;
+        let rho = positive(
+            *mf.density.get_ref(),
+            mf.density.span(),
+            &format!("{f}.density"),
+            "kg/m^3",
+        )?;
         let nu = opt_f64(&mf.poisson_ratio, &format!("{f}.poisson_ratio"), 0.3)?;
         if !(-1.0..0.5).contains(&nu) {
-            let span = mf.poisson_ratio.as_ref().map(|p| p.span()).unwrap_or(m.span());
-            return Err(err(&format!("{f}.poisson_ratio"), span, format!("must lie in [-1, 0.5), got {nu}")));
+            let span = mf
+                .poisson_ratio
+                .as_ref()
+                .map(|p| p.span())
+                .unwrap_or(m.span());
+            return Err(err(
+                &format!("{f}.poisson_ratio"),
+                span,
+                format!("must lie in [-1, 0.5), got {nu}"),
+            ));
         }
-        let material = Material { name: name.clone(), young_modulus: e, density: rho, poisson_ratio: nu };
+        let material = Material {
+            name: name.clone(),
+            young_modulus: e,
+            density: rho,
+            poisson_ratio: nu,
+        };
         if out.insert(name.clone(), material).is_some() {
-            return Err(err(&format!("{f}.name"), mf.name.span(), format!("material `{name}` is defined twice")));
+            return Err(err(
+                &format!("{f}.name"),
+                mf.name.span(),
+                format!("material `{name}` is defined twice"),
+            ));
         }
     }
     Ok(out)
@@ -219,13 +277,16 @@ fn find_material(
     materials.get(name.get_ref()).cloned().ok_or_else(|| {
         let mut known: Vec<&str> = materials.keys().map(|k| k.as_str()).collect();
         known.sort_unstable();
-        err(field, name.span(), format!("unknown material `{}`", name.get_ref())).help(
-            if known.is_empty() {
-                "define it in a [[material]] table".to_string()
-            } else {
-                format!("defined materials: {}", known.join(", "))
-            },
+        err(
+            field,
+            name.span(),
+            format!("unknown material `{}`", name.get_ref()),
         )
+        .help(if known.is_empty() {
+            "define it in a [[material]] table".to_string()
+        } else {
+            format!("defined materials: {}", known.join(", "))
+        })
     })
 }
 
@@ -234,8 +295,9 @@ fn sections(
     materials: &HashMap<String, Material>,
 ) -> V<Vec<ShaftSection>> {
     if raw.is_empty() {
-        return Err(InputError::field("shaft", "the model has no shaft")
-            .help("add at least one [[shaft]] section with length, outer_diameter, material and elements"));
+        return Err(InputError::field("shaft", "the model has no shaft").help(
+            "add at least one [[shaft]] section with length, outer_diameter, material and elements",
+        ));
     }
     raw.iter()
         .enumerate()
@@ -243,14 +305,22 @@ fn sections(
             let f = format!("shaft[{i}]");
             let s = s.get_ref();
             let length = positive_q(&s.length, Dimension::Length, &format!("{f}.length"))?;
-            let od = positive_q(&s.outer_diameter, Dimension::Length, &format!("{f}.outer_diameter"))?;
+            let od = positive_q(
+                &s.outer_diameter,
+                Dimension::Length,
+                &format!("{f}.outer_diameter"),
+            )?;
             let id = match &s.inner_diameter {
                 Some(q) => {
                     let idv = non_negative_q(q, Dimension::Length, &format!("{f}.inner_diameter"))?;
                     if idv >= od {
-                        return Err(err(&format!("{f}.inner_diameter"), q.span(), format!(
+                        return Err(err(
+                            &format!("{f}.inner_diameter"),
+                            q.span(),
+                            format!(
                             "the bore ({idv} m) must be smaller than the outer diameter ({od} m)"
-                        )));
+                        ),
+                        ));
                     }
                     idv
                 }
@@ -258,7 +328,13 @@ fn sections(
             };
             let material = find_material(&s.material, materials, &format!("{f}.material"))?;
             let elements = count(&s.elements, &format!("{f}.elements"), 1, 10_000)?;
-            Ok(ShaftSection { length, outer_diameter: od, inner_diameter: id, material, elements })
+            Ok(ShaftSection {
+                length,
+                outer_diameter: od,
+                inner_diameter: id,
+                material,
+                elements,
+            })
         })
         .collect()
 }
@@ -287,13 +363,35 @@ fn disk(
     let direct = d.mass.is_some() || d.polar_inertia.is_some() || d.diametral_inertia.is_some();
     let (mass, ip, id) = match (direct, geometry) {
         (true, false) => {
-            let missing = |name: &str| err(field, raw.span(), format!("missing `{name}`"))
-                .help("give mass, polar_inertia and diametral_inertia, or outer_diameter, width and material");
-            let mass = positive_q(d.mass.as_ref().ok_or_else(|| missing("mass"))?, Dimension::Mass, &format!("{field}.mass"))?;
-            let ip = d.polar_inertia.as_ref().ok_or_else(|| missing("polar_inertia"))?;
-            let id = d.diametral_inertia.as_ref().ok_or_else(|| missing("diametral_inertia"))?;
-            let ipv = non_negative(*ip.get_ref(), ip.span(), &format!("{field}.polar_inertia"), "kg m^2")?;
-            let idv = non_negative(*id.get_ref(), id.span(), &format!("{field}.diametral_inertia"), "kg m^2")?;
+            let missing = |name: &str| {
+                err(field, raw.span(), format!("missing `{name}`"))
+                .help("give mass, polar_inertia and diametral_inertia, or outer_diameter, width and material")
+            };
+            let mass = positive_q(
+                d.mass.as_ref().ok_or_else(|| missing("mass"))?,
+                Dimension::Mass,
+                &format!("{field}.mass"),
+            )?;
+            let ip = d
+                .polar_inertia
+                .as_ref()
+                .ok_or_else(|| missing("polar_inertia"))?;
+            let id = d
+                .diametral_inertia
+                .as_ref()
+                .ok_or_else(|| missing("diametral_inertia"))?;
+            let ipv = non_negative(
+                *ip.get_ref(),
+                ip.span(),
+                &format!("{field}.polar_inertia"),
+                "kg m^2",
+            )?;
+            let idv = non_negative(
+                *id.get_ref(),
+                id.span(),
+                &format!("{field}.diametral_inertia"),
+                "kg m^2",
+            )?;
             (mass, ipv, idv)
         }
         (false, true) => disk_from_geometry(d, field, raw.span(), materials)?,
@@ -306,7 +404,10 @@ fn disk(
         }
     };
     Ok(Disk {
-        name: d.name.clone().unwrap_or_else(|| format!("disk {}", station.node)),
+        name: d
+            .name
+            .clone()
+            .unwrap_or_else(|| format!("disk {}", station.node)),
         station,
         mass,
         polar_inertia: ip,
@@ -323,15 +424,39 @@ fn disk_from_geometry(
     span: Range<usize>,
     materials: &HashMap<String, Material>,
 ) -> V<(f64, f64, f64)> {
-    let missing = |name: &str| err(field, span.clone(), format!("missing `{name}` for a disk given by its geometry"));
-    let od = positive_q(d.outer_diameter.as_ref().ok_or_else(|| missing("outer_diameter"))?, Dimension::Length, &format!("{field}.outer_diameter"))?;
-    let width = positive_q(d.width.as_ref().ok_or_else(|| missing("width"))?, Dimension::Length, &format!("{field}.width"))?;
-    let material = find_material(d.material.as_ref().ok_or_else(|| missing("material"))?, materials, &format!("{field}.material"))?;
+    let missing = |name: &str| {
+        err(
+            field,
+            span.clone(),
+            format!("missing `{name}` for a disk given by its geometry"),
+        )
+    };
+    let od = positive_q(
+        d.outer_diameter
+            .as_ref()
+            .ok_or_else(|| missing("outer_diameter"))?,
+        Dimension::Length,
+        &format!("{field}.outer_diameter"),
+    )?;
+    let width = positive_q(
+        d.width.as_ref().ok_or_else(|| missing("width"))?,
+        Dimension::Length,
+        &format!("{field}.width"),
+    )?;
+    let material = find_material(
+        d.material.as_ref().ok_or_else(|| missing("material"))?,
+        materials,
+        &format!("{field}.material"),
+    )?;
     let bore = match &d.bore {
         Some(q) => {
             let b = non_negative_q(q, Dimension::Length, &format!("{field}.bore"))?;
             if b >= od {
-                return Err(err(&format!("{field}.bore"), q.span(), format!("the bore ({b} m) must be smaller than the outer diameter ({od} m)")));
+                return Err(err(
+                    &format!("{field}.bore"),
+                    q.span(),
+                    format!("the bore ({b} m) must be smaller than the outer diameter ({od} m)"),
+                ));
             }
             b
         }
@@ -344,25 +469,55 @@ fn disk_from_geometry(
     Ok((mass, ip, id))
 }
 
-fn linear_bearing(raw: &Spanned<LinearBearingFile>, field: &str, nodes: &Nodes) -> V<LinearBearing> {
+fn linear_bearing(
+    raw: &Spanned<LinearBearingFile>,
+    field: &str,
+    nodes: &Nodes,
+) -> V<LinearBearing> {
     let b = raw.get_ref();
     let station = nodes.station(&b.node, &b.z, field, raw.span())?;
     let any_k = [&b.kxx, &b.kyy, &b.kxy, &b.kyx].iter().any(|k| k.is_some());
     let ring = b.springs.is_some() || b.spring_stiffness.is_some();
     let f = |name: &str| format!("{field}.{name}");
     let stiffness = match (any_k, ring) {
-        (true, true) => return Err(err(field, raw.span(), "give kxx/kyy/kxy/kyx or springs/spring_stiffness, not both")),
-        (false, false) => return Err(err(field, raw.span(), "a bearing needs a stiffness")
-            .help("give kxx and kyy (N/m), or springs and spring_stiffness for a ring of springs")),
+        (true, true) => {
+            return Err(err(
+                field,
+                raw.span(),
+                "give kxx/kyy/kxy/kyx or springs/spring_stiffness, not both",
+            ))
+        }
+        (false, false) => {
+            return Err(err(field, raw.span(), "a bearing needs a stiffness").help(
+                "give kxx and kyy (N/m), or springs and spring_stiffness for a ring of springs",
+            ))
+        }
         (true, false) => {
             let kxx = opt_non_negative(&b.kxx, &f("kxx"), "N/m")?;
             let kyy = opt_non_negative(&b.kyy, &f("kyy"), "N/m")?;
-            [[kxx, opt_f64(&b.kxy, &f("kxy"), 0.0)?], [opt_f64(&b.kyx, &f("kyx"), 0.0)?, kyy]]
+            [
+                [kxx, opt_f64(&b.kxy, &f("kxy"), 0.0)?],
+                [opt_f64(&b.kyx, &f("kyx"), 0.0)?, kyy],
+            ]
         }
         (false, true) => {
-            let missing = |name: &str| err(field, raw.span(), format!("missing `{name}` for a ring of springs"));
-            let n = count(b.springs.as_ref().ok_or_else(|| missing("springs"))?, &f("springs"), 3, 10_000)?;
-            let k = b.spring_stiffness.as_ref().ok_or_else(|| missing("spring_stiffness"))?;
+            let missing = |name: &str| {
+                err(
+                    field,
+                    raw.span(),
+                    format!("missing `{name}` for a ring of springs"),
+                )
+            };
+            let n = count(
+                b.springs.as_ref().ok_or_else(|| missing("springs"))?,
+                &f("springs"),
+                3,
+                10_000,
+            )?;
+            let k = b
+                .spring_stiffness
+                .as_ref()
+                .ok_or_else(|| missing("spring_stiffness"))?;
             let k = positive(*k.get_ref(), k.span(), &f("spring_stiffness"), "N/m")?;
             // N_s equal springs equally spaced: sum cos^2 = sum sin^2 = N_s/2, sum sin cos = 0
             // (SPEC section 3 erratum of thesis eq. 2.20).
@@ -372,16 +527,26 @@ fn linear_bearing(raw: &Spanned<LinearBearingFile>, field: &str, nodes: &Nodes) 
     };
     let cxx = opt_non_negative(&b.cxx, &f("cxx"), "N s/m")?;
     let cyy = opt_non_negative(&b.cyy, &f("cyy"), "N s/m")?;
-    let damping = [[cxx, opt_f64(&b.cxy, &f("cxy"), 0.0)?], [opt_f64(&b.cyx, &f("cyx"), 0.0)?, cyy]];
+    let damping = [
+        [cxx, opt_f64(&b.cxy, &f("cxy"), 0.0)?],
+        [opt_f64(&b.cyx, &f("cyx"), 0.0)?, cyy],
+    ];
     Ok(LinearBearing {
-        name: b.name.clone().unwrap_or_else(|| format!("bearing {}", station.node)),
+        name: b
+            .name
+            .clone()
+            .unwrap_or_else(|| format!("bearing {}", station.node)),
         station,
         stiffness,
         damping,
     })
 }
 
-fn roller_bearing(raw: &Spanned<RollerBearingFile>, field: &str, nodes: &Nodes) -> V<RollerBearing> {
+fn roller_bearing(
+    raw: &Spanned<RollerBearingFile>,
+    field: &str,
+    nodes: &Nodes,
+) -> V<RollerBearing> {
     let b = raw.get_ref();
     let f = |name: &str| format!("{field}.{name}");
     let station = nodes.station(&b.node, &b.z, field, raw.span())?;
@@ -390,40 +555,74 @@ fn roller_bearing(raw: &Spanned<RollerBearingFile>, field: &str, nodes: &Nodes) 
     let db = positive_q(&b.roller_diameter, Dimension::Length, &f("roller_diameter"))?;
     let length = positive_q(&b.roller_length, Dimension::Length, &f("roller_length"))?;
     if db >= dp {
-        return Err(err(&f("roller_diameter"), b.roller_diameter.span(), format!(
-            "the roller diameter ({db} m) must be smaller than the pitch diameter ({dp} m)"
-        )));
+        return Err(err(
+            &f("roller_diameter"),
+            b.roller_diameter.span(),
+            format!(
+                "the roller diameter ({db} m) must be smaller than the pitch diameter ({dp} m)"
+            ),
+        ));
     }
     // Rollers must fit side by side on the pitch circle.
     if rollers as f64 * db >= PI * dp {
-        return Err(err(&f("rollers"), b.rollers.span(), format!(
+        return Err(err(
+            &f("rollers"),
+            b.rollers.span(),
+            format!(
             "{rollers} rollers of diameter {db} m do not fit on a pitch circle of diameter {dp} m"
-        )).help(format!("at most {} rollers fit", ((PI * dp / db).ceil() as usize).saturating_sub(1))));
+        ),
+        )
+        .help(format!(
+            "at most {} rollers fit",
+            ((PI * dp / db).ceil() as usize).saturating_sub(1)
+        )));
     }
     let clearance = clearance(&b.clearance, &f("clearance"))?;
     let exponent = opt_f64(&b.contact_exponent, &f("contact_exponent"), 10.0 / 9.0)?;
     if !(exponent > 0.0 && exponent <= 3.0) {
-        let span = b.contact_exponent.as_ref().map(|e| e.span()).unwrap_or(raw.span());
-        return Err(err(&f("contact_exponent"), span, format!("must lie in (0, 3], got {exponent}"))
-            .help("10/9 = 1.1111 for line contact, 3/2 for point contact"));
+        let span = b
+            .contact_exponent
+            .as_ref()
+            .map(|e| e.span())
+            .unwrap_or(raw.span());
+        return Err(err(
+            &f("contact_exponent"),
+            span,
+            format!("must lie in (0, 3], got {exponent}"),
+        )
+        .help("10/9 = 1.1111 for line contact, 3/2 for point contact"));
     }
     let contact_stiffness = match b.contact_stiffness.get_ref() {
-        ContactStiffnessFile::Value(k) => positive(*k, b.contact_stiffness.span(), &f("contact_stiffness"), "N/m^n")?,
+        ContactStiffnessFile::Value(k) => positive(
+            *k,
+            b.contact_stiffness.span(),
+            &f("contact_stiffness"),
+            "N/m^n",
+        )?,
         ContactStiffnessFile::Rule(r) if r == "palmgren" => {
             if (exponent - 10.0 / 9.0).abs() > 1e-9 {
-                return Err(err(&f("contact_exponent"), raw.span(), "Palmgren's stiffness is for the line-contact exponent 10/9")
-                    .help("remove contact_exponent or give contact_stiffness as a number"));
+                return Err(err(
+                    &f("contact_exponent"),
+                    raw.span(),
+                    "Palmgren's stiffness is for the line-contact exponent 10/9",
+                )
+                .help("remove contact_exponent or give contact_stiffness as a number"));
             }
             RollerBearing::palmgren_stiffness(length)
         }
         ContactStiffnessFile::Rule(r) => {
-            return Err(err(&f("contact_stiffness"), b.contact_stiffness.span(), format!(
-                "expected a number (N/m^n) or \"palmgren\", got \"{r}\""
-            )))
+            return Err(err(
+                &f("contact_stiffness"),
+                b.contact_stiffness.span(),
+                format!("expected a number (N/m^n) or \"palmgren\", got \"{r}\""),
+            ))
         }
     };
     Ok(RollerBearing {
-        name: b.name.clone().unwrap_or_else(|| format!("roller bearing {}", station.node)),
+        name: b
+            .name
+            .clone()
+            .unwrap_or_else(|| format!("roller bearing {}", station.node)),
         station,
         rollers,
         pitch_diameter: dp,
@@ -434,7 +633,12 @@ fn roller_bearing(raw: &Spanned<RollerBearingFile>, field: &str, nodes: &Nodes) 
         contact_exponent: exponent,
         contact_damping: opt_non_negative(&b.contact_damping, &f("contact_damping"), "N s/m")?,
         cage_angle: opt_f64(&b.cage_angle, &f("cage_angle"), 0.0)?.to_radians(),
-        linear_stiffness: non_negative(*b.linear_stiffness.get_ref(), b.linear_stiffness.span(), &f("linear_stiffness"), "N/m")?,
+        linear_stiffness: non_negative(
+            *b.linear_stiffness.get_ref(),
+            b.linear_stiffness.span(),
+            &f("linear_stiffness"),
+            "N/m",
+        )?,
         linear_damping: opt_non_negative(&b.linear_damping, &f("linear_damping"), "N s/m")?,
     })
 }
@@ -443,20 +647,38 @@ fn clearance(raw: &Spanned<ClearanceFile>, field: &str) -> V<Clearance> {
     match raw.get_ref() {
         ClearanceFile::Constant(c) => {
             let q = Spanned::new(raw.span(), c.clone());
-            Ok(Clearance::Constant(non_negative_q(&q, Dimension::Length, field)?))
+            Ok(Clearance::Constant(non_negative_q(
+                &q,
+                Dimension::Length,
+                field,
+            )?))
         }
         ClearanceFile::Polynomial(p) => {
             let unit = |text: &str, dim| {
-                parse_quantity(&format!("1 {text}"), dim).map_err(|e| err(field, raw.span(), e.to_string()))
+                parse_quantity(&format!("1 {text}"), dim)
+                    .map_err(|e| err(field, raw.span(), e.to_string()))
             };
             let cu = unit(&p.clearance_unit, Dimension::Length)?;
             let su = unit(&p.speed_unit, Dimension::AngularSpeed)?;
             if p.coefficients.is_empty() || p.coefficients.iter().any(|c| !c.is_finite()) {
-                return Err(err(field, raw.span(), "coefficients must be a non-empty list of finite numbers"));
+                return Err(err(
+                    field,
+                    raw.span(),
+                    "coefficients must be a non-empty list of finite numbers",
+                ));
             }
-            let si: Vec<f64> = p.coefficients.iter().enumerate().map(|(i, c)| c * cu / su.powi(i as i32)).collect();
+            let si: Vec<f64> = p
+                .coefficients
+                .iter()
+                .enumerate()
+                .map(|(i, c)| c * cu / su.powi(i as i32))
+                .collect();
             if si[0] < 0.0 {
-                return Err(err(field, raw.span(), "the clearance at rest (first coefficient) must not be negative"));
+                return Err(err(
+                    field,
+                    raw.span(),
+                    "the clearance at rest (first coefficient) must not be negative",
+                ));
             }
             Ok(Clearance::Polynomial(si))
         }
@@ -468,9 +690,15 @@ fn damping(raw: &Spanned<DampingFile>) -> V<RayleighDamping> {
     let span = raw.span();
     let coefficients = d.alpha.is_some() || d.beta.is_some();
     let ratios = d.ratios.is_some() || d.frequencies.is_some();
-    let check = |v: f64, name: &str, unit: &str| non_negative(v, span.clone(), &format!("damping.{name}"), unit);
+    let check = |v: f64, name: &str, unit: &str| {
+        non_negative(v, span.clone(), &format!("damping.{name}"), unit)
+    };
     match (coefficients, ratios) {
-        (true, true) => Err(err("damping", span, "give alpha/beta or ratios/frequencies, not both")),
+        (true, true) => Err(err(
+            "damping",
+            span,
+            "give alpha/beta or ratios/frequencies, not both",
+        )),
         (false, false) => Ok(RayleighDamping::default()),
         (true, false) => Ok(RayleighDamping {
             alpha: check(d.alpha.unwrap_or(0.0), "alpha", "1/s")?,
@@ -478,10 +706,18 @@ fn damping(raw: &Spanned<DampingFile>) -> V<RayleighDamping> {
         }),
         (false, true) => {
             let (Some(z), Some(f)) = (&d.ratios, &d.frequencies) else {
-                return Err(err("damping", span, "ratios and frequencies go together: two of each"));
+                return Err(err(
+                    "damping",
+                    span,
+                    "ratios and frequencies go together: two of each",
+                ));
             };
             if z.len() != 2 || f.len() != 2 {
-                return Err(err("damping", span, "give exactly two ratios and two frequencies"));
+                return Err(err(
+                    "damping",
+                    span,
+                    "give exactly two ratios and two frequencies",
+                ));
             }
             let w = f
                 .iter()
@@ -491,11 +727,19 @@ fn damping(raw: &Spanned<DampingFile>) -> V<RayleighDamping> {
                 })
                 .collect::<V<Vec<_>>>()?;
             if (w[0] - w[1]).abs() <= 1e-9 * w[0] {
-                return Err(err("damping.frequencies", span, "the two frequencies must differ"));
+                return Err(err(
+                    "damping.frequencies",
+                    span,
+                    "the two frequencies must differ",
+                ));
             }
             for &zi in z {
                 if !(0.0..1.0).contains(&zi) {
-                    return Err(err("damping.ratios", span, format!("damping ratios must lie in [0, 1), got {zi}")));
+                    return Err(err(
+                        "damping.ratios",
+                        span,
+                        format!("damping ratios must lie in [0, 1), got {zi}"),
+                    ));
                 }
             }
             let r = RayleighDamping::from_ratios([z[0], z[1]], [w[0], w[1]]);
@@ -510,24 +754,45 @@ fn damping(raw: &Spanned<DampingFile>) -> V<RayleighDamping> {
     }
 }
 
-fn unbalance(raw: &Spanned<UnbalanceFile>, field: &str, nodes: &Nodes, disks: &[Disk]) -> V<Unbalance> {
+fn unbalance(
+    raw: &Spanned<UnbalanceFile>,
+    field: &str,
+    nodes: &Nodes,
+    disks: &[Disk],
+) -> V<Unbalance> {
     let u = raw.get_ref();
     let f = |name: &str| format!("{field}.{name}");
     let station = nodes.station(&u.node, &u.z, field, raw.span())?;
-    let given = [u.eccentricity.is_some(), u.mass_radius.is_some(), u.grade.is_some()];
+    let given = [
+        u.eccentricity.is_some(),
+        u.mass_radius.is_some(),
+        u.grade.is_some(),
+    ];
     if given.iter().filter(|g| **g).count() != 1 {
-        return Err(err(field, raw.span(), "give exactly one of eccentricity, mass_radius or grade"));
+        return Err(err(
+            field,
+            raw.span(),
+            "give exactly one of eccentricity, mass_radius or grade",
+        ));
     }
     let carrier_mass = || -> V<f64> {
         if let Some(m) = &u.mass {
             return positive_q(m, Dimension::Mass, &f("mass"));
         }
-        let m: f64 = disks.iter().filter(|d| d.station.node == station.node).map(|d| d.mass).sum();
+        let m: f64 = disks
+            .iter()
+            .filter(|d| d.station.node == station.node)
+            .map(|d| d.mass)
+            .sum();
         if m > 0.0 {
             Ok(m)
         } else {
-            Err(err(field, raw.span(), format!("no disk at node {} to carry the eccentricity", station.node))
-                .help("give `mass` (the mass that is off-centre), or use mass_radius"))
+            Err(err(
+                field,
+                raw.span(),
+                format!("no disk at node {} to carry the eccentricity", station.node),
+            )
+            .help("give `mass` (the mass that is off-centre), or use mass_radius"))
         }
     };
     let mass_radius = if let Some(e) = &u.eccentricity {
@@ -538,24 +803,40 @@ fn unbalance(raw: &Spanned<UnbalanceFile>, field: &str, nodes: &Nodes, disks: &[
         // ISO 21940-11: permissible eccentricity e = G / Omega with G in mm/s.
         let grade = positive(*g.get_ref(), g.span(), &f("grade"), "mm/s")?;
         let speed = u.grade_speed.as_ref().ok_or_else(|| {
-            err(field, raw.span(), "a balance grade needs `grade_speed`, the maximum service speed")
+            err(
+                field,
+                raw.span(),
+                "a balance grade needs `grade_speed`, the maximum service speed",
+            )
         })?;
         let omega = positive_q(speed, Dimension::AngularSpeed, &f("grade_speed"))?;
         grade * 1e-3 / omega * carrier_mass()?
     } else {
         0.0
     };
-    Ok(Unbalance { station, mass_radius, phase: opt_f64(&u.phase, &f("phase"), 0.0)?.to_radians() })
+    Ok(Unbalance {
+        station,
+        mass_radius,
+        phase: opt_f64(&u.phase, &f("phase"), 0.0)?.to_radians(),
+    })
 }
 
 fn operating(raw: &Spanned<OperatingFile>) -> V<(f64, f64)> {
     let o = raw.get_ref();
     let q = |x: &NumOrText, name: &str| {
-        positive_q(&Spanned::new(raw.span(), x.clone()), Dimension::AngularSpeed, &format!("operating.{name}"))
+        positive_q(
+            &Spanned::new(raw.span(), x.clone()),
+            Dimension::AngularSpeed,
+            &format!("operating.{name}"),
+        )
     };
     let (lo, hi) = (q(&o.min_speed, "min_speed")?, q(&o.max_speed, "max_speed")?);
     if lo > hi {
-        return Err(err("operating", raw.span(), "min_speed must not exceed max_speed"));
+        return Err(err(
+            "operating",
+            raw.span(),
+            "min_speed must not exceed max_speed",
+        ));
     }
     Ok((lo, hi))
 }

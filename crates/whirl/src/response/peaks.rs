@@ -52,11 +52,7 @@ fn crossing(x: &[f64], y: &[f64], a: usize, b: usize, level: f64) -> f64 {
 
 /// Local maxima of `y` over `x` (strictly higher than both neighbours), with their
 /// half-power bands and margins.
-pub(crate) fn find_peaks(
-    x: &[f64],
-    y: &[f64],
-    operating: Option<(f64, f64)>,
-) -> Vec<ResponsePeak> {
+pub(crate) fn find_peaks(x: &[f64], y: &[f64], operating: Option<(f64, f64)>) -> Vec<ResponsePeak> {
     let mut peaks = Vec::new();
     for k in 1..y.len().saturating_sub(1) {
         if !(y[k] > y[k - 1] && y[k] >= y[k + 1]) {
@@ -64,8 +60,13 @@ pub(crate) fn find_peaks(
         }
         let (xc, yc) = refine_peak(x, y, k);
         let level = yc / std::f64::consts::SQRT_2;
-        let left = (0..k).rev().find(|&j| y[j] < level).map(|j| crossing(x, y, j, j + 1, level));
-        let right = (k + 1..y.len()).find(|&j| y[j] < level).map(|j| crossing(x, y, j - 1, j, level));
+        let left = (0..k)
+            .rev()
+            .find(|&j| y[j] < level)
+            .map(|j| crossing(x, y, j, j + 1, level));
+        let right = (k + 1..y.len())
+            .find(|&j| y[j] < level)
+            .map(|j| crossing(x, y, j - 1, j, level));
         let band = left.zip(right);
         let af = band.map(|(n1, n2)| xc / (n2 - n1));
         let (required, actual, meets) = match (af, operating) {

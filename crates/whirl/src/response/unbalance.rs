@@ -105,10 +105,16 @@ pub fn unbalance_response(
         .par_iter()
         .map(|&w| unbalance_phasor(system, &force, w))
         .collect::<Result<_>>()?;
-    let speeds_hz: Vec<f64> = speeds.iter().map(|w| w / (2.0 * std::f64::consts::PI)).collect();
-    let operating_hz = model
-        .operating
-        .map(|(a, b)| (a / (2.0 * std::f64::consts::PI), b / (2.0 * std::f64::consts::PI)));
+    let speeds_hz: Vec<f64> = speeds
+        .iter()
+        .map(|w| w / (2.0 * std::f64::consts::PI))
+        .collect();
+    let operating_hz = model.operating.map(|(a, b)| {
+        (
+            a / (2.0 * std::f64::consts::PI),
+            b / (2.0 * std::f64::consts::PI),
+        )
+    });
     let z = model.node_positions();
     let nodes = nodes
         .iter()

@@ -1,0 +1,115 @@
+//! Linear unbalance response against closed forms.
+
+use std::f64::consts::PI;
+
+use whirl::fe::{assemble, Bearings};
+use whirl::modal::Whirl;
+use whirl::model::Model;
+use whirl::response::unbalance_response;
+
+/// A one-mass rotor: a 10 kg disk on an isotropic spring-damper at node 0. The single
+/// 1 cm shaft element hangs free from it and weighs 1e-9 kg, so the disk's translation
+/// obeys m x'' + c x' + k x = m_u e Omega^2 cos(Omega t + phi) to about 1e-10.
+const ONE_MASS: &str = r#"
+[[material]]
+name = "steel"
+young_modulus = 2.11e11
+density = 1e-3
+[[shaft]]
+length = 0.01
+outer_diameter = 0.01
+material = "steel"
+elements = 1
+[[disk]]
+node = 0
+mass = 10
+polar_inertia = 0.05
+diametral_inertia = 0.025
+[[bearing]]
+node = 0
+kxx = 1e6
+kyy = 1e6
+cxx = 150
+cyy = 150
+[[unbalance]]
+node = 0
+mass_radius = 4e-4
+phase = 30
+"#;
+
+#[test]
+fn one_mass_rotor_matches_the_closed_form() {
+    let model = Model::from_toml_str(ONE_MASS, None).unwrap();
+    let sys = assemble(&model, Bearings::Linearised);
+    let speeds: Vec<f64> = (1..=200).map(|i| 2.0 * PI * i as f64).collect();
+    let r = unbalance_response(&model, &sys, &speeds, &[0]).unwrap();
+    let node = &r.nodes[0];
+    let (m, k, c, u, phi) = (10.0, 1e6, 150.0, 4e-4, 30f64.to_radians());
+    for (i, &w) in speeds.iter().enumerate() {
+        // X = u w^2 e^{i phi} / (k - m w^2 + i c w); Y = -i X (forward circular orbit).
+        let den = num_complex::Complex64::new(k - m * w * w, c * w);
+        let x = num_complex::Complex64::from_polar(u * w * w, phi) / den;
+        let y = num_complex::Complex64::new(0.0, -1.0) * x;
+        // The shaft element's 1e-9 kg is the only difference: 1e-6 is ample.
+        assert!((node.ux_amplitude[i] - x.norm()).abs() < 1e-6 * x.norm());
+        assert!((node.uy_amplitude[i] - y.norm()).abs() < 1e-6 * y.norm());
+        let dphase = (node.ux_phase_deg[i] - x.arg().to_degrees() + 540.0) % 360.0 - 180.0;
+        assert!(
+            dphase.abs() < 1e-6 * 57.3,
+            "{} vs {}",
+            node.ux_phase_deg[i],
+            x.arg().to_degrees()
+        );
+        let dphase = (node.uy_phase_deg[i] - y.arg().to_degrees() + 540.0) % 360.0 - 180.0;
+        assert!(dphase.abs() < 1e-6 * 57.3);
+        // Isotropic: the orbit is a forward circle.
+        assert!((node.major[i] - node.minor[i]).abs() < 1e-9 * node.major[i]);
+        assert_eq!(node.whirl[i], Whirl::Forward);
+    }
+    // One peak: with a force growing as w^2 the amplitude peaks above wn, at
+    // w = wn / sqrt(1 - 2 zeta^2).
+    let wn = (k / m).sqrt();
+    let zeta = c / (2.0 * (k * m).sqrt());
+    let expected_hz = wn / (1.0 - 2.0 * zeta * zeta).sqrt() / (2.0 * PI);
+    assert_eq!(node.peaks.len(), 1);
+    let p = &node.peaks[0];
+    // Parabolic refinement on a 1 Hz grid around a peak of half-width ~0.6 Hz: 0.1 Hz.
+    assert!(
+        (p.speed_hz - expected_hz).abs() < 0.1,
+        "{} vs {expected_hz}",
+        p.speed_hz
+    );
+    let af = p.amplification_factor.unwrap();
+    // Q = 1 / (2 zeta) = 13.3; half-power on a 1 Hz grid resolves it to a few percent.
+    assert!(
+        (af * 2.0 * zeta - 1.0).abs() < 0.1,
+        "AF {af} vs {}",
+        1.0 / (2.0 * zeta)
+    );
+}
+
+#[test]
+fn reference_rotor_peaks_at_its_first_critical_speed() {
+    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let sys = assemble(&model, Bearings::Linearised);
+    let speeds: Vec<f64> = (1..=800).map(|i| 2.0 * PI * i as f64 * 0.5).collect();
+    let r = unbalance_response(&model, &sys, &speeds, &[10]).unwrap();
+    let p = &r.nodes[0].peaks[0];
+    // The forward critical speed is 49.85 Hz (Campbell); the unbalance peak of a 2 %
+    // damped mode sits within a fraction of a hertz of it.
+    assert!((p.speed_hz - 49.85).abs() < 0.3, "{}", p.speed_hz);
+    // Damping ratio about 1.8 %: AF about 1 / (2 zeta) = 28.
+    let af = p.amplification_factor.unwrap();
+    assert!(af > 20.0 && af < 35.0, "{af}");
+    // API 617: AF >= 2.5 asks for a margin; the operating range starts at 1 Hz so the
+    // critical speed is inside it and the requirement is not met.
+    assert_eq!(p.meets_api617, Some(false));
+}
+
+#[test]
+fn nodes_outside_the_shaft_are_refused() {
+    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let sys = assemble(&model, Bearings::Linearised);
+    let e = unbalance_response(&model, &sys, &[100.0], &[21]).unwrap_err();
+    assert!(e.to_string().contains("node 21"), "{e}");
+}
