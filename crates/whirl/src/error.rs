@@ -112,6 +112,16 @@ pub enum Error {
     /// A numerical method failed; the message says why and what to change.
     #[error("{0}")]
     Numerical(String),
+    /// A time integration diverged; what was computed before stays with the caller.
+    #[error("{message}")]
+    Diverged {
+        /// Time of divergence, s.
+        time: f64,
+        /// The coordinate that left the bound.
+        coordinate: usize,
+        /// What happened and what to change.
+        message: String,
+    },
 }
 
 impl From<InputError> for Error {

@@ -21,12 +21,18 @@
 //!
 //! Units: SI everywhere inside (m, kg, s, rad/s); [`units`] converts what people write.
 
+// Numerical kernels index several arrays in step; index loops read like the equations.
+#![allow(clippy::needless_range_loop)]
+
 pub mod error;
 pub mod examples;
 pub mod fe;
 pub mod modal;
 pub mod model;
+pub mod post;
+pub mod reduce;
 pub mod response;
+pub mod time;
 pub mod units;
 
 pub use error::{Error, InputError, Result};

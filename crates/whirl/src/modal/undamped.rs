@@ -34,10 +34,28 @@ fn mass_cholesky(mass: &Mat<f64>) -> Result<faer::linalg::solvers::Llt<f64>> {
 
 /// The `count` lowest undamped modes (all when `count` exceeds the DOF count).
 pub fn undamped_modes(system: &SystemMatrices, count: usize) -> Result<UndampedModes> {
-    let n = system.dofs();
-    let llt = mass_cholesky(&system.mass)?;
+    let (omega_squared, shapes) = symmetric_modes(&system.stiffness, &system.mass, count)?;
+    let frequencies_hz = omega_squared
+        .iter()
+        .map(|w2| w2.max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
+        .collect();
+    Ok(UndampedModes {
+        frequencies_hz,
+        shapes,
+    })
+}
+
+/// The `count` lowest eigenpairs of K v = w^2 M v (K symmetrised, M symmetric positive
+/// definite): w^2 ascending and M-orthonormal vectors as columns.
+pub(crate) fn symmetric_modes(
+    stiffness: &Mat<f64>,
+    mass: &Mat<f64>,
+    count: usize,
+) -> Result<(Vec<f64>, Mat<f64>)> {
+    let n = mass.nrows();
+    let llt = mass_cholesky(mass)?;
     let l = llt.L();
-    let k = &system.stiffness;
+    let k = stiffness;
     let mut a = Mat::<f64>::from_fn(n, n, |i, j| 0.5 * (k[(i, j)] + k[(j, i)]));
     // A = L^-1 K L^-T: two triangular solves, the second on the transpose.
     l.solve_lower_triangular_in_place(a.as_mut());
@@ -52,11 +70,5 @@ pub fn undamped_modes(system: &SystemMatrices, count: usize) -> Result<UndampedM
     l.transpose()
         .solve_upper_triangular_in_place(shapes.as_mut());
     let s = eig.S().column_vector();
-    let frequencies_hz = (0..m)
-        .map(|j| s[j].max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
-        .collect();
-    Ok(UndampedModes {
-        frequencies_hz,
-        shapes,
-    })
+    Ok(((0..m).map(|j| s[j]).collect(), shapes))
 }

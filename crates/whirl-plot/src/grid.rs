@@ -1,0 +1,105 @@
+//! Several x-y panels in one figure, laid out in rows and columns.
+
+use std::path::{Path, PathBuf};
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::chart::{draw_title, split_title};
+use crate::figure::Figure2d;
+use crate::font::Metrics;
+use crate::render::{save, Render, MIN_SIZE};
+use crate::PlotError;
+
+/// Panels of [`Figure2d`] in `rows` x `cols`, filled row by row (mode shapes of six modes in
+/// 2 x 3, Bode magnitude above phase in 2 x 1). Cells without a panel stay blank. Each panel
+/// keeps its own title, labels, ranges and legend; its `size` is ignored.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Grid {
+    /// Title above all panels; empty for none.
+    pub title: String,
+    /// Number of rows.
+    pub rows: usize,
+    /// Number of columns.
+    pub cols: usize,
+    /// The panels, row by row; at most `rows * cols`.
+    pub panels: Vec<Figure2d>,
+    /// Size of the whole figure in pixels.
+    pub size: (u32, u32),
+}
+
+impl Grid {
+    /// An empty grid of `rows` x `cols` cells, sized about 500 x 360 pixels per panel and at
+    /// least 1000 x 700 in all.
+    pub fn new(title: impl Into<String>, rows: usize, cols: usize) -> Self {
+        let per = |n: usize, each: u32, least: u32| {
+            u32::try_from(n).map_or(u32::MAX, |n| n.saturating_mul(each).max(least))
+        };
+        Grid {
+            title: title.into(),
+            rows,
+            cols,
+            panels: Vec::new(),
+            size: (per(cols, 500, 1000), per(rows, 360, 700)),
+        }
+    }
+
+    /// The same grid with one more panel.
+    pub fn with_panel(mut self, panel: Figure2d) -> Self {
+        self.panels.push(panel);
+        self
+    }
+
+    /// Writes `stem.png` and `stem.svg` (creating the parent directory if needed) and returns
+    /// their paths, PNG first.
+    pub fn save(&self, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
+        save(self, stem)
+    }
+}
+
+impl Render for Grid {
+    fn size(&self) -> (u32, u32) {
+        self.size
+    }
+
+    fn check(&self) -> Result<(), PlotError> {
+        let cells = self.rows.checked_mul(self.cols).unwrap_or(0);
+        if cells == 0 || cells < self.panels.len() {
+            return Err(PlotError::GridShape {
+                rows: self.rows,
+                cols: self.cols,
+                panels: self.panels.len(),
+            });
+        }
+        let (w, h) = self.size;
+        let too_small =
+            |total: u32, n: usize, least: u32| u32::try_from(n).map_or(true, |n| total / n < least);
+        if too_small(w, self.cols, MIN_SIZE.0) || too_small(h, self.rows, MIN_SIZE.1) {
+            return Err(PlotError::TooSmall(w, h));
+        }
+        self.panels.iter().try_for_each(|p| p.axes().map(|_| ()))
+    }
+
+    fn render<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        scale: f64,
+    ) -> Result<(), PlotError> {
+        let (strip, area) = split_title(root, &self.title, Metrics::FULL.scaled(scale));
+        if let Some(strip) = strip {
+            draw_title(&strip, &self.title, Metrics::FULL.scaled(scale))?;
+        }
+        let m = Metrics::PANEL.scaled(scale);
+        let cells = area.split_evenly((self.rows, self.cols));
+        // Line up the plotting areas of each column: give all its panels the widest y labels.
+        let mut y_area = vec![0; self.cols];
+        for (k, (panel, cell)) in self.panels.iter().zip(&cells).enumerate() {
+            let column = &mut y_area[k % self.cols];
+            *column = (*column).max(panel.y_area_on(cell, m)?);
+        }
+        for (k, (panel, cell)) in self.panels.iter().zip(&cells).enumerate() {
+            panel.draw_on(cell, m, y_area[k % self.cols])?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,35 @@
+//! Post-processing of time histories (SPEC sections 7 and 9; thesis ch. 5).
+//!
+//! - [`spectrum`]: one-sided amplitude spectrum scaled to physical zero-to-peak
+//!   amplitude, `A_k = c_k |X_k| / sum(w)` with `X_k = sum_n w_n x_n e^(-2 pi i k n / N)`,
+//!   `c_k = 2` for `0 < k < N/2` and `c_k = 1` at DC and Nyquist; the full (two-sided)
+//!   spectrum of `x + i y` that separates forward from backward whirl; a reusable,
+//!   allocation-free [`SpectrumPlanner`] for cascades.
+//! - [`peaks`]: spectral peaks refined between bins by the window's own main-lobe shape,
+//!   their order relative to the running speed, the largest non-synchronous peak (the NSV
+//!   amplitude of SPEC section 9) and the amplitude read near a given frequency (1X).
+//!
+//! ```
+//! use whirl::post::{amplitude_spectrum, largest_non_synchronous, Window};
+//! let fs = 1024.0;
+//! let signal: Vec<f64> = (0..1024)
+//!     .map(|n| {
+//!         let t = n as f64 / fs;
+//!         1e-5 * (2.0 * std::f64::consts::PI * 50.0 * t).sin()
+//!             + 3e-6 * (2.0 * std::f64::consts::PI * 173.0 * t).sin()
+//!     })
+//!     .collect();
+//! let spectrum = amplitude_spectrum(&signal, fs, Window::Hann).unwrap();
+//! let nsv = largest_non_synchronous(&spectrum, 50.0, 2.0, 4).unwrap();
+//! assert!((nsv.frequency_hz - 173.0).abs() < 1e-6);
+//! assert!((nsv.amplitude - 3e-6).abs() < 1e-15);
+//! ```
+
+pub mod peaks;
+pub mod spectrum;
+
+pub use peaks::{amplitude_at, largest_non_synchronous, spectral_peaks, SpectralPeak};
+pub use spectrum::{
+    amplitude_spectrum, amplitude_spectrum_with, full_spectrum, FullSpectrum, FullSpectrumPlanner,
+    Spectrum, SpectrumOptions, SpectrumPlanner, Window,
+};

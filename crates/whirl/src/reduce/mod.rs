@@ -1,0 +1,269 @@
+//! Craig-Bampton reduction (thesis 2.3, SPEC section 5).
+//!
+//! DOFs split into boundary B (every DOF of the bearing nodes, plus nodes the user marks)
+//! and internal I. The internal DOFs are described by static constraint modes and the N
+//! lowest fixed-interface modes (thesis eqs. 2.32-2.41):
+//!
+//! ```text
+//! q = Psi u,   Psi = [ I      0    ]   u = (q_B, eta)
+//!                    [ Phi_c  Phi_N ]
+//! Phi_c = -K_II^-1 K_IB,   K_II phi = w^2 M_II phi  (N lowest, M_II-normalised)
+//! ```
+//!
+//! M, K, G and C are all reduced as Psi^T X Psi. The thesis reduces only M and K and
+//! rebuilds damping as alpha M~ + beta K~ (eq. 2.42); that forgets the gyroscopic matrix
+//! and mixes the bearings' stiffness into the rotor's Rayleigh damping, so whirl projects
+//! each matrix instead. Boundary DOFs stay physical, so bearing forces act on the reduced
+//! model directly.
+
+use faer::Mat;
+use serde::Serialize;
+
+use crate::error::{Error, Result};
+use crate::fe::{dof, Direction, SystemMatrices, DOFS_PER_NODE};
+use crate::modal::symmetric_modes;
+use crate::model::Model;
+
+/// A Craig-Bampton reduced model and the map back to physical DOFs.
+#[derive(Debug, Clone)]
+pub struct CraigBampton {
+    /// Boundary DOFs (physical indices); reduced coordinate i < boundary.len() is boundary[i].
+    pub boundary: Vec<usize>,
+    /// Number of fixed-interface modes kept.
+    pub modes: usize,
+    /// Psi: physical DOFs x reduced coordinates.
+    pub transform: Mat<f64>,
+    /// Reduced M, K, G, C.
+    pub reduced: SystemMatrices,
+    /// Natural frequencies of the fixed-interface modes kept, Hz.
+    pub fixed_interface_hz: Vec<f64>,
+}
+
+/// All DOFs of the bearing nodes plus those of `extra_nodes`, ascending.
+pub fn boundary_dofs(model: &Model, extra_nodes: &[usize]) -> Vec<usize> {
+    let mut nodes = model.bearing_nodes();
+    nodes.extend_from_slice(extra_nodes);
+    nodes.sort_unstable();
+    nodes.dedup();
+    nodes
+        .iter()
+        .flat_map(|&n| Direction::ALL.map(|d| dof(n, d)))
+        .collect()
+}
+
+fn sub(a: &Mat<f64>, rows: &[usize], cols: &[usize]) -> Mat<f64> {
+    Mat::from_fn(rows.len(), cols.len(), |i, j| a[(rows[i], cols[j])])
+}
+
+impl CraigBampton {
+    /// Reduces `system` keeping `boundary` DOFs and `modes` fixed-interface modes.
+    pub fn new(system: &SystemMatrices, boundary: &[usize], modes: usize) -> Result<CraigBampton> {
+        let n = system.dofs();
+        let mut is_boundary = vec![false; n];
+        for &b in boundary {
+            if b >= n {
+                return Err(Error::Numerical(format!(
+                    "boundary DOF {b} is outside the model ({n} DOFs)"
+                )));
+            }
+            is_boundary[b] = true;
+        }
+        let boundary: Vec<usize> = (0..n).filter(|&i| is_boundary[i]).collect();
+        let internal: Vec<usize> = (0..n).filter(|&i| !is_boundary[i]).collect();
+        if boundary.is_empty() {
+            return Err(Error::Numerical(
+                "Craig-Bampton needs boundary DOFs: the model has no bearing; mark nodes as boundary".into(),
+            ));
+        }
+        let modes = modes.min(internal.len());
+        let (nb, ni) = (boundary.len(), internal.len());
+
+        // Constraint modes: K_II Phi_c = -K_IB.
+        let k_ii = sub(&system.stiffness, &internal, &internal);
+        let mut phi_c = sub(&system.stiffness, &internal, &boundary);
+        let lu = k_ii.partial_piv_lu();
+        faer::linalg::solvers::Solve::solve_in_place(&lu, phi_c.as_mut());
+        if phi_c.col_iter().any(|c| c.iter().any(|v| !v.is_finite())) {
+            return Err(Error::Numerical(
+                "the internal stiffness K_II is singular: part of the shaft is not held by any \
+                 boundary node (mark a node there as boundary)"
+                    .into(),
+            ));
+        }
+        let (omega2, phi_n) = if modes > 0 {
+            let m_ii = sub(&system.mass, &internal, &internal);
+            symmetric_modes(&k_ii, &m_ii, modes)?
+        } else {
+            (Vec::new(), Mat::zeros(ni, 0))
+        };
+
+        let mut psi = Mat::<f64>::zeros(n, nb + modes);
+        for (j, &b) in boundary.iter().enumerate() {
+            psi[(b, j)] = 1.0;
+            for (i, &r) in internal.iter().enumerate() {
+                psi[(r, j)] = -phi_c[(i, j)];
+            }
+        }
+        for j in 0..modes {
+            for (i, &r) in internal.iter().enumerate() {
+                psi[(r, nb + j)] = phi_n[(i, j)];
+            }
+        }
+        let project = |a: &Mat<f64>| psi.transpose() * a * &psi;
+        let reduced = SystemMatrices {
+            mass: project(&system.mass),
+            stiffness: project(&system.stiffness),
+            gyroscopic: project(&system.gyroscopic),
+            damping: project(&system.damping),
+        };
+        Ok(CraigBampton {
+            boundary,
+            modes,
+            reduced,
+            fixed_interface_hz: omega2
+                .iter()
+                .map(|w2| w2.max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
+                .collect(),
+            transform: psi,
+        })
+    }
+
+    /// Number of reduced coordinates.
+    pub fn size(&self) -> usize {
+        self.transform.ncols()
+    }
+
+    /// Psi^T f: a physical force vector in reduced coordinates.
+    pub fn reduce_vector(&self, f: &[f64]) -> Vec<f64> {
+        (0..self.size())
+            .map(|j| {
+                f.iter()
+                    .enumerate()
+                    .map(|(i, fi)| fi * self.transform[(i, j)])
+                    .sum()
+            })
+            .collect()
+    }
+
+    /// Row of Psi that recovers physical DOF `dof` from the reduced coordinates.
+    pub fn recovery_row(&self, dof: usize) -> Vec<f64> {
+        (0..self.size()).map(|j| self.transform[(dof, j)]).collect()
+    }
+
+    /// q = Psi u: every physical DOF from the reduced coordinates.
+    pub fn recover(&self, u: &[f64]) -> Vec<f64> {
+        (0..self.transform.nrows())
+            .map(|i| {
+                (0..self.size())
+                    .map(|j| self.transform[(i, j)] * u[j])
+                    .sum()
+            })
+            .collect()
+    }
+
+    /// Reduced coordinate of a boundary DOF.
+    pub fn reduced_index(&self, dof: usize) -> Option<usize> {
+        self.boundary.binary_search(&dof).ok()
+    }
+
+    /// Nodes on the boundary.
+    pub fn boundary_nodes(&self) -> Vec<usize> {
+        let mut nodes: Vec<usize> = self.boundary.iter().map(|d| d / DOFS_PER_NODE).collect();
+        nodes.dedup();
+        nodes
+    }
+}
+
+/// Largest stable step of the explicit central difference, 2 / w_max, with w_max the
+/// highest undamped natural frequency of (K + extra, M), rad/s. `extra` adds a tangent
+/// stiffness (e.g. of contacts) on the given DOFs.
+pub fn explicit_stability_limit(
+    system: &SystemMatrices,
+    extra: Option<(&[usize], &Mat<f64>)>,
+) -> Result<f64> {
+    let mut k = system.stiffness.clone();
+    if let Some((dofs, kt)) = extra {
+        for (a, &i) in dofs.iter().enumerate() {
+            for (b, &j) in dofs.iter().enumerate() {
+                k[(i, j)] += kt[(a, b)];
+            }
+        }
+    }
+    let n = system.dofs();
+    let (omega2, _) = symmetric_modes(&k, &system.mass, n)?;
+    let w_max = omega2.last().copied().unwrap_or(0.0).max(0.0).sqrt();
+    Ok(if w_max > 0.0 {
+        2.0 / w_max
+    } else {
+        f64::INFINITY
+    })
+}
+
+/// Accuracy of a reduction: reduced against full frequencies and stability limits.
+#[derive(Debug, Clone, Serialize)]
+pub struct ReductionStudy {
+    /// Full model: DOF count, natural frequencies (Hz) and stable step (s).
+    pub full_dofs: usize,
+    /// Natural frequencies of the full model, Hz.
+    pub full_frequencies_hz: Vec<f64>,
+    /// Explicit stability limit of the full model, s.
+    pub full_stable_step: f64,
+    /// Boundary DOF count.
+    pub boundary_dofs: usize,
+    /// One row per number of fixed-interface modes.
+    pub rows: Vec<ReductionRow>,
+}
+
+/// One reduced model of a [`ReductionStudy`].
+#[derive(Debug, Clone, Serialize)]
+pub struct ReductionRow {
+    /// Fixed-interface modes kept.
+    pub modes: usize,
+    /// Reduced coordinates.
+    pub size: usize,
+    /// Natural frequencies of the reduced model (as many as the full list compares), Hz.
+    pub frequencies_hz: Vec<f64>,
+    /// Relative error of each against the full model.
+    pub relative_error: Vec<f64>,
+    /// Explicit stability limit, s.
+    pub stable_step: f64,
+}
+
+/// Compares reduced models with `mode_counts` fixed-interface modes against the full one on
+/// the first `compare` natural frequencies.
+pub fn reduction_study(
+    system: &SystemMatrices,
+    boundary: &[usize],
+    mode_counts: &[usize],
+    compare: usize,
+) -> Result<ReductionStudy> {
+    let n = system.dofs();
+    let to_hz = |w2: &f64| w2.max(0.0).sqrt() / (2.0 * std::f64::consts::PI);
+    let (full2, _) = symmetric_modes(&system.stiffness, &system.mass, n)?;
+    let full_frequencies_hz: Vec<f64> = full2.iter().take(compare).map(to_hz).collect();
+    let mut rows = Vec::new();
+    for &m in mode_counts {
+        let cb = CraigBampton::new(system, boundary, m)?;
+        let (red2, _) = symmetric_modes(&cb.reduced.stiffness, &cb.reduced.mass, cb.size())?;
+        let frequencies_hz: Vec<f64> = red2.iter().take(compare).map(to_hz).collect();
+        let relative_error = frequencies_hz
+            .iter()
+            .zip(&full_frequencies_hz)
+            .map(|(r, f)| if *f > 0.0 { (r - f) / f } else { 0.0 })
+            .collect();
+        rows.push(ReductionRow {
+            modes: cb.modes,
+            size: cb.size(),
+            frequencies_hz,
+            relative_error,
+            stable_step: explicit_stability_limit(&cb.reduced, None)?,
+        });
+    }
+    Ok(ReductionStudy {
+        full_dofs: n,
+        full_stable_step: 2.0 / full2.last().copied().unwrap_or(0.0).max(1e-300).sqrt(),
+        full_frequencies_hz,
+        boundary_dofs: boundary.len(),
+        rows,
+    })
+}
