@@ -1,1 +1,89 @@
-fn main(){}
+//! `whirl`: rotordynamics of rotors on roller bearings, from the command line.
+//!
+//! A thin layer over the `whirl` library: parse the arguments, load and validate the model
+//! file, call the library, write the results. Every command writes one folder (`--out`,
+//! default `out/<command>`) holding `summary.json`, CSV tables and PNG + SVG plots; the
+//! folder appears only when everything in it was written (see [`output`]).
+//!
+//! Errors go to stderr as miette diagnostics that name the file, line and column, the
+//! field and the fix, with the offending line of the model file shown; the exit code is 1
+//! (2 for a malformed command line, as clap reports it).
+
+mod commands;
+mod error;
+mod output;
+mod plots;
+
+use std::io::Write;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+use commands::Outcome;
+
+/// Rotordynamics of rotors on roller bearings.
+///
+/// Plain numbers are SI: lengths in m, speeds in rad/s. Give a unit to say otherwise:
+/// `--speed 3000rpm`, `--speeds 0:800Hz:161`.
+#[derive(Debug, Parser)]
+#[command(name = "whirl", version, about, long_about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Validate a model file and summarise it (mesh, masses, supports, first frequencies).
+    Check(commands::check::Args),
+    /// Undamped modes and shapes, and damped whirl modes at one speed.
+    Modal(commands::modal::Args),
+    /// Campbell diagram: whirl frequencies over speed, critical speeds.
+    Campbell(commands::campbell::Args),
+    /// Mesh convergence: natural frequencies versus element count.
+    Convergence(commands::convergence::Args),
+    /// Steady unbalance response over speed: Bode, polar, orbit size, API 617 margins.
+    Unbalance(commands::unbalance::Args),
+}
+
+fn main() -> ExitCode {
+    // whirl parallelises across speeds with rayon; faer's own threads would only compete.
+    faer::set_global_parallelism(faer::Par::Seq);
+    error::install_hook();
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Check(a) => commands::check::run(a),
+        Command::Modal(a) => commands::modal::run(a),
+        Command::Campbell(a) => commands::campbell::run(a),
+        Command::Convergence(a) => commands::convergence::run(a),
+        Command::Unbalance(a) => commands::unbalance::run(a),
+    };
+    match result {
+        Ok(outcome) => {
+            report(&outcome);
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            // Writing to a closed stderr must not panic either.
+            let _ = writeln!(std::io::stderr(), "{e:?}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// Prints the summary: JSON with `--json`, text otherwise. A closed stdout is not an error.
+fn report(outcome: &Outcome) {
+    let mut out = std::io::stdout().lock();
+    let _ = if outcome.json {
+        let text = serde_json::to_string_pretty(&outcome.summary).unwrap_or_default();
+        writeln!(out, "{text}")
+    } else {
+        writeln!(
+            out,
+            "{}\nwrote {} files to {}",
+            outcome.text.trim_end(),
+            outcome.files,
+            outcome.dir.display()
+        )
+    };
+}

@@ -1,0 +1,179 @@
+//! One module per command; here what they share: the model file argument, `--out` and
+//! `--json`, parsers of speeds and lists, names of whirl branches.
+
+pub mod campbell;
+pub mod check;
+pub mod convergence;
+pub mod modal;
+pub mod unbalance;
+
+use std::path::{Path, PathBuf};
+
+use serde_json::Value;
+use whirl::modal::Whirl;
+use whirl::model::Model;
+use whirl::units::{parse_quantity, parse_range, Dimension};
+
+use crate::error::{from_whirl, Diag};
+use crate::output::Output;
+
+/// Arguments every command takes.
+#[derive(Debug, clap::Args)]
+pub struct Common {
+    /// The model file (TOML), e.g. examples/reference_rotor.toml.
+    #[arg(value_name = "MODEL")]
+    pub model: PathBuf,
+    /// Output folder [default: out/<command>]. Replaced as a whole when the command
+    /// succeeds; left untouched when it fails.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Print summary.json to stdout instead of the text summary (the folder is still written).
+    #[arg(long)]
+    pub json: bool,
+}
+
+impl Common {
+    /// The output folder of `command`.
+    pub fn out_dir(&self, command: &str) -> PathBuf {
+        self.out
+            .clone()
+            .unwrap_or_else(|| Path::new("out").join(command))
+    }
+}
+
+/// What a command hands back to `main` for printing.
+#[derive(Debug)]
+pub struct Outcome {
+    /// The content of summary.json.
+    pub summary: Value,
+    /// A few lines for a person.
+    pub text: String,
+    /// Where the results went.
+    pub dir: PathBuf,
+    /// How many files were written there.
+    pub files: usize,
+    /// Print the summary as JSON.
+    pub json: bool,
+}
+
+/// A model file's text and its validated model.
+#[derive(Debug)]
+pub struct Loaded {
+    /// The file as given on the command line.
+    pub path: PathBuf,
+    /// The validated model.
+    pub model: Model,
+}
+
+/// Reads and validates a model file.
+pub fn load(path: &Path) -> miette::Result<Loaded> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        Diag::new(format!(
+            "cannot read the model file `{}`: {e}",
+            path.display()
+        ))
+        .help("check the path; examples/reference_rotor.toml is a complete model to start from")
+    })?;
+    let model =
+        Model::from_toml_str(&text, Some(path.to_path_buf())).map_err(|e| from_whirl(e, &text))?;
+    Ok(Loaded {
+        path: path.to_path_buf(),
+        model,
+    })
+}
+
+/// A library result as a report (no source text: the error is not in the model file).
+pub fn lib<T>(r: whirl::Result<T>) -> miette::Result<T> {
+    r.map_err(|e| from_whirl(e, ""))
+}
+
+/// Writes the summary, finishes the folder and builds the outcome.
+pub fn finish(
+    out: Output,
+    mut summary: Value,
+    text: String,
+    common: &Common,
+) -> miette::Result<Outcome> {
+    let (dir, files) = out.finish(&mut summary)?;
+    Ok(Outcome {
+        summary,
+        text,
+        dir,
+        files,
+        json: common.json,
+    })
+}
+
+/// The first keys of every summary.
+pub fn summary_head(command: &str, loaded: &Loaded) -> serde_json::Map<String, Value> {
+    let mut m = serde_json::Map::new();
+    m.insert("command".into(), command.into());
+    m.insert("whirl_version".into(), env!("CARGO_PKG_VERSION").into());
+    m.insert(
+        "model_file".into(),
+        loaded.path.display().to_string().into(),
+    );
+    m.insert("model_name".into(), loaded.model.name.clone().into());
+    m
+}
+
+/// Clap parser of one speed: `3000rpm`, `50Hz`, or a plain number in rad/s.
+pub fn speed(text: &str) -> Result<f64, String> {
+    let w = parse_quantity(text, Dimension::AngularSpeed).map_err(|e| e.to_string())?;
+    if w < 0.0 {
+        return Err(format!("`{text}`: the speed must not be negative"));
+    }
+    Ok(w)
+}
+
+/// Speeds in rad/s from `start:stop:count`.
+#[derive(Debug, Clone)]
+pub struct Speeds(pub Vec<f64>);
+
+/// Clap parser of a speed range `start:stop:count` (`0:800Hz:161`); plain numbers are rad/s.
+pub fn speeds(text: &str) -> Result<Speeds, String> {
+    let w = parse_range(text, Dimension::AngularSpeed).map_err(|e| e.to_string())?;
+    if w.first().is_some_and(|&w0| w0 < 0.0) {
+        return Err(format!("`{text}`: speeds must not be negative"));
+    }
+    if w.len() > 100_000 {
+        return Err(format!("`{text}`: at most 100000 speeds"));
+    }
+    Ok(Speeds(w))
+}
+
+/// Clap parser of a count of modes or branches, 1 to 200.
+pub fn mode_count(text: &str) -> Result<usize, String> {
+    match text.trim().parse::<usize>() {
+        Ok(n) if (1..=200).contains(&n) => Ok(n),
+        _ => Err(format!("`{text}` is not a whole number from 1 to 200")),
+    }
+}
+
+/// Names branches by whirl direction and rank: the first forward branch is `1F`, the
+/// second `2F`, the first backward `1B`; mixed ones `1M`. Input in ascending frequency.
+pub fn whirl_labels(whirls: &[Whirl]) -> Vec<String> {
+    let (mut f, mut b, mut m) = (0, 0, 0);
+    whirls
+        .iter()
+        .map(|w| match w {
+            Whirl::Forward => {
+                f += 1;
+                format!("{f}F")
+            }
+            Whirl::Backward => {
+                b += 1;
+                format!("{b}B")
+            }
+            Whirl::Mixed => {
+                m += 1;
+                format!("{m}M")
+            }
+        })
+        .collect()
+}
+
+/// Speed in Hz from rad/s.
+pub fn hz(w: f64) -> f64 {
+    whirl::units::rad_s_to_hz(w)
+}

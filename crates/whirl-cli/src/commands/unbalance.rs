@@ -1,0 +1,221 @@
+//! `whirl unbalance model.toml --speeds 1:800Hz:800 [--nodes 10,0]`: steady unbalance response.
+//!
+//! Writes `unbalance.csv` (one row per speed; per node the amplitude (m, zero-to-peak) and
+//! phase (degrees) of ux and uy, the orbit's major and minor semi-axes and its whirl),
+//! `peaks.csv` (each resonance peak of the major semi-axis with its half-power band,
+//! amplification factor and API 617 separation margins) and the plots `bode`, `polar` and
+//! `orbit_major`. The default nodes are every disk node and every bearing node.
+
+use std::fmt::Write;
+
+use serde_json::{json, Value};
+use whirl::fe::{assemble, Bearings};
+use whirl::response::unbalance_response;
+
+use super::{finish, lib, load, speeds, summary_head, Common, Outcome, Speeds};
+use crate::error::Diag;
+use crate::output::{header, num, opt, Output};
+use crate::plots;
+
+/// `whirl unbalance`
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    pub common: Common,
+    /// Spin speeds `start:stop:count`, e.g. `1:800Hz:800`; plain numbers are rad/s.
+    #[arg(long, value_name = "RANGE", value_parser = speeds)]
+    pub speeds: Speeds,
+    /// Nodes to report, comma-separated [default: every disk and bearing node].
+    #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = node_index)]
+    pub nodes: Vec<usize>,
+}
+
+/// Clap parser of a node index.
+fn node_index(text: &str) -> Result<usize, String> {
+    text.trim()
+        .parse::<usize>()
+        .map_err(|_| format!("`{text}` is not a node number (0, 1, 2, ...)"))
+}
+
+pub fn run(args: &Args) -> miette::Result<Outcome> {
+    let loaded = load(&args.common.model)?;
+    let model = &loaded.model;
+    let last = model.node_count() - 1;
+    if let Some(bad) = args.nodes.iter().find(|&&n| n > last) {
+        return Err(
+            Diag::option("--nodes", format!("node {bad} is not on the shaft"))
+                .help(format!(
+                    "nodes are numbered 0 (z = 0) to {last} (z = {} m)",
+                    model.length()
+                ))
+                .into(),
+        );
+    }
+    let nodes: Vec<usize> = if args.nodes.is_empty() {
+        let mut n: Vec<usize> = model.disks.iter().map(|d| d.station.node).collect();
+        n.extend(model.bearing_nodes());
+        n.sort_unstable();
+        n.dedup();
+        n
+    } else {
+        let mut n = args.nodes.clone();
+        n.dedup();
+        n
+    };
+    if nodes.is_empty() {
+        return Err(Diag::option(
+            "--nodes",
+            "the model has no disk or bearing to report by default",
+        )
+        .help("give the nodes to report, e.g. --nodes 0,10")
+        .into());
+    }
+    let system = assemble(model, Bearings::Linearised);
+    let result = lib(unbalance_response(model, &system, &args.speeds.0, &nodes))?;
+
+    let mut s = summary_head("unbalance", &loaded);
+    s.insert(
+        "speed_range_hz".into(),
+        json!([result.speeds_hz.first(), result.speeds_hz.last()]),
+    );
+    s.insert("speed_count".into(), result.speeds_hz.len().into());
+    s.insert("operating_speed_hz".into(), json!(result.operating_hz));
+    s.insert(
+        "nodes".into(),
+        result
+            .nodes
+            .iter()
+            .map(|r| {
+                let (k, max) =
+                    r.major
+                        .iter()
+                        .copied()
+                        .enumerate()
+                        .fold((0, f64::NAN), |a, (i, v)| {
+                            if v > a.1 || a.1.is_nan() {
+                                (i, v)
+                            } else {
+                                a
+                            }
+                        });
+                json!({
+                    "node": r.node, "z_m": r.z,
+                    "max_major_semi_axis_m": max,
+                    "max_major_semi_axis_speed_hz": result.speeds_hz.get(k),
+                    "peaks": r.peaks.iter().map(|p| json!({
+                        "speed_hz": p.speed_hz, "speed_rpm": 60.0 * p.speed_hz,
+                        "major_semi_axis_m": p.amplitude,
+                        "half_power_hz": p.half_power_hz.map(|(a, b)| [a, b]),
+                        "amplification_factor": p.amplification_factor,
+                        "api617_required_margin_pct": p.required_margin_pct,
+                        "api617_actual_margin_pct": p.actual_margin_pct,
+                        "meets_api617": p.meets_api617,
+                    })).collect::<Vec<_>>(),
+                })
+            })
+            .collect::<Vec<_>>()
+            .into(),
+    );
+
+    let mut text = String::new();
+    let _ = writeln!(
+        text,
+        "{}: unbalance response at nodes {:?}, {} speeds",
+        model.name,
+        nodes,
+        result.speeds_hz.len()
+    );
+    for r in &result.nodes {
+        for p in &r.peaks {
+            let af = p
+                .amplification_factor
+                .map_or("-".into(), |a| format!("{a:.1}"));
+            let api = match p.meets_api617 {
+                Some(true) => "meets API 617",
+                Some(false) => "FAILS API 617 margin",
+                None => "",
+            };
+            let _ = writeln!(
+                text,
+                "  node {:3}: peak {:.3e} m at {:.2} Hz ({:.0} rpm), AF {af} {api}",
+                r.node,
+                p.amplitude,
+                p.speed_hz,
+                60.0 * p.speed_hz
+            );
+        }
+    }
+
+    let mut out = Output::begin(&args.common.out_dir("unbalance"))?;
+    let mut h = header(&["speed_hz", "speed_rpm"]);
+    for r in &result.nodes {
+        for q in [
+            "ux_amplitude_m",
+            "ux_phase_deg",
+            "uy_amplitude_m",
+            "uy_phase_deg",
+            "major_semi_axis_m",
+            "minor_semi_axis_m",
+            "whirl",
+        ] {
+            h.push(format!("n{}_{q}", r.node));
+        }
+    }
+    let rows: Vec<Vec<String>> = result
+        .speeds_hz
+        .iter()
+        .enumerate()
+        .map(|(i, f)| {
+            let mut row = vec![num(*f), num(60.0 * f)];
+            for r in &result.nodes {
+                row.extend([
+                    num(r.ux_amplitude[i]),
+                    num(r.ux_phase_deg[i]),
+                    num(r.uy_amplitude[i]),
+                    num(r.uy_phase_deg[i]),
+                    num(r.major[i]),
+                    num(r.minor[i]),
+                    r.whirl[i].name().to_string(),
+                ]);
+            }
+            row
+        })
+        .collect();
+    out.csv("unbalance.csv", &h, &rows)?;
+    let h = header(&[
+        "node",
+        "z_m",
+        "speed_hz",
+        "speed_rpm",
+        "major_semi_axis_m",
+        "half_power_low_hz",
+        "half_power_high_hz",
+        "amplification_factor",
+        "api617_required_margin_pct",
+        "api617_actual_margin_pct",
+        "meets_api617",
+    ]);
+    let mut rows = Vec::new();
+    for r in &result.nodes {
+        for p in &r.peaks {
+            rows.push(vec![
+                r.node.to_string(),
+                num(r.z),
+                num(p.speed_hz),
+                num(60.0 * p.speed_hz),
+                num(p.amplitude),
+                opt(p.half_power_hz.map(|b| b.0)),
+                opt(p.half_power_hz.map(|b| b.1)),
+                opt(p.amplification_factor),
+                opt(p.required_margin_pct),
+                opt(p.actual_margin_pct),
+                p.meets_api617.map(|m| m.to_string()).unwrap_or_default(),
+            ]);
+        }
+    }
+    out.csv("peaks.csv", &h, &rows)?;
+    out.plot("bode", |stem| plots::bode(&result).save(stem))?;
+    out.plot("polar", |stem| plots::polar(&result).save(stem))?;
+    out.plot("orbit_major", |stem| plots::orbit_major(&result).save(stem))?;
+    finish(out, Value::Object(s), text, &args.common)
+}

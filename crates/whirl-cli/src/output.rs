@@ -1,0 +1,203 @@
+//! The output folder: `summary.json`, CSV tables and plots, written all or nothing.
+//!
+//! Everything is written into a temporary sibling folder (`.<name>.whirl-tmp-<pid>`) that is
+//! renamed onto the requested folder at the end, replacing an earlier result there. If
+//! anything fails on the way the temporary folder is removed and the earlier result stays
+//! as it was. An existing folder is only replaced when it is empty or holds a
+//! `summary.json` (an earlier whirl result): `--out` never deletes someone's documents.
+//!
+//! CSV files have one header row; numbers are written in full precision (shortest text that
+//! reads back to the same f64), and a value that does not exist (a branch lost at a speed,
+//! a peak without a half-power band) is an empty cell.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use serde_json::Value;
+
+use crate::error::Diag;
+
+/// A result folder being written.
+#[derive(Debug)]
+pub struct Output {
+    dir: PathBuf,
+    tmp: PathBuf,
+    files: Vec<String>,
+    finished: bool,
+}
+
+fn io_error(action: &str, path: &Path, e: std::io::Error) -> Diag {
+    Diag::new(format!("cannot {action} `{}`: {e}", path.display()))
+}
+
+impl Output {
+    /// Starts writing a result folder that will end up at `dir`.
+    pub fn begin(dir: &Path) -> miette::Result<Output> {
+        let dir = std::path::absolute(dir).map_err(|e| io_error("resolve", dir, e))?;
+        let name = dir
+            .file_name()
+            .and_then(|n| n.to_str())
+            .ok_or_else(|| {
+                Diag::option(
+                    "--out",
+                    format!("`{}` does not name a folder", dir.display()),
+                )
+                .help("give a folder such as `out/modal`")
+            })?
+            .to_string();
+        if dir.exists() {
+            check_replaceable(&dir)?;
+        }
+        let parent = dir.parent().unwrap_or(Path::new("/")).to_path_buf();
+        fs::create_dir_all(&parent).map_err(|e| io_error("create the folder", &parent, e))?;
+        let tmp = parent.join(format!(".{name}.whirl-tmp-{}", std::process::id()));
+        if tmp.exists() {
+            // Left over from a crashed run that had the same process id.
+            fs::remove_dir_all(&tmp).map_err(|e| io_error("remove", &tmp, e))?;
+        }
+        fs::create_dir(&tmp).map_err(|e| io_error("create the folder", &tmp, e))?;
+        Ok(Output {
+            dir,
+            tmp,
+            files: Vec::new(),
+            finished: false,
+        })
+    }
+
+    /// Writes `name` (e.g. `campbell.csv`) with a header row and rows of cells.
+    pub fn csv(
+        &mut self,
+        name: &str,
+        header: &[String],
+        rows: &[Vec<String>],
+    ) -> miette::Result<()> {
+        let path = self.tmp.join(name);
+        let write = || -> Result<(), csv::Error> {
+            let mut w = csv::Writer::from_path(&path)?;
+            w.write_record(header)?;
+            for row in rows {
+                w.write_record(row)?;
+            }
+            w.flush()?;
+            Ok(())
+        };
+        write().map_err(|e| Diag::new(format!("cannot write `{}`: {e}", path.display())))?;
+        self.files.push(name.to_string());
+        Ok(())
+    }
+
+    /// Draws a figure as `stem.png` and `stem.svg`; `draw` receives the path stem.
+    pub fn plot(
+        &mut self,
+        stem: &str,
+        draw: impl FnOnce(&Path) -> Result<Vec<PathBuf>, whirl_plot::PlotError>,
+    ) -> miette::Result<()> {
+        let written = draw(&self.tmp.join(stem))
+            .map_err(|e| Diag::new(format!("cannot draw the plot `{stem}`: {e}")))?;
+        for path in written {
+            if let Some(name) = path.file_name().and_then(|n| n.to_str()) {
+                self.files.push(name.to_string());
+            }
+        }
+        Ok(())
+    }
+
+    /// Writes `summary.json` (adding the list of files) and moves the folder into place.
+    /// Returns the folder and the number of files in it.
+    pub fn finish(mut self, summary: &mut Value) -> miette::Result<(PathBuf, usize)> {
+        self.files.push("summary.json".into());
+        if let Value::Object(map) = summary {
+            map.insert(
+                "output_folder".into(),
+                self.dir.display().to_string().into(),
+            );
+            map.insert("files".into(), self.files.clone().into());
+        }
+        let path = self.tmp.join("summary.json");
+        let text = serde_json::to_string_pretty(summary)
+            .map_err(|e| Diag::new(format!("cannot encode the summary: {e}")))?;
+        fs::write(&path, text + "\n").map_err(|e| io_error("write", &path, e))?;
+        self.replace()?;
+        self.finished = true;
+        Ok((self.dir.clone(), self.files.len()))
+    }
+
+    /// Renames the temporary folder onto the final one, moving an old result aside first.
+    fn replace(&self) -> miette::Result<()> {
+        let old = self.tmp.with_file_name(
+            self.tmp
+                .file_name()
+                .and_then(|n| n.to_str())
+                .unwrap_or(".whirl-tmp")
+                .replace(".whirl-tmp-", ".whirl-old-"),
+        );
+        let had_old = self.dir.exists();
+        if had_old {
+            if old.exists() {
+                fs::remove_dir_all(&old).map_err(|e| io_error("remove", &old, e))?;
+            }
+            fs::rename(&self.dir, &old).map_err(|e| io_error("move aside", &self.dir, e))?;
+        }
+        if let Err(e) = fs::rename(&self.tmp, &self.dir) {
+            if had_old {
+                // Put the earlier result back.
+                let _ = fs::rename(&old, &self.dir);
+            }
+            return Err(io_error("create", &self.dir, e).into());
+        }
+        if had_old {
+            let _ = fs::remove_dir_all(&old);
+        }
+        Ok(())
+    }
+}
+
+impl Drop for Output {
+    fn drop(&mut self) {
+        if !self.finished {
+            let _ = fs::remove_dir_all(&self.tmp);
+        }
+    }
+}
+
+/// An existing `--out` may be replaced only when it is an empty folder or an earlier result.
+fn check_replaceable(dir: &Path) -> miette::Result<()> {
+    let refuse = |why: &str| -> miette::Report {
+        Diag::option("--out", format!("`{}` {why}", dir.display()))
+            .help(
+                "give a new folder, or an earlier whirl output folder (it is replaced as a whole)",
+            )
+            .into()
+    };
+    if !dir.is_dir() {
+        return Err(refuse("exists and is not a folder"));
+    }
+    let mut entries = fs::read_dir(dir).map_err(|e| io_error("read", dir, e))?;
+    let empty = entries.next().is_none();
+    if empty || dir.join("summary.json").is_file() {
+        Ok(())
+    } else {
+        Err(refuse(
+            "exists and is not a whirl output folder (it has no summary.json)",
+        ))
+    }
+}
+
+/// A number for a CSV cell: full precision, empty when it does not exist (NaN, infinite).
+pub fn num(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x}")
+    } else {
+        String::new()
+    }
+}
+
+/// An optional number for a CSV cell.
+pub fn opt(x: Option<f64>) -> String {
+    x.map(num).unwrap_or_default()
+}
+
+/// A list of header names from string slices.
+pub fn header(names: &[&str]) -> Vec<String> {
+    names.iter().map(|s| s.to_string()).collect()
+}

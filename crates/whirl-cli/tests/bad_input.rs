@@ -1,0 +1,345 @@
+//! Bad input, end to end: every case exits nonzero, says what is wrong (the field or the
+//! cause, and for model files the file:line:column), never panics, and writes nothing.
+
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+
+fn reference_path() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/reference_rotor.toml")
+}
+
+fn reference() -> String {
+    std::fs::read_to_string(reference_path()).unwrap()
+}
+
+/// The reference rotor with the first `from` replaced by `to` (which must be there).
+fn edited(from: &str, to: &str) -> String {
+    let text = reference();
+    assert!(text.contains(from), "the reference rotor has no `{from}`");
+    text.replacen(from, to, 1)
+}
+
+/// Runs whirl with `args` (a `{model}` argument is replaced by the model file written from
+/// `model`) and checks the failure: nonzero exit, no panic, every expected text in stderr,
+/// no output folder.
+fn fails(model: Option<&str>, args: &[&str], expected: &[&str]) {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = tmp.path().join("bad.toml");
+    if let Some(text) = model {
+        std::fs::write(&file, text).unwrap();
+    }
+    let out = tmp.path().join("out");
+    let mut cmd = Command::cargo_bin("whirl").unwrap();
+    for a in args {
+        if *a == "{model}" {
+            cmd.arg(&file);
+        } else {
+            cmd.arg(a);
+        }
+    }
+    let output = cmd.arg("--out").arg(&out).output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success(), "succeeded: {args:?}\n{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    // miette wraps long lines; compare with the wrapping (and its margin bars) undone.
+    let flat = flatten(&stderr);
+    for e in expected {
+        assert!(flat.contains(&flatten(e)), "`{e}` not in:\n{stderr}");
+    }
+    assert!(!out.exists(), "an output folder was written");
+    let leftovers = std::fs::read_dir(tmp.path()).unwrap().count();
+    assert!(leftovers <= 1, "temporary files left behind");
+}
+
+/// Words separated by single spaces, miette's margin bars left out.
+fn flatten(text: &str) -> String {
+    text.split_whitespace()
+        .filter(|w| *w != "│" && *w != "|")
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// `whirl check` on a model text.
+fn check_fails(model: &str, expected: &[&str]) {
+    fails(Some(model), &["check", "{model}"], expected);
+}
+
+#[test]
+fn malformed_toml() {
+    let m = edited("name = \"reference rotor\"", "name = \"reference rotor");
+    check_fails(&m, &["bad.toml:4:", "`name`", "invalid basic string"]);
+}
+
+#[test]
+fn unknown_field_typo() {
+    let m = edited(
+        "outer_diameter = \"55.9 mm\"",
+        "outer_diamter = \"55.9 mm\"",
+    );
+    check_fails(
+        &m,
+        &[
+            "bad.toml:14:1",
+            "unknown field `outer_diamter`",
+            "`outer_diameter`",
+        ],
+    );
+}
+
+#[test]
+fn wrong_type() {
+    let m = edited("elements = 20 ", "elements = \"twenty\" ");
+    check_fails(
+        &m,
+        &["bad.toml:16:12", "`elements`", "expected a whole number"],
+    );
+}
+
+#[test]
+fn negative_length() {
+    let m = edited("length = \"1.3 m\"", "length = \"-1.3 m\"");
+    check_fails(
+        &m,
+        &["bad.toml:13:10", "shaft[0].length", "must be positive"],
+    );
+}
+
+#[test]
+fn zero_elements() {
+    let m = edited("elements = 20 ", "elements = 0 ");
+    check_fails(&m, &["bad.toml:16:", "shaft[0].elements", "from 1 to"]);
+}
+
+#[test]
+fn bore_not_smaller_than_the_outer_diameter() {
+    let m = edited(
+        "outer_diameter = \"55.9 mm\"",
+        "outer_diameter = \"55.9 mm\"\ninner_diameter = \"60 mm\"",
+    );
+    check_fails(
+        &m,
+        &["bad.toml:15:", "shaft[0].inner_diameter", "must be smaller"],
+    );
+}
+
+#[test]
+fn node_outside_the_shaft() {
+    let m = edited("node = 10", "node = 25");
+    check_fails(&m, &["disk[0].node", "from 0 to 20", "nodes are numbered"]);
+}
+
+#[test]
+fn z_not_at_a_node() {
+    let m = edited("node = 10", "z = \"0.6 m\"");
+    check_fails(
+        &m,
+        &["disk[0].z", "is not at a node", "the nearest node is 9"],
+    );
+}
+
+#[test]
+fn unknown_material() {
+    let m = edited("material = \"steel\"", "material = \"stele\"");
+    check_fails(
+        &m,
+        &[
+            "shaft[0].material",
+            "unknown material `stele`",
+            "defined materials: steel",
+        ],
+    );
+}
+
+#[test]
+fn infinite_and_nan_quantities() {
+    let m = edited("length = \"1.3 m\"", "length = \"inf m\"");
+    check_fails(&m, &["shaft[0].length", "not a finite number"]);
+    let m = edited(
+        "outer_diameter = \"55.9 mm\"",
+        "outer_diameter = \"NaN mm\"",
+    );
+    check_fails(&m, &["shaft[0].outer_diameter", "not a finite number"]);
+}
+
+#[test]
+fn unknown_unit() {
+    let m = edited("clearance = \"20 um\"", "clearance = \"20 furlongs\"");
+    check_fails(
+        &m,
+        &["roller_bearing[0].clearance", "furlongs", "accepted: m, mm"],
+    );
+}
+
+#[test]
+fn disk_without_its_inertia() {
+    let m = edited("polar_inertia = 0.05", "");
+    check_fails(&m, &["disk[0]", "missing `polar_inertia`"]);
+}
+
+#[test]
+fn unbalance_without_a_disk_or_mass() {
+    let m = edited("[[unbalance]]\nnode = 10", "[[unbalance]]\nnode = 5");
+    check_fails(&m, &["unbalance[0]", "no disk at node 5", "give `mass`"]);
+}
+
+#[test]
+fn roller_larger_than_the_pitch_circle() {
+    let m = edited(
+        "roller_diameter = \"6.1 mm\"",
+        "roller_diameter = \"80 mm\"",
+    );
+    check_fails(
+        &m,
+        &[
+            "roller_bearing[0].roller_diameter",
+            "smaller than the pitch diameter",
+        ],
+    );
+}
+
+#[test]
+fn too_many_rollers() {
+    let m = edited("rollers = 8", "rollers = 40");
+    check_fails(
+        &m,
+        &[
+            "roller_bearing[0].rollers",
+            "do not fit",
+            "at most 35 rollers fit",
+        ],
+    );
+}
+
+#[test]
+fn damping_ratios_that_need_a_negative_coefficient() {
+    let m = edited(
+        "alpha = 10.5",
+        "ratios = [0.01, 0.5]\nfrequencies = [\"10 Hz\", \"100 Hz\"]\n#",
+    );
+    let m = m.replacen("beta = 2.1e-5", "#", 1);
+    check_fails(&m, &["`damping`", "negative coefficient"]);
+}
+
+#[test]
+fn empty_model() {
+    check_fails("", &["`shaft`", "the model has no shaft"]);
+}
+
+#[test]
+fn missing_file() {
+    fails(
+        None,
+        &["check", "{model}"],
+        &["cannot read the model file", "bad.toml"],
+    );
+}
+
+#[test]
+fn bad_speed_ranges() {
+    let m = reference();
+    let campbell = |range: &str, expected: &[&str]| {
+        fails(
+            Some(&m),
+            &["campbell", "{model}", "--speeds", range],
+            expected,
+        );
+    };
+    campbell("0:800Hz", &["--speeds", "three parts"]);
+    campbell("800:0Hz:5", &["--speeds", "stop must not be below start"]);
+    campbell("0:800furlongs:5", &["--speeds", "furlongs"]);
+}
+
+#[test]
+fn bad_single_speeds() {
+    let m = reference();
+    fails(
+        Some(&m),
+        &["modal", "{model}", "--speed", "20 furlongs"],
+        &["--speed", "furlongs"],
+    );
+    fails(
+        Some(&m),
+        &["modal", "{model}", "--speed", "inf"],
+        &["--speed", "not a finite number"],
+    );
+    fails(
+        Some(&m),
+        &["modal", "{model}", "--modes", "0"],
+        &["--modes", "from 1 to 200"],
+    );
+}
+
+#[test]
+fn nodes_outside_the_shaft() {
+    fails(
+        Some(&reference()),
+        &[
+            "unbalance",
+            "{model}",
+            "--speeds",
+            "1:100Hz:10",
+            "--nodes",
+            "10,99",
+        ],
+        &["--nodes", "node 99 is not on the shaft", "0 (z = 0) to 20"],
+    );
+}
+
+#[test]
+fn unbalance_response_of_a_model_without_unbalance() {
+    let text = reference();
+    let cut = text.find("[[unbalance]]").unwrap();
+    let end = text.find("[operating]").unwrap();
+    let m = format!("{}{}", &text[..cut], &text[end..]);
+    fails(
+        Some(&m),
+        &["unbalance", "{model}", "--speeds", "1:100Hz:10"],
+        &["no [[unbalance]]"],
+    );
+}
+
+#[test]
+fn meshes_that_miss_the_features() {
+    fails(
+        Some(&reference()),
+        &["convergence", "{model}", "--counts", "3,5"],
+        &["--counts", "[3, 5]"],
+    );
+}
+
+#[test]
+fn unknown_command() {
+    fails(
+        Some(&reference()),
+        &["frobnicate", "{model}"],
+        &["unrecognized subcommand", "frobnicate"],
+    );
+}
+
+#[test]
+fn out_folder_that_is_not_a_whirl_result_is_left_alone() {
+    let tmp = tempfile::tempdir().unwrap();
+    let docs = tmp.path().join("docs");
+    std::fs::create_dir(&docs).unwrap();
+    std::fs::write(docs.join("thesis.txt"), "precious").unwrap();
+    let output = Command::cargo_bin("whirl")
+        .unwrap()
+        .arg("check")
+        .arg(reference_path())
+        .arg("--out")
+        .arg(&docs)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success());
+    assert!(
+        stderr.contains("--out") && stderr.contains("not a whirl output folder"),
+        "{stderr}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(docs.join("thesis.txt")).unwrap(),
+        "precious"
+    );
+    assert_eq!(std::fs::read_dir(tmp.path()).unwrap().count(), 1);
+}

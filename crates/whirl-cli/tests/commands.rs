@@ -1,0 +1,245 @@
+//! Every command on the reference rotor: exit status, the folder's files, key numbers.
+
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+use serde_json::Value;
+
+fn reference() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/reference_rotor.toml")
+}
+
+/// Runs `whirl <args> reference --out <dir>` and returns summary.json.
+fn run(dir: &Path, args: &[&str]) -> Value {
+    let mut cmd = Command::cargo_bin("whirl").unwrap();
+    cmd.args(args).arg(reference()).arg("--out").arg(dir);
+    cmd.assert().success();
+    let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    serde_json::from_str(&text).unwrap()
+}
+
+/// The files exist and are not empty; CSV files start with the expected header.
+fn assert_files(dir: &Path, files: &[&str]) {
+    for f in files {
+        let path = dir.join(f);
+        let len = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
+        assert!(len > 0, "{} missing or empty", path.display());
+    }
+}
+
+fn header(dir: &Path, csv: &str) -> String {
+    let text = std::fs::read_to_string(dir.join(csv)).unwrap();
+    text.lines().next().unwrap_or_default().to_string()
+}
+
+fn f(v: &Value) -> f64 {
+    v.as_f64().unwrap_or(f64::NAN)
+}
+
+// SPEC section 10: the first undamped frequency of the reference rotor is about 49.8 Hz; the
+// window of +-0.5 Hz allows for the mesh and for gyroscopic splitting at the speeds used.
+const FIRST: std::ops::Range<f64> = 49.3..50.3;
+
+#[test]
+fn check_summarises_the_reference_rotor() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("check");
+    let s = run(&dir, &["check"]);
+    assert_files(
+        &dir,
+        &[
+            "summary.json",
+            "nodes.csv",
+            "frequencies.csv",
+            "rotor.png",
+            "rotor.svg",
+        ],
+    );
+    assert_eq!(s["nodes"], 21);
+    assert_eq!(s["dofs"], 84);
+    assert_eq!(s["elements"], 20);
+    assert!(FIRST.contains(&f(&s["undamped_frequencies_hz"][0])), "{s}");
+    // Shaft 7810 kg/m^3 x pi/4 x 0.0559^2 m^2 x 1.3 m = 24.92 kg, plus the 10 kg disk.
+    assert!((f(&s["total_mass_kg"]) - 34.92).abs() < 0.01, "{s}");
+    assert_eq!(s["roller_bearings"].as_array().map(Vec::len), Some(2));
+    assert_eq!(header(&dir, "nodes.csv"), "node,z_m,features");
+}
+
+#[test]
+fn modal_reports_forward_and_backward_modes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("modal");
+    let s = run(&dir, &["modal", "--speed", "3000rpm", "--modes", "4"]);
+    assert_files(
+        &dir,
+        &[
+            "undamped_modes.csv",
+            "undamped_shapes.csv",
+            "damped_modes.csv",
+            "damped_shapes.csv",
+            "mode_shapes.png",
+            "mode_shapes.svg",
+            "damped_orbits.png",
+            "damped_orbits.svg",
+        ],
+    );
+    assert!((f(&s["speed_hz"]) - 50.0).abs() < 1e-9);
+    let modes = s["damped_modes"].as_array().unwrap();
+    assert_eq!(modes.len(), 4);
+    assert!(FIRST.contains(&f(&modes[0]["damped_frequency_hz"])));
+    // The first pair splits into a backward (lower) and a forward (higher) whirl.
+    assert_eq!(modes[0]["whirl"], "backward");
+    assert_eq!(modes[1]["whirl"], "forward");
+    // About 2 % damping on the first modes (SPEC section 10).
+    assert!((f(&modes[0]["damping_ratio"]) - 0.02).abs() < 0.003);
+    assert_eq!(
+        header(&dir, "undamped_shapes.csv"),
+        "mode,frequency_hz,node,z_m,ux,uy,tx,ty"
+    );
+}
+
+#[test]
+fn campbell_finds_the_first_critical_speed() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("campbell");
+    let s = run(
+        &dir,
+        &["campbell", "--speeds", "0:800Hz:81", "--orders", "1,2"],
+    );
+    assert_files(
+        &dir,
+        &[
+            "campbell.csv",
+            "critical_speeds.csv",
+            "campbell.png",
+            "campbell.svg",
+            "log_decrement.png",
+            "log_decrement.svg",
+        ],
+    );
+    let crit = s["critical_speeds"].as_array().unwrap();
+    let synchronous: Vec<f64> = crit
+        .iter()
+        .filter(|c| f(&c["order"]) == 1.0)
+        .map(|c| f(&c["speed_hz"]))
+        .collect();
+    assert!(FIRST.contains(&synchronous[0]), "{s}");
+    // The 2X line crosses the first pair at half that speed.
+    assert!(
+        (f(&crit[0]["speed_hz"]) - synchronous[0] / 2.0).abs() < 0.5,
+        "{s}"
+    );
+    // SPEC section 2 sign check: forward branches rise with speed, backward ones fall.
+    for b in s["branches"].as_array().unwrap() {
+        let (first, last) = (
+            f(&b["frequency_at_first_speed_hz"]),
+            f(&b["frequency_at_last_speed_hz"]),
+        );
+        match b["whirl"].as_str() {
+            Some("forward") => assert!(last > first, "{b}"),
+            Some("backward") => assert!(last < first, "{b}"),
+            _ => {}
+        }
+    }
+    assert!(header(&dir, "campbell.csv").starts_with("speed_hz,speed_rpm,1B_frequency_hz,"));
+    let rows = std::fs::read_to_string(dir.join("campbell.csv")).unwrap();
+    assert_eq!(rows.lines().count(), 82);
+}
+
+#[test]
+fn convergence_follows_the_frequencies_over_meshes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("convergence");
+    let s = run(
+        &dir,
+        &["convergence", "--counts", "3,4,10,20", "--modes", "2"],
+    );
+    assert_files(
+        &dir,
+        &[
+            "convergence.csv",
+            "convergence.png",
+            "convergence.svg",
+            "convergence_change.png",
+            "convergence_change.svg",
+        ],
+    );
+    assert_eq!(s["element_counts"], serde_json::json!([4, 10, 20]));
+    // 3 elements put no node under the disk at mid-span.
+    assert_eq!(s["skipped_element_counts"], serde_json::json!([3]));
+    assert!(FIRST.contains(&f(&s["finest_mesh_frequencies_hz"][0])));
+    assert_eq!(
+        header(&dir, "convergence.csv"),
+        "elements,mode1_frequency_hz,mode2_frequency_hz,mode1_relative_change,mode2_relative_change"
+    );
+}
+
+#[test]
+fn unbalance_peaks_at_the_first_critical_speed() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("unbalance");
+    let s = run(&dir, &["unbalance", "--speeds", "1:100Hz:199"]);
+    assert_files(
+        &dir,
+        &[
+            "unbalance.csv",
+            "peaks.csv",
+            "bode.png",
+            "bode.svg",
+            "polar.png",
+            "polar.svg",
+            "orbit_major.png",
+            "orbit_major.svg",
+        ],
+    );
+    // Default nodes: the disk (10) and the bearings (0 and 20).
+    let nodes: Vec<u64> = s["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|n| n["node"].as_u64())
+        .collect();
+    assert_eq!(nodes, vec![0, 10, 20]);
+    let disk = &s["nodes"][1];
+    let peak = &disk["peaks"][0];
+    assert!(FIRST.contains(&f(&peak["speed_hz"])), "{peak}");
+    // About 2 % damping: amplification factor near 1 / (2 zeta) = 25.
+    assert!(
+        (f(&peak["amplification_factor"]) - 25.0).abs() < 5.0,
+        "{peak}"
+    );
+    assert!(header(&dir, "unbalance.csv").starts_with("speed_hz,speed_rpm,n0_ux_amplitude_m,"));
+}
+
+#[test]
+fn json_prints_the_summary_and_a_rerun_replaces_the_folder() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("out");
+    std::fs::create_dir(&dir).unwrap();
+    std::fs::write(dir.join("summary.json"), "{}").unwrap();
+    std::fs::write(dir.join("stale.csv"), "old").unwrap();
+    let output = Command::cargo_bin("whirl")
+        .unwrap()
+        .args(["check", "--json", "--out"])
+        .arg(&dir)
+        .arg(reference())
+        .output()
+        .unwrap();
+    assert!(output.status.success());
+    let printed: Value = serde_json::from_slice(&output.stdout).unwrap();
+    let written: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(printed, written);
+    assert_eq!(printed["command"], "check");
+    assert!(
+        !dir.join("stale.csv").exists(),
+        "the old result must be replaced as a whole"
+    );
+    // No temporary folders are left beside it.
+    let leftovers: Vec<_> = std::fs::read_dir(tmp.path())
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().contains("whirl-"))
+        .collect();
+    assert!(leftovers.is_empty(), "{leftovers:?}");
+}
