@@ -26,9 +26,10 @@ pub struct Args {
     #[command(flatten)]
     pub common: Common,
     /// Spin speeds `start:stop:count`, e.g. `0:800Hz:161` or `0:48000rpm:161`; plain
-    /// numbers are rad/s.
+    /// numbers are rad/s [default: 161 speeds from rest to 1.2 x the model's top
+    /// operating speed].
     #[arg(long, value_name = "RANGE", value_parser = speeds)]
-    pub speeds: Speeds,
+    pub speeds: Option<Speeds>,
     /// Number of whirl branches to follow.
     #[arg(long, value_name = "N", default_value = "8", value_parser = mode_count)]
     pub modes: usize,
@@ -61,7 +62,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let model = &loaded.model;
     let system = assemble(model, Bearings::Linearised);
     let options = CampbellOptions {
-        speeds: args.speeds.0.clone(),
+        speeds: Speeds::or_default(&args.speeds, model, 0.0, 161),
         modes: args.modes,
         orders: args.orders.clone(),
         basis_size: (!args.full).then(|| CampbellOptions::default_basis(args.modes)),

@@ -130,6 +130,23 @@ pub fn speed(text: &str) -> Result<f64, String> {
 #[derive(Debug, Clone)]
 pub struct Speeds(pub Vec<f64>);
 
+impl Speeds {
+    /// The given range, or `count` speeds from `start` (rad/s) to 1.2 times the model's
+    /// highest operating speed (API 617 asks for margins up to there), or to 800 Hz when
+    /// the model states no operating range.
+    pub fn or_default(given: &Option<Speeds>, model: &Model, start: f64, count: usize) -> Vec<f64> {
+        if let Some(s) = given {
+            return s.0.clone();
+        }
+        let top = model
+            .operating
+            .map_or(2.0 * std::f64::consts::PI * 800.0, |(_, max)| 1.2 * max);
+        (0..count)
+            .map(|i| start + (top - start) * i as f64 / (count - 1) as f64)
+            .collect()
+    }
+}
+
 /// Clap parser of a speed range `start:stop:count` (`0:800Hz:161`); plain numbers are rad/s.
 pub fn speeds(text: &str) -> Result<Speeds, String> {
     let w = parse_range(text, Dimension::AngularSpeed).map_err(|e| e.to_string())?;

@@ -22,9 +22,10 @@ use crate::plots;
 pub struct Args {
     #[command(flatten)]
     pub common: Common,
-    /// Spin speeds `start:stop:count`, e.g. `1:800Hz:800`; plain numbers are rad/s.
+    /// Spin speeds `start:stop:count`, e.g. `1:800Hz:800`; plain numbers are rad/s
+    /// [default: 800 speeds from 1 Hz to 1.2 x the model's top operating speed].
     #[arg(long, value_name = "RANGE", value_parser = speeds)]
-    pub speeds: Speeds,
+    pub speeds: Option<Speeds>,
     /// Nodes to report, comma-separated [default: every disk and bearing node].
     #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = node_index)]
     pub nodes: Vec<usize>,
@@ -71,7 +72,12 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         .into());
     }
     let system = assemble(model, Bearings::Linearised);
-    let result = lib(unbalance_response(model, &system, &args.speeds.0, &nodes))?;
+    let result = lib(unbalance_response(
+        model,
+        &system,
+        &Speeds::or_default(&args.speeds, model, 2.0 * std::f64::consts::PI, 800),
+        &nodes,
+    ))?;
 
     let mut s = summary_head("unbalance", &loaded);
     s.insert(

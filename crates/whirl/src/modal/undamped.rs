@@ -62,13 +62,43 @@ pub(crate) fn symmetric_modes(
     let mut a = a.transpose().to_owned();
     l.solve_lower_triangular_in_place(a.as_mut());
     let a = Mat::<f64>::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
-    let eig = a
-        .self_adjoint_eigen(Side::Lower)
-        .map_err(|_| Error::Numerical("the symmetric eigen-solver did not converge".into()))?;
+    let (values, vectors) = symmetric_eigen(&a)?;
     let m = count.min(n);
-    let mut shapes = Mat::<f64>::from_fn(n, m, |i, j| eig.U()[(i, j)]);
+    let mut shapes = Mat::<f64>::from_fn(n, m, |i, j| vectors[(i, j)]);
     l.transpose()
         .solve_upper_triangular_in_place(shapes.as_mut());
-    let s = eig.S().column_vector();
-    Ok(((0..m).map(|j| s[j]).collect(), shapes))
+    Ok((values[..m].to_vec(), shapes))
+}
+
+/// Eigen-decomposition of a symmetric matrix, eigenvalues ascending.
+///
+/// faer's default switches to divide and conquer on the tridiagonal matrix from 128 rows
+/// on, and for rotor matrices (exactly repeated eigenvalues from isotropy) that path
+/// returned wrong values: the 40-element reference rotor gave its first pair as 49.815 /
+/// 49.829 Hz instead of two equal values. The implicit QR path has no such threshold
+/// and is fast enough at the sizes whirl meets (a few hundred DOFs).
+fn symmetric_eigen(a: &Mat<f64>) -> Result<(Vec<f64>, Mat<f64>)> {
+    use faer::dyn_stack::{MemBuffer, MemStack};
+    use faer::linalg::evd::{self, ComputeEigenvectors, SelfAdjointEvdParams};
+    let n = a.nrows();
+    let params = SelfAdjointEvdParams {
+        recursion_threshold: usize::MAX,
+        ..<SelfAdjointEvdParams as faer::Auto<f64>>::auto()
+    };
+    let par = faer::Par::Seq;
+    let mut values = faer::diag::Diag::<f64>::zeros(n);
+    let mut vectors = Mat::<f64>::zeros(n, n);
+    let scratch =
+        evd::self_adjoint_evd_scratch::<f64>(n, ComputeEigenvectors::Yes, par, params.into());
+    evd::self_adjoint_evd(
+        a.as_ref(),
+        values.as_mut(),
+        Some(vectors.as_mut()),
+        par,
+        MemStack::new(&mut MemBuffer::new(scratch)),
+        params.into(),
+    )
+    .map_err(|_| Error::Numerical("the symmetric eigen-solver did not converge".into()))?;
+    let values = (0..n).map(|j| values.column_vector()[j]).collect();
+    Ok((values, vectors))
 }

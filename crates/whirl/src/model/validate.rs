@@ -124,7 +124,7 @@ impl Nodes {
                 let i = count(n, &format!("{field}.node"), 0, last as i64).map_err(|e| {
                     e.help(format!(
                         "nodes are numbered 0 (z = 0) to {last} (z = {} m)",
-                        self.length
+                        Si(self.length)
                     ))
                 })?;
                 Ok(Station {
@@ -145,10 +145,13 @@ impl Nodes {
                     .unwrap_or((0, 0.0));
                 if (zn - zv).abs() > tol {
                     return Err(
-                        err(&f, q.span(), format!("z = {zv} m is not at a node")).help(format!(
-                            "the nearest node is {i} at z = {zn} m; adjust the shaft sections' \
-                             lengths or element counts so that a node falls there"
-                        )),
+                        err(&f, q.span(), format!("z = {} m is not at a node", Si(zv))).help(
+                            format!(
+                                "the nearest node is {i} at z = {} m; adjust the shaft sections' \
+                             lengths or element counts so that a node falls there",
+                                Si(zn)
+                            ),
+                        ),
                     );
                 }
                 Ok(Station { node: i, z: zn })
@@ -318,8 +321,10 @@ fn sections(
                             &format!("{f}.inner_diameter"),
                             q.span(),
                             format!(
-                            "the bore ({idv} m) must be smaller than the outer diameter ({od} m)"
-                        ),
+                                "the bore ({} m) must be smaller than the outer diameter ({} m)",
+                                Si(idv),
+                                Si(od)
+                            ),
                         ));
                     }
                     idv
@@ -455,7 +460,11 @@ fn disk_from_geometry(
                 return Err(err(
                     &format!("{field}.bore"),
                     q.span(),
-                    format!("the bore ({b} m) must be smaller than the outer diameter ({od} m)"),
+                    format!(
+                        "the bore ({} m) must be smaller than the outer diameter ({} m)",
+                        Si(b),
+                        Si(od)
+                    ),
                 ));
             }
             b
@@ -559,7 +568,9 @@ fn roller_bearing(
             &f("roller_diameter"),
             b.roller_diameter.span(),
             format!(
-                "the roller diameter ({db} m) must be smaller than the pitch diameter ({dp} m)"
+                "the roller diameter ({} m) must be smaller than the pitch diameter ({} m)",
+                Si(db),
+                Si(dp)
             ),
         ));
     }
@@ -569,8 +580,10 @@ fn roller_bearing(
             &f("rollers"),
             b.rollers.span(),
             format!(
-            "{rollers} rollers of diameter {db} m do not fit on a pitch circle of diameter {dp} m"
-        ),
+                "{rollers} rollers of diameter {} m do not fit on a pitch circle of diameter {} m",
+                Si(db),
+                Si(dp)
+            ),
         )
         .help(format!(
             "at most {} rollers fit",
@@ -839,4 +852,14 @@ fn operating(raw: &Spanned<OperatingFile>) -> V<(f64, f64)> {
         ));
     }
     Ok((lo, hi))
+}
+
+/// A number in a message, to six significant digits: `0.0061`, not `0.0060999999999999995`.
+struct Si(f64);
+
+impl std::fmt::Display for Si {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let rounded: f64 = format!("{:.5e}", self.0).parse().unwrap_or(self.0);
+        write!(f, "{rounded}")
+    }
 }
