@@ -24,6 +24,7 @@
 // Numerical kernels index several arrays in step; index loops read like the equations.
 #![allow(clippy::needless_range_loop)]
 
+pub mod bearing;
 pub mod error;
 pub mod examples;
 pub mod fe;

@@ -163,6 +163,61 @@ pub struct RollerBearing {
     pub linear_stiffness: f64,
     /// Linearised radial damping used by linear analyses, N s/m.
     pub linear_damping: f64,
+    /// Contact sliced along the roller, each slice's approach following the shaft's slope
+    /// at the bearing (roller tilt, thesis eqs. 3.13-3.15).
+    pub roller_tilt: bool,
+    /// Slices along each roller (1 when neither tilt nor skew is modelled).
+    pub slices: usize,
+    /// Roller skew angle, rad (thesis eqs. 3.16-3.17).
+    pub skew_angle: f64,
+    /// Ring waviness components (thesis eq. 3.18).
+    pub waviness: Vec<Waviness>,
+    /// Forcing-function law (thesis eq. 3.12), when given.
+    pub forcing_function: Option<ForcingFunction>,
+}
+
+/// Which ring is wavy.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Ring {
+    /// The fixed outer ring.
+    Outer,
+    /// The inner ring, turning with the shaft.
+    Inner,
+}
+
+/// One waviness component: the ring's radius varies by `amplitude cos(order ...)`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Waviness {
+    /// The wavy ring.
+    pub ring: Ring,
+    /// Order N_w.
+    pub order: usize,
+    /// Amplitude, m.
+    pub amplitude: f64,
+    /// Phase, rad.
+    pub phase: f64,
+}
+
+/// Forcing-function bearing law (thesis eq. 3.12):
+/// F = (a0 + a1 W) (u_r - gamma)_+^(b0 + b1 W), F in N, u_r in m, W in rad/s.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ForcingFunction {
+    /// N/m^b at rest.
+    pub a0: f64,
+    /// Change of the coefficient per rad/s.
+    pub a1: f64,
+    /// Exponent at rest.
+    pub b0: f64,
+    /// Change of the exponent per rad/s.
+    pub b1: f64,
+}
+
+impl ForcingFunction {
+    /// Coefficient and exponent at spin speed `omega`, rad/s.
+    pub fn at_speed(&self, omega: f64) -> (f64, f64) {
+        (self.a0 + self.a1 * omega, self.b0 + self.b1 * omega)
+    }
 }
 
 impl RollerBearing {

@@ -178,6 +178,44 @@ pub struct RollerBearingFile {
     pub linear_stiffness: Spanned<f64>,
     /// Linearised radial damping for modal analysis, N s/m.
     pub linear_damping: Option<Spanned<f64>>,
+    /// Roller tilt: contact sliced along the roller, following the shaft's slope.
+    pub roller_tilt: Option<bool>,
+    /// Number of slices along a roller when `roller_tilt` or `skew_angle` is used.
+    pub slices: Option<Count>,
+    /// Roller skew angle, degrees.
+    pub skew_angle: Option<Spanned<f64>>,
+    /// Ring waviness components (thesis eq. 3.18).
+    #[serde(default)]
+    pub waviness: Vec<Spanned<WavinessFile>>,
+    /// Forcing-function law (thesis eq. 3.12) used by `--contact forcing`.
+    pub forcing_function: Option<Spanned<ForcingFunctionFile>>,
+}
+
+/// `[[roller_bearing.waviness]]`
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WavinessFile {
+    /// `"outer"` or `"inner"`.
+    pub ring: Spanned<String>,
+    /// Waviness order N_w (lobes).
+    pub order: Count,
+    /// Amplitude (length).
+    pub amplitude: Q,
+    /// Phase, degrees.
+    pub phase: Option<Spanned<f64>>,
+}
+
+/// `forcing_function = { a0 = ..., a1 = ..., b0 = ..., b1 = ... }`: in SI with the speed
+/// in rad/s, F [N] = (a0 + a1 W) (u_r - gamma)_+ ^ (b0 + b1 W).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ForcingFunctionFile {
+    pub a0: f64,
+    #[serde(default)]
+    pub a1: f64,
+    pub b0: f64,
+    #[serde(default)]
+    pub b1: f64,
 }
 
 /// `[damping]`: coefficients, or damping ratios at two frequencies.

@@ -591,6 +591,16 @@ fn roller_bearing(
         )));
     }
     let clearance = clearance(&b.clearance, &f("clearance"))?;
+    let skew = opt_f64(&b.skew_angle, &f("skew_angle"), 0.0)?;
+    if skew.abs() >= 45.0 {
+        return Err(err(
+            &f("skew_angle"),
+            b.skew_angle.as_ref().map_or(raw.span(), |s| s.span()),
+            format!("a skew of {skew} degrees is not a small misalignment; expected |skew| < 45"),
+        ));
+    }
+    let roller_tilt = b.roller_tilt.unwrap_or(false);
+    let slices = roller_slices(b, skew, &f("slices"))?;
     let exponent = opt_f64(&b.contact_exponent, &f("contact_exponent"), 10.0 / 9.0)?;
     if !(exponent > 0.0 && exponent <= 3.0) {
         let span = b
@@ -653,7 +663,86 @@ fn roller_bearing(
             "N/m",
         )?,
         linear_damping: opt_non_negative(&b.linear_damping, &f("linear_damping"), "N s/m")?,
+        roller_tilt,
+        slices,
+        skew_angle: skew.to_radians(),
+        waviness: b
+            .waviness
+            .iter()
+            .enumerate()
+            .map(|(i, w)| waviness(w, &f(&format!("waviness[{i}]"))))
+            .collect::<V<Vec<_>>>()?,
+        forcing_function: b
+            .forcing_function
+            .as_ref()
+            .map(|ff| forcing_function(ff, &f("forcing_function")))
+            .transpose()?,
     })
+}
+
+/// Slices along a roller: 1 unless tilt or skew is modelled, then 10 unless given.
+fn roller_slices(b: &RollerBearingFile, skew: f64, field: &str) -> V<usize> {
+    let profiled = b.roller_tilt == Some(true) || skew != 0.0;
+    match &b.slices {
+        Some(c) if !profiled => Err(err(
+            field,
+            c.span(),
+            "slices only matter with roller_tilt = true or a skew_angle",
+        )
+        .help("remove slices, or set roller_tilt = true")),
+        Some(c) => count(c, field, 1, 200),
+        None if profiled => Ok(10),
+        None => Ok(1),
+    }
+}
+
+fn waviness(raw: &Spanned<WavinessFile>, field: &str) -> V<Waviness> {
+    let w = raw.get_ref();
+    let ring = match w.ring.get_ref().as_str() {
+        "outer" => Ring::Outer,
+        "inner" => Ring::Inner,
+        other => {
+            return Err(err(
+                &format!("{field}.ring"),
+                w.ring.span(),
+                format!("expected \"outer\" or \"inner\", got \"{other}\""),
+            ))
+        }
+    };
+    Ok(Waviness {
+        ring,
+        order: count(&w.order, &format!("{field}.order"), 1, 10_000)?,
+        amplitude: non_negative_q(
+            &w.amplitude,
+            Dimension::Length,
+            &format!("{field}.amplitude"),
+        )?,
+        phase: opt_f64(&w.phase, &format!("{field}.phase"), 0.0)?.to_radians(),
+    })
+}
+
+fn forcing_function(raw: &Spanned<ForcingFunctionFile>, field: &str) -> V<ForcingFunction> {
+    let ff = raw.get_ref();
+    let law = ForcingFunction {
+        a0: ff.a0,
+        a1: ff.a1,
+        b0: ff.b0,
+        b1: ff.b1,
+    };
+    if [law.a0, law.a1, law.b0, law.b1]
+        .iter()
+        .any(|c| !c.is_finite())
+        || law.a0 <= 0.0
+        || law.b0 <= 0.0
+    {
+        return Err(err(
+            field,
+            raw.span(),
+            "a0, a1, b0, b1 must be finite, with a0 > 0 (N/m^b) and b0 > 0",
+        )
+        .help("`whirl fit-forcing` writes a fitted block to paste here"));
+    }
+    Ok(law)
 }
 
 fn clearance(raw: &Spanned<ClearanceFile>, field: &str) -> V<Clearance> {

@@ -1,0 +1,73 @@
+//! Cylindrical roller bearing with internal radial clearance (thesis chapter 3, SPEC
+//! section 6).
+//!
+//! The inner ring turns with the shaft, the outer ring is fixed, the rollers orbit at the
+//! cage speed w_c = (1 - D_b/D_p) Omega / 2 (eq. 3.4). Roller j sits at
+//! theta_j = 2 pi j / N_b + theta_cage0 + (1 - D_b/D_p) phi / 2 with phi the spin angle, which
+//! is eq. 3.3 at constant speed and stays right during a speed ramp. A roller touches the
+//! outer ring only when its approach (eq. 3.2, 3.19)
+//!
+//! ```text
+//! delta_jk = u_x cos theta_j + u_y sin theta_j + z_k (t_y cos theta_j - t_x sin theta_j)
+//!            - gamma(Omega) + h_skew,k - P_o(j) - P_i(j)
+//! ```
+//!
+//! is positive. Without tilt or skew each roller is one line contact (k = 1, z = 0); with
+//! them the roller is cut into slices at axial offsets z_k (eq. 3.13), each carrying
+//! 1/n_slices of the contact stiffness and damping, so that an aligned sliced roller
+//! carries exactly the unsliced force. [`geometry`] holds these kinematics, [`hertz`] the
+//! contact law as a [`crate::time::NonlinearForce`].
+
+pub mod geometry;
+pub mod hertz;
+
+pub use geometry::{RollerGeometry, RollerState};
+pub use hertz::{HertzBearing, HERTZ_BOUND_APPROACH};
+
+use crate::error::{Error, Result};
+use crate::fe::{dof, Direction};
+use crate::model::{Model, RollerBearing};
+use crate::time::NonlinearForce;
+
+/// Integrator coordinates of a bearing's contact: its node's [ux, uy] (and [tx, ty] with
+/// roller tilt), through `coordinate`, which maps a physical DOF to its coordinate.
+pub fn contact_coordinates(
+    bearing: &RollerBearing,
+    coordinate: &dyn Fn(usize) -> usize,
+) -> Result<Vec<usize>> {
+    let node = bearing.station.node;
+    let mut directions = vec![Direction::Ux, Direction::Uy];
+    if bearing.roller_tilt {
+        directions.extend([Direction::Tx, Direction::Ty]);
+    }
+    directions
+        .into_iter()
+        .map(|d| {
+            let c = coordinate(dof(node, d));
+            if c == usize::MAX {
+                Err(Error::Numerical(format!(
+                    "{} at node {node}: its DOFs are not kept by the reduction; they must be \
+                     boundary DOFs",
+                    bearing.name
+                )))
+            } else {
+                Ok(c)
+            }
+        })
+        .collect()
+}
+
+/// Hertz contacts of every roller bearing of `model` (a [`crate::time::ForceBuilder`]).
+pub fn hertz_bearings(
+    model: &Model,
+    coordinate: &dyn Fn(usize) -> usize,
+) -> Result<Vec<Box<dyn NonlinearForce>>> {
+    model
+        .roller_bearings
+        .iter()
+        .map(|b| {
+            let force = HertzBearing::new(b, contact_coordinates(b, coordinate)?)?;
+            Ok(Box::new(force) as Box<dyn NonlinearForce>)
+        })
+        .collect()
+}
