@@ -20,9 +20,11 @@
 
 pub mod geometry;
 pub mod hertz;
+pub mod lagrange;
 
 pub use geometry::{RollerGeometry, RollerState};
 pub use hertz::{HertzBearing, HERTZ_BOUND_APPROACH};
+pub use lagrange::{ContactStep, LagrangeContacts};
 
 use crate::error::{Error, Result};
 use crate::fe::{dof, Direction};

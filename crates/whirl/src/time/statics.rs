@@ -102,7 +102,7 @@ fn descend(
     if slope0 >= 0.0 {
         return None;
     }
-    let mut at_t = |t: f64, p: &mut TimeProblem, s: &mut NlScratch| {
+    let at_t = |t: f64, p: &mut TimeProblem, s: &mut NlScratch| {
         let trial: Vec<f64> = (0..n).map(|i| q[i] + t * dq[i]).collect();
         let rt = residual(p, at, &trial, s);
         let slope = dot(&rt, &dq);
