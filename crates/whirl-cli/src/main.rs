@@ -13,6 +13,7 @@ mod commands;
 mod error;
 mod output;
 mod plots;
+mod plots_stiffness;
 
 use std::io::Write;
 use std::process::ExitCode;
@@ -44,6 +45,8 @@ enum Command {
     Convergence(commands::convergence::Args),
     /// Steady unbalance response over speed: Bode, polar, orbit size, API 617 margins.
     Unbalance(commands::unbalance::Args),
+    /// Equivalent stiffness of a roller bearing versus clearance; force-deflection surfaces.
+    Stiffness(commands::stiffness::Args),
 }
 
 fn main() -> ExitCode {
@@ -57,6 +60,7 @@ fn main() -> ExitCode {
         Command::Campbell(a) => commands::campbell::run(a),
         Command::Convergence(a) => commands::convergence::run(a),
         Command::Unbalance(a) => commands::unbalance::run(a),
+        Command::Stiffness(a) => commands::stiffness::run(a),
     };
     match result {
         Ok(outcome) => {

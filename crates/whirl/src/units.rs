@@ -23,6 +23,8 @@ pub enum Dimension {
     Mass,
     /// Time in seconds (s, ms, us).
     Time,
+    /// Force in newtons (N, kN).
+    Force,
 }
 
 impl Dimension {
@@ -44,6 +46,7 @@ impl Dimension {
             ],
             Dimension::Mass => &[("kg", 1.0, 1.0), ("g", 1.0, 1e3)],
             Dimension::Time => &[("s", 1.0, 1.0), ("ms", 1.0, 1e3), ("us", 1.0, 1e6)],
+            Dimension::Force => &[("N", 1.0, 1.0), ("kN", 1e3, 1.0)],
         }
     }
 
@@ -54,6 +57,7 @@ impl Dimension {
             Dimension::AngularSpeed => "rad/s",
             Dimension::Mass => "kg",
             Dimension::Time => "s",
+            Dimension::Force => "N",
         }
     }
 
@@ -73,6 +77,7 @@ impl fmt::Display for Dimension {
             Dimension::AngularSpeed => "speed",
             Dimension::Mass => "mass",
             Dimension::Time => "time",
+            Dimension::Force => "force",
         };
         f.write_str(name)
     }
@@ -103,6 +108,7 @@ fn example(dimension: Dimension) -> String {
         Dimension::AngularSpeed => "\"3000 rpm\"".into(),
         Dimension::Mass => "\"10 kg\"".into(),
         Dimension::Time => "\"0.5 s\"".into(),
+        Dimension::Force => "\"60 N\"".into(),
     }
 }
 
@@ -250,6 +256,13 @@ mod tests {
         assert_eq!(parse_quantity("2e-5", Dimension::Length).unwrap(), 2e-5);
         assert_eq!(parse_quantity("2e-5 m", Dimension::Length).unwrap(), 2e-5);
         assert!((parse_quantity("1 in", Dimension::Length).unwrap() - 0.0254).abs() < 1e-15);
+    }
+
+    #[test]
+    fn forces_in_newtons() {
+        assert_eq!(parse_quantity("60N", Dimension::Force).unwrap(), 60.0);
+        assert_eq!(parse_quantity("1.5 kN", Dimension::Force).unwrap(), 1500.0);
+        assert!(parse_quantity("60 kg", Dimension::Force).is_err());
     }
 
     #[test]

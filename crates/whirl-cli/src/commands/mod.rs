@@ -5,6 +5,7 @@ pub mod campbell;
 pub mod check;
 pub mod convergence;
 pub mod modal;
+pub mod stiffness;
 pub mod unbalance;
 
 use std::path::{Path, PathBuf};

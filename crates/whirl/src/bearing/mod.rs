@@ -21,6 +21,7 @@
 pub mod geometry;
 pub mod hertz;
 pub mod lagrange;
+pub mod stiffness;
 
 pub use geometry::{RollerGeometry, RollerState};
 pub use hertz::{HertzBearing, HERTZ_BOUND_APPROACH};
