@@ -45,6 +45,10 @@ enum Command {
     Convergence(commands::convergence::Args),
     /// Steady unbalance response over speed: Bode, polar, orbit size, API 617 margins.
     Unbalance(commands::unbalance::Args),
+    /// Craig-Bampton reduction: frequency errors and stable time steps against the full model.
+    Reduce(commands::reduce::Args),
+    /// Time response at a speed: time histories, orbits, spectrum, settled 1X.
+    Simulate(commands::simulate::Args),
     /// Equivalent stiffness of a roller bearing versus clearance; force-deflection surfaces.
     Stiffness(commands::stiffness::Args),
 }
@@ -60,6 +64,8 @@ fn main() -> ExitCode {
         Command::Campbell(a) => commands::campbell::run(a),
         Command::Convergence(a) => commands::convergence::run(a),
         Command::Unbalance(a) => commands::unbalance::run(a),
+        Command::Reduce(a) => commands::reduce::run(a),
+        Command::Simulate(a) => commands::simulate::run(a),
         Command::Stiffness(a) => commands::stiffness::run(a),
     };
     match result {

@@ -9,8 +9,15 @@
 //! CSV files have one header row; numbers are written in full precision (shortest text that
 //! reads back to the same f64), and a value that does not exist (a branch lost at a speed,
 //! a peak without a half-power band) is an empty cell.
+//!
+//! `.npy` files are NumPy's format version 1.0, written here directly: the magic
+//! `\x93NUMPY`, version bytes 1 0, a little-endian u16 header length, a Python dict literal
+//! `{'descr': '<f8', 'fortran_order': False, 'shape': (rows, cols), }` padded with spaces
+//! and a newline so that the data starts on a multiple of 64 bytes, then the values as
+//! little-endian f64 in row-major order. `numpy.load` reads it as a 2-D float64 array.
 
 use std::fs;
+use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use serde_json::Value;
@@ -64,13 +71,18 @@ impl Output {
         })
     }
 
-    /// Writes `name` (e.g. `campbell.csv`) with a header row and rows of cells.
-    pub fn csv(
+    /// Writes `name` (e.g. `campbell.csv`) with a header row and rows of cells. The rows
+    /// may be produced lazily, so a long time history is never held as text in memory.
+    pub fn csv<R, C>(
         &mut self,
         name: &str,
         header: &[String],
-        rows: &[Vec<String>],
-    ) -> miette::Result<()> {
+        rows: impl IntoIterator<Item = R>,
+    ) -> miette::Result<()>
+    where
+        R: IntoIterator<Item = C>,
+        C: AsRef<[u8]>,
+    {
         let path = self.tmp.join(name);
         let write = || -> Result<(), csv::Error> {
             let mut w = csv::Writer::from_path(&path)?;
@@ -82,6 +94,31 @@ impl Output {
             Ok(())
         };
         write().map_err(|e| Diag::new(format!("cannot write `{}`: {e}", path.display())))?;
+        self.files.push(name.to_string());
+        Ok(())
+    }
+
+    /// Writes `name` (e.g. `time_history.npy`) as a 2-D float64 array whose columns are
+    /// `columns` (all of one length): rows are samples (see the module doc for the format).
+    pub fn npy(&mut self, name: &str, columns: &[&[f64]]) -> miette::Result<()> {
+        let rows = columns.first().map_or(0, |c| c.len());
+        if columns.iter().any(|c| c.len() != rows) {
+            return Err(
+                Diag::new(format!("cannot write `{name}`: columns differ in length")).into(),
+            );
+        }
+        let path = self.tmp.join(name);
+        let write = || -> std::io::Result<()> {
+            let mut w = BufWriter::new(fs::File::create(&path)?);
+            w.write_all(&npy_header(rows, columns.len()))?;
+            for r in 0..rows {
+                for c in columns {
+                    w.write_all(&c[r].to_le_bytes())?;
+                }
+            }
+            w.flush()
+        };
+        write().map_err(|e| io_error("write", &path, e))?;
         self.files.push(name.to_string());
         Ok(())
     }
@@ -160,6 +197,22 @@ impl Drop for Output {
     }
 }
 
+/// The preamble of a version 1.0 `.npy` file of a C-ordered `rows` x `cols` float64 array.
+fn npy_header(rows: usize, cols: usize) -> Vec<u8> {
+    const MAGIC: &[u8] = b"\x93NUMPY\x01\x00";
+    let dict = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': ({rows}, {cols}), }}");
+    // Magic and version (8 bytes), the length (2), the dict, spaces, and a closing newline
+    // make a multiple of 64 bytes, so the data is aligned for memory mapping.
+    let unpadded = MAGIC.len() + 2 + dict.len() + 1;
+    let padding = unpadded.next_multiple_of(64) - unpadded;
+    let text = format!("{dict}{}\n", " ".repeat(padding));
+    let mut header = MAGIC.to_vec();
+    // The dict of a 2-D shape is well below u16::MAX bytes.
+    header.extend_from_slice(&(text.len() as u16).to_le_bytes());
+    header.extend_from_slice(text.as_bytes());
+    header
+}
+
 /// An existing `--out` may be replaced only when it is an empty folder or an earlier result.
 fn check_replaceable(dir: &Path) -> miette::Result<()> {
     let refuse = |why: &str| -> miette::Report {
@@ -200,4 +253,27 @@ pub fn opt(x: Option<f64>) -> String {
 /// A list of header names from string slices.
 pub fn header(names: &[&str]) -> Vec<String> {
     names.iter().map(|s| s.to_string()).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn npy_header_is_aligned_and_readable() {
+        for (rows, cols) in [(0, 1), (3, 7), (123_456_789, 25)] {
+            let h = npy_header(rows, cols);
+            // NumPy's rule for version 1.0: the data starts on a multiple of 64 bytes.
+            assert_eq!(h.len() % 64, 0);
+            assert_eq!(&h[..8], b"\x93NUMPY\x01\x00");
+            let len = u16::from_le_bytes([h[8], h[9]]) as usize;
+            assert_eq!(10 + len, h.len());
+            let text = std::str::from_utf8(&h[10..]).unwrap();
+            assert!(text.ends_with('\n'));
+            assert!(
+                text.contains(&format!("'shape': ({rows}, {cols})")),
+                "{text}"
+            );
+        }
+    }
 }

@@ -17,6 +17,12 @@ use whirl_plot::{
 
 use crate::commands::campbell::order_name;
 
+mod reduce;
+mod time;
+
+pub use reduce::{reduction_error, stable_steps};
+pub use time::{orbits, spectrum, time_history};
+
 /// At most this many panels of modes (a grid of 4 x 3).
 const MAX_PANELS: usize = 12;
 

@@ -212,6 +212,46 @@ fn unbalance_peaks_at_the_first_critical_speed() {
 }
 
 #[test]
+fn reduce_compares_the_reduced_and_full_models() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("reduce");
+    let s = run(&dir, &["reduce", "--modes", "12"]);
+    assert_files(
+        &dir,
+        &[
+            "reduce.csv",
+            "study.csv",
+            "reduction_error.png",
+            "reduction_error.svg",
+            "stable_step.png",
+            "stable_step.svg",
+        ],
+    );
+    // Boundary: the four DOFs of each bearing node, named.
+    assert_eq!(s["boundary_dofs"].as_array().map(Vec::len), Some(8), "{s}");
+    assert_eq!(s["boundary_dofs"][0], "n0.ux");
+    assert_eq!(s["reduced_coordinates"], 20);
+    let errors = s["relative_errors"].as_array().unwrap();
+    assert_eq!(errors.len(), 12);
+    // Craig-Bampton is a Ritz method: no frequency falls below the full model's (round-off
+    // aside), and with 12 modes the first pair is within 1e-6.
+    assert!(errors.iter().all(|e| f(e) > -1e-12), "{s}");
+    assert!(f(&errors[0]) < 1e-6, "{s}");
+    // SPEC section 7: w_max of the full model is about 5e5 rad/s, a limit near 4e-6 s, and
+    // the reduction raises it.
+    let full = f(&s["full_stable_step_s"]);
+    assert!((3.5e-6..4.5e-6).contains(&full), "{s}");
+    assert!(f(&s["reduced_stable_step_s"]) > 5.0 * full, "{s}");
+    // The study runs over 1 to 24 fixed-interface modes; errors shrink as modes are added.
+    let study = s["study"].as_array().unwrap();
+    assert_eq!(study.len(), 24);
+    let first_mode = |row: &Value| f(&row["relative_errors"][0]);
+    assert!(first_mode(&study[23]) < first_mode(&study[0]), "{s}");
+    assert!(header(&dir, "study.csv")
+        .starts_with("fixed_interface_modes,coordinates,stable_step_s,mode1_relative_error"));
+}
+
+#[test]
 fn json_prints_the_summary_and_a_rerun_replaces_the_folder() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().join("out");

@@ -19,6 +19,7 @@ fn options(step: f64, method: Method, reduction: Option<usize>) -> SimulationOpt
         nodes: vec![10],
         initial: Initial::StaticEquilibrium,
         divergence_bound: 1.0,
+        progress: None,
     }
 }
 

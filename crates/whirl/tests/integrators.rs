@@ -8,8 +8,9 @@ use whirl::fe::{assemble, Bearings};
 use whirl::model::Model;
 use whirl::response::unbalance_response;
 use whirl::time::{
-    central_difference, newmark, runge_kutta, simulate, CubicSpring, Initial, MarchOptions, Method,
-    NewmarkScheme, RkTolerances, SimulationOptions, SpeedProfile, TimeProblem,
+    central_difference, newmark, runge_kutta, simulate, stable_step, CubicSpring, Initial,
+    MarchOptions, Method, NewmarkScheme, Progress, RkTolerances, SimulationOptions, SpeedProfile,
+    TimeProblem,
 };
 
 const M: f64 = 2.0;
@@ -215,6 +216,7 @@ fn reference_simulation(method: Method, step: f64, reduction: Option<usize>) -> 
         nodes: vec![10],
         initial: Initial::StaticEquilibrium,
         divergence_bound: 1.0,
+        progress: None,
     };
     let r = simulate(&model, &options).unwrap().completed().unwrap();
     let start = r.settled_start();
@@ -261,11 +263,51 @@ fn an_unstable_central_difference_step_is_refused() {
         nodes: vec![10],
         initial: Initial::Rest,
         divergence_bound: 1.0,
+        progress: None,
     };
     let e = simulate(&model, &options).unwrap_err().to_string();
     // SPEC section 7: w_max is about 5e5 rad/s for the full model, so the limit is ~4e-6 s.
     assert!(e.contains("stability limit 3.94"), "{e}");
     assert!(e.contains("reduce the model"), "{e}");
+}
+
+#[test]
+fn stable_step_is_the_limit_the_simulation_reports_and_progress_is_told() {
+    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let reports = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
+    let seen = reports.clone();
+    for reduction in [None, Some(12)] {
+        let limit = stable_step(&model, reduction).unwrap();
+        let options = SimulationOptions {
+            speed: SpeedProfile::Constant(2.0 * PI * 50.0),
+            duration: 0.02,
+            step: 0.9 * limit,
+            method: Method::CentralDifference,
+            reduction,
+            settle: 0.0,
+            nodes: vec![10],
+            initial: Initial::StaticEquilibrium,
+            divergence_bound: 1.0,
+            progress: Some(Progress::new({
+                let seen = seen.clone();
+                move |fraction| seen.lock().unwrap().push(fraction)
+            })),
+        };
+        let r = simulate(&model, &options).unwrap().completed().unwrap();
+        // The same matrices, the same eigenvalue solve: equal to the last bit.
+        assert_eq!(limit, r.stable_step, "{reduction:?}");
+    }
+    let reports = reports.lock().unwrap();
+    // Two runs of about 5600 and 500 steps: at most a thousand reports each, rising from 0 to
+    // within one step of the end.
+    assert!(
+        reports.len() > 100 && reports.len() <= 2000,
+        "{}",
+        reports.len()
+    );
+    assert_eq!(reports[0], 0.0);
+    let last = reports[reports.len() - 1];
+    assert!(last > 0.99 && last <= 1.0, "{last}");
 }
 
 #[test]

@@ -5,6 +5,8 @@ pub mod campbell;
 pub mod check;
 pub mod convergence;
 pub mod modal;
+pub mod reduce;
+pub mod simulate;
 pub mod stiffness;
 pub mod unbalance;
 
@@ -125,6 +127,78 @@ pub fn speed(text: &str) -> Result<f64, String> {
         return Err(format!("`{text}`: the speed must not be negative"));
     }
     Ok(w)
+}
+
+/// Clap parser of a time: `0.5s`, `200ms`, or a plain number in s; not negative.
+pub fn time(text: &str) -> Result<f64, String> {
+    let t = parse_quantity(text, Dimension::Time).map_err(|e| e.to_string())?;
+    if t < 0.0 {
+        return Err(format!("`{text}`: a time must not be negative"));
+    }
+    Ok(t)
+}
+
+/// Clap parser of a positive length: `1 mm`, or a plain number in m.
+pub fn positive_length(text: &str) -> Result<f64, String> {
+    let x = parse_quantity(text, Dimension::Length).map_err(|e| e.to_string())?;
+    if x <= 0.0 {
+        return Err(format!("`{text}`: the length must be positive"));
+    }
+    Ok(x)
+}
+
+/// Clap parser of a node index.
+pub fn node_index(text: &str) -> Result<usize, String> {
+    text.trim()
+        .parse::<usize>()
+        .map_err(|_| format!("`{text}` is not a node number (0, 1, 2, ...)"))
+}
+
+/// Checks that every node given to `option` is on the shaft.
+pub fn check_nodes(model: &Model, option: &str, nodes: &[usize]) -> miette::Result<()> {
+    let last = model.node_count() - 1;
+    match nodes.iter().find(|&&n| n > last) {
+        None => Ok(()),
+        Some(bad) => Err(
+            Diag::option(option, format!("node {bad} is not on the shaft"))
+                .help(format!(
+                    "nodes are numbered 0 (z = 0) to {last} (z = {} m)",
+                    model.length()
+                ))
+                .into(),
+        ),
+    }
+}
+
+/// The nodes to report: those given with `--nodes` (checked, repeats removed), or by
+/// default every disk node and every bearing node, ascending.
+pub fn report_nodes(model: &Model, given: &[usize]) -> miette::Result<Vec<usize>> {
+    check_nodes(model, "--nodes", given)?;
+    let nodes: Vec<usize> = if given.is_empty() {
+        let mut n: Vec<usize> = model.disks.iter().map(|d| d.station.node).collect();
+        n.extend(model.bearing_nodes());
+        n.sort_unstable();
+        n.dedup();
+        n
+    } else {
+        // In the order given (it orders the columns), each node once.
+        let mut n: Vec<usize> = Vec::new();
+        for &node in given {
+            if !n.contains(&node) {
+                n.push(node);
+            }
+        }
+        n
+    };
+    if nodes.is_empty() {
+        return Err(Diag::option(
+            "--nodes",
+            "the model has no disk or bearing to report by default",
+        )
+        .help("give the nodes to report, e.g. --nodes 0,10")
+        .into());
+    }
+    Ok(nodes)
 }
 
 /// Speeds in rad/s from `start:stop:count`.

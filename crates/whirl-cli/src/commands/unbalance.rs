@@ -12,8 +12,9 @@ use serde_json::{json, Value};
 use whirl::fe::{assemble, Bearings};
 use whirl::response::unbalance_response;
 
-use super::{finish, lib, load, speeds, summary_head, Common, Outcome, Speeds};
-use crate::error::Diag;
+use super::{
+    finish, lib, load, node_index, report_nodes, speeds, summary_head, Common, Outcome, Speeds,
+};
 use crate::output::{header, num, opt, Output};
 use crate::plots;
 
@@ -31,46 +32,10 @@ pub struct Args {
     pub nodes: Vec<usize>,
 }
 
-/// Clap parser of a node index.
-fn node_index(text: &str) -> Result<usize, String> {
-    text.trim()
-        .parse::<usize>()
-        .map_err(|_| format!("`{text}` is not a node number (0, 1, 2, ...)"))
-}
-
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     let model = &loaded.model;
-    let last = model.node_count() - 1;
-    if let Some(bad) = args.nodes.iter().find(|&&n| n > last) {
-        return Err(
-            Diag::option("--nodes", format!("node {bad} is not on the shaft"))
-                .help(format!(
-                    "nodes are numbered 0 (z = 0) to {last} (z = {} m)",
-                    model.length()
-                ))
-                .into(),
-        );
-    }
-    let nodes: Vec<usize> = if args.nodes.is_empty() {
-        let mut n: Vec<usize> = model.disks.iter().map(|d| d.station.node).collect();
-        n.extend(model.bearing_nodes());
-        n.sort_unstable();
-        n.dedup();
-        n
-    } else {
-        let mut n = args.nodes.clone();
-        n.dedup();
-        n
-    };
-    if nodes.is_empty() {
-        return Err(Diag::option(
-            "--nodes",
-            "the model has no disk or bearing to report by default",
-        )
-        .help("give the nodes to report, e.g. --nodes 0,10")
-        .into());
-    }
+    let nodes = report_nodes(model, &args.nodes)?;
     let system = assemble(model, Bearings::Linearised);
     let result = lib(unbalance_response(
         model,

@@ -8,6 +8,8 @@
 //! - [`peaks`]: spectral peaks refined between bins by the window's own main-lobe shape,
 //!   their order relative to the running speed, the largest non-synchronous peak (the NSV
 //!   amplitude of SPEC section 9) and the amplitude read near a given frequency (1X).
+//! - [`tracking`]: the component of a signal at an order of the shaft angle, with its
+//!   phase (the settled 1X amplitude and phase of a time history).
 //!
 //! ```
 //! use whirl::post::{amplitude_spectrum, largest_non_synchronous, Window};
@@ -27,9 +29,11 @@
 
 pub mod peaks;
 pub mod spectrum;
+pub mod tracking;
 
 pub use peaks::{amplitude_at, largest_non_synchronous, spectral_peaks, SpectralPeak};
 pub use spectrum::{
     amplitude_spectrum, amplitude_spectrum_with, full_spectrum, FullSpectrum, FullSpectrumPlanner,
     Spectrum, SpectrumOptions, SpectrumPlanner, Window,
 };
+pub use tracking::{order_component, OrderComponent};

@@ -27,8 +27,8 @@ pub use newmark::{newmark, NewmarkScheme};
 pub use problem::{NlScratch, SpeedProfile, TimeProblem};
 pub use rk::{runge_kutta, RkStats, RkTolerances};
 pub use simulate::{
-    simulate, simulate_with, Channel, ForceBuilder, Initial, Method, RunStatus, SimulationOptions,
-    SimulationResult,
+    simulate, simulate_with, stable_step, stable_step_with, Channel, ForceBuilder, Initial, Method,
+    Progress, RunStatus, SimulationOptions, SimulationResult,
 };
 pub use statics::static_equilibrium;
 

@@ -3,7 +3,12 @@
 //!
 //! With one roller at the bottom the horizontal static position inside the clearance is not
 //! unique; the static solve starts from u = 0, so it keeps u_x = 0 (SPEC section 7).
+//!
+//! [`stable_step`] gives the central difference's stability limit of the model exactly as
+//! [`simulate`] will integrate it, so a caller can choose a step before running.
 
+use std::fmt;
+use std::sync::Arc;
 use std::time::Instant;
 
 use serde::Serialize;
@@ -56,6 +61,28 @@ pub enum Initial {
 pub type ForceBuilder<'a> =
     &'a dyn Fn(&Model, &dyn Fn(usize) -> usize) -> Result<Vec<Box<dyn NonlinearForce>>>;
 
+/// Reports how far a run has got: called with the fraction of the simulated time done,
+/// from 0 to 1, at most a thousand times per run (so a display costs nothing measurable;
+/// the caller decides how often to draw).
+#[derive(Clone)]
+pub struct Progress(Arc<dyn Fn(f64) + Send + Sync>);
+
+/// Most calls of a [`Progress`] per run.
+const PROGRESS_REPORTS: usize = 1000;
+
+impl Progress {
+    /// A progress report that calls `report` with the fraction done.
+    pub fn new(report: impl Fn(f64) + Send + Sync + 'static) -> Self {
+        Progress(Arc::new(report))
+    }
+}
+
+impl fmt::Debug for Progress {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("Progress(..)")
+    }
+}
+
 /// What to simulate.
 #[derive(Debug, Clone)]
 pub struct SimulationOptions {
@@ -77,6 +104,8 @@ pub struct SimulationOptions {
     pub initial: Initial,
     /// A displacement beyond this (m) means divergence.
     pub divergence_bound: f64,
+    /// Told how far the run has got, e.g. for a progress display; `None` for none.
+    pub progress: Option<Progress>,
 }
 
 /// One recorded signal.
@@ -221,21 +250,49 @@ fn check_options(model: &Model, o: &SimulationOptions) -> Result<()> {
 /// Simulates `model` with its linear bearings in the matrices, roller bearings linearised
 /// (their `linear_stiffness`), and no further nonlinear forces.
 pub fn simulate(model: &Model, options: &SimulationOptions) -> Result<SimulationResult> {
-    simulate_with(model, options, Bearings::Linearised, &|_, _| Ok(Vec::new()))
+    simulate_with(model, options, Bearings::Linearised, &no_forces)
 }
 
-/// Simulates `model` with nonlinear forces from `forces`, which receives a map from
-/// physical DOFs to integrator coordinates. `bearings` says whether the roller bearings'
-/// linear stiffness is in the matrices.
-pub fn simulate_with(
+/// The central difference's stability limit (s) of `model` as [`simulate`] integrates it:
+/// full, or reduced with `reduction` fixed-interface modes.
+pub fn stable_step(model: &Model, reduction: Option<usize>) -> Result<f64> {
+    stable_step_with(model, reduction, Bearings::Linearised, &no_forces)
+}
+
+/// The central difference's stability limit (s) of `model` as [`simulate_with`] integrates
+/// it with these bearings and forces (their largest tangent stiffness included).
+pub fn stable_step_with(
     model: &Model,
-    options: &SimulationOptions,
+    reduction: Option<usize>,
     bearings: Bearings,
     forces: ForceBuilder<'_>,
-) -> Result<SimulationResult> {
-    check_options(model, options)?;
+) -> Result<f64> {
+    // The limit depends on neither speed nor loads: any speed builds the same matrices.
+    let (_, problem) = integrated(
+        model,
+        reduction,
+        SpeedProfile::Constant(0.0),
+        bearings,
+        forces,
+    )?;
+    central_difference_limit(&problem)
+}
+
+/// The force builder of a model without nonlinear forces.
+fn no_forces(_: &Model, _: &dyn Fn(usize) -> usize) -> Result<Vec<Box<dyn NonlinearForce>>> {
+    Ok(Vec::new())
+}
+
+/// The coordinates integrated and the problem in them.
+fn integrated(
+    model: &Model,
+    reduction: Option<usize>,
+    speed: SpeedProfile,
+    bearings: Bearings,
+    forces: ForceBuilder<'_>,
+) -> Result<(Coordinates, TimeProblem)> {
     let full = assemble(model, bearings);
-    let coords = match options.reduction {
+    let coords = match reduction {
         None => Coordinates {
             system: full.clone(),
             reduction: None,
@@ -253,7 +310,7 @@ pub fn simulate_with(
     let ub_im: Vec<f64> = unbalance.iter().map(|c| c.im).collect();
     let map = |physical: usize| coords.coordinate_of(physical).unwrap_or(usize::MAX);
     let nonlinear = forces(model, &map)?;
-    let mut problem = TimeProblem {
+    let problem = TimeProblem {
         mass: coords.system.mass.clone(),
         stiffness: coords.system.stiffness.clone(),
         damping: coords.system.damping.clone(),
@@ -262,9 +319,43 @@ pub fn simulate_with(
         unbalance_re: coords.vector(&ub_re),
         unbalance_im: coords.vector(&ub_im),
         nonlinear,
-        speed: options.speed,
+        speed,
     };
     problem.check()?;
+    Ok((coords, problem))
+}
+
+/// Calls a [`Progress`] each time another 1/[`PROGRESS_REPORTS`] of the run is done.
+struct ProgressTicker<'a> {
+    progress: Option<&'a Progress>,
+    duration: f64,
+    next: f64,
+}
+
+impl ProgressTicker<'_> {
+    fn tick(&mut self, t: f64) {
+        if let Some(Progress(report)) = self.progress {
+            let fraction = t / self.duration;
+            if fraction >= self.next {
+                report(fraction.min(1.0));
+                self.next = fraction + 1.0 / PROGRESS_REPORTS as f64;
+            }
+        }
+    }
+}
+
+/// Simulates `model` with nonlinear forces from `forces`, which receives a map from
+/// physical DOFs to integrator coordinates. `bearings` says whether the roller bearings'
+/// linear stiffness is in the matrices.
+pub fn simulate_with(
+    model: &Model,
+    options: &SimulationOptions,
+    bearings: Bearings,
+    forces: ForceBuilder<'_>,
+) -> Result<SimulationResult> {
+    check_options(model, options)?;
+    let (coords, mut problem) =
+        integrated(model, options.reduction, options.speed, bearings, forces)?;
     let n = problem.size();
     let q0 = match options.initial {
         Initial::Rest => vec![0.0; n],
@@ -282,11 +373,17 @@ pub fn simulate_with(
     let steps = (options.duration / options.step).round() as usize;
     let mut time = Vec::with_capacity(steps);
     let mut values: Vec<Vec<f64>> = rows.iter().map(|_| Vec::with_capacity(steps)).collect();
+    let mut ticker = ProgressTicker {
+        progress: options.progress.as_ref(),
+        duration: options.duration,
+        next: 0.0,
+    };
     let mut observe = |t: f64, q: &[f64], _: &[f64]| {
         time.push(t);
         for ((_, _, row), out) in rows.iter().zip(values.iter_mut()) {
             out.push(row.iter().zip(q).map(|(a, b)| a * b).sum());
         }
+        ticker.tick(t);
     };
     let march = MarchOptions {
         step: options.step,

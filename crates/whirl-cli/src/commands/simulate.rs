@@ -1,0 +1,549 @@
+//! `whirl simulate model.toml --speed 50Hz [--duration 1s] [--method cd|newmark|rk]
+//! [--step S] [--reduce N] [--settle T] [--nodes 10,0] [--contact linear] [--ramp-to SPEED]
+//! [--start static|rest] [--divergence-bound X]`: time response (SPEC section 7).
+//!
+//! Writes `time_history.csv` and `time_history.npy` (column `time_s`, then one column per
+//! channel `n10.ux`, `n10.uy`, ... in m; the .npy is a 2-D float64 array, rows = samples),
+//! `spectrum.csv` (flat-top amplitude spectrum of each channel's settled part, mean removed,
+//! m zero-to-peak: the flat top reads a peak's amplitude within 0.05 % wherever it falls
+//! between bins), `peaks.csv` (the largest spectral peaks with their order of the running
+//! speed: `1X`, `0.5X`, or `non-synchronous`) and the plots `time_history`, `orbits` and
+//! `spectrum`.
+//!
+//! The settled 1X amplitude and phase come from order tracking of the settled part
+//! ([`whirl::post::order_component`]), in the phase convention of `whirl unbalance`, so the
+//! two compare directly. With `--ramp-to` the speed rises linearly from `--speed` over the
+//! settling time and then holds: the settled part runs at the final speed.
+//!
+//! The central difference runs at 0.9 times its stability limit unless `--step` is given; a
+//! given step above the limit is refused with the limit in the message. A run that
+//! diverges writes nothing and says when and why.
+
+use std::fmt::Write;
+use std::io::IsTerminal;
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+use clap::ValueEnum;
+use serde_json::{json, Value};
+use whirl::model::Model;
+use whirl::post::{
+    amplitude_spectrum_with, largest_non_synchronous, order_component, spectral_peaks,
+    OrderComponent, SpectralPeak, Spectrum, SpectrumOptions, Window,
+};
+use whirl::time::{
+    Initial, Method, NewmarkScheme, Progress, RkTolerances, RunStatus, SimulationOptions,
+    SimulationResult, SpeedProfile,
+};
+
+use super::campbell::order_name;
+use super::{
+    finish, hz, lib, load, mode_count, node_index, positive_length, report_nodes, speed,
+    summary_head, time, Common, Loaded, Outcome,
+};
+use crate::error::Diag;
+use crate::output::{header, num, Output};
+use crate::plots;
+
+/// The central difference runs at this fraction of its stability limit by default: close
+/// enough to be cheap, far enough that round-off in the limit does not matter.
+const STABLE_FRACTION: f64 = 0.9;
+
+/// Default step of Newmark and output interval of Runge-Kutta, s (2000 samples per
+/// revolution at 50 Hz).
+const DEFAULT_STEP: f64 = 1e-5;
+
+/// Peaks within this many bins of an order are labelled with it.
+const ORDER_TOLERANCE_BINS: f64 = 2.0;
+
+/// Multiples of the running speed up to this one count as synchronous.
+const MAX_ORDER: usize = 20;
+
+/// Peaks listed per channel.
+const MAX_PEAKS: usize = 10;
+
+/// The smallest peak listed, relative to the channel's largest: 80 dB, about the flat-top
+/// window's side-lobe level, below which peaks may be leakage.
+const MIN_PEAK_RELATIVE: f64 = 1e-4;
+
+/// The time integrator.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Integrator {
+    /// Explicit central difference (thesis eqs. 4.1-4.3); needs a step below 2 / w_max.
+    Cd,
+    /// Implicit Newmark, average acceleration; any step is stable.
+    Newmark,
+    /// Adaptive Dormand-Prince 5(4), the accuracy reference; --step is the output interval.
+    Rk,
+}
+
+/// The roller bearings' contact law in the time march.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Contact {
+    /// Linear springs (each bearing's `linear_stiffness`), as in the linear analyses.
+    Linear,
+}
+
+impl Contact {
+    /// The stability limit of the model as this law integrates it, s.
+    fn stable_step(self, model: &Model, reduction: Option<usize>) -> whirl::Result<f64> {
+        match self {
+            Contact::Linear => whirl::time::stable_step(model, reduction),
+        }
+    }
+
+    fn simulate(
+        self,
+        model: &Model,
+        options: &SimulationOptions,
+    ) -> whirl::Result<SimulationResult> {
+        match self {
+            Contact::Linear => whirl::time::simulate(model, options),
+        }
+    }
+}
+
+/// Where the run starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Start {
+    /// Static equilibrium under gravity.
+    Static,
+    /// Zero displacement and velocity.
+    Rest,
+}
+
+/// `whirl simulate`
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    pub common: Common,
+    /// Spin speed: `50Hz`, `3000rpm`, or a plain number in rad/s.
+    #[arg(long, value_name = "SPEED", value_parser = speed, allow_hyphen_values = true)]
+    pub speed: f64,
+    /// Simulated time: `1s`, `500ms`, or a plain number in s.
+    #[arg(long, value_name = "TIME", default_value = "1s", value_parser = time, allow_hyphen_values = true)]
+    pub duration: f64,
+    /// Time integrator.
+    #[arg(long, value_enum, default_value = "cd")]
+    pub method: Integrator,
+    /// Time step (output interval for rk) [default: 0.9 x the stability limit for cd,
+    /// 1e-5 s otherwise].
+    #[arg(long, value_name = "TIME", value_parser = time, allow_hyphen_values = true)]
+    pub step: Option<f64>,
+    /// Craig-Bampton reduction keeping N fixed-interface modes (bearing nodes are the
+    /// boundary) [default: the full model].
+    #[arg(long, value_name = "N", value_parser = mode_count)]
+    pub reduce: Option<usize>,
+    /// Time discarded before the steady-state numbers [default: half the duration].
+    #[arg(long, value_name = "TIME", value_parser = time, allow_hyphen_values = true)]
+    pub settle: Option<f64>,
+    /// Nodes to record, comma-separated [default: every disk and bearing node].
+    #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = node_index)]
+    pub nodes: Vec<usize>,
+    /// Contact law of the roller bearings.
+    #[arg(long, value_name = "LAW", value_enum, default_value = "linear")]
+    pub contact: Contact,
+    /// Raise the speed linearly from --speed to this over the settling time, then hold it.
+    #[arg(long, value_name = "SPEED", value_parser = speed, allow_hyphen_values = true)]
+    pub ramp_to: Option<f64>,
+    /// Initial state.
+    #[arg(long, value_enum, default_value = "static")]
+    pub start: Start,
+    /// A coordinate beyond this means the run diverged (m for displacements; it also bounds
+    /// rotations in rad and a reduced model's modal coordinates).
+    #[arg(long, value_name = "LENGTH", default_value = "0.01", value_parser = positive_length)]
+    pub divergence_bound: f64,
+}
+
+/// What the settled part of one channel shows.
+pub struct ChannelReport {
+    /// `n10.ux`.
+    pub name: String,
+    /// Node.
+    pub node: usize,
+    /// Mean as the spectrum's window weighs it (the static position), m.
+    pub mean: f64,
+    /// Flat-top amplitude spectrum, mean removed.
+    pub spectrum: Spectrum,
+    /// Largest peaks, largest first.
+    pub peaks: Vec<SpectralPeak>,
+    /// The 1X component; `None` at zero speed.
+    pub one_x: Option<OrderComponent>,
+    /// Largest minus smallest value, m.
+    pub peak_to_peak: f64,
+    /// Largest peak not at a multiple of the running speed.
+    pub non_synchronous: Option<SpectralPeak>,
+}
+
+pub fn run(args: &Args) -> miette::Result<Outcome> {
+    let loaded = load(&args.common.model)?;
+    let model = &loaded.model;
+    let nodes = report_nodes(model, &args.nodes)?;
+    let settle = settling_time(args)?;
+    let speed = speed_profile(args, settle)?;
+    let step = time_step(args, model)?;
+    let options = SimulationOptions {
+        speed,
+        duration: args.duration,
+        step,
+        method: integrator(args.method),
+        reduction: args.reduce,
+        settle,
+        nodes: nodes.clone(),
+        initial: match args.start {
+            Start::Static => Initial::StaticEquilibrium,
+            Start::Rest => Initial::Rest,
+        },
+        divergence_bound: args.divergence_bound,
+        progress: progress_display(),
+    };
+    let result = args.contact.simulate(model, &options);
+    if options.progress.is_some() {
+        // Blank out the progress line.
+        eprint!("\r{:20}\r", "");
+    }
+    let result = lib(result)?;
+    if let RunStatus::Diverged { message, .. } = &result.status {
+        return Err(Diag::new(message.clone())
+            .help("nothing was written")
+            .into());
+    }
+    let running_hz = hz(speed.at(args.duration).0.speed);
+    let reports = channel_reports(&result, &speed, running_hz)?;
+
+    let summary = summary(&loaded, args, &result, running_hz, &reports);
+    let text = text(model, args, &result, running_hz, &reports);
+    let mut out = Output::begin(&args.common.out_dir("simulate"))?;
+    write_tables(&mut out, &result, &reports, running_hz)?;
+    out.plot("time_history", |stem| {
+        plots::time_history(&result, &nodes).save(stem)
+    })?;
+    out.plot("orbits", |stem| plots::orbits(&result, &nodes).save(stem))?;
+    out.plot("spectrum", |stem| {
+        plots::spectrum(&reports, running_hz).save(stem)
+    })?;
+    finish(out, summary, text, &args.common)
+}
+
+fn integrator(choice: Integrator) -> Method {
+    match choice {
+        Integrator::Cd => Method::CentralDifference,
+        Integrator::Newmark => Method::Newmark(NewmarkScheme::AverageAcceleration),
+        Integrator::Rk => Method::RungeKutta(RkTolerances::default()),
+    }
+}
+
+/// The step given, or the default: a fraction of the stability limit for the central
+/// difference, [`DEFAULT_STEP`] for the others.
+fn time_step(args: &Args, model: &Model) -> miette::Result<f64> {
+    match (args.step, args.method) {
+        (Some(h), _) if h > 0.0 => Ok(h),
+        (Some(_), _) => Err(Diag::option("--step", "the time step must be positive").into()),
+        (None, Integrator::Cd) => {
+            Ok(STABLE_FRACTION * lib(args.contact.stable_step(model, args.reduce))?)
+        }
+        (None, _) => Ok(DEFAULT_STEP),
+    }
+}
+
+/// The name a value has on the command line.
+fn value_name(value: impl ValueEnum) -> String {
+    value
+        .to_possible_value()
+        .map(|v| v.get_name().to_string())
+        .unwrap_or_default()
+}
+
+/// The settling time: given, or half the duration; it must leave a settled part.
+fn settling_time(args: &Args) -> miette::Result<f64> {
+    if args.duration <= 0.0 {
+        return Err(Diag::option("--duration", "the duration must be positive")
+            .help("e.g. --duration 1s")
+            .into());
+    }
+    let settle = args.settle.unwrap_or(0.5 * args.duration);
+    if settle >= args.duration {
+        return Err(Diag::option(
+            "--settle",
+            format!(
+                "the settling time {settle} s is not shorter than the duration {} s",
+                args.duration
+            ),
+        )
+        .help("the steady-state numbers come from the time after --settle: shorten it or lengthen --duration")
+        .into());
+    }
+    Ok(settle)
+}
+
+/// Constant speed, or a ramp over the settling time to `--ramp-to`.
+fn speed_profile(args: &Args, settle: f64) -> miette::Result<SpeedProfile> {
+    match args.ramp_to {
+        None => Ok(SpeedProfile::Constant(args.speed)),
+        Some(_) if settle <= 0.0 => Err(Diag::option(
+            "--ramp-to",
+            "the speed ramps over the settling time, which is zero",
+        )
+        .help("give --settle, e.g. --settle 0.5s")
+        .into()),
+        Some(to) => Ok(SpeedProfile::Ramp {
+            from: args.speed,
+            to,
+            duration: settle,
+        }),
+    }
+}
+
+/// A percentage line on stderr, redrawn at most four times a second, when stderr is a
+/// terminal (a log file or a pipe gets nothing).
+fn progress_display() -> Option<Progress> {
+    if !std::io::stderr().is_terminal() {
+        return None;
+    }
+    let last_drawn: Mutex<Option<Instant>> = Mutex::new(None);
+    Some(Progress::new(move |fraction| {
+        let Ok(mut last) = last_drawn.lock() else {
+            return;
+        };
+        if last.is_some_and(|t| t.elapsed() < Duration::from_millis(250)) {
+            return;
+        }
+        *last = Some(Instant::now());
+        eprint!("\rsimulating: {:3.0} %", 100.0 * fraction);
+    }))
+}
+
+/// Spectrum, peaks, 1X and peak-to-peak of each channel's settled part.
+fn channel_reports(
+    result: &SimulationResult,
+    speed: &SpeedProfile,
+    running_hz: f64,
+) -> miette::Result<Vec<ChannelReport>> {
+    let start = result.settled_start();
+    let settled_time = &result.time[start..];
+    if settled_time.len() < whirl::post::spectrum::MIN_SAMPLES {
+        return Err(Diag::option(
+            "--settle",
+            format!(
+                "the settled part holds {} samples; a spectrum needs at least {}",
+                settled_time.len(),
+                whirl::post::spectrum::MIN_SAMPLES
+            ),
+        )
+        .help("shorten --settle, lengthen --duration, or use a smaller --step")
+        .into());
+    }
+    let angle: Vec<f64> = settled_time.iter().map(|&t| speed.at(t).0.angle).collect();
+    let window = Window::FlatTop.samples(settled_time.len());
+    let window_sum: f64 = window.iter().sum();
+    result
+        .channels
+        .iter()
+        .map(|c| {
+            let x = &c.values[start..];
+            // The static sag under gravity would otherwise be the largest "peak". The mean
+            // as the window weighs it leaves nothing at DC; the plain mean of a record that
+            // is not a whole number of periods would, and leak into the first bins.
+            let mean = x.iter().zip(&window).map(|(v, w)| v * w).sum::<f64>() / window_sum;
+            let centred: Vec<f64> = x.iter().map(|v| v - mean).collect();
+            let spectrum = lib(amplitude_spectrum_with(
+                &centred,
+                1.0 / result.step,
+                SpectrumOptions::window(Window::FlatTop),
+            ))?;
+            let one_x = if running_hz > 0.0 {
+                Some(lib(order_component(&angle, x, 1.0))?)
+            } else {
+                None
+            };
+            let (low, high) = x
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+                    (l.min(v), h.max(v))
+                });
+            Ok(ChannelReport {
+                name: c.name.clone(),
+                node: c.node,
+                mean,
+                peaks: spectral_peaks(&spectrum, running_hz, MIN_PEAK_RELATIVE, MAX_PEAKS),
+                non_synchronous: largest_non_synchronous(
+                    &spectrum,
+                    running_hz,
+                    ORDER_TOLERANCE_BINS,
+                    MAX_ORDER,
+                ),
+                spectrum,
+                one_x,
+                peak_to_peak: high - low,
+            })
+        })
+        .collect()
+}
+
+/// `1X`, `2X` at multiples of the running speed, `0.5X`, `1.5X` at half orders (where
+/// sub-synchronous whirl sits), otherwise `non-synchronous`.
+pub fn order_label(frequency_hz: f64, running_hz: f64, tolerance_hz: f64) -> String {
+    if running_hz > 0.0 {
+        let halves = (2.0 * frequency_hz / running_hz).round();
+        if halves >= 1.0 && (frequency_hz - 0.5 * halves * running_hz).abs() <= tolerance_hz {
+            return order_name(0.5 * halves);
+        }
+    }
+    "non-synchronous".into()
+}
+
+fn peak_json(p: &SpectralPeak, running_hz: f64, tolerance_hz: f64) -> Value {
+    json!({
+        "frequency_hz": p.frequency_hz, "amplitude_m": p.amplitude,
+        "order": p.order.is_finite().then_some(p.order),
+        "label": order_label(p.frequency_hz, running_hz, tolerance_hz),
+    })
+}
+
+fn summary(
+    loaded: &Loaded,
+    args: &Args,
+    result: &SimulationResult,
+    running_hz: f64,
+    reports: &[ChannelReport],
+) -> Value {
+    let mut s = summary_head("simulate", loaded);
+    s.insert("method".into(), result.method.clone().into());
+    s.insert("contact".into(), value_name(args.contact).into());
+    s.insert("speed_hz".into(), hz(args.speed).into());
+    s.insert("ramp_to_hz".into(), json!(args.ramp_to.map(hz)));
+    s.insert("running_speed_hz".into(), running_hz.into());
+    s.insert("duration_s".into(), args.duration.into());
+    s.insert("settle_s".into(), result.settle.into());
+    s.insert("step_s".into(), result.step.into());
+    s.insert("stable_step_s".into(), result.stable_step.into());
+    s.insert("reduction_modes".into(), json!(args.reduce));
+    s.insert("coordinates".into(), result.coordinates.into());
+    s.insert("start".into(), value_name(args.start).into());
+    s.insert("samples".into(), result.time.len().into());
+    s.insert("wall_time_s".into(), result.wall_time_s.into());
+    s.insert("rk_stats".into(), json!(result.rk_stats));
+    // "completed" or "diverged", without the divergence's details (a diverged run stops
+    // before anything is written).
+    s.insert("status".into(), json!(result.status)["status"].clone());
+    let resolution = reports
+        .first()
+        .map_or(f64::NAN, |r| r.spectrum.resolution_hz);
+    s.insert("spectrum_window".into(), Window::FlatTop.to_string().into());
+    s.insert("spectrum_resolution_hz".into(), resolution.into());
+    let tolerance_hz = ORDER_TOLERANCE_BINS * resolution;
+    s.insert(
+        "channels".into(),
+        reports
+            .iter()
+            .map(|r| {
+                json!({
+                    "name": r.name, "node": r.node,
+                    "mean_m": r.mean,
+                    "one_x_amplitude_m": r.one_x.map(|c| c.amplitude),
+                    "one_x_phase_deg": r.one_x.map(|c| c.phase.to_degrees()),
+                    "peak_to_peak_m": r.peak_to_peak,
+                    "largest_non_synchronous": r.non_synchronous
+                        .map(|p| peak_json(&p, running_hz, tolerance_hz)),
+                    "peaks": r.peaks.iter()
+                        .map(|p| peak_json(p, running_hz, tolerance_hz))
+                        .collect::<Vec<_>>(),
+                })
+            })
+            .collect::<Vec<_>>()
+            .into(),
+    );
+    s.insert(
+        "notes".into(),
+        json!([
+            "1X amplitude and phase by order tracking of the settled part; phase as in `whirl unbalance` (x = A cos(Omega t + phase))",
+            "spectra: flat-top window, mean removed, zero-to-peak amplitude",
+            "divergence_bound applies to every integrated coordinate",
+        ]),
+    );
+    s.insert("divergence_bound".into(), args.divergence_bound.into());
+    Value::Object(s)
+}
+
+fn text(
+    model: &Model,
+    args: &Args,
+    result: &SimulationResult,
+    running_hz: f64,
+    reports: &[ChannelReport],
+) -> String {
+    let mut t = String::new();
+    let _ = writeln!(
+        t,
+        "{}: {} at {running_hz:.2} Hz for {} s, step {:.3e} s (stable limit {:.3e} s), \
+         {} coordinates{}, {} samples in {:.2} s",
+        model.name,
+        result.method,
+        args.duration,
+        result.step,
+        result.stable_step,
+        result.coordinates,
+        args.reduce
+            .map_or(String::new(), |n| format!(" (reduced, {n} modes)")),
+        result.time.len(),
+        result.wall_time_s
+    );
+    let _ = writeln!(t, "settled part (from {} s):", result.settle);
+    for r in reports {
+        let one_x = r.one_x.map_or("-".into(), |c| {
+            format!("{:.4e} m at {:7.2} deg", c.amplitude, c.phase.to_degrees())
+        });
+        let nsv = r.non_synchronous.map_or("none".into(), |p| {
+            format!("{:.3e} m at {:.2} Hz", p.amplitude, p.frequency_hz)
+        });
+        let _ = writeln!(
+            t,
+            "  {:>7}: 1X {one_x}, peak-to-peak {:.4e} m, largest non-synchronous {nsv}",
+            r.name, r.peak_to_peak
+        );
+    }
+    t
+}
+
+fn write_tables(
+    out: &mut Output,
+    result: &SimulationResult,
+    reports: &[ChannelReport],
+    running_hz: f64,
+) -> miette::Result<()> {
+    let mut h = vec!["time_s".to_string()];
+    h.extend(result.channels.iter().map(|c| c.name.clone()));
+    let rows = result.time.iter().enumerate().map(|(i, t)| {
+        std::iter::once(num(*t)).chain(result.channels.iter().map(move |c| num(c.values[i])))
+    });
+    out.csv("time_history.csv", &h, rows)?;
+    let mut columns: Vec<&[f64]> = vec![&result.time];
+    columns.extend(result.channels.iter().map(|c| c.values.as_slice()));
+    out.npy("time_history.npy", &columns)?;
+
+    let mut h = vec!["frequency_hz".to_string()];
+    h.extend(reports.iter().map(|r| r.name.clone()));
+    let frequencies = reports
+        .first()
+        .map_or(&[][..], |r| &r.spectrum.frequency_hz);
+    let rows = frequencies.iter().enumerate().map(|(k, f)| {
+        std::iter::once(num(*f)).chain(reports.iter().map(move |r| num(r.spectrum.amplitude[k])))
+    });
+    out.csv("spectrum.csv", &h, rows)?;
+
+    let mut rows = Vec::new();
+    for r in reports {
+        let tolerance_hz = ORDER_TOLERANCE_BINS * r.spectrum.resolution_hz;
+        for p in &r.peaks {
+            rows.push(vec![
+                r.name.clone(),
+                num(p.frequency_hz),
+                num(p.amplitude),
+                num(p.order),
+                order_label(p.frequency_hz, running_hz, tolerance_hz),
+            ]);
+        }
+    }
+    let h = header(&["channel", "frequency_hz", "amplitude_m", "order", "label"]);
+    out.csv("peaks.csv", &h, &rows)
+}
