@@ -51,6 +51,8 @@ enum Command {
     Simulate(commands::simulate::Args),
     /// Equivalent stiffness of a roller bearing versus clearance; force-deflection surfaces.
     Stiffness(commands::stiffness::Args),
+    /// Forcing function of a roller bearing (thesis eq. 3.12) fitted to its Hertz response.
+    FitForcing(commands::fit_forcing::Args),
 }
 
 fn main() -> ExitCode {
@@ -67,6 +69,7 @@ fn main() -> ExitCode {
         Command::Reduce(a) => commands::reduce::run(a),
         Command::Simulate(a) => commands::simulate::run(a),
         Command::Stiffness(a) => commands::stiffness::run(a),
+        Command::FitForcing(a) => commands::fit_forcing::run(a),
     };
     match result {
         Ok(outcome) => {

@@ -4,6 +4,7 @@
 pub mod campbell;
 pub mod check;
 pub mod convergence;
+pub mod fit_forcing;
 pub mod modal;
 pub mod reduce;
 pub mod simulate;

@@ -16,13 +16,22 @@
 //! them the roller is cut into slices at axial offsets z_k (eq. 3.13), each carrying
 //! 1/n_slices of the contact stiffness and damping, so that an aligned sliced roller
 //! carries exactly the unsliced force. [`geometry`] holds these kinematics, [`hertz`] the
-//! contact law as a [`crate::time::NonlinearForce`].
+//! contact law as a [`crate::time::NonlinearForce`]. [`forcing`] replaces the rollers by
+//! one radial law (eq. 3.12) that [`forcing_fit`] samples from the Hertz model's response
+//! and [`forcing_regression`] fits.
 
+pub mod forcing;
+pub mod forcing_fit;
+pub mod forcing_regression;
 pub mod geometry;
 pub mod hertz;
 pub mod lagrange;
+mod least_squares;
 pub mod stiffness;
 
+pub use forcing::{forcing_bearings, law_speeds, valid_up_to, ForcingBearing};
+pub use forcing_fit::{fit_forcing, ForcingFit, ForcingFitOptions, SpeedFit};
+pub use forcing_regression::{fit_forcing_law, ForcingPoint};
 pub use geometry::{RollerGeometry, RollerState};
 pub use hertz::{HertzBearing, HERTZ_BOUND_APPROACH};
 pub use lagrange::{ContactStep, LagrangeContacts};
@@ -38,14 +47,23 @@ pub fn contact_coordinates(
     bearing: &RollerBearing,
     coordinate: &dyn Fn(usize) -> usize,
 ) -> Result<Vec<usize>> {
-    let node = bearing.station.node;
     let mut directions = vec![Direction::Ux, Direction::Uy];
     if bearing.roller_tilt {
         directions.extend([Direction::Tx, Direction::Ty]);
     }
+    contact_coordinates_of(bearing, &directions, coordinate)
+}
+
+/// Integrator coordinates of the bearing node's `directions`, through `coordinate`.
+pub fn contact_coordinates_of(
+    bearing: &RollerBearing,
+    directions: &[Direction],
+    coordinate: &dyn Fn(usize) -> usize,
+) -> Result<Vec<usize>> {
+    let node = bearing.station.node;
     directions
-        .into_iter()
-        .map(|d| {
+        .iter()
+        .map(|&d| {
             let c = coordinate(dof(node, d));
             if c == usize::MAX {
                 Err(Error::Numerical(format!(

@@ -1,0 +1,293 @@
+//! `whirl fit-forcing model.toml --speeds 100Hz:500Hz:5 [--bearing 0] [--duration 0.3s]
+//! [--settle 0.2s] [--reduce 12]`: the forcing function of a roller bearing (thesis eq.
+//! 3.12) fitted to its Hertz response.
+//!
+//! At each speed the rotor runs on its Hertz bearings; the chosen bearing's deflection and
+//! cage-averaged elastic contact force are sampled from the settled part, and
+//! F = (a0 + a1 W) (u_r - gamma)^(b0 + b1 W) is fitted to all samples in log-log (see
+//! [`whirl::bearing::forcing_fit`]). Writes `fit.csv` (every sample: speed, deflection,
+//! force, fitted force), `forcing_function.toml` (the `forcing_function = { ... }` line to
+//! paste into the bearing's `[[roller_bearing]]` block) and the plot `force_deflection`
+//! (force over deflection beyond the clearance, log-log, samples and fit per speed).
+//! summary.json holds the coefficients with their units and the fit quality per speed.
+
+use std::fmt::Write;
+use std::path::{Path, PathBuf};
+
+use serde_json::{json, Value};
+use whirl::bearing::{fit_forcing, valid_up_to, ForcingFit, ForcingFitOptions};
+use whirl::model::{ForcingFunction, Model};
+use whirl_plot::{Colour, Figure2d, LegendPosition, Marker, PlotError, Series, Style};
+
+use super::{
+    finish, hz, lib, load, mode_count, speeds, summary_head, time, Common, Outcome, Speeds,
+};
+use crate::error::Diag;
+use crate::output::{header, num, Output};
+
+/// `whirl fit-forcing`
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    pub common: Common,
+    /// Spin speeds to fit at, `start:stop:count`, e.g. `100Hz:500Hz:5`; plain numbers are
+    /// rad/s. The law is meant for speeds inside this range.
+    #[arg(long, value_name = "RANGE", value_parser = speeds)]
+    pub speeds: Speeds,
+    /// The roller bearing to fit, numbered from 0 in file order.
+    #[arg(long, value_name = "INDEX", default_value_t = 0)]
+    pub bearing: usize,
+    /// Simulated time per speed: `0.3s`, `300ms`, or a plain number in s.
+    #[arg(long, value_name = "TIME", default_value = "0.3s", value_parser = time)]
+    pub duration: f64,
+    /// Time discarded before sampling.
+    #[arg(long, value_name = "TIME", default_value = "0.2s", value_parser = time)]
+    pub settle: f64,
+    /// Craig-Bampton reduction keeping N fixed-interface modes (bearing nodes are the
+    /// boundary).
+    #[arg(long, value_name = "N", default_value_t = 12, value_parser = mode_count)]
+    pub reduce: usize,
+}
+
+/// Samples drawn per speed in the plot: enough to show the cloud, few enough to keep the
+/// SVG small (fit.csv has them all).
+const PLOTTED_SAMPLES: usize = 300;
+
+pub fn run(args: &Args) -> miette::Result<Outcome> {
+    let loaded = load(&args.common.model)?;
+    let model = &loaded.model;
+    check_bearing(model, args.bearing)?;
+    let options = ForcingFitOptions {
+        duration: args.duration,
+        settle: args.settle,
+        reduction: Some(args.reduce),
+        ..ForcingFitOptions::default()
+    };
+    let fit = lib(fit_forcing(model, args.bearing, &args.speeds.0, &options))?;
+    let limit = valid_up_to(&fit.law);
+    let warning = extrapolation_warning(model, limit);
+
+    let mut s = summary_head("fit-forcing", &loaded);
+    s.insert(
+        "bearing".into(),
+        json!({"index": args.bearing, "name": fit.bearing}),
+    );
+    s.insert(
+        "law".into(),
+        "F = (a0 + a1 W) (u_r - gamma)_+^(b0 + b1 W)".into(),
+    );
+    s.insert("coefficients".into(), coefficients_json(&fit.law));
+    s.insert(
+        "samples".into(),
+        "cage-averaged elastic Hertz force at the recorded bearing deflection".into(),
+    );
+    s.insert("r_squared".into(), fit.r_squared.into());
+    s.insert("rms_relative_error".into(), fit.rms_relative_error.into());
+    s.insert("points".into(), fit.points.len().into());
+    s.insert("iterations".into(), fit.iterations.into());
+    s.insert("time_step_s".into(), fit.step.into());
+    s.insert("speeds".into(), speeds_json(&fit));
+    s.insert("valid_up_to_hz".into(), json!(limit.map(hz)));
+    if let Some(why) = &warning {
+        s.insert("warning".into(), why.clone().into());
+    }
+
+    let text = summary_text(model, &fit, warning.as_deref());
+    let mut out = Output::begin(&args.common.out_dir("fit-forcing"))?;
+    write_points(&mut out, &fit)?;
+    let block = toml_block(&fit, &args.speeds.0);
+    out.plot("forcing_function", |stem| write_text(stem, "toml", &block))?;
+    out.plot("force_deflection", |stem| force_deflection(&fit).save(stem))?;
+    finish(out, Value::Object(s), text, &args.common)
+}
+
+fn check_bearing(model: &Model, index: usize) -> miette::Result<()> {
+    let count = model.roller_bearings.len();
+    if index < count {
+        return Ok(());
+    }
+    let help = match count {
+        0 => "the model has no [[roller_bearing]]; forcing functions replace roller bearings"
+            .to_string(),
+        n => format!("roller bearings are numbered 0 to {} in file order", n - 1),
+    };
+    Err(
+        Diag::option("--bearing", format!("there is no roller bearing {index}"))
+            .help(help)
+            .into(),
+    )
+}
+
+/// A warning when the law stops giving force (a(W) or b(W) reaches zero at `limit`, rad/s)
+/// below the model's top operating speed.
+fn extrapolation_warning(model: &Model, limit: Option<f64>) -> Option<String> {
+    let (limit, top) = (limit?, model.operating?.1);
+    (limit < top).then(|| {
+        format!(
+            "the law's coefficient or exponent reaches zero at {:.1} Hz, below the top \
+             operating speed {:.1} Hz: above it the bearing would carry nothing; fit over \
+             speeds that reach the top of the range",
+            hz(limit),
+            hz(top)
+        )
+    })
+}
+
+/// Each coefficient with its SI unit (W in rad/s).
+fn coefficients_json(law: &ForcingFunction) -> Value {
+    json!({
+        "a0": {"value": law.a0, "unit": "N/m^b"},
+        "a1": {"value": law.a1, "unit": "N/m^b per rad/s"},
+        "b0": {"value": law.b0, "unit": "1"},
+        "b1": {"value": law.b1, "unit": "1 per rad/s"},
+    })
+}
+
+fn speeds_json(fit: &ForcingFit) -> Value {
+    fit.speeds
+        .iter()
+        .map(|s| {
+            json!({
+                "speed_hz": hz(s.speed), "speed_rad_s": s.speed,
+                "points": s.points, "excluded": s.excluded,
+                "r_squared": s.r_squared, "rms_relative_error": s.rms_relative_error,
+                "own_coefficient": s.coefficient, "own_exponent": s.exponent,
+                "wall_time_s": s.wall_time_s,
+            })
+        })
+        .collect::<Vec<_>>()
+        .into()
+}
+
+fn summary_text(model: &Model, fit: &ForcingFit, warning: Option<&str>) -> String {
+    let mut text = String::new();
+    let law = &fit.law;
+    let _ = writeln!(
+        text,
+        "{}: forcing function of {} from {} samples at {} speeds",
+        model.name,
+        fit.bearing,
+        fit.points.len(),
+        fit.speeds.len()
+    );
+    let _ = writeln!(
+        text,
+        "  F = ({:.6e} {:+.6e} W) (u_r - gamma)^({:.6} {:+.6e} W)   [N, m, W in rad/s]",
+        law.a0, law.a1, law.b0, law.b1
+    );
+    let _ = writeln!(
+        text,
+        "  R^2 {:.5}, rms relative force error {:.2} %",
+        fit.r_squared,
+        100.0 * fit.rms_relative_error
+    );
+    for s in &fit.speeds {
+        let _ = writeln!(
+            text,
+            "  {:8.2} Hz: {:5} samples ({} out of contact), R^2 {:.4}, rms error {:.2} %",
+            hz(s.speed),
+            s.points,
+            s.excluded,
+            s.r_squared,
+            100.0 * s.rms_relative_error
+        );
+    }
+    if let Some(why) = warning {
+        let _ = writeln!(text, "  warning: {why}");
+    }
+    text
+}
+
+fn write_points(out: &mut Output, fit: &ForcingFit) -> miette::Result<()> {
+    let h = header(&[
+        "speed_hz",
+        "speed_rad_s",
+        "deflection_m",
+        "force_n",
+        "fitted_force_n",
+    ]);
+    let rows = fit.points.iter().map(|p| {
+        [
+            num(hz(p.speed)),
+            num(p.speed),
+            num(p.deflection),
+            num(p.force),
+            num(fit.fitted(p)),
+        ]
+    });
+    out.csv("fit.csv", &h, rows)
+}
+
+/// The text of forcing_function.toml: comments saying where the law comes from, then the
+/// line to paste. `{:?}` prints each f64 in full precision and always as a TOML float.
+fn toml_block(fit: &ForcingFit, speeds: &[f64]) -> String {
+    let (lo, hi) = speeds
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &w| {
+            (l.min(w), h.max(w))
+        });
+    let law = &fit.law;
+    format!(
+        "# Forcing function of {} (thesis eq. 3.12), fitted by `whirl fit-forcing` at \
+         {:.2} to {:.2} Hz\n# (R^2 {:.5}). F [N] = (a0 + a1 W) (u_r - gamma)^(b0 + b1 W), u_r \
+         in m, W in rad/s.\n# Paste into the bearing's [[roller_bearing]] block.\n\
+         forcing_function = {{ a0 = {:?}, a1 = {:?}, b0 = {:?}, b1 = {:?} }}\n",
+        fit.bearing,
+        hz(lo),
+        hz(hi),
+        fit.r_squared,
+        law.a0,
+        law.a1,
+        law.b0,
+        law.b1
+    )
+}
+
+/// Writes `text` to `stem.extension`. Goes through [`Output::plot`], which registers
+/// whatever files its closure writes in the output folder.
+fn write_text(stem: &Path, extension: &str, text: &str) -> Result<Vec<PathBuf>, PlotError> {
+    let path = stem.with_extension(extension);
+    std::fs::write(&path, text).map_err(|source| PlotError::Io {
+        path: path.clone(),
+        source,
+    })?;
+    Ok(vec![path])
+}
+
+/// Force over deflection beyond the clearance, log-log: each speed's samples as dots and
+/// the law at that speed as a line through the same deflections.
+fn force_deflection(fit: &ForcingFit) -> Figure2d {
+    let mut fig = Figure2d::new(
+        format!("Forcing function of {}", fit.bearing),
+        "Deflection beyond the clearance u_r - γ [µm]",
+        "Contact force [N]",
+    );
+    fig.log_x = true;
+    fig.log_y = true;
+    fig.legend = LegendPosition::LowerRight;
+    for (k, s) in fit.speeds.iter().enumerate() {
+        let mut at: Vec<_> = fit.points.iter().filter(|p| p.speed == s.speed).collect();
+        at.sort_by(|a, b| a.deflection.total_cmp(&b.deflection));
+        let gamma = fit.clearance.at_speed(s.speed);
+        let micro = |d: f64| 1e6 * (d - gamma);
+        let every = at.len().div_ceil(PLOTTED_SAMPLES).max(1);
+        let shown: Vec<_> = at.iter().step_by(every).collect();
+        let colour = Colour::Palette(k);
+        fig.series.push(
+            Series::new(
+                shown.iter().map(|p| micro(p.deflection)).collect(),
+                shown.iter().map(|p| p.force).collect(),
+            )
+            .style(Style::markers(colour, Marker::Circle).marker_size(2)),
+        );
+        fig.series.push(
+            Series::new(
+                at.iter().map(|p| micro(p.deflection)).collect(),
+                at.iter().map(|p| fit.fitted(p)).collect(),
+            )
+            .label(format!("{:.0} Hz", hz(s.speed)))
+            .style(Style::solid(colour).width(2)),
+        );
+    }
+    fig
+}

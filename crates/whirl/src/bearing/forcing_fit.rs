@@ -1,0 +1,331 @@
+//! Extracting a forcing function (thesis 3.2.2, eq. 3.12) from the Hertz model.
+//!
+//! For each speed the rotor runs in time on its Hertz bearings (Craig-Bampton reduced,
+//! central difference, unbalance and gravity from the model, starting from the static
+//! equilibrium). From the settled part of the record, the bearing node's displacement u
+//! gives the radial deflection u_r = |u| and the Hertz contact force at that displacement,
+//! F = |mean over the cage positions of one roller passage of F_Hertz(u)|:
+//!
+//! - averaged over the cage, because the law has no roller angle: it can stand only for
+//!   the average. At one instant the force at a given u_r scatters by about +-10 % as the
+//!   rollers pass (varying compliance); fitted in log-log that scatter flattens each
+//!   speed's slope (regression dilution), and the slope is the contact's stiffness. For a
+//!   bearing without skew or waviness the cage-averaged force field is central, so its
+//!   stiffness across the deflection is f/u_r, exactly the law's.
+//! - elastic only: the contact damping is set to zero, because eq. 3.12 is a
+//!   force-deflection law without a rate term.
+//! - at zero slope: the recorded channels hold translations only, so the shaft's slope at
+//!   the bearing is taken as zero (it matters only for a bearing with roller tilt).
+//!
+//! The law is then fitted to the samples ([`super::forcing_regression`]). The speeds run in
+//! parallel.
+
+use std::f64::consts::PI;
+use std::time::Instant;
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+use super::forcing_regression::{fit_forcing_law, law_force, own_power_law, quality};
+use super::forcing_regression::{in_contact, ForcingPoint};
+use super::hertz::HertzBearing;
+use super::hertz_bearings;
+use crate::error::{Error, Result};
+use crate::fe::Bearings;
+use crate::model::{Clearance, ForcingFunction, Model, RollerBearing};
+use crate::time::{
+    simulate_with, stable_step_with, Initial, Method, NonlinearForce, SimulationOptions,
+    SpeedProfile,
+};
+
+/// How the Hertz model is run for a fit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ForcingFitOptions {
+    /// Simulated time per speed, s.
+    pub duration: f64,
+    /// Time discarded before sampling, s.
+    pub settle: f64,
+    /// Craig-Bampton fixed-interface modes; `None` for the full model.
+    pub reduction: Option<usize>,
+    /// Time step, s; `None` for [`STEP_FRACTION`] of the central difference's limit.
+    pub step: Option<f64>,
+    /// Samples kept per speed, evenly spaced over the settled record.
+    pub samples_per_speed: usize,
+}
+
+impl Default for ForcingFitOptions {
+    fn default() -> Self {
+        ForcingFitOptions {
+            duration: 0.3,
+            settle: 0.2,
+            reduction: Some(12),
+            step: None,
+            samples_per_speed: 2000,
+        }
+    }
+}
+
+/// Fraction of the central difference's stability limit used as the default step, as
+/// `whirl simulate` uses: close enough to be cheap, far enough that round-off in the limit
+/// does not matter.
+pub const STEP_FRACTION: f64 = 0.9;
+
+/// Cage positions averaged over per sample. The force is piecewise smooth in the cage
+/// angle (a roller's contact opens and closes within the passage); with 64 points the
+/// average is within about 1e-3 of its limit.
+const CAGE_POSITIONS: usize = 64;
+
+/// Largest displacement (m) before a run counts as diverged: a thousand times any
+/// clearance, so only a blown-up integration reaches it.
+const DIVERGENCE_BOUND: f64 = 0.1;
+
+/// How well the law fits the samples of one speed.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SpeedFit {
+    /// Spin speed, rad/s.
+    pub speed: f64,
+    /// Samples in contact, used in the fit.
+    pub points: usize,
+    /// Samples out of contact (s <= 0 or no force), left out.
+    pub excluded: usize,
+    /// Coefficient of determination of the force, 1 - SS_res / SS_tot.
+    pub r_squared: f64,
+    /// Root mean square of (F_fit - F) / F.
+    pub rms_relative_error: f64,
+    /// The straight line in log-log at this speed: F = coefficient s^exponent, N/m^exponent.
+    pub coefficient: f64,
+    /// Its exponent.
+    pub exponent: f64,
+    /// Wall-clock time of the simulation, s.
+    pub wall_time_s: f64,
+}
+
+/// A fitted forcing function and the data behind it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ForcingFit {
+    /// The bearing's name.
+    pub bearing: String,
+    /// The fitted law, SI with W in rad/s.
+    pub law: ForcingFunction,
+    /// The bearing's clearance, for the fitted values.
+    pub clearance: Clearance,
+    /// Samples in contact, speed by speed.
+    pub points: Vec<ForcingPoint>,
+    /// Quality per speed.
+    pub speeds: Vec<SpeedFit>,
+    /// Coefficient of determination of the force over all samples.
+    pub r_squared: f64,
+    /// Root mean square relative force error over all samples.
+    pub rms_relative_error: f64,
+    /// Levenberg-Marquardt iterations.
+    pub iterations: usize,
+    /// Time step of the simulations, s.
+    pub step: f64,
+}
+
+impl ForcingFit {
+    /// The law's force at a sample's speed and deflection, N.
+    pub fn fitted(&self, p: &ForcingPoint) -> f64 {
+        law_force(&self.law, &self.clearance, p)
+    }
+}
+
+/// Fits the forcing function of roller bearing `index` of `model` to its Hertz response at
+/// `speeds` (rad/s).
+pub fn fit_forcing(
+    model: &Model,
+    index: usize,
+    speeds: &[f64],
+    options: &ForcingFitOptions,
+) -> Result<ForcingFit> {
+    let bearing = model.roller_bearings.get(index).ok_or_else(|| {
+        Error::Numerical(format!(
+            "roller bearing {index} does not exist: the model has {} (numbered from 0)",
+            model.roller_bearings.len()
+        ))
+    })?;
+    check_request(speeds, options)?;
+    let step = match options.step {
+        Some(h) => h,
+        None => {
+            let limit = stable_step_with(
+                model,
+                options.reduction,
+                Bearings::NonlinearApart,
+                &hertz_bearings,
+            )?;
+            STEP_FRACTION * limit
+        }
+    };
+    let runs = speeds
+        .par_iter()
+        .map(|&w| sample_speed(model, bearing, w, step, options))
+        .collect::<Result<Vec<_>>>()?;
+    let points: Vec<ForcingPoint> = runs.iter().flat_map(|r| r.points.clone()).collect();
+    let (law, iterations) = fit_forcing_law(&points, &bearing.clearance)?;
+    let speeds = runs
+        .iter()
+        .map(|r| speed_fit(r, &law, &bearing.clearance))
+        .collect();
+    let (r_squared, rms_relative_error) = quality(&points, &law, &bearing.clearance);
+    Ok(ForcingFit {
+        bearing: bearing.name.clone(),
+        law,
+        clearance: bearing.clearance.clone(),
+        points,
+        speeds,
+        r_squared,
+        rms_relative_error,
+        iterations,
+        step,
+    })
+}
+
+fn check_request(speeds: &[f64], options: &ForcingFitOptions) -> Result<()> {
+    let bad = |m: String| Err(Error::Numerical(m));
+    if speeds.is_empty() {
+        return bad("give at least one speed to fit the forcing function at".into());
+    }
+    if let Some(w) = speeds.iter().find(|w| !(w.is_finite() && **w > 0.0)) {
+        return bad(format!(
+            "speed {w} rad/s: the forcing function is fitted at positive speeds, where the \
+             unbalance moves the shaft through a range of deflections"
+        ));
+    }
+    if options.samples_per_speed < 2 {
+        return bad("at least 2 samples per speed are needed".into());
+    }
+    Ok(())
+}
+
+/// The samples of one speed.
+struct SpeedRun {
+    speed: f64,
+    points: Vec<ForcingPoint>,
+    excluded: usize,
+    wall_time_s: f64,
+}
+
+/// Runs the Hertz model at `speed` and samples the bearing's settled force and deflection.
+fn sample_speed(
+    model: &Model,
+    bearing: &RollerBearing,
+    speed: f64,
+    step: f64,
+    options: &ForcingFitOptions,
+) -> Result<SpeedRun> {
+    let start = Instant::now();
+    let profile = SpeedProfile::Constant(speed);
+    let run = SimulationOptions {
+        speed: profile,
+        duration: options.duration,
+        step,
+        method: Method::CentralDifference,
+        reduction: options.reduction,
+        settle: options.settle,
+        nodes: vec![bearing.station.node],
+        initial: Initial::StaticEquilibrium,
+        divergence_bound: DIVERGENCE_BOUND,
+        progress: None,
+    };
+    let result =
+        simulate_with(model, &run, Bearings::NonlinearApart, &hertz_bearings)?.completed()?;
+    let (ux, uy) = (&result.channels[0].values, &result.channels[1].values);
+    let mut elastic = elastic_contact(bearing)?;
+    let settled = result.settled_start()..result.time.len();
+    let mut points = Vec::with_capacity(options.samples_per_speed);
+    let mut excluded = 0;
+    for i in evenly_spaced(settled, options.samples_per_speed) {
+        let u = [ux[i], uy[i]];
+        let p = ForcingPoint {
+            speed,
+            deflection: u[0].hypot(u[1]),
+            force: cage_averaged_force(&mut elastic, &profile, result.time[i], u),
+        };
+        if in_contact(&p, &bearing.clearance) {
+            points.push(p);
+        } else {
+            excluded += 1;
+        }
+    }
+    Ok(SpeedRun {
+        speed,
+        points,
+        excluded,
+        wall_time_s: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// The bearing's Hertz contact without damping and without tilt, acting on [u_x, u_y].
+fn elastic_contact(bearing: &RollerBearing) -> Result<HertzBearing> {
+    let elastic = RollerBearing {
+        contact_damping: 0.0,
+        roller_tilt: false,
+        ..bearing.clone()
+    };
+    HertzBearing::new(&elastic, vec![0, 1])
+}
+
+/// Magnitude of the contact force at displacement `u`, averaged over the cage positions
+/// of one roller passage from time `t`.
+fn cage_averaged_force(
+    elastic: &mut HertzBearing,
+    profile: &SpeedProfile,
+    t: f64,
+    u: [f64; 2],
+) -> f64 {
+    let omega = profile.at(t).0.speed;
+    let passage = 2.0 * PI / elastic.geometry().varying_compliance_frequency(omega);
+    let mut sum = [0.0; 2];
+    for k in 0..CAGE_POSITIONS {
+        let (at, _) = profile.at(t + passage * k as f64 / CAGE_POSITIONS as f64);
+        let mut f = [0.0; 2];
+        elastic.force(&at, &u, &[0.0; 2], &mut f);
+        sum[0] += f[0];
+        sum[1] += f[1];
+    }
+    sum[0].hypot(sum[1]) / CAGE_POSITIONS as f64
+}
+
+/// Up to `count` indices spread evenly over `range`, first and last included.
+fn evenly_spaced(range: std::ops::Range<usize>, count: usize) -> impl Iterator<Item = usize> {
+    let len = range.len();
+    let count = count.min(len);
+    (0..count).map(move |k| {
+        let offset = if count > 1 {
+            k * (len - 1) / (count - 1)
+        } else {
+            0
+        };
+        range.start + offset
+    })
+}
+
+/// The quality of the fit at one speed, with that speed's own log-log line.
+fn speed_fit(run: &SpeedRun, law: &ForcingFunction, clearance: &Clearance) -> SpeedFit {
+    let (r_squared, rms_relative_error) = quality(&run.points, law, clearance);
+    let (coefficient, exponent) = own_power_law(&run.points, clearance);
+    SpeedFit {
+        speed: run.speed,
+        points: run.points.len(),
+        excluded: run.excluded,
+        r_squared,
+        rms_relative_error,
+        coefficient,
+        exponent,
+        wall_time_s: run.wall_time_s,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn evenly_spaced_includes_both_ends() {
+        let i: Vec<usize> = evenly_spaced(10..21, 3).collect();
+        assert_eq!(i, vec![10, 15, 20]);
+        let all: Vec<usize> = evenly_spaced(0..3, 10).collect();
+        assert_eq!(all, vec![0, 1, 2]);
+    }
+}
