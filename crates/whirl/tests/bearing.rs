@@ -174,10 +174,21 @@ fn cage_speed_and_passage_frequency() {
 
 #[test]
 fn static_equilibrium_on_roller_bearings_carries_the_weight() {
+    // 8 rollers: one roller at the bottom carries each bearing's load. 16 rollers: the
+    // bottom roller's neighbours (22.5 degrees away) touch too, just past their contact
+    // edge, where the Hertz law's curvature is unbounded.
+    hang_in_bearings(8);
+    hang_in_bearings(16);
+}
+
+fn hang_in_bearings(rollers: usize) {
     // Full reference rotor hanging in its two Hertz bearings under gravity: the contact
     // forces add up to the weight (to the solver tolerance) and the shaft drops by more
     // than the clearance at each bearing; u_x stays 0 (not unique with a bottom roller).
-    let model = reference();
+    let mut model = reference();
+    for b in &mut model.roller_bearings {
+        b.rollers = rollers;
+    }
     let system = assemble(&model, Bearings::NonlinearApart);
     let gravity = gravity_force(&model, &system);
     let n = system.dofs();
