@@ -22,6 +22,7 @@ mod time;
 
 pub use reduce::{reduction_error, stable_steps};
 pub use time::{orbits, spectrum, time_history};
+pub use time::{contact_line, contact_zone};
 
 /// At most this many panels of modes (a grid of 4 x 3).
 const MAX_PANELS: usize = 12;

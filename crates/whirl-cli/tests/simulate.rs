@@ -1,21 +1,33 @@
 //! `whirl simulate` end to end: the settled 1X against `whirl unbalance`, the .npy file,
-//! refused steps and bad arguments.
+//! refused steps and bad arguments; with roller bearings the contact outputs and the
+//! contact frequencies in the spectrum.
 
 use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
 use serde_json::Value;
 
+fn example(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(name)
+}
+
 fn reference() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/reference_rotor.toml")
+    example("reference_rotor.toml")
 }
 
 /// Runs `whirl <args> reference --out <dir>`, expects success and returns summary.json.
 fn run(dir: &Path, args: &[&str]) -> Value {
+    run_on(&reference(), dir, args)
+}
+
+/// Runs `whirl <args> <model> --out <dir>`, expects success and returns summary.json.
+fn run_on(model: &Path, dir: &Path, args: &[&str]) -> Value {
     let mut cmd = Command::cargo_bin("whirl").unwrap();
     let output = cmd
         .args(args)
-        .arg(reference())
+        .arg(model)
         .arg("--out")
         .arg(dir)
         .output()
@@ -90,13 +102,16 @@ fn unbalance_at_50hz(dir: &Path) -> [(f64, f64); 2] {
     ]
 }
 
-/// Simulates at 50 Hz (at the first critical speed, the hardest case for settling) and
-/// compares the settled 1X of n10 with the frequency-domain response.
+/// Simulates at 50 Hz (at the first critical speed, the hardest case for settling) with
+/// the roller bearings linearised, as `whirl unbalance` has them, and compares the settled
+/// 1X of n10 with the frequency-domain response.
 fn settled_one_x_matches_unbalance(extra: &[&str]) {
     let tmp = tempfile::tempdir().unwrap();
     let expected = unbalance_at_50hz(&tmp.path().join("unbalance"));
     let mut args = vec![
         "simulate",
+        "--contact",
+        "linear",
         "--speed",
         "50Hz",
         "--duration",
@@ -143,6 +158,7 @@ fn settled_one_x_of_the_full_model_matches_unbalance() {
 fn outputs_are_complete_and_the_npy_file_parses() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().join("sim");
+    // Hertz contacts by default: the model has roller bearings.
     let s = run(
         &dir,
         &[
@@ -157,6 +173,7 @@ fn outputs_are_complete_and_the_npy_file_parses() {
             "10,0",
         ],
     );
+    assert_eq!(s["contact"], "hertz", "{s}");
     for file in [
         "time_history.csv",
         "time_history.npy",
@@ -168,6 +185,12 @@ fn outputs_are_complete_and_the_npy_file_parses() {
         "orbits.svg",
         "spectrum.png",
         "spectrum.svg",
+        "contacts_bearing_a.csv",
+        "contacts_bearing_b.csv",
+        "contact_line_bearing_a.png",
+        "contact_line_bearing_b.svg",
+        "contact_zone_bearing_a.png",
+        "contact_zone_bearing_b.svg",
     ] {
         assert!(dir.join(file).is_file(), "{file} missing");
     }
@@ -176,14 +199,18 @@ fn outputs_are_complete_and_the_npy_file_parses() {
         (f(&s["step_s"]) / f(&s["stable_step_s"]) - 0.9).abs() < 1e-12,
         "{s}"
     );
+    // The reduced model's step (3.2e-5 s) is above 1e-5 s: every step is recorded.
+    assert_eq!(s["record_every"], 1, "{s}");
+    // The nodes asked for, then bearing B's node, which a contact law always records.
     let csv = std::fs::read_to_string(dir.join("time_history.csv")).unwrap();
     assert!(
-        csv.starts_with("time_s,n10.ux,n10.uy,n0.ux,n0.uy\n"),
+        csv.starts_with("time_s,n10.ux,n10.uy,n0.ux,n0.uy,n20.ux,n20.uy\n"),
         "{}",
         &csv[..60]
     );
     let rows = csv.lines().count() - 1;
     assert_eq!(rows as u64, s["samples"].as_u64().unwrap());
+    let columns = 7;
 
     let npy = std::fs::read(dir.join("time_history.npy")).unwrap();
     assert_eq!(&npy[..8], b"\x93NUMPY\x01\x00");
@@ -196,10 +223,10 @@ fn outputs_are_complete_and_the_npy_file_parses() {
     assert!(header.contains("'descr': '<f8'"), "{header}");
     assert!(header.contains("'fortran_order': False"), "{header}");
     assert!(
-        header.contains(&format!("'shape': ({rows}, 5)")),
+        header.contains(&format!("'shape': ({rows}, {columns})")),
         "{header}"
     );
-    assert_eq!(npy.len(), data + rows * 5 * 8);
+    assert_eq!(npy.len(), data + rows * columns * 8);
     // Row 1 (C order): the time of the second sample, then n10.ux there, as in the CSV.
     let value =
         |k: usize| f64::from_le_bytes(npy[data + 8 * k..data + 8 * k + 8].try_into().unwrap());
@@ -210,16 +237,43 @@ fn outputs_are_complete_and_the_npy_file_parses() {
         .split(',')
         .map(|v| v.parse().unwrap())
         .collect();
-    assert_eq!(value(5), second[0]);
-    assert_eq!(value(6), second[1]);
-    assert!((value(5) - f(&s["step_s"])).abs() < 1e-18);
+    assert_eq!(value(columns), second[0]);
+    assert_eq!(value(columns + 1), second[1]);
+    assert!((value(columns) - f(&s["sample_interval_s"])).abs() < 1e-18);
+
+    // contacts_<bearing>.csv: time, rollers in contact, 8 forces, 8 approaches; as many
+    // rows as samples, the forces never negative.
+    let contacts = std::fs::read_to_string(dir.join("contacts_bearing_a.csv")).unwrap();
+    let mut lines = contacts.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(head.len(), 2 + 2 * 8);
+    assert_eq!(head[..3], ["time_s", "in_contact", "roller_0_force_n"]);
+    assert_eq!(head[17], "roller_7_approach_m");
+    let mut count = 0;
+    for line in lines {
+        let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        let touching = v[2..10].iter().filter(|&&q| q > 0.0).count();
+        assert!(v[2..10].iter().all(|&q| q >= 0.0), "{line}");
+        assert_eq!(v[1], touching as f64, "{line}");
+        count += 1;
+    }
+    assert_eq!(count, rows);
 }
 
 #[test]
 fn an_unstable_central_difference_step_is_refused_with_the_limit() {
     // SPEC section 7: w_max of the full model is about 5e5 rad/s, so 1e-5 s is unstable.
     fails(
-        &["--speed", "50Hz", "--duration", "10ms", "--step", "1e-5"],
+        &[
+            "--speed",
+            "50Hz",
+            "--duration",
+            "10ms",
+            "--step",
+            "1e-5",
+            "--contact",
+            "linear",
+        ],
         &["stability limit 3.943e-6 s", "reduce the model"],
     );
 }
@@ -240,6 +294,9 @@ fn a_diverged_run_says_when_and_writes_nothing() {
         ],
         &[
             "diverged at t = 0.000000 s",
+            // The first recorded displacement beyond the bound, named by node and direction:
+            // bearing A's node resting on its bottom roller (u_x = 0 there).
+            "n0.uy is -2.1",
             "bound 1e-9",
             "nothing was written",
         ],
@@ -265,8 +322,21 @@ fn bad_arguments_are_explained() {
         &["'euler'", "--method", "cd, newmark, rk"],
     );
     fails(
-        &["--speed", "50Hz", "--contact", "hertz"],
-        &["'hertz'", "--contact", "possible values: linear"],
+        &["--speed", "50Hz", "--contact", "rigid"],
+        &[
+            "'rigid'",
+            "--contact",
+            "possible values: hertz, lagrange, forcing, linear",
+        ],
+    );
+    fails(
+        &["--speed", "50Hz", "--record-every", "0"],
+        &["--record-every", "whole number, 1 or more"],
+    );
+    // The reference rotor's bearings have no forcing function.
+    fails(
+        &["--speed", "50Hz", "--contact", "forcing"],
+        &["forcing_function", "whirl fit-forcing"],
     );
     fails(
         &["--speed", "50Hz", "--duration", "1 fortnight"],
@@ -279,5 +349,134 @@ fn bad_arguments_are_explained() {
     fails(
         &["--speed", "50Hz", "--nodes", "99"],
         &["--nodes", "node 99"],
+    );
+}
+
+/// Issue 8's must-show, from the command line: the spectrum at each bearing shows the
+/// varying-compliance frequency N_b w_c and its outer ring's waviness frequency
+/// (N_w - 1) w_c within one FFT bin (crates/whirl/tests/roller_simulation.rs explains the
+/// speed and the record length).
+#[test]
+fn the_spectrum_shows_the_contact_frequencies() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("sim");
+    let s = run_on(
+        &example("reference_rotor_waviness.toml"),
+        &dir,
+        &[
+            "simulate",
+            "--speed",
+            "20Hz",
+            "--duration",
+            "4s",
+            "--reduce",
+            "12",
+            "--nodes",
+            "10",
+        ],
+    );
+    let bearings = s["bearings"].as_array().unwrap();
+    assert_eq!(bearings.len(), 2);
+    for (b, order) in bearings.iter().zip([5.0, 10.0]) {
+        let cage = f(&b["cage_speed_hz"]);
+        // w_c = (1 - D_b/D_p) Omega / 2 with D_b/D_p = 6.1/69.6.
+        assert!((cage - 0.5 * (1.0 - 6.1 / 69.6) * 20.0).abs() < 1e-9, "{b}");
+        assert!(
+            (f(&b["varying_compliance_hz"]) - 8.0 * cage).abs() < 1e-9,
+            "{b}"
+        );
+        assert!(
+            (f(&b["waviness_hz"][0]) - (order - 1.0) * cage).abs() < 1e-9,
+            "{b}"
+        );
+        let bin = f(&b["spectrum_resolution_hz"]);
+        // 2 s settled: 0.5 Hz bins.
+        assert!((bin - 0.5).abs() < 1e-3, "{b}");
+        let frequencies = b["frequencies"].as_array().unwrap();
+        assert_eq!(frequencies.len(), 2);
+        for check in frequencies {
+            // The larger peak of the node's u_x and u_y.
+            let best = check["measured"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .max_by(|x, y| f(&x["amplitude_m"]).total_cmp(&f(&y["amplitude_m"])))
+                .unwrap();
+            let offset = f(&best["offset_bins"]);
+            eprintln!(
+                "{} {}: predicted {:.4} Hz, measured {:.4} Hz in {}, {offset:+.3} bins",
+                b["name"],
+                check["source"],
+                f(&check["predicted_hz"]),
+                f(&best["frequency_hz"]),
+                best["channel"]
+            );
+            assert!(offset.abs() <= 1.0, "{check}");
+        }
+        let settled = &b["settled"];
+        let penetration = f(&settled["largest_penetration_m"]);
+        assert!(penetration > 0.0 && penetration < 1e-5, "{b}");
+        let (low, high) = (&settled["min_in_contact"], &settled["max_in_contact"]);
+        assert!(
+            low.as_u64().unwrap() >= 1 && high.as_u64().unwrap() <= 8,
+            "{b}"
+        );
+    }
+}
+
+#[test]
+fn a_thinned_run_records_every_nth_step() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("sim");
+    let s = run(
+        &dir,
+        &[
+            "simulate",
+            "--speed",
+            "100Hz",
+            "--duration",
+            "50ms",
+            "--reduce",
+            "12",
+            "--record-every",
+            "4",
+        ],
+    );
+    assert_eq!(s["record_every"], 4, "{s}");
+    let interval = f(&s["sample_interval_s"]);
+    assert!((interval - 4.0 * f(&s["step_s"])).abs() < 1e-18, "{s}");
+    let steps = (0.05 / f(&s["step_s"])).round() as u64;
+    assert_eq!(s["samples"].as_u64().unwrap(), steps.div_ceil(4), "{s}");
+}
+
+#[test]
+fn the_full_model_records_about_every_ten_microseconds() {
+    // Its stable step with the Hertz contacts is a few microseconds: by default as many
+    // steps as fit in 1e-5 s are one sample.
+    let tmp = tempfile::tempdir().unwrap();
+    let s = run(
+        &tmp.path().join("sim"),
+        &["simulate", "--speed", "100Hz", "--duration", "20ms"],
+    );
+    let every = s["record_every"].as_u64().unwrap();
+    let interval = f(&s["sample_interval_s"]);
+    assert!(
+        every > 1 && interval <= 1e-5 && interval + f(&s["step_s"]) > 1e-5,
+        "{s}"
+    );
+}
+
+#[test]
+fn lagrange_contacts_are_refused_until_available() {
+    fails(
+        &[
+            "--speed",
+            "20Hz",
+            "--duration",
+            "10ms",
+            "--contact",
+            "lagrange",
+        ],
+        &["lagrange contact law is not available"],
     );
 }

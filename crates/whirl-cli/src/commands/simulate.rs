@@ -1,14 +1,28 @@
 //! `whirl simulate model.toml --speed 50Hz [--duration 1s] [--method cd|newmark|rk]
-//! [--step S] [--reduce N] [--settle T] [--nodes 10,0] [--contact linear] [--ramp-to SPEED]
-//! [--start static|rest] [--divergence-bound X]`: time response (SPEC section 7).
+//! [--step S] [--reduce N] [--settle T] [--nodes 10,0] [--contact hertz|lagrange|forcing|linear]
+//! [--record-every N] [--ramp-to SPEED] [--start static|rest] [--divergence-bound X]`: time
+//! response (SPEC section 7).
 //!
 //! Writes `time_history.csv` and `time_history.npy` (column `time_s`, then one column per
 //! channel `n10.ux`, `n10.uy`, ... in m; the .npy is a 2-D float64 array, rows = samples),
 //! `spectrum.csv` (flat-top amplitude spectrum of each channel's settled part, mean removed,
 //! m zero-to-peak: the flat top reads a peak's amplitude within 0.05 % wherever it falls
 //! between bins), `peaks.csv` (the largest spectral peaks with their order of the running
-//! speed: `1X`, `0.5X`, or `non-synchronous`) and the plots `time_history`, `orbits` and
-//! `spectrum`.
+//! speed: `1X`, `0.5X`, or `non-synchronous`) and the plots `time_history`, `orbits` (a
+//! roller bearing's node with its clearance circle) and `spectrum` (1X and its multiples,
+//! and each roller bearing's varying-compliance and waviness frequencies, marked).
+//!
+//! With a contact law (Hertz, the default when the model has roller bearings) every roller
+//! bearing's node is recorded, and per bearing `contacts_<bearing>.csv` (each roller's force
+//! and approach over time), the plots `contact_line_<bearing>` (which rollers touch when,
+//! thesis fig. 4.7) and `contact_zone_<bearing>` (roller force versus roller angle, fig.
+//! 4.9), and in summary.json the rollers in contact, the largest penetration and force, and
+//! the predicted contact frequencies with the spectral peak measured nearest each; see
+//! [`contacts`].
+//!
+//! Every `--record-every`-th step is recorded [default: as many steps as fit in
+//! [`DEFAULT_SAMPLE_INTERVAL`]]: the full model's stable step is a few microseconds, and
+//! recording each would write hundreds of MB for a second of motion.
 //!
 //! The settled 1X amplitude and phase come from order tracking of the settled part
 //! ([`whirl::post::order_component`]), in the phase convention of `whirl unbalance`, so the
@@ -18,6 +32,8 @@
 //! The central difference runs at 0.9 times its stability limit unless `--step` is given; a
 //! given step above the limit is refused with the limit in the message. A run that
 //! diverges writes nothing and says when and why.
+
+mod contacts;
 
 use std::fmt::Write;
 use std::io::IsTerminal;
@@ -32,8 +48,8 @@ use whirl::post::{
     OrderComponent, SpectralPeak, Spectrum, SpectrumOptions, Window,
 };
 use whirl::time::{
-    Initial, Method, NewmarkScheme, Progress, RkTolerances, RunStatus, SimulationOptions,
-    SimulationResult, SpeedProfile,
+    simulate_contacts, stable_step_for, ContactLaw, Initial, Method, NewmarkScheme, Progress,
+    RkTolerances, RunStatus, SimulationOptions, SimulationResult, SpeedProfile,
 };
 
 use super::campbell::order_name;
@@ -52,6 +68,13 @@ const STABLE_FRACTION: f64 = 0.9;
 /// Default step of Newmark and output interval of Runge-Kutta, s (2000 samples per
 /// revolution at 50 Hz).
 const DEFAULT_STEP: f64 = 1e-5;
+
+/// Recorded samples are at most this far apart by default, s: 100 kHz, whose 50 kHz Nyquist
+/// frequency lies far above every contact frequency of the speed range (the varying
+/// compliance of the reference bearing is 2.7 kHz at 750 Hz) and above the bearing nodes'
+/// contact resonances (a few kHz). The full model's modes above 50 kHz, which would alias,
+/// are overdamped by the stiffness-proportional damping (zeta = beta w / 2 > 1 there).
+pub const DEFAULT_SAMPLE_INTERVAL: f64 = 1e-5;
 
 /// Peaks within this many bins of an order are labelled with it.
 const ORDER_TOLERANCE_BINS: f64 = 2.0;
@@ -80,27 +103,32 @@ pub enum Integrator {
 /// The roller bearings' contact law in the time march.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum Contact {
+    /// Hertz line contact per roller (thesis eq. 3.5), with tilt, skew and waviness.
+    Hertz,
+    /// Rigid rollers held by Lagrange multipliers (eqs. 3.7-3.11), central difference only.
+    Lagrange,
+    /// The bearing's forcing function (eq. 3.12; fit one with `whirl fit-forcing`).
+    Forcing,
     /// Linear springs (each bearing's `linear_stiffness`), as in the linear analyses.
     Linear,
 }
 
 impl Contact {
-    /// The stability limit of the model as this law integrates it, s.
-    fn stable_step(self, model: &Model, reduction: Option<usize>) -> whirl::Result<f64> {
+    /// The library's law.
+    pub fn law(self) -> ContactLaw {
         match self {
-            Contact::Linear => whirl::time::stable_step(model, reduction),
+            Contact::Hertz => ContactLaw::Hertz,
+            Contact::Lagrange => ContactLaw::Lagrange,
+            Contact::Forcing => ContactLaw::Forcing,
+            Contact::Linear => ContactLaw::Linear,
         }
     }
+}
 
-    fn simulate(
-        self,
-        model: &Model,
-        options: &SimulationOptions,
-    ) -> whirl::Result<SimulationResult> {
-        match self {
-            Contact::Linear => whirl::time::simulate(model, options),
-        }
-    }
+/// The law asked for, or Hertz when the model has roller bearings, else linear.
+fn contact_law(args: &Args, model: &Model) -> ContactLaw {
+    args.contact
+        .map_or_else(|| ContactLaw::default_for(model), Contact::law)
 }
 
 /// Where the run starts.
@@ -140,19 +168,34 @@ pub struct Args {
     /// Nodes to record, comma-separated [default: every disk and bearing node].
     #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = node_index)]
     pub nodes: Vec<usize>,
-    /// Contact law of the roller bearings.
-    #[arg(long, value_name = "LAW", value_enum, default_value = "linear")]
-    pub contact: Contact,
+    /// Contact law of the roller bearings [default: hertz when the model has roller
+    /// bearings, linear otherwise].
+    #[arg(long, value_name = "LAW", value_enum)]
+    pub contact: Option<Contact>,
+    /// Record every N-th step [default: as many steps as fit in 1e-5 s, at least 1].
+    #[arg(long, value_name = "N", value_parser = record_every)]
+    pub record_every: Option<usize>,
     /// Raise the speed linearly from --speed to this over the settling time, then hold it.
     #[arg(long, value_name = "SPEED", value_parser = speed, allow_hyphen_values = true)]
     pub ramp_to: Option<f64>,
     /// Initial state.
     #[arg(long, value_enum, default_value = "static")]
     pub start: Start,
-    /// A coordinate beyond this means the run diverged (m for displacements; it also bounds
-    /// rotations in rad and a reduced model's modal coordinates).
+    /// A recorded displacement (ux or uy of a recorded node, bearing nodes included)
+    /// beyond this means the run diverged; any integrated coordinate beyond 1000 times it
+    /// (rotations and modal coordinates too) as well.
     #[arg(long, value_name = "LENGTH", default_value = "0.01", value_parser = positive_length)]
     pub divergence_bound: f64,
+}
+
+/// Clap parser of `--record-every`: a whole number of steps, at least 1.
+fn record_every(text: &str) -> Result<usize, String> {
+    match text.trim().parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => Err(format!(
+            "`{text}` is not a number of steps: give a whole number, 1 or more"
+        )),
+    }
 }
 
 /// What the settled part of one channel shows.
@@ -179,9 +222,13 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     let model = &loaded.model;
     let nodes = report_nodes(model, &args.nodes)?;
+    let law = contact_law(args, model);
     let settle = settling_time(args)?;
     let speed = speed_profile(args, settle)?;
-    let step = time_step(args, model)?;
+    let step = time_step(args, model, law)?;
+    let every = args
+        .record_every
+        .unwrap_or_else(|| default_record_every(step));
     let options = SimulationOptions {
         speed,
         duration: args.duration,
@@ -197,7 +244,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         divergence_bound: args.divergence_bound,
         progress: progress_display(),
     };
-    let result = args.contact.simulate(model, &options);
+    let result = simulate_contacts(model, &options, law, every);
     if options.progress.is_some() {
         // Blank out the progress line.
         eprint!("\r{:20}\r", "");
@@ -208,21 +255,43 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
             .help("nothing was written")
             .into());
     }
-    let running_hz = hz(speed.at(args.duration).0.speed);
+    let final_speed = speed.at(args.duration).0.speed;
+    let running_hz = hz(final_speed);
     let reports = channel_reports(&result, &speed, running_hz)?;
+    let bearings = contacts::bearing_reports(model, &result, &reports, final_speed, running_hz);
+    // Every recorded node: those asked for and the bearing nodes a contact law adds.
+    let mut recorded: Vec<usize> = result.channels.iter().map(|c| c.node).collect();
+    recorded.dedup();
 
-    let summary = summary(&loaded, args, &result, running_hz, &reports);
-    let text = text(model, args, &result, running_hz, &reports);
+    let mut summary = summary(&loaded, args, law, &result, running_hz, &reports);
+    if let Value::Object(map) = &mut summary {
+        map.insert("bearings".into(), contacts::summary(&bearings));
+    }
+    let mut text = text(model, args, &result, running_hz, &reports);
+    contacts::text(&mut text, &bearings);
     let mut out = Output::begin(&args.common.out_dir("simulate"))?;
     write_tables(&mut out, &result, &reports, running_hz)?;
+    contacts::write(&mut out, &result, &bearings)?;
     out.plot("time_history", |stem| {
-        plots::time_history(&result, &nodes).save(stem)
+        plots::time_history(&result, &recorded).save(stem)
     })?;
-    out.plot("orbits", |stem| plots::orbits(&result, &nodes).save(stem))?;
+    let circles = contacts::clearance_circles(model, final_speed);
+    out.plot("orbits", |stem| {
+        plots::orbits(&result, &recorded, &circles).save(stem)
+    })?;
+    let markers = contacts::spectrum_markers(&bearings);
     out.plot("spectrum", |stem| {
-        plots::spectrum(&reports, running_hz).save(stem)
+        plots::spectrum(&reports, running_hz, &markers).save(stem)
     })?;
     finish(out, summary, text, &args.common)
+}
+
+/// The default thinning: as many steps as fit in [`DEFAULT_SAMPLE_INTERVAL`], at least 1.
+fn default_record_every(step: f64) -> usize {
+    // The small allowance keeps a step of exactly 1e-5 / k at k despite round-off.
+    ((DEFAULT_SAMPLE_INTERVAL / step) * (1.0 + 1e-9))
+        .floor()
+        .max(1.0) as usize
 }
 
 fn integrator(choice: Integrator) -> Method {
@@ -235,12 +304,12 @@ fn integrator(choice: Integrator) -> Method {
 
 /// The step given, or the default: a fraction of the stability limit for the central
 /// difference, [`DEFAULT_STEP`] for the others.
-fn time_step(args: &Args, model: &Model) -> miette::Result<f64> {
+fn time_step(args: &Args, model: &Model, law: ContactLaw) -> miette::Result<f64> {
     match (args.step, args.method) {
         (Some(h), _) if h > 0.0 => Ok(h),
         (Some(_), _) => Err(Diag::option("--step", "the time step must be positive").into()),
         (None, Integrator::Cd) => {
-            Ok(STABLE_FRACTION * lib(args.contact.stable_step(model, args.reduce))?)
+            Ok(STABLE_FRACTION * lib(stable_step_for(model, args.reduce, law))?)
         }
         (None, _) => Ok(DEFAULT_STEP),
     }
@@ -348,7 +417,7 @@ fn channel_reports(
             let centred: Vec<f64> = x.iter().map(|v| v - mean).collect();
             let spectrum = lib(amplitude_spectrum_with(
                 &centred,
-                1.0 / result.step,
+                1.0 / result.sample_interval(),
                 SpectrumOptions::window(Window::FlatTop),
             ))?;
             let one_x = if running_hz > 0.0 {
@@ -403,13 +472,14 @@ fn peak_json(p: &SpectralPeak, running_hz: f64, tolerance_hz: f64) -> Value {
 fn summary(
     loaded: &Loaded,
     args: &Args,
+    law: ContactLaw,
     result: &SimulationResult,
     running_hz: f64,
     reports: &[ChannelReport],
 ) -> Value {
     let mut s = summary_head("simulate", loaded);
     s.insert("method".into(), result.method.clone().into());
-    s.insert("contact".into(), value_name(args.contact).into());
+    s.insert("contact".into(), law.name().into());
     s.insert("speed_hz".into(), hz(args.speed).into());
     s.insert("ramp_to_hz".into(), json!(args.ramp_to.map(hz)));
     s.insert("running_speed_hz".into(), running_hz.into());
@@ -421,6 +491,8 @@ fn summary(
     s.insert("coordinates".into(), result.coordinates.into());
     s.insert("start".into(), value_name(args.start).into());
     s.insert("samples".into(), result.time.len().into());
+    s.insert("record_every".into(), result.record_every.into());
+    s.insert("sample_interval_s".into(), result.sample_interval().into());
     s.insert("wall_time_s".into(), result.wall_time_s.into());
     s.insert("rk_stats".into(), json!(result.rk_stats));
     // "completed" or "diverged", without the divergence's details (a diverged run stops
@@ -458,7 +530,8 @@ fn summary(
         json!([
             "1X amplitude and phase by order tracking of the settled part; phase as in `whirl unbalance` (x = A cos(Omega t + phase))",
             "spectra: flat-top window, mean removed, zero-to-peak amplitude",
-            "divergence_bound applies to every integrated coordinate",
+            "divergence_bound (m) applies to the recorded displacements (ux, uy of the recorded nodes, bearing nodes included); any integrated coordinate beyond 1000 times it, rotations and modal coordinates too, also counts as divergence",
+            "bearings: contact statistics over the settled part; a roller is in contact when it carries load (for the forcing-function law, when it penetrates); measured peaks are the largest spectral peak of the bearing node's channel within 3 bins of the prediction",
         ]),
     );
     s.insert("divergence_bound".into(), args.divergence_bound.into());

@@ -1,7 +1,11 @@
-//! Figures of a time simulation: time histories, orbits and spectra, displacements in µm.
+//! Figures of a time simulation: time histories, orbits and spectra, displacements in µm;
+//! for roller bearings the contact line and contact zone (thesis figs. 4.7 and 4.9).
 
-use whirl::time::SimulationResult;
-use whirl_plot::{Colour, Figure2d, Grid, LegendPosition, RefLine, Series, Style};
+use std::f64::consts::PI;
+use std::ops::Range;
+
+use whirl::time::{RollerRecord, SimulationResult};
+use whirl_plot::{Colour, Figure2d, Grid, LegendPosition, Line, Marker, RefLine, Series, Style};
 
 use super::{grid_shape, um};
 use crate::commands::campbell::order_name;
@@ -18,6 +22,22 @@ const ORBIT_POINTS: usize = 6000;
 
 /// The spectrum plot shows this many decades below its largest peak.
 const SPECTRUM_DECADES: f64 = 6.0;
+
+/// The spectrum plot reaches past peaks down to this fraction of their channel's largest.
+const SHOWN_PEAK_RELATIVE: f64 = 0.1;
+
+/// At most this many orders of the running speed are marked on the spectrum.
+const MAX_ORDER_LINES: usize = 12;
+
+/// The contact line draws at most this many stretches per roller, each marked in contact
+/// when the roller touched anywhere in it: about one per pixel column.
+const CONTACT_LINE_STRETCHES: usize = 2000;
+
+/// At most this many points of the contact zone are drawn (every k-th sample).
+const ZONE_POINTS: usize = 20_000;
+
+/// Points of a clearance circle.
+const CIRCLE_POINTS: usize = 181;
 
 /// The smallest and the largest sample of each stretch, in time order.
 fn envelope(t: &[f64], x: &[f64]) -> (Vec<f64>, Vec<f64>) {
@@ -83,8 +103,10 @@ pub fn time_history(result: &SimulationResult, nodes: &[usize]) -> Grid {
     grid
 }
 
-/// The orbit (uy against ux) of each node over the settled part, equal axes.
-pub fn orbits(result: &SimulationResult, nodes: &[usize]) -> Grid {
+/// The orbit (uy against ux) of each node over the settled part, equal axes; at the nodes
+/// of `circles` (node, radius in m) a dashed circle of that radius: a roller bearing's
+/// clearance, inside which the shaft moves freely.
+pub fn orbits(result: &SimulationResult, nodes: &[usize], circles: &[(usize, f64)]) -> Grid {
     let (rows, cols) = grid_shape(nodes.len());
     let mut grid = Grid::new(
         format!("Orbits after {} s (x horizontal, y up)", result.settle),
@@ -104,15 +126,30 @@ pub fn orbits(result: &SimulationResult, nodes: &[usize]) -> Grid {
                 Series::new(pick(ux), pick(uy)).style(Style::solid(Colour::Palette(0)).width(1)),
             );
         }
-        panel.equal_aspect = true;
         panel.legend = LegendPosition::Hidden;
+        for &(_, radius) in circles.iter().filter(|(n, _)| *n == node) {
+            let (x, y): (Vec<f64>, Vec<f64>) = (0..CIRCLE_POINTS)
+                .map(|k| {
+                    let a = 2.0 * PI * k as f64 / (CIRCLE_POINTS - 1) as f64;
+                    (1e6 * radius * a.cos(), 1e6 * radius * a.sin())
+                })
+                .unzip();
+            panel.series.push(
+                Series::new(x, y)
+                    .label(format!("clearance {:.1} µm", 1e6 * radius))
+                    .style(Style::dashed(Colour::GREY).width(1)),
+            );
+            panel.legend = LegendPosition::LowerRight;
+        }
+        panel.equal_aspect = true;
         grid.panels.push(panel);
     }
     grid
 }
 
-/// Amplitude spectra of the settled part (logarithmic), 1X and its multiples marked.
-pub fn spectrum(reports: &[ChannelReport], running_hz: f64) -> Figure2d {
+/// Amplitude spectra of the settled part (logarithmic), 1X and its multiples marked, and
+/// `markers` (the roller bearings' contact frequencies).
+pub fn spectrum(reports: &[ChannelReport], running_hz: f64, markers: &[RefLine]) -> Figure2d {
     let mut fig = Figure2d::new(
         "Amplitude spectrum of the settled part (flat-top window)",
         "Frequency [Hz]",
@@ -124,11 +161,21 @@ pub fn spectrum(reports: &[ChannelReport], running_hz: f64) -> Figure2d {
         .and_then(|r| r.spectrum.frequency_hz.last().copied())
         .unwrap_or(1.0);
     // Ten orders, or past the highest listed peak when that lies further out.
+    // Peaks that matter: within a decade of their channel's largest.
     let highest_peak = reports
         .iter()
-        .flat_map(|r| r.peaks.iter().map(|p| p.frequency_hz))
+        .flat_map(|r| {
+            let largest = r.peaks.first().map_or(0.0, |p| p.amplitude);
+            r.peaks
+                .iter()
+                .filter(move |p| p.amplitude >= SHOWN_PEAK_RELATIVE * largest)
+                .map(|p| p.frequency_hz)
+        })
         .fold(0.0f64, f64::max);
-    let top = (10.5 * running_hz).max(1.2 * highest_peak);
+    let highest_marker = markers.iter().map(|m| m.value).fold(0.0f64, f64::max);
+    let top = (10.5 * running_hz)
+        .max(1.2 * highest_peak)
+        .max(1.1 * highest_marker);
     let top = if top > 0.0 { top.min(nyquist) } else { nyquist };
     let mut largest = 0.0f64;
     let mut nodes: Vec<usize> = reports.iter().map(|r| r.node).collect();
@@ -156,16 +203,101 @@ pub fn spectrum(reports: &[ChannelReport], running_hz: f64) -> Figure2d {
         );
     }
     if running_hz > 0.0 {
-        let orders = (top / running_hz).floor() as usize;
+        let orders = ((top / running_hz).floor() as usize).min(MAX_ORDER_LINES);
         fig.vertical_lines = (1..=orders)
             .map(|k| RefLine::new(k as f64 * running_hz).label(order_name(k as f64)))
             .collect();
     }
+    fig.vertical_lines.extend(markers.iter().cloned());
     fig.x_range = Some((0.0, top));
     if largest > 0.0 {
         let largest = 1e6 * largest;
         fig.y_range = Some((largest * 10f64.powf(-SPECTRUM_DECADES), 3.0 * largest));
     }
+    fig
+}
+
+/// Roller index versus time over the samples `window`: a thick bar where the roller is in
+/// contact (thesis fig. 4.7).
+pub fn contact_line(record: &RollerRecord, time: &[f64], window: Range<usize>) -> Figure2d {
+    let mut fig = Figure2d::new(
+        format!(
+            "Contact line of {}: bars where a roller touches",
+            record.name
+        ),
+        "Time [s]",
+        "Roller",
+    );
+    let per = window.len().div_ceil(CONTACT_LINE_STRETCHES).max(1);
+    let starts: Vec<usize> = window.clone().step_by(per).collect();
+    for j in 0..record.rollers {
+        let (mut x, mut y) = (Vec::new(), Vec::new());
+        for &a in &starts {
+            let b = (a + per).min(window.end);
+            let touches = (a..b).any(|i| record.in_contact(i, j));
+            // Each stretch spans from its first sample to the next stretch's, so
+            // consecutive stretches in contact join into one bar.
+            x.push(time[a]);
+            y.push(if touches { j as f64 } else { f64::NAN });
+            x.push(time[b.min(time.len() - 1)]);
+            y.push(if touches { j as f64 } else { f64::NAN });
+        }
+        fig.series.push(
+            Series::new(x, y)
+                .label(format!("roller {j}"))
+                .style(Style::solid(Colour::Palette(j)).width(6)),
+        );
+    }
+    fig.y_range = Some((-0.5, record.rollers as f64 - 0.5));
+    fig.legend = LegendPosition::Hidden;
+    fig
+}
+
+/// Roller force versus roller angle (0 deg along +x, 90 deg up, 270 deg straight down)
+/// over the samples `range`, points where a roller touches (thesis fig. 4.9). A law
+/// without per-roller forces shows the penetration instead, against the clearance.
+pub fn contact_zone(record: &RollerRecord, range: Range<usize>, clearance: f64) -> Figure2d {
+    let forces = record.has_forces();
+    let mut fig = Figure2d::new(
+        format!("Contact zone of {}", record.name),
+        "Roller angle [deg] (270 = bottom)",
+        if forces {
+            "Roller force [N]"
+        } else {
+            "Roller penetration [µm]"
+        },
+    );
+    if !forces {
+        fig.title = format!(
+            "Contact zone of {} (no per-roller forces: penetration, clearance {:.1} µm)",
+            record.name,
+            1e6 * clearance
+        );
+    }
+    let stride = (range.len() * record.rollers).div_ceil(ZONE_POINTS).max(1);
+    let (mut x, mut y) = (Vec::new(), Vec::new());
+    for i in range.step_by(stride) {
+        for j in 0..record.rollers {
+            if !record.in_contact(i, j) {
+                continue;
+            }
+            let k = i * record.rollers + j;
+            x.push(record.angle[k].to_degrees().rem_euclid(360.0));
+            y.push(if forces {
+                record.force[k]
+            } else {
+                1e6 * record.approach[k]
+            });
+        }
+    }
+    fig.series.push(Series::new(x, y).style(Style {
+        line: Line::None,
+        ..Style::markers(Colour::Palette(0), Marker::Circle).marker_size(2)
+    }));
+    fig.vertical_lines
+        .push(RefLine::new(270.0).label("bottom (gravity)"));
+    fig.x_range = Some((0.0, 360.0));
+    fig.legend = LegendPosition::Hidden;
     fig
 }
 

@@ -18,6 +18,7 @@ mod forces;
 mod newmark;
 mod problem;
 mod rk;
+mod rollers;
 mod simulate;
 mod statics;
 
@@ -26,10 +27,14 @@ pub use forces::{CubicSpring, Kinematics, LinearSupport, NonlinearForce};
 pub use newmark::{newmark, NewmarkScheme};
 pub use problem::{NlScratch, SpeedProfile, TimeProblem};
 pub use rk::{runge_kutta, RkStats, RkTolerances};
+pub use rollers::{
+    contact_frequencies, peak_near, ContactFrequency, ContactLaw, ContactSummary, RollerRecord,
+};
 pub use simulate::{
     simulate, simulate_with, stable_step, stable_step_with, Channel, ForceBuilder, Initial, Method,
     Progress, RunStatus, SimulationOptions, SimulationResult,
 };
+pub use simulate::{simulate_contacts, stable_step_for, DIVERGENCE_NET};
 pub use statics::static_equilibrium;
 
 use crate::error::{Error, Result};

@@ -6,6 +6,26 @@
 //!
 //! [`stable_step`] gives the central difference's stability limit of the model exactly as
 //! [`simulate`] will integrate it, so a caller can choose a step before running.
+//!
+//! [`simulate_contacts`] models the roller bearings by a [`ContactLaw`] and records, besides
+//! the channels, what each roller did ([`RollerRecord`]): its angle, its approach and its
+//! force, evaluated from the bearing node's recorded displacement and velocity with the
+//! bearing's own kinematics (for the Hertz law exactly the force the integrator applied,
+//! up to the velocity: the integrator uses the backward difference, the record the central
+//! one). It records every `record_every`-th step only, so long runs of the full model stay
+//! small.
+//!
+//! # Divergence
+//!
+//! A run has diverged when a recorded translation (u_x or u_y of a recorded node; a
+//! contact run always records its bearing nodes) leaves +-`divergence_bound`, checked at
+//! the start and at every recorded sample, and the message names that DOF (`n0.uy`). Only
+//! physical translations are held to the bound: rotations (rad) and a reduced model's
+//! modal coordinates (m kg^1/2) have other units and sizes. As a safety net for motion that
+//! grows away from the recorded nodes, any integrated coordinate beyond
+//! [`DIVERGENCE_NET`] times the bound, or not finite, also stops the run (the integrators
+//! check that every 64 steps or so), and the message names the coordinate: a DOF such as
+//! `n7.tx`, or a fixed-interface mode of the reduction.
 
 use std::fmt;
 use std::sync::Arc;
@@ -17,14 +37,23 @@ use super::central::{central_difference, central_difference_limit};
 use super::newmark::{newmark, NewmarkScheme};
 use super::problem::{SpeedProfile, TimeProblem};
 use super::rk::{runge_kutta, RkStats, RkTolerances};
+use super::rollers::{ContactLaw, RollerRecord};
 use super::statics::static_equilibrium;
 use super::{MarchOptions, NonlinearForce};
+use crate::bearing::{forcing_bearings, hertz_bearings, HertzBearing};
 use crate::error::{Error, Result};
 use crate::fe::{
     assemble, dof, dof_name, gravity_force, unbalance_force, Bearings, Direction, SystemMatrices,
 };
-use crate::model::Model;
+use crate::model::{Model, RollerBearing};
 use crate::reduce::{boundary_dofs, CraigBampton};
+
+/// Any integrated coordinate beyond this many times the divergence bound stops a run (the
+/// safety net of the module documentation). A mass-normalised modal coordinate is at most
+/// about sqrt(rotor mass) times the largest displacement (6 for the reference rotor's
+/// 35 kg) and a slope about pi / span times it, so the net never fires before the recorded
+/// translations would on a rotor whose recorded nodes move with the rest.
+pub const DIVERGENCE_NET: f64 = 1e3;
 
 /// Which integrator.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -102,7 +131,8 @@ pub struct SimulationOptions {
     pub nodes: Vec<usize>,
     /// Initial state.
     pub initial: Initial,
-    /// A displacement beyond this (m) means divergence.
+    /// A recorded translation beyond this (m) means divergence (see the module
+    /// documentation).
     pub divergence_bound: f64,
     /// Told how far the run has got, e.g. for a progress display; `None` for none.
     pub progress: Option<Progress>,
@@ -157,6 +187,11 @@ pub struct SimulationResult {
     pub method: String,
     /// How the run ended.
     pub status: RunStatus,
+    /// Steps per recorded sample.
+    pub record_every: usize,
+    /// What the rollers of each roller bearing did, at the recorded times (empty for
+    /// linear bearings and for [`simulate_with`]).
+    pub rollers: Vec<RollerRecord>,
 }
 
 impl SimulationResult {
@@ -176,6 +211,11 @@ impl SimulationResult {
     pub fn settled_start(&self) -> usize {
         self.time
             .partition_point(|&t| t < self.settle - 1e-12 * self.step)
+    }
+
+    /// Time between recorded samples, s.
+    pub fn sample_interval(&self) -> f64 {
+        self.step * self.record_every as f64
     }
 }
 
@@ -200,13 +240,39 @@ impl Coordinates {
         }
     }
 
-    fn recovery_row(&self, physical: usize) -> Vec<f64> {
+    /// The nonzero entries of the row that recovers physical DOF `physical`.
+    fn recovery_row(&self, physical: usize) -> SparseRow {
         match &self.reduction {
-            None => (0..self.system.dofs())
-                .map(|j| f64::from(u8::from(j == physical)))
-                .collect(),
-            Some(cb) => cb.recovery_row(physical),
+            None => SparseRow(vec![(physical, 1.0)]),
+            Some(cb) => SparseRow(
+                cb.recovery_row(physical)
+                    .into_iter()
+                    .enumerate()
+                    .filter(|(_, a)| *a != 0.0)
+                    .collect(),
+            ),
         }
+    }
+
+    /// What integrator coordinate `c` is: a DOF (`n7.tx`) or a fixed-interface mode.
+    fn coordinate_name(&self, c: usize) -> String {
+        match &self.reduction {
+            None => dof_name(c),
+            Some(cb) if c < cb.boundary.len() => dof_name(cb.boundary[c]),
+            Some(cb) => format!(
+                "the amplitude of fixed-interface mode {} of the reduction",
+                c - cb.boundary.len() + 1
+            ),
+        }
+    }
+}
+
+/// A physical DOF as a combination of integrator coordinates (one entry unreduced).
+struct SparseRow(Vec<(usize, f64)>);
+
+impl SparseRow {
+    fn dot(&self, q: &[f64]) -> f64 {
+        self.0.iter().map(|&(j, a)| a * q[j]).sum()
     }
 }
 
@@ -243,6 +309,12 @@ fn check_options(model: &Model, o: &SimulationOptions) -> Result<()> {
         if duration.is_nan() || duration <= 0.0 {
             return bad("a speed ramp needs a positive duration".into());
         }
+    }
+    if o.divergence_bound.is_nan() || o.divergence_bound <= 0.0 {
+        return bad(format!(
+            "the divergence bound must be positive, got {} m",
+            o.divergence_bound
+        ));
     }
     Ok(())
 }
@@ -346,14 +418,196 @@ impl ProgressTicker<'_> {
 
 /// Simulates `model` with nonlinear forces from `forces`, which receives a map from
 /// physical DOFs to integrator coordinates. `bearings` says whether the roller bearings'
-/// linear stiffness is in the matrices.
+/// linear stiffness is in the matrices. Every step is recorded; nothing per roller.
 pub fn simulate_with(
     model: &Model,
     options: &SimulationOptions,
     bearings: Bearings,
     forces: ForceBuilder<'_>,
 ) -> Result<SimulationResult> {
+    march_and_record(model, options, bearings, forces, None, 1)
+}
+
+/// Simulates `model` with its roller bearings modelled by `law`, recording every
+/// `record_every`-th step: the channels of `options.nodes` and of every roller bearing's
+/// node (appended when not asked for), and what each roller did ([`RollerRecord`]).
+pub fn simulate_contacts(
+    model: &Model,
+    options: &SimulationOptions,
+    law: ContactLaw,
+    record_every: usize,
+) -> Result<SimulationResult> {
+    match law {
+        ContactLaw::Linear => march_and_record(
+            model,
+            options,
+            Bearings::Linearised,
+            &no_forces,
+            None,
+            record_every,
+        ),
+        ContactLaw::Hertz => march_and_record(
+            model,
+            options,
+            Bearings::NonlinearApart,
+            &hertz_bearings,
+            Some(law),
+            record_every,
+        ),
+        ContactLaw::Forcing => march_and_record(
+            model,
+            options,
+            Bearings::NonlinearApart,
+            &forcing_bearings,
+            Some(law),
+            record_every,
+        ),
+        ContactLaw::Lagrange => Err(not_available(law)),
+    }
+}
+
+/// The central difference's stability limit (s) of `model` with its roller bearings
+/// modelled by `law`: full, or reduced with `reduction` fixed-interface modes.
+pub fn stable_step_for(model: &Model, reduction: Option<usize>, law: ContactLaw) -> Result<f64> {
+    match law {
+        ContactLaw::Linear => stable_step(model, reduction),
+        ContactLaw::Hertz => {
+            stable_step_with(model, reduction, Bearings::NonlinearApart, &hertz_bearings)
+        }
+        ContactLaw::Forcing => stable_step_with(
+            model,
+            reduction,
+            Bearings::NonlinearApart,
+            &forcing_bearings,
+        ),
+        ContactLaw::Lagrange => Err(not_available(law)),
+    }
+}
+
+fn not_available(law: ContactLaw) -> Error {
+    Error::Numerical(format!(
+        "the {} contact law is not available in time simulations yet; use hertz, forcing or \
+         linear",
+        law.name()
+    ))
+}
+
+/// The recorded nodes: those asked for, then (for a contact law) every roller bearing's
+/// node not among them, ascending.
+fn recorded_nodes(
+    model: &Model,
+    options: &SimulationOptions,
+    law: Option<ContactLaw>,
+) -> Vec<usize> {
+    let mut nodes = options.nodes.clone();
+    if law.is_some() {
+        let mut extra: Vec<usize> = model
+            .roller_bearings
+            .iter()
+            .map(|b| b.station.node)
+            .filter(|n| !nodes.contains(n))
+            .collect();
+        extra.sort_unstable();
+        extra.dedup();
+        nodes.extend(extra);
+    }
+    nodes
+}
+
+/// Evaluates one roller bearing's rollers from its node's recorded motion.
+struct RollerProbe {
+    contact: HertzBearing,
+    /// Rows of the node's [ux, uy] (and [tx, ty] with tilt).
+    rows: Vec<SparseRow>,
+    /// Per-roller forces are NaN (a law without rollers).
+    no_forces: bool,
+    q: Vec<f64>,
+    v: Vec<f64>,
+    record: RollerRecord,
+}
+
+impl RollerProbe {
+    fn new(
+        bearing: &RollerBearing,
+        law: ContactLaw,
+        coords: &Coordinates,
+        capacity: usize,
+    ) -> Result<Self> {
+        let mut directions = vec![Direction::Ux, Direction::Uy];
+        if bearing.roller_tilt {
+            directions.extend([Direction::Tx, Direction::Ty]);
+        }
+        let node = bearing.station.node;
+        let rows: Vec<SparseRow> = directions
+            .iter()
+            .map(|&d| coords.recovery_row(dof(node, d)))
+            .collect();
+        let m = rows.len();
+        Ok(RollerProbe {
+            contact: HertzBearing::new(bearing, (0..m).collect())?,
+            rows,
+            no_forces: law == ContactLaw::Forcing,
+            q: vec![0.0; m],
+            v: vec![0.0; m],
+            record: RollerRecord::new(bearing, capacity),
+        })
+    }
+
+    fn record(&mut self, at: &super::Kinematics, q: &[f64], v: &[f64]) {
+        for (k, row) in self.rows.iter().enumerate() {
+            self.q[k] = row.dot(q);
+            self.v[k] = row.dot(v);
+        }
+        for r in self.contact.rollers(at, &self.q, &self.v) {
+            self.record.angle.push(r.angle);
+            self.record.approach.push(r.approach);
+            self.record
+                .force
+                .push(if self.no_forces { f64::NAN } else { r.force });
+        }
+    }
+}
+
+/// The first recorded translation beyond the bound: (channel, value).
+fn beyond<'a>(
+    channels: &'a [(String, usize, SparseRow)],
+    q: &[f64],
+    bound: f64,
+) -> Option<(&'a str, f64)> {
+    channels.iter().find_map(|(name, _, row)| {
+        let x = row.dot(q);
+        out_of_bound(x, bound).then_some((name.as_str(), x))
+    })
+}
+
+/// Beyond +-`bound`, or not finite.
+fn out_of_bound(x: f64, bound: f64) -> bool {
+    x.is_nan() || x.abs() > bound
+}
+
+fn divergence_message(t: f64, what: &str, value: String, bound: f64) -> String {
+    format!(
+        "the solution diverged at t = {t:.6} s: {what} is {value} (bound {bound:e} m); reduce \
+         the time step, check the model's supports, or raise the bound if such motion is \
+         expected"
+    )
+}
+
+/// Builds, marches and records; `law` (when given) adds the roller records.
+fn march_and_record(
+    model: &Model,
+    options: &SimulationOptions,
+    bearings: Bearings,
+    forces: ForceBuilder<'_>,
+    law: Option<ContactLaw>,
+    record_every: usize,
+) -> Result<SimulationResult> {
     check_options(model, options)?;
+    if record_every == 0 {
+        return Err(Error::Numerical(
+            "record every 1 step or more, not 0".into(),
+        ));
+    }
     let (coords, mut problem) =
         integrated(model, options.reduction, options.speed, bearings, forces)?;
     let n = problem.size();
@@ -364,51 +618,115 @@ pub fn simulate_with(
     let v0 = vec![0.0; n];
     let stable_step = central_difference_limit(&problem)?;
 
-    let rows: Vec<(String, usize, Vec<f64>)> = options
-        .nodes
-        .iter()
-        .flat_map(|&node| [Direction::Ux, Direction::Uy].map(|d| (node, dof(node, d))))
+    let bound = options.divergence_bound;
+    let channels: Vec<(String, usize, SparseRow)> = recorded_nodes(model, options, law)
+        .into_iter()
+        .flat_map(|node| [Direction::Ux, Direction::Uy].map(|d| (node, dof(node, d))))
         .map(|(node, d)| (dof_name(d), node, coords.recovery_row(d)))
         .collect();
     let steps = (options.duration / options.step).round() as usize;
-    let mut time = Vec::with_capacity(steps);
-    let mut values: Vec<Vec<f64>> = rows.iter().map(|_| Vec::with_capacity(steps)).collect();
+    let capacity = steps / record_every + 1;
+    let mut probes = match law {
+        Some(law) => model
+            .roller_bearings
+            .iter()
+            .map(|b| RollerProbe::new(b, law, &coords, capacity))
+            .collect::<Result<Vec<_>>>()?,
+        None => Vec::new(),
+    };
+    let mut time = Vec::with_capacity(capacity);
+    let mut values: Vec<Vec<f64>> = channels
+        .iter()
+        .map(|_| Vec::with_capacity(capacity))
+        .collect();
     let mut ticker = ProgressTicker {
         progress: options.progress.as_ref(),
         duration: options.duration,
         next: 0.0,
     };
-    let mut observe = |t: f64, q: &[f64], _: &[f64]| {
-        time.push(t);
-        for ((_, _, row), out) in rows.iter().zip(values.iter_mut()) {
-            out.push(row.iter().zip(q).map(|(a, b)| a * b).sum());
-        }
+    // Divergence at a recorded translation: (time, message). The integrators cannot be
+    // stopped from the observer, so after it nothing more is recorded and the march runs
+    // on until the safety net stops it or the time is up.
+    let mut diverged: Option<(f64, String)> = beyond(&channels, &q0, bound).map(|(name, x)| {
+        (
+            0.0,
+            divergence_message(0.0, name, format!("{x:.4e} m"), bound),
+        )
+    });
+    let diverged_at_start = diverged.is_some();
+    // Calls to skip before the next sample is recorded.
+    let mut skip = 0usize;
+    let speed = options.speed;
+    let mut observe = |t: f64, q: &[f64], v: &[f64]| {
         ticker.tick(t);
+        if skip > 0 {
+            skip -= 1;
+            return;
+        }
+        skip = record_every - 1;
+        if diverged.is_some() {
+            return;
+        }
+        time.push(t);
+        for ((name, _, row), out) in channels.iter().zip(values.iter_mut()) {
+            let x = row.dot(q);
+            out.push(x);
+            if out_of_bound(x, bound) && diverged.is_none() {
+                diverged = Some((t, divergence_message(t, name, format!("{x:.4e} m"), bound)));
+            }
+        }
+        if !probes.is_empty() {
+            let at = speed.at(t).0;
+            for p in &mut probes {
+                p.record(&at, q, v);
+            }
+        }
     };
     let march = MarchOptions {
         step: options.step,
         steps,
-        divergence_bound: options.divergence_bound,
+        divergence_bound: DIVERGENCE_NET * bound,
     };
     let start = Instant::now();
     let mut rk_stats = None;
-    let outcome = match options.method {
-        Method::CentralDifference => {
-            central_difference(&mut problem, &q0, &v0, &march, &mut observe)
+    let outcome = if diverged_at_start {
+        Ok(())
+    } else {
+        match options.method {
+            Method::CentralDifference => {
+                central_difference(&mut problem, &q0, &v0, &march, &mut observe)
+            }
+            Method::Newmark(scheme) => {
+                newmark(&mut problem, &q0, &v0, scheme, &march, &mut observe)
+            }
+            Method::RungeKutta(tol) => {
+                runge_kutta(&mut problem, &q0, &v0, &tol, &march, &mut observe).map(|s| {
+                    rk_stats = Some(s);
+                })
+            }
         }
-        Method::Newmark(scheme) => newmark(&mut problem, &q0, &v0, scheme, &march, &mut observe),
-        Method::RungeKutta(tol) => runge_kutta(&mut problem, &q0, &v0, &tol, &march, &mut observe)
-            .map(|s| {
-                rk_stats = Some(s);
-            }),
     };
     let wall_time_s = start.elapsed().as_secs_f64();
-    let status = match outcome {
-        Ok(()) => RunStatus::Completed,
-        Err(Error::Diverged { time, message, .. }) => RunStatus::Diverged { time, message },
-        Err(e) => return Err(e),
+    let status = match (diverged, outcome) {
+        (Some((time, message)), _) => RunStatus::Diverged { time, message },
+        (None, Ok(())) => RunStatus::Completed,
+        (
+            None,
+            Err(Error::Diverged {
+                time, coordinate, ..
+            }),
+        ) => RunStatus::Diverged {
+            time,
+            message: divergence_message(
+                time,
+                &coords.coordinate_name(coordinate),
+                format!("beyond {DIVERGENCE_NET} times the bound, or not finite"),
+                bound,
+            ),
+        },
+        (None, Err(e)) => return Err(e),
     };
-    let channels = rows
+    let channels = channels
         .into_iter()
         .zip(values)
         .map(|((name, node, _), values)| Channel { name, node, values })
@@ -424,5 +742,29 @@ pub fn simulate_with(
         rk_stats,
         method: options.method.name().to_string(),
         status,
+        record_every,
+        rollers: probes.into_iter().map(|p| p.record).collect(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn coordinates_are_named_by_dof_or_mode() {
+        let model = Model::from_toml_str(crate::examples::REFERENCE_ROTOR, None).unwrap();
+        let speed = SpeedProfile::Constant(0.0);
+        let (full, _) = integrated(&model, None, speed, Bearings::Linearised, &no_forces).unwrap();
+        assert_eq!(full.coordinate_name(dof(10, Direction::Uy)), "n10.uy");
+        let (reduced, _) =
+            integrated(&model, Some(4), speed, Bearings::Linearised, &no_forces).unwrap();
+        // Boundary: every DOF of nodes 0 and 20, then the modes.
+        assert_eq!(reduced.coordinate_name(2), "n0.tx");
+        assert_eq!(reduced.coordinate_name(4), "n20.ux");
+        assert_eq!(
+            reduced.coordinate_name(8),
+            "the amplitude of fixed-interface mode 1 of the reduction"
+        );
+    }
 }
