@@ -36,6 +36,12 @@ pub struct LagrangeContacts {
     coordinates: Vec<usize>,
     /// Multipliers of the last step, N, roller after roller.
     lambda: Vec<f64>,
+    /// Multipliers at every observed instant, one block of `rollers()` per instant.
+    history: Vec<f64>,
+    /// Largest penetration left after any correction, m.
+    worst_penetration: f64,
+    /// Most active-set iterations any step needed.
+    most_iterations: usize,
     /// Work buffers of the complementarity solve.
     work: Work,
 }
@@ -112,6 +118,9 @@ impl LagrangeContacts {
             bearings,
             coordinates,
             lambda: vec![0.0; m],
+            history: Vec::new(),
+            worst_penetration: f64::NEG_INFINITY,
+            most_iterations: 0,
             work,
         })
     }
@@ -134,6 +143,34 @@ impl LagrangeContacts {
     /// Contact forces (multipliers) of the last step, N, roller after roller.
     pub fn multipliers(&self) -> &[f64] {
         &self.lambda
+    }
+
+    /// Clears the record and reserves room for `steps` instants.
+    pub fn start_recording(&mut self, steps: usize) {
+        self.history = Vec::with_capacity(steps * self.rollers());
+        self.lambda.iter_mut().for_each(|l| *l = 0.0);
+        self.worst_penetration = f64::NEG_INFINITY;
+        self.most_iterations = 0;
+    }
+
+    /// Appends the current multipliers (those acting at the instant being observed).
+    pub fn record(&mut self) {
+        self.history.extend_from_slice(&self.lambda);
+    }
+
+    /// Recorded multipliers, N: instant after instant, roller after roller.
+    pub fn history(&self) -> &[f64] {
+        &self.history
+    }
+
+    /// Largest penetration after correction over the run, m (round-off when it worked).
+    pub fn largest_penetration(&self) -> f64 {
+        self.worst_penetration
+    }
+
+    /// Most active-set iterations a step needed.
+    pub fn most_iterations(&self) -> usize {
+        self.most_iterations
     }
 
     /// Corrects the predicted `q` (all coordinates) at instant `at` so that no roller
@@ -200,6 +237,8 @@ impl LagrangeContacts {
             penetration = penetration.max(cs * q[ix] + sn * q[iy] + w.offsets[j]);
             active += usize::from(self.lambda[j] > 0.0);
         }
+        self.worst_penetration = self.worst_penetration.max(penetration);
+        self.most_iterations = self.most_iterations.max(iterations);
         Ok(ContactStep {
             active,
             iterations,

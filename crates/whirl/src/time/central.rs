@@ -30,6 +30,7 @@ use faer::Mat;
 
 use super::problem::{axpy, bandwidths, vectorised, Band, BandLu, Columns, NlScratch, TimeProblem};
 use super::{check_state, MarchOptions, Observer};
+use crate::bearing::LagrangeContacts;
 use crate::error::{Error, Result};
 use crate::reduce::explicit_stability_limit;
 
@@ -222,10 +223,45 @@ enum StepForm {
 struct Step {
     speed: f64,
     form: StepForm,
+    /// Columns of S = (M/h^2 + D/2h)^-1 at the Lagrange-constrained coordinates.
+    contact: Option<ContactColumns>,
+}
+
+/// S restricted to the constrained coordinates: its columns (each n long, one after the
+/// other) and the c x c block on those coordinates, row-major.
+struct ContactColumns {
+    columns: Vec<f64>,
+    block: Vec<f64>,
+}
+
+impl ContactColumns {
+    fn new(lhs: &Mat<f64>, coordinates: &[usize]) -> Result<ContactColumns> {
+        let n = lhs.nrows();
+        let c = coordinates.len();
+        let mut x = Mat::<f64>::from_fn(n, c, |i, k| f64::from(u8::from(i == coordinates[k])));
+        faer::linalg::solvers::Solve::solve_in_place(&lhs.partial_piv_lu(), x.as_mut());
+        if x.col_iter().any(|col| col.iter().any(|v| !v.is_finite())) {
+            return Err(singular());
+        }
+        let columns = (0..c)
+            .flat_map(|k| (0..n).map(move |i| (k, i)))
+            .map(|(k, i)| x[(i, k)]);
+        let block = (0..c).flat_map(|a| (0..c).map(move |b| (a, b)));
+        Ok(ContactColumns {
+            columns: columns.collect(),
+            block: block.map(|(a, b)| x[(coordinates[a], b)]).collect(),
+        })
+    }
 }
 
 impl Step {
-    fn new(problem: &TimeProblem, layout: Layout, speed: f64, h: f64) -> Result<Step> {
+    fn new(
+        problem: &TimeProblem,
+        layout: Layout,
+        speed: f64,
+        h: f64,
+        constrained: &[usize],
+    ) -> Result<Step> {
         let n = problem.size();
         let (m, k) = (&problem.mass, &problem.stiffness);
         let d = |i: usize, j: usize| problem.damping[(i, j)] + speed * problem.gyroscopic[(i, j)];
@@ -240,7 +276,16 @@ impl Step {
             Some(banded) => StepForm::Banded(banded),
             None => StepForm::Dense(DenseStep::new(problem, &lhs, &a, &b)?),
         };
-        Ok(Step { speed, form })
+        let contact = if constrained.is_empty() {
+            None
+        } else {
+            Some(ContactColumns::new(&lhs, constrained)?)
+        };
+        Ok(Step {
+            speed,
+            form,
+            contact,
+        })
     }
 
     /// q_{n+1} into `out` from `history` = [q_n; q_{n-1}].
@@ -252,6 +297,14 @@ impl Step {
                 StepForm::Banded(s) => s.advance(history, load, out),
             },
         )
+    }
+}
+
+/// Adds the time to a contact failure.
+fn at_time(e: Error, t: f64) -> Error {
+    match e {
+        Error::Numerical(m) => Error::Numerical(format!("at t = {t:.6e} s: {m}")),
+        other => other,
     }
 }
 
@@ -281,7 +334,31 @@ pub fn central_difference(
     options: &MarchOptions,
     observe: Observer<'_>,
 ) -> Result<()> {
-    march(problem, Layout::choose(problem), q0, v0, options, observe)
+    march(
+        problem,
+        Layout::choose(problem),
+        q0,
+        v0,
+        options,
+        None,
+        observe,
+    )
+}
+
+/// The central difference with roller contacts as Lagrange-multiplier constraints: after
+/// each step's prediction, `contacts` corrects q_{n+1} so that no roller penetrates
+/// (forward-increment Lagrange multipliers, see [`crate::bearing::lagrange`]). The
+/// multipliers acting at each observed instant are recorded in `contacts`.
+pub fn central_difference_constrained(
+    problem: &mut TimeProblem,
+    q0: &[f64],
+    v0: &[f64],
+    options: &MarchOptions,
+    contacts: &mut LagrangeContacts,
+    observe: Observer<'_>,
+) -> Result<()> {
+    let layout = Layout::choose(problem);
+    march(problem, layout, q0, v0, options, Some(contacts), observe)
 }
 
 fn march(
@@ -290,6 +367,7 @@ fn march(
     q0: &[f64],
     v0: &[f64],
     options: &MarchOptions,
+    mut contacts: Option<&mut LagrangeContacts>,
     observe: Observer<'_>,
 ) -> Result<()> {
     problem.check()?;
@@ -312,7 +390,13 @@ fn march(
     // A multiplication instead of a division per coordinate: the same to an ulp, and
     // division is one of the slowest instructions.
     let over_2h = 1.0 / (2.0 * h);
-    let mut step_now = Step::new(problem, layout, speed, h)?;
+    let constrained: Vec<usize> = contacts
+        .as_ref()
+        .map_or(Vec::new(), |c| c.coordinates().to_vec());
+    if let Some(c) = contacts.as_deref_mut() {
+        c.start_recording(options.steps);
+    }
+    let mut step_now = Step::new(problem, layout, speed, h, &constrained)?;
     for step in 0..options.steps {
         let t = step as f64 * h;
         let (at, unbalance) = problem.unbalance_coefficients(t);
@@ -330,7 +414,7 @@ fn march(
         problem.add_nonlinear(&at, q_cur, &v_back, &mut extra, &mut scratch);
         if !constant_speed {
             if (at.speed - step_now.speed).abs() > 0.01 * top {
-                step_now = Step::new(problem, layout, at.speed, h)?;
+                step_now = Step::new(problem, layout, at.speed, h, &constrained)?;
             }
             let change = at.speed - step_now.speed;
             gyroscopic_force.iter_mut().for_each(|x| *x = 0.0);
@@ -343,6 +427,14 @@ fn march(
             extra_dofs: constant_speed.then_some(&nonlinear_dofs[..]),
         };
         step_now.advance(&history, &load, &mut q_next);
+        if let (Some(c), Some(columns)) = (contacts.as_deref_mut(), &step_now.contact) {
+            c.record();
+            let (next, _) = problem.speed.at(t + h);
+            c.correct(&next, &mut q_next, &columns.block, |k, factor, q| {
+                axpy(factor, &columns.columns[k * n..(k + 1) * n], q)
+            })
+            .map_err(|e| at_time(e, t + h))?;
+        }
         let (q_cur, q_prev) = history.split_at(n);
         for i in 0..n {
             v_central[i] = (q_next[i] - q_prev[i]) * over_2h;
@@ -465,7 +557,7 @@ mod tests {
             divergence_bound: 1.0,
         };
         let mut history = Vec::with_capacity(2 * n * steps);
-        march(problem, layout, &q0, &v0, &options, &mut |_, q, v| {
+        march(problem, layout, &q0, &v0, &options, None, &mut |_, q, v| {
             history.extend_from_slice(q);
             history.extend_from_slice(v);
         })
@@ -587,7 +679,7 @@ mod tests {
         // A negative mass entry makes the symmetric part indefinite.
         let mut problem = full_rotor(SpeedProfile::Constant(0.0), false);
         problem.mass[(0, 0)] = -problem.mass[(0, 0)];
-        let step = Step::new(&problem, Layout::Banded(7, 7), 0.0, 3.8e-6).unwrap();
+        let step = Step::new(&problem, Layout::Banded(7, 7), 0.0, 3.8e-6, &[]).unwrap();
         assert!(matches!(step.form, StepForm::Dense(_)));
     }
 }

@@ -22,7 +22,7 @@ mod rollers;
 mod simulate;
 mod statics;
 
-pub use central::{central_difference, central_difference_limit};
+pub use central::{central_difference, central_difference_constrained, central_difference_limit};
 pub use forces::{CubicSpring, Kinematics, LinearSupport, NonlinearForce};
 pub use newmark::{newmark, NewmarkScheme};
 pub use problem::{NlScratch, SpeedProfile, TimeProblem};
