@@ -467,16 +467,44 @@ fn the_full_model_records_about_every_ten_microseconds() {
 }
 
 #[test]
-fn lagrange_contacts_are_refused_until_available() {
+fn lagrange_contacts_hold_the_rollers_rigid() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("sim");
+    let s = run(
+        &dir,
+        &[
+            "simulate",
+            "--speed",
+            "100Hz",
+            "--duration",
+            "200ms",
+            "--reduce",
+            "12",
+            "--contact",
+            "lagrange",
+        ],
+    );
+    assert_eq!(s["contact"], "lagrange", "{s}");
+    for b in s["bearings"].as_array().unwrap() {
+        let settled = &b["settled"];
+        // No penetration beyond round-off; the multipliers carry the rotor.
+        assert!(f(&settled["largest_penetration_m"]) < 1e-13, "{b}");
+        assert!(f(&settled["largest_force_n"]) > 50.0, "{b}");
+        assert!(settled["max_in_contact"].as_u64().unwrap() >= 1, "{b}");
+    }
+    assert!(dir.join("contact_zone_bearing_a.png").is_file());
+    // Constraints on the central difference's predictor: no other integrator.
     fails(
         &[
             "--speed",
-            "20Hz",
+            "100Hz",
             "--duration",
             "10ms",
             "--contact",
             "lagrange",
+            "--method",
+            "newmark",
         ],
-        &["lagrange contact law is not available"],
+        &["Lagrange-multiplier contacts work with the central difference only"],
     );
 }

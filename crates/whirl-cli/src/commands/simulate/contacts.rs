@@ -252,17 +252,22 @@ pub fn text(t: &mut String, bearings: &[BearingReport]) {
         } else {
             "no per-roller forces (forcing-function law)".into()
         };
+        // Micrometres for Hertz contacts; round-off (Lagrange) in metres.
+        let penetration = if s.largest_penetration.abs() >= 1e-9 {
+            format!("{:.3} um", 1e6 * s.largest_penetration)
+        } else {
+            format!("{:.1e} m", s.largest_penetration)
+        };
         let _ = writeln!(
             t,
             "  {} (n{}): {}-{} of {} rollers in contact (mean {:.2}), largest penetration \
-             {:.3} um, {force}",
+             {penetration}, {force}",
             b.record.name,
             b.record.node,
             s.min_in_contact,
             s.max_in_contact,
             b.record.rollers,
             s.mean_in_contact,
-            1e6 * s.largest_penetration,
         );
         for f in &b.frequencies {
             let measured = best(f).map_or("no peak within 3 bins".into(), |(c, p)| {
