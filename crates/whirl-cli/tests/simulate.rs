@@ -508,3 +508,44 @@ fn lagrange_contacts_hold_the_rollers_rigid() {
         &["Lagrange-multiplier contacts work with the central difference only"],
     );
 }
+
+#[test]
+fn a_forcing_function_law_records_approaches_without_roller_forces() {
+    let tmp = tempfile::tempdir().unwrap();
+    // The reference rotor with a forcing function on both bearings.
+    let text = std::fs::read_to_string(reference()).unwrap().replace(
+        "linear_stiffness = 1e8",
+        "linear_stiffness = 1e8\nforcing_function = { a0 = 1.5e9, a1 = 0.0, b0 = 1.15, b1 = 0.0 }",
+    );
+    let model = tmp.path().join("forcing.toml");
+    std::fs::write(&model, text).unwrap();
+    let dir = tmp.path().join("sim");
+    let s = run_on(
+        &model,
+        &dir,
+        &[
+            "simulate",
+            "--speed",
+            "100Hz",
+            "--duration",
+            "100ms",
+            "--reduce",
+            "12",
+            "--contact",
+            "forcing",
+        ],
+    );
+    assert_eq!(s["contact"], "forcing", "{s}");
+    for b in s["bearings"].as_array().unwrap() {
+        // One radial law: no roller forces, but the rollers' geometric approach.
+        assert!(b["settled"]["largest_force_n"].is_null(), "{b}");
+        assert!(f(&b["settled"]["largest_penetration_m"]) > 0.0, "{b}");
+    }
+    let contacts = std::fs::read_to_string(dir.join("contacts_bearing_a.csv")).unwrap();
+    let row: Vec<&str> = contacts.lines().nth(1).unwrap().split(',').collect();
+    assert!(row[2..10].iter().all(|c| c.is_empty()), "{row:?}");
+    assert!(
+        row[10..18].iter().all(|c| c.parse::<f64>().is_ok()),
+        "{row:?}"
+    );
+}

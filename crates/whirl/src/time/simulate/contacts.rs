@@ -1,0 +1,153 @@
+//! Roller bearings in [`super::simulate_contacts`]: the rigid-roller static start and the
+//! constraints of the Lagrange law, and the probes that evaluate each roller from the
+//! recorded motion of its bearing's node.
+
+use super::{integrated, Coordinates, SimulationOptions, SparseRow};
+use crate::bearing::{contact_coordinates_of, hertz_bearings, HertzBearing, LagrangeContacts};
+use crate::error::Result;
+use crate::fe::{dof, Bearings, Direction};
+use crate::model::{Model, RollerBearing};
+use crate::time::statics::static_equilibrium;
+use crate::time::{ContactLaw, Kinematics, RollerRecord};
+
+/// Rigid rollers are approached in the static solve by Hertz contacts this many times
+/// stiffer than the model's: their penetration, (1/RIGID_STIFFENING)^(1/n) = 2.5e-4 times
+/// the Hertz one for n = 10/9, is a fraction of a nanometre, and the first Lagrange
+/// correction removes it without a noticeable jolt.
+const RIGID_STIFFENING: f64 = 1e4;
+
+/// The static equilibrium on rigid rollers (see [`RIGID_STIFFENING`]), in the coordinates
+/// of `options.reduction`.
+pub(super) fn rigid_static_equilibrium(
+    model: &Model,
+    options: &SimulationOptions,
+) -> Result<Vec<f64>> {
+    let mut stiff = model.clone();
+    for b in &mut stiff.roller_bearings {
+        b.contact_stiffness *= RIGID_STIFFENING;
+    }
+    let (_, mut problem) = integrated(
+        &stiff,
+        options.reduction,
+        options.speed,
+        Bearings::NonlinearApart,
+        &hertz_bearings,
+    )?;
+    let n = problem.size();
+    static_equilibrium(&mut problem, &vec![0.0; n])
+}
+
+/// Every roller bearing's rollers as Lagrange-multiplier constraints.
+pub(super) fn lagrange_contacts(model: &Model, coords: &Coordinates) -> Result<LagrangeContacts> {
+    let map = |physical: usize| coords.coordinate_of(physical).unwrap_or(usize::MAX);
+    let mut coordinates = Vec::new();
+    for b in &model.roller_bearings {
+        coordinates.extend(contact_coordinates_of(
+            b,
+            &[Direction::Ux, Direction::Uy],
+            &map,
+        )?);
+    }
+    LagrangeContacts::new(&model.roller_bearings, coordinates)
+}
+
+/// The recorded nodes: those asked for, then (for a contact law) every roller bearing's
+/// node not among them, ascending.
+pub(super) fn recorded_nodes(
+    model: &Model,
+    options: &SimulationOptions,
+    law: Option<ContactLaw>,
+) -> Vec<usize> {
+    let mut nodes = options.nodes.clone();
+    if law.is_some() {
+        let mut extra: Vec<usize> = model
+            .roller_bearings
+            .iter()
+            .map(|b| b.station.node)
+            .filter(|n| !nodes.contains(n))
+            .collect();
+        extra.sort_unstable();
+        extra.dedup();
+        nodes.extend(extra);
+    }
+    nodes
+}
+
+/// Evaluates one roller bearing's rollers from its node's recorded motion.
+pub(super) struct RollerProbe {
+    contact: HertzBearing,
+    /// Rows of the node's [ux, uy] (and [tx, ty] with tilt).
+    rows: Vec<SparseRow>,
+    /// Per-roller forces are NaN here: a law without rollers, or Lagrange multipliers,
+    /// filled in after the march.
+    no_forces: bool,
+    q: Vec<f64>,
+    v: Vec<f64>,
+    pub(super) record: RollerRecord,
+}
+
+impl RollerProbe {
+    pub(super) fn new(
+        bearing: &RollerBearing,
+        law: ContactLaw,
+        coords: &Coordinates,
+        capacity: usize,
+    ) -> Result<Self> {
+        // Rigid rollers are one constraint each, without tilt or skew (see
+        // [`crate::bearing::lagrange`]): their approach is that of the plain bearing.
+        let mut plain = bearing.clone();
+        if law == ContactLaw::Lagrange {
+            plain.roller_tilt = false;
+            plain.slices = 1;
+            plain.skew_angle = 0.0;
+        }
+        let bearing = &plain;
+        let mut directions = vec![Direction::Ux, Direction::Uy];
+        if bearing.roller_tilt {
+            directions.extend([Direction::Tx, Direction::Ty]);
+        }
+        let node = bearing.station.node;
+        let rows: Vec<SparseRow> = directions
+            .iter()
+            .map(|&d| coords.recovery_row(dof(node, d)))
+            .collect();
+        let m = rows.len();
+        Ok(RollerProbe {
+            contact: HertzBearing::new(bearing, (0..m).collect())?,
+            rows,
+            no_forces: matches!(law, ContactLaw::Forcing | ContactLaw::Lagrange),
+            q: vec![0.0; m],
+            v: vec![0.0; m],
+            record: RollerRecord::new(bearing, capacity),
+        })
+    }
+
+    pub(super) fn record(&mut self, at: &Kinematics, q: &[f64], v: &[f64]) {
+        for (k, row) in self.rows.iter().enumerate() {
+            self.q[k] = row.dot(q);
+            self.v[k] = row.dot(v);
+        }
+        for r in self.contact.rollers(at, &self.q, &self.v) {
+            self.record.angle.push(r.angle);
+            self.record.approach.push(r.approach);
+            self.record
+                .force
+                .push(if self.no_forces { f64::NAN } else { r.force });
+        }
+    }
+}
+
+/// Puts the multipliers of `history` (every step, every roller of every bearing) into the
+/// records, which hold every `every`-th step.
+pub(super) fn fill_multipliers(records: &mut [RollerRecord], history: &[f64], every: usize) {
+    let total: usize = records.iter().map(|r| r.rollers).sum();
+    let mut first = 0;
+    for r in records {
+        for i in 0..r.samples() {
+            let step = &history[i * every * total..(i * every + 1) * total];
+            r.force[i * r.rollers..(i + 1) * r.rollers]
+                .copy_from_slice(&step[first..first + r.rollers]);
+        }
+        first += r.rollers;
+    }
+}
