@@ -21,8 +21,8 @@ mod reduce;
 mod time;
 
 pub use reduce::{reduction_error, stable_steps};
-pub use time::{orbits, spectrum, time_history};
 pub use time::{contact_line, contact_zone};
+pub use time::{orbits, spectrum, time_history};
 
 /// At most this many panels of modes (a grid of 4 x 3).
 const MAX_PANELS: usize = 12;
