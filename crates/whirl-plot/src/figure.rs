@@ -267,6 +267,23 @@ fn near_high_end(axis: &Axis, c: f64) -> bool {
     c > axis.lo + 0.75 * (axis.hi - axis.lo)
 }
 
+/// Horizontal pixel spans of the labels drawn so far, per row.
+#[derive(Default)]
+struct LabelRows(Vec<Vec<(f64, f64)>>);
+
+impl LabelRows {
+    /// The first row where `span` overlaps no label, and records it there.
+    fn place(&mut self, span: (f64, f64)) -> usize {
+        let free = |row: &Vec<(f64, f64)>| row.iter().all(|&(a, b)| span.1 < a || span.0 > b);
+        let row = self.0.iter().position(free).unwrap_or(self.0.len());
+        if row == self.0.len() {
+            self.0.push(Vec::new());
+        }
+        self.0[row].push(span);
+        row
+    }
+}
+
 fn draw_ref_lines<DB: DrawingBackend>(
     built: &Built<'_, DB>,
     vertical: &[RefLine],
@@ -275,6 +292,7 @@ fn draw_ref_lines<DB: DrawingBackend>(
     let (x, y, m) = (built.x, built.y, built.m);
     let (dash, gap, width) = (m.upx(8.0), m.upx(5.0), m.stroke(2));
     let area = built.chart.plotting_area();
+    let mut rows = LabelRows::default();
     for line in vertical {
         let Some(c) = x.to_chart(line.value).filter(|c| x.contains(*c)) else {
             continue;
@@ -295,7 +313,17 @@ fn draw_ref_lines<DB: DrawingBackend>(
                 (HPos::Left, 5.0)
             };
             let style = font(m.legend).color(&colour).pos(Pos::new(h, VPos::Top));
-            let offset = (m.px(dx), m.px(5.0));
+            // Labels of close lines would overprint: each goes down to the first row where
+            // it clears the labels already drawn.
+            let (px, _) = area.map_coordinate(&(c, y.hi));
+            let width =
+                0.6 * m.legend * m.scale * label.chars().count() as f64 + m.px(dx).abs() as f64;
+            let span = match h {
+                HPos::Right => (px as f64 - width, px as f64),
+                _ => (px as f64, px as f64 + width),
+            };
+            let row = rows.place(span);
+            let offset = (m.px(dx), m.px(5.0 + 1.3 * m.legend * row as f64));
             let element = EmptyElement::at((c, y.hi)) + Text::new(label.clone(), offset, style);
             area.draw(&element).map_err(draw_error)?;
         }
