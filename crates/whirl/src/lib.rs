@@ -28,6 +28,7 @@ pub mod bearing;
 pub mod error;
 pub mod examples;
 pub mod fe;
+pub mod hbm;
 pub mod modal;
 pub mod model;
 pub mod post;

@@ -1,0 +1,511 @@
+//! The harmonic balance residual, its exact Jacobian and Newton-Raphson at one frequency.
+//!
+//! Unknowns x hold the Fourier coefficients of every coordinate, slot by slot
+//! (x[slot * n + dof], slots as in [`super::fourier`]). With D = C + w G and
+//! Z_r = K - (r w)^2 M, the linear part per harmonic (thesis eqs. 4.15-4.19) is
+//!
+//! ```text
+//! constant:  K a_0
+//! cos r:     Z_r a_r + r w D b_r
+//! sin r:     Z_r b_r - r w D a_r
+//! ```
+//!
+//! and the residual R(x, w) = L(w) x - F_ext(w) - F_nl(x, w). F_nl comes by AFT: the
+//! coordinates that carry nonlinear forces are sampled over one period, the forces evaluated
+//! at every sample and transformed back. Its Jacobian is -(G[dF/dq] + G[dF/dv] Nabla), with
+//! G[.] the Galerkin matrix of a sampled tangent and Nabla the derivative in the Fourier
+//! basis (cos r -> -r w sin r, sin r -> r w cos r).
+
+use faer::Mat;
+
+use super::fourier::{cos_slot, sin_slot, slot_basis, Aft};
+use super::{HbOptions, HbProblem};
+use crate::error::{Error, Result};
+use crate::time::Kinematics;
+
+/// A converged periodic solution.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct HbSolution {
+    /// Excitation frequency w (and spin speed), rad/s.
+    pub frequency: f64,
+    /// Fourier coefficients x[slot * n + dof]: slot 0 constant, 2r - 1 cos(r w t), 2r
+    /// sin(r w t); m or rad.
+    pub coefficients: Vec<f64>,
+    /// Newton iterations taken.
+    pub iterations: usize,
+    /// |R| / (|L x| + |F_ext| + |F_nl|) at the solution.
+    pub relative_residual: f64,
+}
+
+/// The residual's derivatives at (x, w).
+pub struct Linearisation {
+    /// dR/dx.
+    pub jacobian: Mat<f64>,
+    /// dR/dw at fixed x.
+    pub frequency_derivative: Vec<f64>,
+    /// G[dF_nl/dv]: the Galerkin matrix of the velocity tangent, which Hill's method needs
+    /// apart from the rest.
+    pub velocity_galerkin: Mat<f64>,
+}
+
+/// The residual and its size.
+pub(crate) struct Residual {
+    pub values: Vec<f64>,
+    /// |L x| + |F_ext| + |F_nl|.
+    pub scale: f64,
+}
+
+/// Residual, Jacobian and Newton-Raphson for one problem and discretisation, with the work
+/// buffers of the AFT made once.
+pub struct HarmonicBalance {
+    problem: HbProblem,
+    options: HbOptions,
+    aft: Aft,
+    /// The coordinates some nonlinear force acts on, ascending.
+    nl_dofs: Vec<usize>,
+    /// For each force, the positions of its coordinates in `nl_dofs`.
+    local: Vec<Vec<usize>>,
+    /// Samples per nonlinear coordinate, `nl_dofs.len()` rows of N.
+    q_t: Vec<f64>,
+    v_t: Vec<f64>,
+    f_t: Vec<f64>,
+    /// Tangent samples per pair of nonlinear coordinates, (a * m + c) rows of N.
+    jq_t: Vec<f64>,
+    jv_t: Vec<f64>,
+    /// One force's arguments and values at one sample.
+    fq: Vec<f64>,
+    fv: Vec<f64>,
+    ff: Vec<f64>,
+    fjq: Vec<f64>,
+    fjv: Vec<f64>,
+    /// Coefficients of one coordinate, and a Galerkin block.
+    slots_buf: Vec<f64>,
+    block: Vec<f64>,
+}
+
+impl HarmonicBalance {
+    /// Sets up harmonic balance for `problem`.
+    pub fn new(problem: HbProblem, options: HbOptions) -> Result<HarmonicBalance> {
+        problem.check()?;
+        let aft = Aft::new(options.harmonics, options.samples)?;
+        let mut nl_dofs: Vec<usize> = problem
+            .nonlinear
+            .iter()
+            .flat_map(|f| f.dofs().iter().copied())
+            .collect();
+        nl_dofs.sort_unstable();
+        nl_dofs.dedup();
+        let local = problem
+            .nonlinear
+            .iter()
+            .map(|f| {
+                f.dofs()
+                    .iter()
+                    .map(|d| nl_dofs.binary_search(d).expect("collected above"))
+                    .collect()
+            })
+            .collect();
+        let (m, n_t) = (nl_dofs.len(), options.samples);
+        let widest = problem
+            .nonlinear
+            .iter()
+            .map(|f| f.dofs().len())
+            .max()
+            .unwrap_or(0);
+        let slots = 2 * options.harmonics + 1;
+        Ok(HarmonicBalance {
+            problem,
+            options,
+            aft,
+            nl_dofs,
+            local,
+            q_t: vec![0.0; m * n_t],
+            v_t: vec![0.0; m * n_t],
+            f_t: vec![0.0; m * n_t],
+            jq_t: vec![0.0; m * m * n_t],
+            jv_t: vec![0.0; m * m * n_t],
+            fq: vec![0.0; widest],
+            fv: vec![0.0; widest],
+            ff: vec![0.0; widest],
+            fjq: vec![0.0; widest * widest],
+            fjv: vec![0.0; widest * widest],
+            slots_buf: vec![0.0; slots],
+            block: vec![0.0; slots * slots],
+        })
+    }
+
+    /// The problem.
+    pub fn problem(&self) -> &HbProblem {
+        &self.problem
+    }
+
+    /// The discretisation and Newton settings.
+    pub fn options(&self) -> &HbOptions {
+        &self.options
+    }
+
+    /// Number of unknowns, n (2H + 1).
+    pub fn unknowns(&self) -> usize {
+        self.problem.size() * self.slots()
+    }
+
+    fn slots(&self) -> usize {
+        2 * self.options.harmonics + 1
+    }
+
+    /// Harmonic balance at frequency w (rad/s) by Newton-Raphson from `guess`.
+    ///
+    /// # Errors
+    /// [`Error::Numerical`] when Newton does not converge within `max_iterations`: an
+    /// unconverged point is never returned.
+    pub fn solve(&mut self, frequency: f64, guess: &[f64]) -> Result<HbSolution> {
+        self.check_arguments(frequency, guess)?;
+        let mut x = guess.to_vec();
+        let mut last = f64::NAN;
+        for iteration in 0..=self.options.max_iterations {
+            let residual = self.residual(&x, frequency);
+            last = relative(&residual);
+            if last <= self.options.tolerance {
+                return Ok(HbSolution {
+                    frequency,
+                    coefficients: x,
+                    iterations: iteration,
+                    relative_residual: last,
+                });
+            }
+            if !last.is_finite() || iteration == self.options.max_iterations {
+                break;
+            }
+            let jacobian = self.linearise(&x, frequency).jacobian;
+            let step = solve_dense(&jacobian, &residual.values).ok_or_else(|| {
+                Error::Numerical(format!(
+                    "harmonic balance at {frequency} rad/s: singular Jacobian (a turning \
+                     point?); use continuation to pass it"
+                ))
+            })?;
+            for (xi, di) in x.iter_mut().zip(&step) {
+                *xi -= di;
+            }
+        }
+        Err(Error::Numerical(format!(
+            "harmonic balance did not converge at {frequency} rad/s after {} Newton \
+             iterations (relative residual {last:e}, tolerance {:e}); start nearer the \
+             solution (continuation with a smaller step), or use more time samples",
+            self.options.max_iterations, self.options.tolerance
+        )))
+    }
+
+    pub(crate) fn check_arguments(&self, frequency: f64, x: &[f64]) -> Result<()> {
+        if !(frequency.is_finite() && frequency > 0.0) {
+            return Err(Error::Numerical(format!(
+                "harmonic balance needs a positive excitation frequency, got {frequency} rad/s"
+            )));
+        }
+        if x.len() != self.unknowns() {
+            return Err(Error::Numerical(format!(
+                "harmonic balance has {} unknowns, the guess {}",
+                self.unknowns(),
+                x.len()
+            )));
+        }
+        Ok(())
+    }
+
+    /// R(x, w) and the size of the terms that cancel in it.
+    pub(crate) fn residual(&mut self, x: &[f64], frequency: f64) -> Residual {
+        let mut linear = vec![0.0; x.len()];
+        self.add_linear(x, frequency, &mut linear);
+        let external = self.external_force(frequency);
+        let nonlinear = self.nonlinear_force(x, frequency);
+        let values: Vec<f64> = (0..x.len())
+            .map(|i| linear[i] - external[i] - nonlinear[i])
+            .collect();
+        Residual {
+            values,
+            scale: norm(&linear) + norm(&external) + norm(&nonlinear),
+        }
+    }
+
+    /// dR/dx, dR/dw and the velocity Galerkin matrix at (x, w).
+    pub fn linearise(&mut self, x: &[f64], frequency: f64) -> Linearisation {
+        let (gq, gv) = self.nonlinear_galerkin(x, frequency);
+        let nabla = self.derivative_matrix(frequency);
+        let mut jacobian = self.linear_matrix(frequency);
+        let gv_nabla = &gv * &nabla;
+        jacobian -= &gq;
+        jacobian -= &gv_nabla;
+        // d/dw at fixed x: the linear operator's and the forcing's explicit dependence, and
+        // the nonlinear force's through the velocities, which scale with w (Nabla = w Nabla_1).
+        let mut frequency_derivative = vec![0.0; x.len()];
+        self.add_linear_frequency_derivative(x, frequency, &mut frequency_derivative);
+        let n = self.problem.size();
+        for dof in 0..n {
+            frequency_derivative[cos_slot(1) * n + dof] -=
+                2.0 * frequency * self.problem.unbalance_re[dof];
+            frequency_derivative[sin_slot(1) * n + dof] +=
+                2.0 * frequency * self.problem.unbalance_im[dof];
+        }
+        for i in 0..x.len() {
+            let through_velocity: f64 = (0..x.len()).map(|j| gv_nabla[(i, j)] * x[j]).sum();
+            frequency_derivative[i] -= through_velocity / frequency;
+        }
+        Linearisation {
+            jacobian,
+            frequency_derivative,
+            velocity_galerkin: gv,
+        }
+    }
+
+    /// The damping operator D = C + w G.
+    pub(crate) fn damping_operator(&self, frequency: f64) -> Mat<f64> {
+        &self.problem.damping + &self.problem.gyroscopic * faer::Scale(frequency)
+    }
+
+    /// L(w) as a matrix.
+    pub(crate) fn linear_matrix(&self, frequency: f64) -> Mat<f64> {
+        let n = self.problem.size();
+        let p = &self.problem;
+        let d = self.damping_operator(frequency);
+        let mut l = Mat::zeros(self.unknowns(), self.unknowns());
+        for i in 0..n {
+            for j in 0..n {
+                l[(i, j)] = p.stiffness[(i, j)];
+                for r in 1..=self.options.harmonics {
+                    let rw = r as f64 * frequency;
+                    let z = p.stiffness[(i, j)] - rw * rw * p.mass[(i, j)];
+                    let (c, s) = (cos_slot(r) * n, sin_slot(r) * n);
+                    l[(c + i, c + j)] = z;
+                    l[(s + i, s + j)] = z;
+                    l[(c + i, s + j)] = rw * d[(i, j)];
+                    l[(s + i, c + j)] = -rw * d[(i, j)];
+                }
+            }
+        }
+        l
+    }
+
+    /// The derivative in the Fourier basis, Nabla, as a matrix.
+    pub(crate) fn derivative_matrix(&self, frequency: f64) -> Mat<f64> {
+        let n = self.problem.size();
+        let mut nabla = Mat::zeros(self.unknowns(), self.unknowns());
+        for r in 1..=self.options.harmonics {
+            let rw = r as f64 * frequency;
+            for dof in 0..n {
+                let (c, s) = (cos_slot(r) * n + dof, sin_slot(r) * n + dof);
+                nabla[(c, s)] = rw;
+                nabla[(s, c)] = -rw;
+            }
+        }
+        nabla
+    }
+
+    /// out += L(w) x, block by block.
+    fn add_linear(&self, x: &[f64], frequency: f64, out: &mut [f64]) {
+        let n = self.problem.size();
+        let p = &self.problem;
+        let d = self.damping_operator(frequency);
+        let block = |slot: usize| &x[slot * n..(slot + 1) * n];
+        add_product(&p.stiffness, 1.0, block(0), &mut out[..n]);
+        for r in 1..=self.options.harmonics {
+            let rw = r as f64 * frequency;
+            let (c, s) = (cos_slot(r), sin_slot(r));
+            for (row, own, other, sign) in [(c, c, s, 1.0), (s, s, c, -1.0)] {
+                let out = &mut out[row * n..(row + 1) * n];
+                add_product(&p.stiffness, 1.0, block(own), out);
+                add_product(&p.mass, -rw * rw, block(own), out);
+                add_product(&d, sign * rw, block(other), out);
+            }
+        }
+    }
+
+    /// out += dL/dw x.
+    fn add_linear_frequency_derivative(&self, x: &[f64], frequency: f64, out: &mut [f64]) {
+        let n = self.problem.size();
+        let p = &self.problem;
+        // d(r w D(w))/dw = r (D + w G) = r (C + 2 w G).
+        let d_rwd = &p.damping + &p.gyroscopic * faer::Scale(2.0 * frequency);
+        let block = |slot: usize| &x[slot * n..(slot + 1) * n];
+        for r in 1..=self.options.harmonics {
+            let rf = r as f64;
+            let (c, s) = (cos_slot(r), sin_slot(r));
+            for (row, own, other, sign) in [(c, c, s, 1.0), (s, s, c, -1.0)] {
+                let out = &mut out[row * n..(row + 1) * n];
+                add_product(&p.mass, -2.0 * rf * rf * frequency, block(own), out);
+                add_product(&d_rwd, sign * rf, block(other), out);
+            }
+        }
+    }
+
+    /// F_ext(w): constant force and the first harmonic of unbalance and fixed forcing;
+    /// Re((u + i v) e^{i w t}) = u cos(w t) - v sin(w t).
+    fn external_force(&self, frequency: f64) -> Vec<f64> {
+        let n = self.problem.size();
+        let p = &self.problem;
+        let w2 = frequency * frequency;
+        let mut f = vec![0.0; self.unknowns()];
+        for dof in 0..n {
+            f[dof] = p.constant_force[dof];
+            f[cos_slot(1) * n + dof] = w2 * p.unbalance_re[dof] + p.harmonic_re[dof];
+            f[sin_slot(1) * n + dof] = -(w2 * p.unbalance_im[dof] + p.harmonic_im[dof]);
+        }
+        f
+    }
+
+    /// Samples displacements and velocities of the nonlinear coordinates over one period.
+    fn sample_motion(&mut self, x: &[f64], frequency: f64) {
+        let n = self.problem.size();
+        let n_t = self.aft.samples();
+        for (a, &dof) in self.nl_dofs.iter().enumerate() {
+            let at = |slot: usize| x[slot * n + dof];
+            self.aft
+                .synthesise(at, &mut self.q_t[a * n_t..(a + 1) * n_t]);
+            // q' = w dq/dtheta: cos r -> r w sin r coefficient -r w a_r, and so on.
+            let velocity = |slot: usize| derivative_coefficient(slot, frequency, at);
+            self.aft
+                .synthesise(velocity, &mut self.v_t[a * n_t..(a + 1) * n_t]);
+        }
+    }
+
+    /// Kinematics of sample j: phase theta_j = 2 pi j / N, time theta_j / w.
+    fn kinematics(&self, j: usize, frequency: f64) -> Kinematics {
+        let angle = std::f64::consts::TAU * j as f64 / self.aft.samples() as f64;
+        Kinematics {
+            time: angle / frequency,
+            speed: frequency,
+            angle,
+        }
+    }
+
+    /// F_nl(x, w) by AFT, in the unknowns' layout.
+    fn nonlinear_force(&mut self, x: &[f64], frequency: f64) -> Vec<f64> {
+        let mut out = vec![0.0; x.len()];
+        if self.nl_dofs.is_empty() {
+            return out;
+        }
+        self.sample_motion(x, frequency);
+        let n_t = self.aft.samples();
+        self.f_t.fill(0.0);
+        for j in 0..n_t {
+            let at = self.kinematics(j, frequency);
+            for (force, local) in self.problem.nonlinear.iter_mut().zip(&self.local) {
+                let k = local.len();
+                for (b, &a) in local.iter().enumerate() {
+                    self.fq[b] = self.q_t[a * n_t + j];
+                    self.fv[b] = self.v_t[a * n_t + j];
+                }
+                force.force(&at, &self.fq[..k], &self.fv[..k], &mut self.ff[..k]);
+                for (b, &a) in local.iter().enumerate() {
+                    self.f_t[a * n_t + j] += self.ff[b];
+                }
+            }
+        }
+        let n = self.problem.size();
+        for (a, &dof) in self.nl_dofs.iter().enumerate() {
+            self.aft
+                .analyse(&self.f_t[a * n_t..(a + 1) * n_t], &mut self.slots_buf);
+            for (slot, value) in self.slots_buf.iter().enumerate() {
+                out[slot * n + dof] = *value;
+            }
+        }
+        out
+    }
+
+    /// G[dF/dq] and G[dF/dv] in the unknowns' layout.
+    fn nonlinear_galerkin(&mut self, x: &[f64], frequency: f64) -> (Mat<f64>, Mat<f64>) {
+        let size = self.unknowns();
+        let (mut gq, mut gv) = (Mat::zeros(size, size), Mat::zeros(size, size));
+        if self.nl_dofs.is_empty() {
+            return (gq, gv);
+        }
+        self.sample_motion(x, frequency);
+        let (n_t, m) = (self.aft.samples(), self.nl_dofs.len());
+        self.jq_t.fill(0.0);
+        self.jv_t.fill(0.0);
+        for j in 0..n_t {
+            let at = self.kinematics(j, frequency);
+            for (force, local) in self.problem.nonlinear.iter_mut().zip(&self.local) {
+                let k = local.len();
+                for (b, &a) in local.iter().enumerate() {
+                    self.fq[b] = self.q_t[a * n_t + j];
+                    self.fv[b] = self.v_t[a * n_t + j];
+                }
+                force.jacobian(
+                    &at,
+                    &self.fq[..k],
+                    &self.fv[..k],
+                    &mut self.fjq[..k * k],
+                    &mut self.fjv[..k * k],
+                );
+                for (b, &a) in local.iter().enumerate() {
+                    for (e, &c) in local.iter().enumerate() {
+                        self.jq_t[(a * m + c) * n_t + j] += self.fjq[b * k + e];
+                        self.jv_t[(a * m + c) * n_t + j] += self.fjv[b * k + e];
+                    }
+                }
+            }
+        }
+        let n = self.problem.size();
+        let slots = self.slots();
+        for a in 0..m {
+            for c in 0..m {
+                let (row_dof, col_dof) = (self.nl_dofs[a], self.nl_dofs[c]);
+                let pair = (a * m + c) * n_t..(a * m + c + 1) * n_t;
+                for (samples, target) in [(&self.jq_t, &mut gq), (&self.jv_t, &mut gv)] {
+                    if samples[pair.clone()].iter().all(|&v| v == 0.0) {
+                        continue;
+                    }
+                    self.aft.galerkin(&samples[pair.clone()], &mut self.block);
+                    for row in 0..slots {
+                        for col in 0..slots {
+                            target[(row * n + row_dof, col * n + col_dof)] =
+                                self.block[row * slots + col];
+                        }
+                    }
+                }
+            }
+        }
+        (gq, gv)
+    }
+}
+
+/// Slot `slot` of the derivative d/dt of the series with coefficients `at(slot)`.
+fn derivative_coefficient(slot: usize, frequency: f64, at: impl Fn(usize) -> f64) -> f64 {
+    match slot_basis(slot) {
+        (0, _) => 0.0,
+        (r, false) => r as f64 * frequency * at(sin_slot(r)),
+        (r, true) => -(r as f64) * frequency * at(cos_slot(r)),
+    }
+}
+
+/// out += alpha A x.
+fn add_product(a: &Mat<f64>, alpha: f64, x: &[f64], out: &mut [f64]) {
+    if alpha == 0.0 {
+        return;
+    }
+    for (i, o) in out.iter_mut().enumerate() {
+        *o += alpha * (0..x.len()).map(|j| a[(i, j)] * x[j]).sum::<f64>();
+    }
+}
+
+/// Euclidean norm.
+pub(crate) fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+/// |R| / scale; zero when every term vanishes (no load, no motion).
+pub(crate) fn relative(residual: &Residual) -> f64 {
+    let r = norm(&residual.values);
+    if r == 0.0 {
+        0.0
+    } else {
+        r / residual.scale
+    }
+}
+
+/// Solves A y = b by LU with partial pivoting; `None` when the solution is not finite.
+pub(crate) fn solve_dense(a: &Mat<f64>, b: &[f64]) -> Option<Vec<f64>> {
+    let mut y = Mat::<f64>::from_fn(b.len(), 1, |i, _| b[i]);
+    faer::linalg::solvers::Solve::solve_in_place(&a.partial_piv_lu(), y.as_mut());
+    let y: Vec<f64> = (0..b.len()).map(|i| y[(i, 0)]).collect();
+    y.iter().all(|v| v.is_finite()).then_some(y)
+}

@@ -1,0 +1,426 @@
+//! Pseudo-arclength continuation of periodic solutions in the excitation frequency.
+//!
+//! The path y(s) = (x, w) is followed in scaled variables (x by the largest coefficient of
+//! the first solution, w by the length of the requested range), so that one unit of
+//! arclength is comparable in both. From a converged point y_0 with unit tangent t_0:
+//!
+//! - predictor: y = y_0 + h t_0;
+//! - corrector: Newton on R(x, w) = 0 together with t_0 . (y - y_0) = h (Keller 1977),
+//!   whose augmented Jacobian stays regular at turning points, where dR/dx alone is singular;
+//! - tangent: [dR/dy; t_0^T] t = [0; 1], normalised, which keeps the direction of travel
+//!   through turning points.
+//!
+//! The step grows after quick convergence and shrinks after slow or failed convergence, or
+//! when the tangent turns by more than `max_turn`, which keeps turning points resolved.
+//! A fold is where the tangent's frequency component changes sign; it is located on the
+//! cubic Hermite interpolant of w(s) between the two points around it.
+
+use super::balance::{norm, relative, solve_dense, HarmonicBalance, HbSolution};
+use super::stability::{hill_stability, Stability};
+use super::HbOptions;
+use crate::error::{Error, Result};
+use faer::Mat;
+
+/// Step control of the continuation; lengths are in scaled arclength (the whole frequency
+/// range is one unit).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct ContinuationOptions {
+    /// First step.
+    pub initial_step: f64,
+    /// Smallest step before the path is given up.
+    pub min_step: f64,
+    /// Largest step.
+    pub max_step: f64,
+    /// Largest angle between successive tangents, rad.
+    pub max_turn: f64,
+    /// Largest number of points.
+    pub max_points: usize,
+    /// Compute Hill stability at every point.
+    pub stability: bool,
+}
+
+impl Default for ContinuationOptions {
+    /// Steps from 1e-6 to 0.02 of the range (at least 50 points), 0.15 rad of turn (which
+    /// places several points on each turning point), up to 5000 points, with stability.
+    fn default() -> Self {
+        ContinuationOptions {
+            initial_step: 0.005,
+            min_step: 1e-6,
+            max_step: 0.02,
+            max_turn: 0.15,
+            max_points: 5000,
+            stability: true,
+        }
+    }
+}
+
+/// A converged point of a branch.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct BranchPoint {
+    /// The periodic solution.
+    pub solution: HbSolution,
+    /// dw/ds, rad/s per unit of scaled arclength: negative between two folds of a
+    /// hardening overhang.
+    pub frequency_slope: f64,
+    /// Hill stability, when asked for.
+    pub stability: Option<Stability>,
+}
+
+/// A turning point (saddle-node) of the branch.
+#[derive(Debug, Clone, Copy, serde::Serialize)]
+pub struct Fold {
+    /// Frequency of the fold, rad/s, from the Hermite interpolant.
+    pub frequency: f64,
+    /// Index of the branch point before it.
+    pub after: usize,
+}
+
+/// Why a branch stopped.
+#[derive(Debug, Clone, serde::Serialize)]
+pub enum BranchEnd {
+    /// The end frequency was reached (the last point lies on it).
+    Reached,
+    /// The branch turned back past the start frequency.
+    LeftRange,
+    /// The point limit was reached.
+    PointLimit,
+    /// The corrector failed with the smallest step: the path ends at the last point.
+    StepTooSmall {
+        /// Frequency of the last converged point, rad/s.
+        frequency: f64,
+        /// What failed.
+        message: String,
+    },
+}
+
+/// A continued branch of periodic solutions.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Branch {
+    /// Discretisation used.
+    pub options: HbOptions,
+    /// Converged points in path order; no unconverged point is ever stored.
+    pub points: Vec<BranchPoint>,
+    /// Folds, in path order.
+    pub folds: Vec<Fold>,
+    /// Why the branch ended.
+    pub end: BranchEnd,
+}
+
+/// Scales of the coefficients and of the frequency in the arclength.
+#[derive(Debug, Clone, Copy)]
+struct Scaling {
+    coefficients: f64,
+    frequency: f64,
+}
+
+impl Scaling {
+    fn scaled(&self, s: &HbSolution) -> Vec<f64> {
+        let mut y: Vec<f64> = s
+            .coefficients
+            .iter()
+            .map(|c| c / self.coefficients)
+            .collect();
+        y.push(s.frequency / self.frequency);
+        y
+    }
+
+    /// (coefficients, frequency) of a scaled point.
+    fn unscaled(&self, y: &[f64]) -> (Vec<f64>, f64) {
+        let (x, w) = y.split_at(y.len() - 1);
+        (
+            x.iter().map(|c| c * self.coefficients).collect(),
+            w[0] * self.frequency,
+        )
+    }
+}
+
+/// Follows the periodic solution from frequency `from` to `to` (rad/s), starting from
+/// `guess` at `from`.
+///
+/// # Errors
+/// [`Error::Numerical`] when the first point does not converge or the range is empty;
+/// later failures end the branch ([`BranchEnd::StepTooSmall`]) and keep what converged.
+pub fn continuation(
+    hb: &mut HarmonicBalance,
+    from: f64,
+    to: f64,
+    guess: &[f64],
+    options: &ContinuationOptions,
+) -> Result<Branch> {
+    if !(to.is_finite() && from.is_finite() && to != from) {
+        return Err(Error::Numerical(format!(
+            "continuation needs two different frequencies, got {from} and {to} rad/s"
+        )));
+    }
+    let first = hb.solve(from, guess)?;
+    let largest = first
+        .coefficients
+        .iter()
+        .fold(0.0f64, |m, c| m.max(c.abs()));
+    let scaling = Scaling {
+        coefficients: if largest > 0.0 { largest } else { 1.0 },
+        frequency: (to - from).abs(),
+    };
+    let direction = (to - from).signum();
+    let mut start_direction = vec![0.0; first.coefficients.len() + 1];
+    start_direction[first.coefficients.len()] = direction;
+    let mut tangent = unit_tangent(hb, &first, &scaling, &start_direction)?;
+    let mut points = vec![branch_point(first, &tangent, &scaling)];
+    let mut step = options.initial_step;
+    let end = loop {
+        if points.len() >= options.max_points {
+            break BranchEnd::PointLimit;
+        }
+        let last = &points[points.len() - 1].solution;
+        let y0 = scaling.scaled(last);
+        let attempt = correct(hb, &y0, &tangent, step, &scaling)
+            .and_then(|s| Ok((unit_tangent(hb, &s, &scaling, &tangent)?, s)));
+        let accepted = match attempt {
+            Ok((next_tangent, s)) if dot(&next_tangent, &tangent) >= options.max_turn.cos() => {
+                Some((next_tangent, s))
+            }
+            Ok(_) => None,
+            Err(e) if step / 2.0 < options.min_step => {
+                break BranchEnd::StepTooSmall {
+                    frequency: last.frequency,
+                    message: e.to_string(),
+                };
+            }
+            Err(_) => None,
+        };
+        let Some((next_tangent, solution)) = accepted else {
+            step /= 2.0;
+            if step < options.min_step {
+                break BranchEnd::StepTooSmall {
+                    frequency: last.frequency,
+                    message: format!(
+                        "the tangent turns by more than {} rad within the smallest step",
+                        options.max_turn
+                    ),
+                };
+            }
+            continue;
+        };
+        if direction * (solution.frequency - to) >= 0.0 {
+            let end_point = land_on(hb, last, &solution, to)?;
+            let end_tangent = unit_tangent(hb, &end_point, &scaling, &next_tangent)?;
+            points.push(branch_point(end_point, &end_tangent, &scaling));
+            break BranchEnd::Reached;
+        }
+        if direction * (solution.frequency - from) < 0.0 {
+            break BranchEnd::LeftRange;
+        }
+        step = next_step(step, solution.iterations, options);
+        points.push(branch_point(solution, &next_tangent, &scaling));
+        tangent = next_tangent;
+    };
+    if options.stability {
+        for p in points.iter_mut() {
+            p.stability = Some(hill_stability(
+                hb,
+                &p.solution.coefficients,
+                p.solution.frequency,
+            )?);
+        }
+    }
+    let folds = locate_folds(&points, &scaling);
+    Ok(Branch {
+        options: *hb.options(),
+        points,
+        folds,
+        end,
+    })
+}
+
+/// Quick convergence (at most 3 iterations) lengthens the step by half, slow convergence
+/// (more than 6) shortens it: the corrector then works in its quadratic range.
+fn next_step(step: f64, iterations: usize, options: &ContinuationOptions) -> f64 {
+    let factor = match iterations {
+        0..=3 => 1.5,
+        4..=6 => 1.0,
+        _ => 0.5,
+    };
+    (step * factor).clamp(options.min_step, options.max_step)
+}
+
+fn branch_point(solution: HbSolution, tangent: &[f64], scaling: &Scaling) -> BranchPoint {
+    BranchPoint {
+        solution,
+        frequency_slope: tangent[tangent.len() - 1] * scaling.frequency,
+        stability: None,
+    }
+}
+
+/// The augmented Jacobian [dR/dx s_x, dR/dw s_w; c^T] in scaled variables at `s`.
+fn augmented(hb: &mut HarmonicBalance, s: &HbSolution, scaling: &Scaling, c: &[f64]) -> Mat<f64> {
+    let lin = hb.linearise(&s.coefficients, s.frequency);
+    let size = s.coefficients.len();
+    Mat::from_fn(size + 1, size + 1, |i, j| {
+        if i == size {
+            c[j]
+        } else if j == size {
+            lin.frequency_derivative[i] * scaling.frequency
+        } else {
+            lin.jacobian[(i, j)] * scaling.coefficients
+        }
+    })
+}
+
+/// The unit tangent at `s` oriented along `previous` (positive projection on it).
+fn unit_tangent(
+    hb: &mut HarmonicBalance,
+    s: &HbSolution,
+    scaling: &Scaling,
+    previous: &[f64],
+) -> Result<Vec<f64>> {
+    let a = augmented(hb, s, scaling, previous);
+    let mut rhs = vec![0.0; previous.len()];
+    rhs[previous.len() - 1] = 1.0;
+    let t = solve_dense(&a, &rhs).ok_or_else(|| {
+        Error::Numerical(format!(
+            "the branch's tangent is undefined at {} rad/s (a branch point?)",
+            s.frequency
+        ))
+    })?;
+    let length = norm(&t);
+    Ok(t.iter().map(|v| v / length).collect())
+}
+
+/// Pseudo-arclength corrector from the predictor y_0 + h t_0.
+fn correct(
+    hb: &mut HarmonicBalance,
+    y0: &[f64],
+    t0: &[f64],
+    step: f64,
+    scaling: &Scaling,
+) -> Result<HbSolution> {
+    let mut y: Vec<f64> = y0.iter().zip(t0).map(|(a, t)| a + step * t).collect();
+    let max_iterations = hb.options().max_iterations;
+    let tolerance = hb.options().tolerance;
+    for iteration in 0..=max_iterations {
+        let (x, w) = scaling.unscaled(&y);
+        if !(w.is_finite() && w > 0.0) {
+            break;
+        }
+        let residual = hb.residual(&x, w);
+        let r = relative(&residual);
+        // The arclength equation is linear: the predictor and every Newton step satisfy it.
+        if r <= tolerance {
+            return Ok(HbSolution {
+                frequency: w,
+                coefficients: x,
+                iterations: iteration,
+                relative_residual: r,
+            });
+        }
+        if !r.is_finite() || iteration == max_iterations {
+            break;
+        }
+        let current = HbSolution {
+            frequency: w,
+            coefficients: x,
+            iterations: iteration,
+            relative_residual: r,
+        };
+        let a = augmented(hb, &current, scaling, t0);
+        let mut rhs = residual.values;
+        rhs.push(0.0);
+        let Some(delta) = solve_dense(&a, &rhs) else {
+            break;
+        };
+        for (yi, di) in y.iter_mut().zip(&delta) {
+            *yi -= di;
+        }
+    }
+    Err(Error::Numerical(format!(
+        "the continuation corrector did not converge with step {step:e} from {} rad/s",
+        y0[y0.len() - 1] * scaling.frequency
+    )))
+}
+
+/// The solution at exactly `to`, between `before` and `after`, by Newton at fixed
+/// frequency from their linear interpolation.
+fn land_on(
+    hb: &mut HarmonicBalance,
+    before: &HbSolution,
+    after: &HbSolution,
+    to: f64,
+) -> Result<HbSolution> {
+    let u = (to - before.frequency) / (after.frequency - before.frequency);
+    let guess: Vec<f64> = before
+        .coefficients
+        .iter()
+        .zip(&after.coefficients)
+        .map(|(a, b)| a + u * (b - a))
+        .collect();
+    hb.solve(to, &guess)
+}
+
+/// Folds between successive points whose frequency slopes differ in sign.
+fn locate_folds(points: &[BranchPoint], scaling: &Scaling) -> Vec<Fold> {
+    points
+        .windows(2)
+        .enumerate()
+        .filter(|(_, p)| p[0].frequency_slope * p[1].frequency_slope < 0.0)
+        .map(|(i, p)| {
+            let (y0, y1) = (
+                scaling.scaled(&p[0].solution),
+                scaling.scaled(&p[1].solution),
+            );
+            let chord: Vec<f64> = y1.iter().zip(&y0).map(|(a, b)| a - b).collect();
+            Fold {
+                frequency: hermite_extremum(
+                    p[0].solution.frequency,
+                    p[1].solution.frequency,
+                    p[0].frequency_slope,
+                    p[1].frequency_slope,
+                    norm(&chord),
+                ),
+                after: i,
+            }
+        })
+        .collect()
+}
+
+/// The extreme value of the cubic Hermite interpolant on [0, h] with end values w0, w1 and
+/// end slopes m0, m1 of opposite signs, where its derivative vanishes.
+fn hermite_extremum(w0: f64, w1: f64, m0: f64, m1: f64, h: f64) -> f64 {
+    // p(u) = h00 w0 + h h10 m0 + h01 w1 + h h11 m1 on u in [0, 1]; p'(u) = a u^2 + b u + c.
+    let a = 6.0 * (w0 - w1) + 3.0 * h * (m0 + m1);
+    let b = -6.0 * (w0 - w1) - h * (4.0 * m0 + 2.0 * m1);
+    let c = h * m0;
+    let u = if a.abs() <= 1e-12 * (b.abs() + c.abs()) {
+        -c / b
+    } else {
+        let root = (b * b - 4.0 * a * c).max(0.0).sqrt();
+        let candidates = [(-b + root) / (2.0 * a), (-b - root) / (2.0 * a)];
+        // p' changes sign on [0, 1], so one root lies in it; take the nearer to its middle.
+        candidates
+            .into_iter()
+            .min_by(|x, y| (x - 0.5).abs().total_cmp(&(y - 0.5).abs()))
+            .expect("two candidates")
+    };
+    let (u2, u3) = (u * u, u * u * u);
+    (2.0 * u3 - 3.0 * u2 + 1.0) * w0
+        + h * (u3 - 2.0 * u2 + u) * m0
+        + (-2.0 * u3 + 3.0 * u2) * w1
+        + h * (u3 - u2) * m1
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hermite_extremum_of_a_parabola_is_its_vertex() {
+        // w(s) = 3 - (s - 0.3)^2 on [0, 1]: exact in a cubic interpolant.
+        let w = |s: f64| 3.0 - (s - 0.3) * (s - 0.3);
+        let slope = |s: f64| -2.0 * (s - 0.3);
+        let top = hermite_extremum(w(0.0), w(1.0), slope(0.0), slope(1.0), 1.0);
+        assert!((top - 3.0).abs() < 1e-14);
+    }
+}
