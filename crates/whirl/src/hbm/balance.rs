@@ -509,3 +509,129 @@ pub(crate) fn solve_dense(a: &Mat<f64>, b: &[f64]) -> Option<Vec<f64>> {
     let y: Vec<f64> = (0..b.len()).map(|i| y[(i, 0)]).collect();
     y.iter().all(|v| v.is_finite()).then_some(y)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::time::NonlinearForce;
+
+    /// A force coupling two coordinates through displacements and velocities, so every
+    /// term of the Jacobian (G[dF/dq], G[dF/dv] Nabla, the frequency derivative) is
+    /// exercised: F = -(q0^3 + q0^2 v1, q0 q1 v1 + v0^3).
+    struct Coupled;
+
+    impl NonlinearForce for Coupled {
+        fn name(&self) -> String {
+            "coupled test force".into()
+        }
+        fn dofs(&self) -> &[usize] {
+            &[2, 0]
+        }
+        fn force(&mut self, _: &Kinematics, q: &[f64], v: &[f64], out: &mut [f64]) {
+            out[0] = -(q[0].powi(3) + q[0] * q[0] * v[1]);
+            out[1] = -(q[0] * q[1] * v[1] + v[0].powi(3));
+        }
+        fn jacobian(
+            &mut self,
+            _: &Kinematics,
+            q: &[f64],
+            v: &[f64],
+            dfdq: &mut [f64],
+            dfdv: &mut [f64],
+        ) {
+            dfdq.copy_from_slice(&[
+                -(3.0 * q[0] * q[0] + 2.0 * q[0] * v[1]),
+                0.0,
+                -q[1] * v[1],
+                -q[0] * v[1],
+            ]);
+            dfdv.copy_from_slice(&[0.0, -q[0] * q[0], -3.0 * v[0] * v[0], -q[0] * q[1]]);
+        }
+        fn stiffness_bound(&self) -> Vec<f64> {
+            vec![0.0; 4]
+        }
+    }
+
+    fn entry(i: usize, j: usize) -> f64 {
+        ((i * 7 + j * 13) as f64 * 0.618).sin()
+    }
+
+    fn three_dof_problem() -> HbProblem {
+        let n = 3;
+        let symmetric = |scale: f64, diagonal: f64| {
+            Mat::from_fn(n, n, |i, j| {
+                scale * (entry(i, j) + entry(j, i)) + if i == j { diagonal } else { 0.0 }
+            })
+        };
+        HbProblem {
+            mass: symmetric(0.05, 1.0),
+            stiffness: symmetric(0.3, 4.0),
+            damping: symmetric(0.02, 0.1),
+            gyroscopic: Mat::from_fn(n, n, |i, j| 0.1 * (entry(i, j) - entry(j, i))),
+            constant_force: vec![0.1, -0.2, 0.05],
+            unbalance_re: vec![0.01, 0.0, 0.02],
+            unbalance_im: vec![0.0, 0.03, -0.01],
+            harmonic_re: vec![0.3, 0.0, 0.0],
+            harmonic_im: vec![0.0, 0.1, 0.0],
+            nonlinear: vec![Box::new(Coupled)],
+        }
+    }
+
+    #[test]
+    fn jacobian_matches_central_differences_of_the_residual() {
+        // N = 8 < 4H + 1 aliases the cubic terms: the Jacobian must be exact for the
+        // sampled residual all the same.
+        let options = HbOptions {
+            samples: 8,
+            ..HbOptions::new(3)
+        };
+        let mut hb = HarmonicBalance::new(three_dof_problem(), options).unwrap();
+        let x: Vec<f64> = (0..hb.unknowns()).map(|i| 0.3 * entry(i, 5)).collect();
+        let w = 1.7;
+        let lin = hb.linearise(&x, w);
+        let h = 1e-6;
+        let mut worst: f64 = 0.0;
+        for j in 0..x.len() + 1 {
+            let at = |sign: f64| {
+                let mut x = x.clone();
+                let mut w = w;
+                match x.get_mut(j) {
+                    Some(v) => *v += sign * h,
+                    None => w += sign * h,
+                }
+                (x, w)
+            };
+            let (xp, wp) = at(1.0);
+            let (xm, wm) = at(-1.0);
+            let (rp, rm) = (hb.residual(&xp, wp).values, hb.residual(&xm, wm).values);
+            for i in 0..x.len() {
+                let difference = (rp[i] - rm[i]) / (2.0 * h);
+                let exact = match j {
+                    j if j < x.len() => lin.jacobian[(i, j)],
+                    _ => lin.frequency_derivative[i],
+                };
+                worst = worst.max((difference - exact).abs());
+            }
+        }
+        // Central differences with h = 1e-6 on O(1) entries: truncation h^2 and round-off
+        // 1e-16 / h, both near 1e-10.
+        assert!(worst < 1e-8, "worst difference {worst:e}");
+    }
+
+    #[test]
+    fn newton_refuses_to_return_an_unconverged_point() {
+        let options = HbOptions {
+            max_iterations: 2,
+            ..HbOptions::new(3)
+        };
+        let mut hb = HarmonicBalance::new(three_dof_problem(), options).unwrap();
+        let far = vec![3.0; hb.unknowns()];
+        let error = hb.solve(1.7, &far).unwrap_err().to_string();
+        assert!(error.contains("did not converge"), "{error}");
+        let options = HbOptions::new(3);
+        let mut hb = HarmonicBalance::new(three_dof_problem(), options).unwrap();
+        let zero = vec![0.0; hb.unknowns()];
+        let solution = hb.solve(1.7, &zero).unwrap();
+        assert!(solution.relative_residual <= options.tolerance);
+    }
+}

@@ -102,3 +102,59 @@ fn block_diagonal(a: &Mat<f64>, size: usize) -> Mat<f64> {
         }
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::hbm::{HbOptions, HbProblem};
+
+    #[test]
+    fn linear_system_exponents_are_its_eigenvalues_shifted_into_the_strip() {
+        // A damped gyroscopic 2-DOF rotor: Floquet exponents of any periodic response are
+        // the eigenvalues of M s^2 + (C + w G) s + K, up to multiples of i w.
+        let w = 1.3;
+        let mass = Mat::from_fn(2, 2, |i, j| if i == j { 1.0 + i as f64 } else { 0.0 });
+        let stiffness = Mat::from_fn(2, 2, |i, j| [[5.0, 0.5], [0.5, 3.0]][i][j]);
+        let damping = Mat::from_fn(2, 2, |i, j| if i == j { 0.05 } else { 0.0 });
+        let gyroscopic = Mat::from_fn(2, 2, |i, j| [[0.0, 0.4], [-0.4, 0.0]][i][j]);
+        let d = &damping + &gyroscopic * faer::Scale(w);
+        let problem = HbProblem {
+            mass: mass.clone(),
+            stiffness: stiffness.clone(),
+            damping,
+            gyroscopic,
+            constant_force: vec![0.0; 2],
+            unbalance_re: vec![0.1, 0.0],
+            unbalance_im: vec![0.0, 0.1],
+            harmonic_re: vec![0.0; 2],
+            harmonic_im: vec![0.0; 2],
+            nonlinear: Vec::new(),
+        };
+        let mut hb = HarmonicBalance::new(problem, HbOptions::new(3)).unwrap();
+        let zero = vec![0.0; hb.unknowns()];
+        let solution = hb.solve(w, &zero).unwrap();
+        let stability = hill_stability(&mut hb, &solution.coefficients, w).unwrap();
+
+        let companion = Mat::<f64>::from_fn(4, 4, |i, j| match (i < 2, j < 2) {
+            (true, true) => 0.0,
+            (true, false) => f64::from(u8::from(j - 2 == i)),
+            (false, true) => -stiffness[(i - 2, j)] / mass[(i - 2, i - 2)],
+            (false, false) => -d[(i - 2, j - 2)] / mass[(i - 2, i - 2)],
+        });
+        let values = companion.eigen().unwrap();
+        let values = values.S().column_vector();
+        assert_eq!(stability.exponents.len(), 4);
+        for k in 0..4 {
+            let (re, im) = (values[k].re, values[k].im);
+            let shifted = im - w * (im / w).round();
+            let nearest = stability
+                .exponents
+                .iter()
+                .map(|e| (e.0 - re).hypot(e.1 - shifted))
+                .fold(f64::INFINITY, f64::min);
+            // Two eigen-solves of well-conditioned matrices with entries up to (H w)^2.
+            assert!(nearest < 1e-10, "eigenvalue {re} + {im} i: {nearest:e}");
+        }
+        assert!(stability.stable);
+    }
+}
