@@ -7,7 +7,8 @@ use std::time::Instant;
 
 use faer::Mat;
 use whirl::hbm::{
-    continuation, Branch, ContinuationOptions, HarmonicBalance, HbOptions, HbProblem,
+    continuation, resume, Branch, BranchEnd, ContinuationOptions, HarmonicBalance, HbOptions,
+    HbProblem,
 };
 use whirl::time::{
     runge_kutta, CubicSpring, MarchOptions, RkTolerances, SpeedProfile, TimeProblem,
@@ -101,7 +102,7 @@ fn closed_form_fold(mut u: f64, mut w: f64) -> f64 {
 #[test]
 fn one_harmonic_matches_the_closed_form_along_the_overhang() {
     let branch = branch(1);
-    assert!(matches!(branch.end, whirl::hbm::BranchEnd::Reached));
+    assert!(matches!(branch.end, BranchEnd::Reached));
     let mut worst = 0.0f64;
     for p in &branch.points {
         let s = &p.solution;
@@ -249,5 +250,39 @@ fn five_harmonics_match_time_integration_and_the_middle_branch_is_unstable() {
         // (pi / 400)^2 / 2 = 3e-5 of it, and H = 5 leaves out harmonics 7 and up. Measured
         // 5e-6 to 2e-5, at the level of the sampling error.
         assert!(difference < 1e-4);
+    }
+}
+
+#[test]
+fn a_branch_resumes_from_a_saved_point_on_the_middle_branch() {
+    let full = branch(1);
+    let (first, second) = (full.folds[0], full.folds[1]);
+    let saved = &full.points[(first.after + second.after) / 2];
+    assert!(saved.frequency_slope < 0.0, "a middle-branch point");
+    // The branch serialises (results files are JSON).
+    let json = serde_json::to_string(&full).unwrap();
+    assert!(json.contains("\"Reached\""));
+    let mut hb = duffing_hb(1);
+    let resumed = resume(&mut hb, saved, FROM, TO, &ContinuationOptions::default()).unwrap();
+    assert!(matches!(resumed.end, BranchEnd::Reached));
+    // Only the lower fold lies ahead of a middle-branch point.
+    assert_eq!(resumed.folds.len(), 1);
+    let fold = resumed.folds[0];
+    let before = &resumed.points[fold.after].solution;
+    let exact = closed_form_fold(
+        first_harmonic(&before.coefficients).powi(2),
+        before.frequency,
+    );
+    let error = (fold.frequency - exact).abs() / exact;
+    eprintln!(
+        "resumed: fold at {:.10} rad/s, closed form {exact:.10}, relative error {error:e}",
+        fold.frequency
+    );
+    // As for the first run; the resumed run scales its steps by the saved point's larger
+    // amplitude, so its points near the fold lie further apart (measured 5e-9).
+    assert!(error < 1e-7);
+    for p in &resumed.points {
+        let s = &p.solution;
+        assert!(closed_form_defect(s.frequency, first_harmonic(&s.coefficients)).abs() < 1e-8);
     }
 }

@@ -84,6 +84,12 @@ pub enum BranchEnd {
     LeftRange,
     /// The point limit was reached.
     PointLimit,
+    /// The path passed the end frequency but the solution exactly on it did not converge;
+    /// the last point is the one before.
+    EndNotConverged {
+        /// What failed.
+        message: String,
+    },
     /// The corrector failed with the smallest step: the path ends at the last point.
     StepTooSmall {
         /// Frequency of the last converged point, rad/s.
@@ -147,12 +153,54 @@ pub fn continuation(
     guess: &[f64],
     options: &ContinuationOptions,
 ) -> Result<Branch> {
-    if !(to.is_finite() && from.is_finite() && to != from) {
-        return Err(Error::Numerical(format!(
-            "continuation needs two different frequencies, got {from} and {to} rad/s"
-        )));
-    }
+    check_range(from, to)?;
     let first = hb.solve(from, guess)?;
+    follow(hb, first, (to - from).signum(), (from, to), options)
+}
+
+/// Restarts a branch from a saved point within the range `from`..`to` (rad/s), in the
+/// direction of travel its frequency slope records (towards `to` if the slope is zero).
+/// The point is solved again first, so a point edited or computed with other options is
+/// never continued unconverged. Steps are scaled by the resumed point's coefficients.
+///
+/// # Errors
+/// As [`continuation`].
+pub fn resume(
+    hb: &mut HarmonicBalance,
+    point: &BranchPoint,
+    from: f64,
+    to: f64,
+    options: &ContinuationOptions,
+) -> Result<Branch> {
+    check_range(from, to)?;
+    let first = hb.solve(point.solution.frequency, &point.solution.coefficients)?;
+    let orientation = if point.frequency_slope != 0.0 {
+        point.frequency_slope.signum()
+    } else {
+        (to - from).signum()
+    };
+    follow(hb, first, orientation, (from, to), options)
+}
+
+fn check_range(from: f64, to: f64) -> Result<()> {
+    if to.is_finite() && from.is_finite() && to != from {
+        Ok(())
+    } else {
+        Err(Error::Numerical(format!(
+            "continuation needs two different frequencies, got {from} and {to} rad/s"
+        )))
+    }
+}
+
+/// The continuation loop from the converged point `first`, leaving it with increasing
+/// frequency when `orientation` is positive and decreasing when negative.
+fn follow(
+    hb: &mut HarmonicBalance,
+    first: HbSolution,
+    orientation: f64,
+    (from, to): (f64, f64),
+    options: &ContinuationOptions,
+) -> Result<Branch> {
     let largest = first
         .coefficients
         .iter()
@@ -163,7 +211,7 @@ pub fn continuation(
     };
     let direction = (to - from).signum();
     let mut start_direction = vec![0.0; first.coefficients.len() + 1];
-    start_direction[first.coefficients.len()] = direction;
+    start_direction[first.coefficients.len()] = orientation;
     let mut tangent = unit_tangent(hb, &first, &scaling, &start_direction)?;
     let mut points = vec![branch_point(first, &tangent, &scaling)];
     let mut step = options.initial_step;
@@ -202,10 +250,20 @@ pub fn continuation(
             continue;
         };
         if direction * (solution.frequency - to) >= 0.0 {
-            let end_point = land_on(hb, last, &solution, to)?;
-            let end_tangent = unit_tangent(hb, &end_point, &scaling, &next_tangent)?;
-            points.push(branch_point(end_point, &end_tangent, &scaling));
-            break BranchEnd::Reached;
+            match land_on(hb, last, &solution, to).and_then(|p| {
+                let t = unit_tangent(hb, &p, &scaling, &next_tangent)?;
+                Ok(branch_point(p, &t, &scaling))
+            }) {
+                Ok(end_point) => {
+                    points.push(end_point);
+                    break BranchEnd::Reached;
+                }
+                Err(e) => {
+                    break BranchEnd::EndNotConverged {
+                        message: e.to_string(),
+                    }
+                }
+            }
         }
         if direction * (solution.frequency - from) < 0.0 {
             break BranchEnd::LeftRange;

@@ -24,7 +24,9 @@ pub mod fourier;
 pub mod stability;
 
 pub use balance::{HarmonicBalance, HbSolution, Linearisation};
-pub use continuation::{continuation, Branch, BranchEnd, BranchPoint, ContinuationOptions, Fold};
+pub use continuation::{
+    continuation, resume, Branch, BranchEnd, BranchPoint, ContinuationOptions, Fold,
+};
 pub use fourier::aliasing_free_samples;
 pub use stability::{hill_stability, Stability};
 
