@@ -229,9 +229,8 @@ impl HarmonicBalance {
     /// dR/dx, dR/dw and the velocity Galerkin matrix at (x, w).
     pub fn linearise(&mut self, x: &[f64], frequency: f64) -> Linearisation {
         let (gq, gv) = self.nonlinear_galerkin(x, frequency);
-        let nabla = self.derivative_matrix(frequency);
         let mut jacobian = self.linear_matrix(frequency);
-        let gv_nabla = &gv * &nabla;
+        let gv_nabla = self.times_derivative(&gv, frequency);
         jacobian -= &gq;
         jacobian -= &gv_nabla;
         // d/dw at fixed x: the linear operator's and the forcing's explicit dependence, and
@@ -284,19 +283,24 @@ impl HarmonicBalance {
         l
     }
 
-    /// The derivative in the Fourier basis, Nabla, as a matrix.
-    pub(crate) fn derivative_matrix(&self, frequency: f64) -> Mat<f64> {
+    /// A Nabla, with Nabla the derivative in the Fourier basis, by moving and scaling
+    /// columns: Nabla maps b_r to r w on a_r and a_r to -r w on b_r, so column a_r of the
+    /// product is -r w times column b_r of A and column b_r is r w times column a_r. A
+    /// dense product would cost (n (2H + 1))^3.
+    pub(crate) fn times_derivative(&self, a: &Mat<f64>, frequency: f64) -> Mat<f64> {
         let n = self.problem.size();
-        let mut nabla = Mat::zeros(self.unknowns(), self.unknowns());
+        let mut product = Mat::zeros(a.nrows(), a.ncols());
         for r in 1..=self.options.harmonics {
             let rw = r as f64 * frequency;
             for dof in 0..n {
                 let (c, s) = (cos_slot(r) * n + dof, sin_slot(r) * n + dof);
-                nabla[(c, s)] = rw;
-                nabla[(s, c)] = -rw;
+                for i in 0..a.nrows() {
+                    product[(i, c)] = -rw * a[(i, s)];
+                    product[(i, s)] = rw * a[(i, c)];
+                }
             }
         }
-        nabla
+        product
     }
 
     /// out += L(w) x, block by block.

@@ -40,10 +40,10 @@ pub fn hill_stability(hb: &mut HarmonicBalance, x: &[f64], frequency: f64) -> Re
     let size = hb.unknowns();
     let lin = hb.linearise(x, frequency);
     let mass_inverse = block_inverse_mass(hb, size)?;
-    let nabla = hb.derivative_matrix(frequency);
     let d = hb.damping_operator(frequency);
     let mass = block_diagonal(&hb.problem().mass, size);
-    let mut delta_1 = block_diagonal(&d, size) + (&mass * &nabla) * faer::Scale(2.0);
+    let mut delta_1 =
+        block_diagonal(&d, size) + hb.times_derivative(&mass, frequency) * faer::Scale(2.0);
     delta_1 -= &lin.velocity_galerkin;
     let stiffness_part = &mass_inverse * &lin.jacobian;
     let damping_part = &mass_inverse * &delta_1;
