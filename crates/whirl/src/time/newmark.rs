@@ -10,14 +10,24 @@
 //! a1 = (q1 - q0 - h v0) / (beta h^2) - (1/(2 beta) - 1) a0,   v1 = v0 + h ((1 - gamma) a0 + gamma a1)
 //! ```
 //!
-//! solved for q1 by Newton with the Jacobian
-//! M/(beta h^2) + (1+alpha)((D + C_t) gamma/(beta h) + K + K_t). A linear problem at
-//! constant speed factorises once and converges in one iteration.
+//! solved for q1 by Newton with the Jacobian J = J0 + (1+alpha)(C_t gamma/(beta h) + K_t),
+//! J0 = M/(beta h^2) + (1+alpha)(D gamma/(beta h) + K), D = C + Omega G.
+//!
+//! J0 depends only on the speed, so it is formed and factorised once per speed (at every
+//! step of a speed ramp), banded without row swaps when the matrices are banded and that is
+//! safe, else as a dense inverse; the residual's products use the same band or dense
+//! row-major kernels as the central difference. The nonlinear tangent K_t, C_t lives on the
+//! few coordinates the nonlinear forces act on, so each Newton iteration applies J^-1 by the
+//! Sherman-Morrison-Woodbury formula: one solve with J0 and a k x k system for k such
+//! coordinates. That is exact Newton with the same Jacobian as a full factorisation, so it
+//! converges in the same iterations to the same tolerance, without an n x n factorisation
+//! per iteration. Without nonlinear forces the step is linear and J0 its exact matrix: one
+//! iteration solves it. At constant speed a linear step allocates nothing.
 
 use faer::Mat;
 
-use super::problem::TimeProblem;
-use super::{check_state, MarchOptions, Observer};
+use super::problem::{axpy, bandwidths, vectorised, Band, BandLu, Columns, TimeProblem};
+use super::{check_state, Kinematics, MarchOptions, NlScratch, Observer};
 use crate::error::{Error, Result};
 
 /// Which member of the Newmark family.
@@ -38,16 +48,373 @@ impl NewmarkScheme {
     }
 }
 
-/// Residual of the step, without allocation: everything but the unknown's own terms is in
-/// `known`, so r = M a1 + (1+alpha)(D1 v1 + K q1 - F_nl1) - known.
+/// The scheme's constants and the step.
+#[derive(Debug, Clone, Copy)]
+struct Coefficients {
+    alpha: f64,
+    gamma: f64,
+    beta: f64,
+    h: f64,
+}
+
+impl Coefficients {
+    /// a1 and v1 of a trial q1 (the Newmark relations of the module documentation).
+    #[inline(always)]
+    fn kinematics(
+        &self,
+        q: &[f64],
+        v: &[f64],
+        a: &[f64],
+        q1: &[f64],
+        a1: &mut [f64],
+        v1: &mut [f64],
+    ) {
+        let Coefficients { gamma, beta, h, .. } = *self;
+        for i in 0..q.len() {
+            a1[i] = (q1[i] - q[i] - h * v[i]) / (beta * h * h) - (0.5 / beta - 1.0) * a[i];
+            v1[i] = v[i] + h * ((1.0 - gamma) * a[i] + gamma * a1[i]);
+        }
+    }
+}
+
+/// How the step's matrices are stored and J0 solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Layout {
+    Dense,
+    /// Lower and upper bandwidths of M, K, C and G together.
+    Banded(usize, usize),
+}
+
+impl Layout {
+    /// The cheaper form. Per row a linear step multiplies 6 n times dense (five products and
+    /// the inverse) and 5 (l + u + 1) + (l + u) times banded; as for the central
+    /// difference, a band multiplication costs about three dense ones.
+    fn choose(problem: &TimeProblem) -> Layout {
+        let (lower, upper) = [
+            &problem.mass,
+            &problem.stiffness,
+            &problem.damping,
+            &problem.gyroscopic,
+        ]
+        .into_iter()
+        .map(bandwidths)
+        .fold((0, 0), |(l, u), (lm, um)| (l.max(lm), u.max(um)));
+        if 3 * (6 * (lower + upper) + 5) < 6 * problem.size() {
+            Layout::Banded(lower, upper)
+        } else {
+            Layout::Dense
+        }
+    }
+}
+
+/// A matrix of the residual's products, in the layout's fast form.
+enum Matrix {
+    Banded(Band),
+    Dense(Columns),
+}
+
+impl Matrix {
+    fn new(layout: Layout, n: usize, f: impl Fn(usize, usize) -> f64) -> Matrix {
+        match layout {
+            Layout::Banded(l, u) => Matrix::Banded(Band::from_fn(n, (l, u), f)),
+            Layout::Dense => Matrix::Dense(Columns::from_fn(n, n, f)),
+        }
+    }
+
+    /// out += self * x.
+    #[inline(always)]
+    fn mul_add(&self, x: &[f64], out: &mut [f64]) {
+        match self {
+            Matrix::Banded(b) => b.mul_add(x, out),
+            Matrix::Dense(c) => c.mul_add(x, out),
+        }
+    }
+}
+
+/// J0 factorised: banded LU without row swaps, or the dense inverse.
+enum Factors {
+    Banded {
+        lu: BandLu,
+        /// The right-hand side with the zeros around it that the solve needs.
+        padded: Vec<f64>,
+    },
+    Inverse(Columns),
+}
+
+impl Factors {
+    /// Banded when the layout is and J0's symmetric part is positive definite, which makes
+    /// the factorisation without row swaps safe (see [`BandLu`]); M/(beta h^2) dominates
+    /// it, and the gyroscopic part is skew. Otherwise the dense inverse, from a pivoting LU.
+    fn new(layout: Layout, j0: &Mat<f64>) -> Result<Factors> {
+        if let Layout::Banded(l, u) = layout {
+            if let Some(lu) = banded_lu(j0, (l, u)) {
+                let (before, after) = lu.padding();
+                let padded = vec![0.0; before + j0.nrows() + after];
+                return Ok(Factors::Banded { lu, padded });
+            }
+        }
+        let n = j0.nrows();
+        let mut inverse = Mat::<f64>::identity(n, n);
+        faer::linalg::solvers::Solve::solve_in_place(&j0.partial_piv_lu(), inverse.as_mut());
+        if inverse.col_iter().any(|c| c.iter().any(|v| !v.is_finite())) {
+            return Err(Error::Numerical(
+                "the Newmark matrix M/(beta h^2) + (1+alpha)(D gamma/(beta h) + K) is singular"
+                    .into(),
+            ));
+        }
+        Ok(Factors::Inverse(Columns::from_fn(n, n, |i, j| {
+            inverse[(i, j)]
+        })))
+    }
+
+    /// out = J0^-1 rhs.
+    #[inline(always)]
+    fn solve(&mut self, rhs: &[f64], out: &mut [f64]) {
+        match self {
+            Factors::Banded { lu, padded } => {
+                let start = lu.padding().0;
+                padded[start..start + rhs.len()].copy_from_slice(rhs);
+                lu.solve_padded(padded);
+                out.copy_from_slice(&padded[start..start + rhs.len()]);
+            }
+            Factors::Inverse(inverse) => {
+                out.iter_mut().for_each(|x| *x = 0.0);
+                inverse.mul_add(rhs, out);
+            }
+        }
+    }
+}
+
+/// The band LU of J0 when its symmetric part has positive pivots, else `None`.
+fn banded_lu(j0: &Mat<f64>, widths: (usize, usize)) -> Option<BandLu> {
+    let n = j0.nrows();
+    let w = widths.0.max(widths.1);
+    let symmetric = Band::from_fn(n, (w, w), |i, j| 0.5 * (j0[(i, j)] + j0[(j, i)]));
+    if !BandLu::new(&symmetric)?.pivots_positive() {
+        return None;
+    }
+    BandLu::new(&Band::from_fn(n, widths, |i, j| j0[(i, j)]))
+}
+
+/// J0 = M/(beta h^2) + (1+alpha)(D gamma/(beta h) + K) at `speed`.
+fn effective_matrix(problem: &TimeProblem, speed: f64, c: Coefficients) -> Mat<f64> {
+    let Coefficients {
+        alpha,
+        gamma,
+        beta,
+        h,
+    } = c;
+    Mat::from_fn(problem.size(), problem.size(), |i, j| {
+        problem.mass[(i, j)] / (beta * h * h)
+            + (1.0 + alpha)
+                * ((problem.damping[(i, j)] + speed * problem.gyroscopic[(i, j)]) * gamma
+                    / (beta * h)
+                    + problem.stiffness[(i, j)])
+    })
+}
+
+/// What depends on the speed: D = C + Omega G, J0's factors, and J0^-1 at the nonlinear
+/// coordinates for the Woodbury correction.
+struct AtSpeed {
+    speed: f64,
+    damping: Matrix,
+    factors: Factors,
+    /// Column a is J0^-1 e_{dofs[a]}, at a * n.
+    columns: Vec<f64>,
+    /// Entry (a, b) is column b at coordinate dofs[a], at a * k + b.
+    block: Vec<f64>,
+}
+
+impl AtSpeed {
+    fn new(
+        problem: &TimeProblem,
+        layout: Layout,
+        speed: f64,
+        c: Coefficients,
+        dofs: &[usize],
+    ) -> Result<AtSpeed> {
+        let n = problem.size();
+        let damping = Matrix::new(layout, n, |i, j| {
+            problem.damping[(i, j)] + speed * problem.gyroscopic[(i, j)]
+        });
+        let mut factors = Factors::new(layout, &effective_matrix(problem, speed, c))?;
+        let mut columns = vec![0.0; n * dofs.len()];
+        let mut unit = vec![0.0; n];
+        for (&d, column) in dofs.iter().zip(columns.chunks_exact_mut(n)) {
+            unit[d] = 1.0;
+            factors.solve(&unit, column);
+            unit[d] = 0.0;
+        }
+        let block = dofs
+            .iter()
+            .flat_map(|&d| columns.chunks_exact(n).map(move |column| column[d]))
+            .collect();
+        Ok(AtSpeed {
+            speed,
+            damping,
+            factors,
+            columns,
+            block,
+        })
+    }
+}
+
+/// The Woodbury correction that turns J0^-1 into J^-1 for a tangent on k coordinates:
+/// with X = J0^-1 P (P the unit columns at the coordinates) and T the k x k tangent block,
+/// J^-1 r = y - X (I + T P^T X)^-1 T P^T y, y = J0^-1 r. Buffers sized once.
+struct Tangent {
+    dofs: Vec<usize>,
+    /// Full-size tangents for [`TimeProblem::add_nonlinear_tangent`]; only the block on
+    /// `dofs` is ever nonzero.
+    kt: Mat<f64>,
+    ct: Mat<f64>,
+    /// T, then the k x k system I + T P^T X, row-major.
+    t: Vec<f64>,
+    system: Vec<f64>,
+    z: Vec<f64>,
+}
+
+impl Tangent {
+    fn new(n: usize, dofs: Vec<usize>) -> Tangent {
+        let k = dofs.len();
+        Tangent {
+            dofs,
+            kt: Mat::zeros(n, n),
+            ct: Mat::zeros(n, n),
+            t: vec![0.0; k * k],
+            system: vec![0.0; k * k],
+            z: vec![0.0; k],
+        }
+    }
+
+    /// Turns y = J0^-1 r into J^-1 r, J with the nonlinear tangent at (q1, v1).
+    #[allow(clippy::too_many_arguments)]
+    fn correct(
+        &mut self,
+        problem: &mut TimeProblem,
+        at: &Kinematics,
+        q1: &[f64],
+        v1: &[f64],
+        c: Coefficients,
+        speed: &AtSpeed,
+        scratch: &mut NlScratch,
+        y: &mut [f64],
+    ) {
+        let (k, n) = (self.dofs.len(), y.len());
+        for &i in &self.dofs {
+            for &j in &self.dofs {
+                self.kt[(i, j)] = 0.0;
+                self.ct[(i, j)] = 0.0;
+            }
+        }
+        problem.add_nonlinear_tangent(at, q1, v1, &mut self.kt, &mut self.ct, scratch);
+        let damping_factor = c.gamma / (c.beta * c.h);
+        for (a, &i) in self.dofs.iter().enumerate() {
+            for (b, &j) in self.dofs.iter().enumerate() {
+                self.t[a * k + b] =
+                    (1.0 + c.alpha) * (self.ct[(i, j)] * damping_factor + self.kt[(i, j)]);
+            }
+        }
+        for a in 0..k {
+            self.z[a] = (0..k).map(|b| self.t[a * k + b] * y[self.dofs[b]]).sum();
+            for b in 0..k {
+                let tx: f64 = (0..k)
+                    .map(|e| self.t[a * k + e] * speed.block[e * k + b])
+                    .sum();
+                self.system[a * k + b] = f64::from(u8::from(a == b)) + tx;
+            }
+        }
+        solve_small(&mut self.system, &mut self.z);
+        for (column, &z) in speed.columns.chunks_exact(n).zip(&self.z) {
+            axpy(-z, column, y);
+        }
+    }
+}
+
+/// Solves the k x k row-major system in place by Gaussian elimination with partial
+/// pivoting; b becomes the solution. A singular system leaves non-finite values, which the
+/// Newton loop reports as non-convergence.
+fn solve_small(a: &mut [f64], b: &mut [f64]) {
+    let k = b.len();
+    for col in 0..k {
+        let pivot = (col..k)
+            .max_by(|&r, &s| a[r * k + col].abs().total_cmp(&a[s * k + col].abs()))
+            .unwrap_or(col);
+        if pivot != col {
+            for j in 0..k {
+                a.swap(col * k + j, pivot * k + j);
+            }
+            b.swap(col, pivot);
+        }
+        for r in col + 1..k {
+            let m = a[r * k + col] / a[col * k + col];
+            for j in col..k {
+                a[r * k + j] -= m * a[col * k + j];
+            }
+            b[r] -= m * b[col];
+        }
+    }
+    for col in (0..k).rev() {
+        let s: f64 = (col + 1..k).map(|j| a[col * k + j] * b[j]).sum();
+        b[col] = (b[col] - s) / a[col * k + col];
+    }
+}
+
+/// Vectors of a step, allocated once.
 struct Workspace {
     force: Vec<f64>,
     force_prev: Vec<f64>,
+    /// Everything in the residual but the unknown's own terms:
+    /// r = M a1 + (1+alpha)(D1 v1 + K q1 - F_nl1) - known.
     known: Vec<f64>,
+    /// D v + K q at the start of the step.
+    linear: Vec<f64>,
     residual: Vec<f64>,
     nl: Vec<f64>,
     a1: Vec<f64>,
     v1: Vec<f64>,
+    q1: Vec<f64>,
+    dq: Vec<f64>,
+}
+
+impl Workspace {
+    fn new(n: usize) -> Workspace {
+        let zeros = || vec![0.0; n];
+        Workspace {
+            force: zeros(),
+            force_prev: zeros(),
+            known: zeros(),
+            linear: zeros(),
+            residual: zeros(),
+            nl: zeros(),
+            a1: zeros(),
+            v1: zeros(),
+            q1: zeros(),
+            dq: zeros(),
+        }
+    }
+}
+
+/// out = D v + K q.
+#[inline(always)]
+fn linear_force(speed: &AtSpeed, stiffness: &Matrix, q: &[f64], v: &[f64], out: &mut [f64]) {
+    out.iter_mut().for_each(|x| *x = 0.0);
+    speed.damping.mul_add(v, out);
+    stiffness.mul_add(q, out);
+}
+
+/// Replaces `nl` by the nonlinear forces at (q, v); zero off `dofs` already.
+fn nonlinear_force(
+    problem: &mut TimeProblem,
+    at: &Kinematics,
+    q: &[f64],
+    v: &[f64],
+    dofs: &[usize],
+    nl: &mut [f64],
+    scratch: &mut NlScratch,
+) {
+    dofs.iter().for_each(|&d| nl[d] = 0.0);
+    problem.add_nonlinear(at, q, v, nl, scratch);
 }
 
 /// Marches `problem` from (q0, v0) with implicit Newmark; `observe` sees every step.
@@ -66,95 +433,77 @@ pub fn newmark(
             "HHT alpha must lie in [-1/3, 0], got {alpha}"
         )));
     }
-    let gamma = (1.0 - 2.0 * alpha) / 2.0;
-    let beta = (1.0 - alpha).powi(2) / 4.0;
-    let h = options.step;
+    let c = Coefficients {
+        alpha,
+        gamma: (1.0 - 2.0 * alpha) / 2.0,
+        beta: (1.0 - alpha).powi(2) / 4.0,
+        h: options.step,
+    };
+    march(
+        problem,
+        Layout::choose(problem),
+        q0,
+        v0,
+        c,
+        options,
+        observe,
+    )
+}
+
+fn march(
+    problem: &mut TimeProblem,
+    layout: Layout,
+    q0: &[f64],
+    v0: &[f64],
+    c: Coefficients,
+    options: &MarchOptions,
+    observe: Observer<'_>,
+) -> Result<()> {
     let n = problem.size();
     let mut scratch = problem.scratch();
-    let mut w = Workspace {
-        force: vec![0.0; n],
-        force_prev: vec![0.0; n],
-        known: vec![0.0; n],
-        residual: vec![0.0; n],
-        nl: vec![0.0; n],
-        a1: vec![0.0; n],
-        v1: vec![0.0; n],
-    };
+    let dofs = problem.nonlinear_dofs();
+    let linear = dofs.is_empty();
+    let mut w = Workspace::new(n);
+    let mass = Matrix::new(layout, n, |i, j| problem.mass[(i, j)]);
+    let stiffness = Matrix::new(layout, n, |i, j| problem.stiffness[(i, j)]);
+    let mut tangent = Tangent::new(n, dofs.clone());
     let (mut q, mut v) = (q0.to_vec(), v0.to_vec());
-    let mut at = problem.external_force(0.0, &mut w.force_prev);
-    w.nl.iter_mut().for_each(|x| *x = 0.0);
-    problem.add_nonlinear(&at, &q, &v, &mut w.nl, &mut scratch);
+    let at = problem.external_force(0.0, &mut w.force_prev);
+    nonlinear_force(problem, &at, &q, &v, &dofs, &mut w.nl, &mut scratch);
     let mut a = acceleration(problem, &q, &v, &w.force_prev, &w.nl, at.speed);
-    let linear = problem.nonlinear.is_empty() && problem.speed.is_constant();
-    let mut cached: Option<faer::linalg::solvers::PartialPivLu<f64>> = None;
-    let mut q1 = vec![0.0; n];
-    let mut dq = Mat::<f64>::zeros(n, 1);
+    let mut speed = AtSpeed::new(problem, layout, at.speed, c, &dofs)?;
+    vectorised(|| linear_force(&speed, &stiffness, &q, &v, &mut w.linear));
+    let (alpha, h) = (c.alpha, c.h);
 
     observe(0.0, &q, &v);
     for step in 1..options.steps {
         let t1 = step as f64 * h;
         let at1 = problem.external_force(t1, &mut w.force);
-        // known = (1+alpha) F1 - alpha (F0 + F_nl0 - D0 v0 - K q0)
-        for i in 0..n {
-            let mut lin0 = 0.0;
-            for j in 0..n {
-                lin0 += (problem.damping[(i, j)] + at.speed * problem.gyroscopic[(i, j)]) * v[j]
-                    + problem.stiffness[(i, j)] * q[j];
-            }
-            w.known[i] = (1.0 + alpha) * w.force[i] - alpha * (w.force_prev[i] + w.nl[i] - lin0);
+        if at1.speed != speed.speed {
+            speed = AtSpeed::new(problem, layout, at1.speed, c, &dofs)?;
         }
-        // Predictor: constant acceleration.
         for i in 0..n {
-            q1[i] = q[i] + h * v[i] + 0.5 * h * h * a[i];
+            w.known[i] =
+                (1.0 + alpha) * w.force[i] - alpha * (w.force_prev[i] + w.nl[i] - w.linear[i]);
+            // Predictor: constant acceleration.
+            w.q1[i] = q[i] + h * v[i] + 0.5 * h * h * a[i];
         }
         let mut converged = false;
         for _ in 0..30 {
-            for i in 0..n {
-                w.a1[i] = (q1[i] - q[i] - h * v[i]) / (beta * h * h) - (0.5 / beta - 1.0) * a[i];
-                w.v1[i] = v[i] + h * ((1.0 - gamma) * a[i] + gamma * w.a1[i]);
+            c.kinematics(&q, &v, &a, &w.q1, &mut w.a1, &mut w.v1);
+            nonlinear_force(problem, &at1, &w.q1, &w.v1, &dofs, &mut w.nl, &mut scratch);
+            let norm_r = vectorised(|| residual(&speed, &mass, &stiffness, alpha, &mut w));
+            vectorised(|| speed.factors.solve(&w.residual, &mut w.dq));
+            if !linear {
+                let (q1, v1) = (&w.q1, &w.v1);
+                tangent.correct(problem, &at1, q1, v1, c, &speed, &mut scratch, &mut w.dq);
             }
-            w.nl.iter_mut().for_each(|x| *x = 0.0);
-            problem.add_nonlinear(&at1, &q1, &w.v1, &mut w.nl, &mut scratch);
-            let mut norm_r = 0.0f64;
-            for i in 0..n {
-                let mut r = -w.known[i] - (1.0 + alpha) * w.nl[i];
-                for j in 0..n {
-                    r += problem.mass[(i, j)] * w.a1[j]
-                        + (1.0 + alpha)
-                            * ((problem.damping[(i, j)] + at1.speed * problem.gyroscopic[(i, j)])
-                                * w.v1[j]
-                                + problem.stiffness[(i, j)] * q1[j]);
-                }
-                w.residual[i] = r;
-                norm_r = norm_r.max(r.abs());
-            }
-            if !(linear && cached.is_some()) {
-                let j = jacobian(
-                    problem,
-                    &at1,
-                    &q1,
-                    &w.v1,
-                    alpha,
-                    gamma,
-                    beta,
-                    h,
-                    &mut scratch,
-                );
-                cached = Some(j.partial_piv_lu());
-            }
-            let Some(lu) = cached.as_ref() else {
-                break;
-            };
-            for i in 0..n {
-                dq[(i, 0)] = -w.residual[i];
-            }
-            faer::linalg::solvers::Solve::solve_in_place(lu, dq.as_mut());
             let mut norm_dq = 0.0f64;
             let mut norm_q = 0.0f64;
             for i in 0..n {
-                q1[i] += dq[(i, 0)];
-                norm_dq = norm_dq.max(dq[(i, 0)].abs());
-                norm_q = norm_q.max(q1[i].abs());
+                w.q1[i] -= w.dq[i];
+                norm_dq = norm_dq.max(w.dq[i].abs());
+                norm_q = norm_q.max(w.q1[i].abs());
             }
             if !norm_dq.is_finite() || !norm_r.is_finite() {
                 break;
@@ -170,16 +519,13 @@ pub fn newmark(
                 "Newmark's Newton iterations did not converge at t = {t1:.6} s; reduce the time step"
             )));
         }
-        for i in 0..n {
-            w.a1[i] = (q1[i] - q[i] - h * v[i]) / (beta * h * h) - (0.5 / beta - 1.0) * a[i];
-            v[i] += h * ((1.0 - gamma) * a[i] + gamma * w.a1[i]);
-        }
-        q.copy_from_slice(&q1);
+        c.kinematics(&q, &v, &a, &w.q1, &mut w.a1, &mut w.v1);
+        q.copy_from_slice(&w.q1);
+        v.copy_from_slice(&w.v1);
         a.copy_from_slice(&w.a1);
-        w.nl.iter_mut().for_each(|x| *x = 0.0);
-        problem.add_nonlinear(&at1, &q, &v, &mut w.nl, &mut scratch);
+        nonlinear_force(problem, &at1, &q, &v, &dofs, &mut w.nl, &mut scratch);
+        vectorised(|| linear_force(&speed, &stiffness, &q, &v, &mut w.linear));
         std::mem::swap(&mut w.force, &mut w.force_prev);
-        at = at1;
         if step % 64 == 0 {
             check_state(t1, &q, options.divergence_bound)?;
         }
@@ -188,31 +534,22 @@ pub fn newmark(
     Ok(())
 }
 
-#[allow(clippy::too_many_arguments)]
-fn jacobian(
-    problem: &mut TimeProblem,
-    at: &super::Kinematics,
-    q: &[f64],
-    v: &[f64],
+/// The residual r = M a1 + (1+alpha)(D1 v1 + K q1 - F_nl1) - known into `w.residual`;
+/// returns its largest entry.
+#[inline(always)]
+fn residual(
+    speed: &AtSpeed,
+    mass: &Matrix,
+    stiffness: &Matrix,
     alpha: f64,
-    gamma: f64,
-    beta: f64,
-    h: f64,
-    scratch: &mut super::NlScratch,
-) -> Mat<f64> {
-    let n = problem.size();
-    let mut kt = Mat::<f64>::zeros(n, n);
-    let mut ct = Mat::<f64>::zeros(n, n);
-    problem.add_nonlinear_tangent(at, q, v, &mut kt, &mut ct, scratch);
-    Mat::from_fn(n, n, |i, j| {
-        problem.mass[(i, j)] / (beta * h * h)
-            + (1.0 + alpha)
-                * ((problem.damping[(i, j)] + at.speed * problem.gyroscopic[(i, j)] + ct[(i, j)])
-                    * gamma
-                    / (beta * h)
-                    + problem.stiffness[(i, j)]
-                    + kt[(i, j)])
-    })
+    w: &mut Workspace,
+) -> f64 {
+    linear_force(speed, stiffness, &w.q1, &w.v1, &mut w.residual);
+    for i in 0..w.residual.len() {
+        w.residual[i] = (1.0 + alpha) * (w.residual[i] - w.nl[i]) - w.known[i];
+    }
+    mass.mul_add(&w.a1, &mut w.residual);
+    w.residual.iter().fold(0.0f64, |m, r| m.max(r.abs()))
 }
 
 /// a = M^-1 (F + F_nl - D v - K q).
@@ -237,4 +574,264 @@ fn acceleration(
     let lu = problem.mass.partial_piv_lu();
     faer::linalg::solvers::Solve::solve_in_place(&lu, rhs.as_mut());
     (0..n).map(|i| rhs[(i, 0)]).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use std::f64::consts::PI;
+
+    use super::*;
+    use crate::fe::{assemble, gravity_force, unbalance_force, Bearings};
+    use crate::model::Model;
+    use crate::time::{CubicSpring, LinearSupport, SpeedProfile};
+
+    /// The reference rotor's full model (84 DOFs, half-bandwidth 7) with unbalance, and a
+    /// stiff cubic spring and a cross-coupled linear support on node 10 when `nonlinear`.
+    fn full_rotor(speed: SpeedProfile, nonlinear: bool) -> TimeProblem {
+        let model = Model::from_toml_str(crate::examples::REFERENCE_ROTOR, None).unwrap();
+        let full = assemble(&model, Bearings::Linearised);
+        let unbalance = unbalance_force(&model, full.dofs());
+        let mut problem = TimeProblem {
+            mass: full.mass.clone(),
+            stiffness: full.stiffness.clone(),
+            damping: full.damping.clone(),
+            gyroscopic: full.gyroscopic.clone(),
+            constant_force: gravity_force(&model, &full),
+            unbalance_re: unbalance.iter().map(|c| c.re).collect(),
+            unbalance_im: unbalance.iter().map(|c| c.im).collect(),
+            nonlinear: Vec::new(),
+            speed,
+        };
+        if nonlinear {
+            let (ux, uy) = (40, 41);
+            problem
+                .nonlinear
+                .push(Box::new(CubicSpring::new(uy, 1e6, 1e14, 1e-4)));
+            problem.nonlinear.push(Box::new(LinearSupport::new(
+                "cross-coupled",
+                [ux, uy],
+                [[1e6, 3e5], [-3e5, 1e6]],
+                [[100.0, 0.0], [0.0, 100.0]],
+            )));
+        }
+        problem
+    }
+
+    fn start(n: usize) -> (Vec<f64>, Vec<f64>) {
+        let q0 = (0..n).map(|i| 1e-5 * ((i as f64) * 0.7).sin()).collect();
+        let v0 = (0..n).map(|i| 1e-3 * ((i as f64) * 1.3).cos()).collect();
+        (q0, v0)
+    }
+
+    fn coefficients(alpha: f64, h: f64) -> Coefficients {
+        Coefficients {
+            alpha,
+            gamma: (1.0 - 2.0 * alpha) / 2.0,
+            beta: (1.0 - alpha).powi(2) / 4.0,
+            h,
+        }
+    }
+
+    /// Every (q, v) of a run, one step after another.
+    fn run(problem: &mut TimeProblem, layout: Layout, c: Coefficients, steps: usize) -> Vec<f64> {
+        let (q0, v0) = start(problem.size());
+        let options = MarchOptions {
+            step: c.h,
+            steps,
+            divergence_bound: 1.0,
+        };
+        let mut history = Vec::new();
+        march(problem, layout, &q0, &v0, c, &options, &mut |_, q, v| {
+            history.extend_from_slice(q);
+            history.extend_from_slice(v);
+        })
+        .unwrap();
+        history
+    }
+
+    /// The balance of the module documentation solved as written: a dense residual and a
+    /// dense Jacobian with the full tangent, factorised at every Newton iteration. The slow,
+    /// obviously-correct reference.
+    fn reference(problem: &mut TimeProblem, c: Coefficients, steps: usize) -> Vec<f64> {
+        let Coefficients {
+            alpha,
+            gamma,
+            beta,
+            h,
+        } = c;
+        let n = problem.size();
+        let (mut q, mut v) = start(n);
+        let mut scratch = problem.scratch();
+        let d = |p: &TimeProblem, s: f64| &p.damping + s * &p.gyroscopic;
+        let (mut f0, mut f1, mut nl) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        let mut at = problem.external_force(0.0, &mut f0);
+        problem.add_nonlinear(&at, &q, &v, &mut nl, &mut scratch);
+        let mut a = acceleration(problem, &q, &v, &f0, &nl, at.speed);
+        let mut history = Vec::new();
+        history.extend_from_slice(&q);
+        history.extend_from_slice(&v);
+        let column = |x: &[f64]| Mat::<f64>::from_fn(n, 1, |i, _| x[i]);
+        for step in 1..steps {
+            let at1 = problem.external_force(step as f64 * h, &mut f1);
+            let lin0 = &d(problem, at.speed) * column(&v) + &problem.stiffness * column(&q);
+            let known: Vec<f64> = (0..n)
+                .map(|i| (1.0 + alpha) * f1[i] - alpha * (f0[i] + nl[i] - lin0[(i, 0)]))
+                .collect();
+            let mut q1: Vec<f64> = (0..n)
+                .map(|i| q[i] + h * v[i] + 0.5 * h * h * a[i])
+                .collect();
+            let (mut a1, mut v1) = (vec![0.0; n], vec![0.0; n]);
+            for iteration in 0.. {
+                assert!(iteration < 30, "no convergence at step {step}");
+                c.kinematics(&q, &v, &a, &q1, &mut a1, &mut v1);
+                nl.iter_mut().for_each(|x| *x = 0.0);
+                problem.add_nonlinear(&at1, &q1, &v1, &mut nl, &mut scratch);
+                let d1 = d(problem, at1.speed);
+                let lin1 = &d1 * column(&v1) + &problem.stiffness * column(&q1);
+                let mut r = &problem.mass * column(&a1);
+                for i in 0..n {
+                    r[(i, 0)] += (1.0 + alpha) * (lin1[(i, 0)] - nl[i]) - known[i];
+                }
+                let (mut kt, mut ct) = (Mat::<f64>::zeros(n, n), Mat::<f64>::zeros(n, n));
+                problem.add_nonlinear_tangent(&at1, &q1, &v1, &mut kt, &mut ct, &mut scratch);
+                let j = &problem.mass * (1.0 / (beta * h * h))
+                    + ((&d1 + &ct) * (gamma / (beta * h)) + &problem.stiffness + &kt)
+                        * (1.0 + alpha);
+                faer::linalg::solvers::Solve::solve_in_place(&j.partial_piv_lu(), r.as_mut());
+                let (mut norm_dq, mut norm_q) = (0.0f64, 0.0f64);
+                for i in 0..n {
+                    q1[i] -= r[(i, 0)];
+                    norm_dq = norm_dq.max(r[(i, 0)].abs());
+                    norm_q = norm_q.max(q1[i].abs());
+                }
+                if norm_dq <= 1e-10 * norm_q + 1e-15 {
+                    break;
+                }
+            }
+            c.kinematics(&q, &v, &a, &q1, &mut a1, &mut v1);
+            (q, v, a) = (q1, v1, a1);
+            nl.iter_mut().for_each(|x| *x = 0.0);
+            problem.add_nonlinear(&at1, &q, &v, &mut nl, &mut scratch);
+            std::mem::swap(&mut f0, &mut f1);
+            at = at1;
+            history.extend_from_slice(&q);
+            history.extend_from_slice(&v);
+        }
+        history
+    }
+
+    /// Largest difference of two runs, relative to the largest value.
+    fn difference(a: &[f64], b: &[f64]) -> f64 {
+        let scale = a.iter().fold(0.0f64, |s, x| s.max(x.abs()));
+        let worst = a
+            .iter()
+            .zip(b)
+            .fold(0.0f64, |s, (x, y)| s.max((x - y).abs()));
+        worst / scale
+    }
+
+    // Every formulation rounds differently; measured 1e-14 to 1e-13 between the fast
+    // layouts and the reference over these runs. 1e-9 leaves room and still catches a wrong
+    // term (1e-3 or more) or a Newton step that stops short of the tolerance (1e-10 of q
+    // per step, which the velocities, ~1e3 times q, would show at 1e-7).
+    const TOLERANCE: f64 = 1e-9;
+    const STEPS: usize = 400;
+
+    #[test]
+    fn the_full_model_is_marched_banded_and_a_reduced_one_dense() {
+        let problem = full_rotor(SpeedProfile::Constant(2.0 * PI * 50.0), false);
+        assert_eq!(Layout::choose(&problem), Layout::Banded(7, 7));
+        let mut small = full_rotor(SpeedProfile::Constant(0.0), false);
+        let keep = |m: &Mat<f64>| Mat::from_fn(20, 20, |i, j| m[(i, j)]);
+        small.mass = keep(&small.mass);
+        small.stiffness = keep(&small.stiffness);
+        small.damping = keep(&small.damping);
+        small.gyroscopic = keep(&small.gyroscopic);
+        assert_eq!(Layout::choose(&small), Layout::Dense);
+    }
+
+    #[test]
+    fn both_layouts_match_the_plain_newton_iteration() {
+        let ramp = SpeedProfile::Ramp {
+            from: 2.0 * PI * 10.0,
+            to: 2.0 * PI * 200.0,
+            duration: 2e-3,
+        };
+        let constant = SpeedProfile::Constant(2.0 * PI * 50.0);
+        for (speed, nonlinear, alpha) in [
+            (constant, false, 0.0),
+            (constant, true, 0.0),
+            (constant, true, -0.1),
+            (ramp, true, 0.0),
+            (ramp, false, -0.1),
+        ] {
+            let c = coefficients(alpha, 1e-5);
+            let mut problem = full_rotor(speed, nonlinear);
+            let plain = reference(&mut problem, c, STEPS);
+            for layout in [Layout::Dense, Layout::Banded(7, 7)] {
+                let fast = run(&mut problem, layout, c, STEPS);
+                let e = difference(&plain, &fast);
+                assert!(
+                    e < TOLERANCE,
+                    "{layout:?}, {speed:?}, nonlinear {nonlinear}, alpha {alpha}: {e:e}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_matrix_unsafe_without_row_swaps_is_inverted_densely() {
+        // A negative mass entry makes the symmetric part indefinite.
+        let mut problem = full_rotor(SpeedProfile::Constant(0.0), false);
+        problem.mass[(0, 0)] = -problem.mass[(0, 0)];
+        let j0 = effective_matrix(&problem, 0.0, coefficients(0.0, 1e-5));
+        let factors = Factors::new(Layout::Banded(7, 7), &j0).unwrap();
+        assert!(matches!(factors, Factors::Inverse(_)));
+    }
+
+    #[test]
+    fn the_woodbury_correction_applies_the_full_jacobian() {
+        let mut problem = full_rotor(SpeedProfile::Constant(2.0 * PI * 50.0), true);
+        let n = problem.size();
+        let c = coefficients(-0.1, 1e-4);
+        let dofs = problem.nonlinear_dofs();
+        for layout in [Layout::Dense, Layout::Banded(7, 7)] {
+            let mut speed = AtSpeed::new(&problem, layout, 2.0 * PI * 50.0, c, &dofs).unwrap();
+            let (mut q, v) = start(n);
+            // Engage the cubic spring beyond its clearance.
+            q[41] = 3e-4;
+            let (at, _) = problem.speed.at(0.0);
+            let r: Vec<f64> = (0..n).map(|i| ((i as f64) * 0.3).cos()).collect();
+            let mut y = vec![0.0; n];
+            speed.factors.solve(&r, &mut y);
+            let mut scratch = problem.scratch();
+            let mut tangent = Tangent::new(n, dofs.clone());
+            tangent.correct(&mut problem, &at, &q, &v, c, &speed, &mut scratch, &mut y);
+
+            let (mut kt, mut ct) = (Mat::<f64>::zeros(n, n), Mat::<f64>::zeros(n, n));
+            problem.add_nonlinear_tangent(&at, &q, &v, &mut kt, &mut ct, &mut scratch);
+            let j = effective_matrix(&problem, at.speed, c)
+                + (&ct * (c.gamma / (c.beta * c.h)) + &kt) * (1.0 + c.alpha);
+            let mut x = Mat::<f64>::from_fn(n, 1, |i, _| r[i]);
+            faer::linalg::solvers::Solve::solve_in_place(&j.partial_piv_lu(), x.as_mut());
+            let x: Vec<f64> = (0..n).map(|i| x[(i, 0)]).collect();
+            // Measured 4e-15 (a few roundings; J is well conditioned, M/(beta h^2)
+            // dominates it), where J0^-1 alone misses the tangent by 8e-6.
+            assert!(difference(&x, &y) < 1e-13, "{layout:?}");
+            speed.factors.solve(&r, &mut y);
+            assert!(difference(&x, &y) > 1e-6, "{layout:?}");
+        }
+    }
+
+    #[test]
+    fn small_systems_are_solved_with_pivoting() {
+        // A zero leading entry needs the row swap.
+        let mut a = vec![0.0, 2.0, 1.0, 3.0, 1.0, 0.0, 1.0, 1.0, 4.0];
+        let x = [1.0, -2.0, 0.5];
+        let mut b: Vec<f64> = (0..3)
+            .map(|i| (0..3).map(|j| a[i * 3 + j] * x[j]).sum())
+            .collect();
+        solve_small(&mut a, &mut b);
+        assert!(difference(&x, &b) < 1e-15, "{b:?}");
+    }
 }
