@@ -403,7 +403,8 @@ fn linear_force(speed: &AtSpeed, stiffness: &Matrix, q: &[f64], v: &[f64], out: 
     stiffness.mul_add(q, out);
 }
 
-/// Replaces `nl` by the nonlinear forces at (q, v); zero off `dofs` already.
+/// Replaces `nl` by the nonlinear forces at (q, v). Only `dofs` are reset: `nl` stays zero
+/// elsewhere, so a step touches k entries, not n.
 fn nonlinear_force(
     problem: &mut TimeProblem,
     at: &Kinematics,
@@ -450,6 +451,7 @@ pub fn newmark(
     )
 }
 
+/// [`newmark`] in a given layout, so that tests can run both on one problem.
 fn march(
     problem: &mut TimeProblem,
     layout: Layout,
