@@ -7,8 +7,8 @@ use std::time::Instant;
 
 use faer::Mat;
 use whirl::hbm::{
-    continuation, resume, Branch, BranchEnd, ContinuationOptions, HarmonicBalance, HbOptions,
-    HbProblem,
+    continuation, resume, BifurcationKind, Branch, BranchEnd, ContinuationOptions, HarmonicBalance,
+    HbOptions, HbProblem,
 };
 use whirl::time::{
     runge_kutta, CubicSpring, MarchOptions, RkTolerances, SpeedProfile, TimeProblem,
@@ -210,6 +210,20 @@ fn five_harmonics_match_time_integration_and_the_middle_branch_is_unstable() {
             "middle branch at {}",
             p.solution.frequency
         );
+    }
+    // Stability changes exactly at the two folds, by a real exponent.
+    assert_eq!(branch.bifurcations.len(), 2);
+    for (b, fold) in branch.bifurcations.iter().zip([first, second]) {
+        assert_eq!(b.kind, BifurcationKind::Fold);
+        assert_eq!(b.after, fold.after);
+        let relative = (b.frequency - fold.frequency).abs() / fold.frequency;
+        eprintln!(
+            "stability change at {:.8} rad/s, fold at {:.8}",
+            b.frequency, fold.frequency
+        );
+        // Linear interpolation of an exponent that grows as the square root of the distance
+        // to the fold: off by a fraction of the (small) step there.
+        assert!(relative < 1e-4);
     }
     let outside = branch.points[..=first.after]
         .iter()

@@ -16,6 +16,7 @@
 //! cubic Hermite interpolant of w(s) between the two points around it.
 
 use super::balance::{norm, relative, solve_dense, HarmonicBalance, HbSolution};
+use super::bifurcation::{bifurcations, Bifurcation};
 use super::stability::{hill_stability, Stability};
 use super::HbOptions;
 use crate::error::{Error, Result};
@@ -108,6 +109,8 @@ pub struct Branch {
     pub points: Vec<BranchPoint>,
     /// Folds, in path order.
     pub folds: Vec<Fold>,
+    /// Changes of stability, in path order (empty without stability).
+    pub bifurcations: Vec<Bifurcation>,
     /// Why the branch ended.
     pub end: BranchEnd,
 }
@@ -284,8 +287,9 @@ fn follow(
     let folds = locate_folds(&points, &scaling);
     Ok(Branch {
         options: *hb.options(),
-        points,
         folds,
+        bifurcations: bifurcations(&points),
+        points,
         end,
     })
 }

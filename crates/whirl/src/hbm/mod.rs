@@ -13,17 +13,20 @@
 //! - [`HarmonicBalance`]: the residual per harmonic (eqs. 4.15-4.19), its exact Jacobian
 //!   through the same AFT route, and Newton-Raphson at one frequency.
 //! - [`continuation`]: pseudo-arclength continuation in w through turning points.
-//! - [`stability`]: Hill's method for each periodic solution.
+//! - [`stability`]: Hill's method for each periodic solution; [`bifurcation`]: where and
+//!   how it changes (fold, period doubling, Neimark-Sacker).
 //!
 //! Nonlinear forces are seen only through [`crate::time::NonlinearForce`], the interface the
 //! time integrators use, so every contact law works in both.
 
 mod balance;
+pub mod bifurcation;
 pub mod continuation;
 pub mod fourier;
 pub mod stability;
 
 pub use balance::{HarmonicBalance, HbSolution, Linearisation};
+pub use bifurcation::{bifurcations, Bifurcation, BifurcationKind};
 pub use continuation::{
     continuation, resume, Branch, BranchEnd, BranchPoint, ContinuationOptions, Fold,
 };
