@@ -300,3 +300,58 @@ fn a_branch_resumes_from_a_saved_point_on_the_middle_branch() {
         assert!(closed_form_defect(s.frequency, first_harmonic(&s.coefficients)).abs() < 1e-8);
     }
 }
+
+#[test]
+fn linear_rotor_matches_the_unbalance_response() {
+    // The reference rotor on linearised bearings: harmonic balance without nonlinear forces
+    // must reproduce the complex unbalance response, gyroscopic and damping terms included,
+    // and leave the higher harmonics at zero.
+    use faer::c64;
+    use whirl::{fe, model::Model};
+    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let system = fe::assemble(&model, fe::Bearings::Linearised);
+    let n = system.dofs();
+    let unbalance = fe::unbalance_force(&model, n);
+    let problem = HbProblem {
+        mass: system.mass.clone(),
+        stiffness: system.stiffness.clone(),
+        damping: system.damping.clone(),
+        gyroscopic: system.gyroscopic.clone(),
+        constant_force: vec![0.0; n],
+        unbalance_re: unbalance.iter().map(|f| f.re).collect(),
+        unbalance_im: unbalance.iter().map(|f| f.im).collect(),
+        harmonic_re: vec![0.0; n],
+        harmonic_im: vec![0.0; n],
+        nonlinear: Vec::new(),
+    };
+    let mut hb = HarmonicBalance::new(problem, HbOptions::new(2)).unwrap();
+    let w = TAU * 180.0;
+    let zero = vec![0.0; hb.unknowns()];
+    let solution = hb.solve(w, &zero).unwrap();
+    // (K - w^2 M + i w (C + w G)) Q = w^2 f, the unbalance response of whirl::response.
+    let dynamic = Mat::<c64>::from_fn(n, n, |i, j| {
+        c64::new(
+            system.stiffness[(i, j)] - w * w * system.mass[(i, j)],
+            w * (system.damping[(i, j)] + w * system.gyroscopic[(i, j)]),
+        )
+    });
+    let mut rhs = Mat::<c64>::from_fn(n, 1, |i, _| unbalance[i] * (w * w));
+    faer::linalg::solvers::Solve::solve_in_place(&dynamic.partial_piv_lu(), rhs.as_mut());
+    let phasor: Vec<c64> = (0..n).map(|i| rhs[(i, 0)]).collect();
+    let largest = phasor.iter().fold(0.0f64, |m, q| m.max(q.norm()));
+    let x = &solution.coefficients;
+    let mut worst = 0.0f64;
+    for (dof, q) in phasor.iter().enumerate() {
+        // Re(Q e^{i w t}) = Re Q cos(w t) - Im Q sin(w t).
+        worst = worst
+            .max((x[n + dof] - q.re).abs())
+            .max((x[2 * n + dof] + q.im).abs())
+            .max(x[dof].abs())
+            .max(x[3 * n + dof].abs())
+            .max(x[4 * n + dof].abs());
+    }
+    eprintln!("linear rotor: largest |Q| {largest:e} m, worst difference {worst:e} m");
+    // Two LU solves of the same well-conditioned dynamic stiffness (180 Hz is between the
+    // first two critical speeds): round-off relative to the response.
+    assert!(worst < 1e-9 * largest);
+}
