@@ -12,8 +12,11 @@
 //!
 //! The step grows after quick convergence and shrinks after slow or failed convergence, or
 //! when the tangent turns by more than `max_turn`, which keeps turning points resolved.
-//! A fold is where the tangent's frequency component changes sign; it is located on the
-//! cubic Hermite interpolant of w(s) between the two points around it.
+//! A fold is where the tangent's frequency component t_w changes sign. It is located by
+//! regula falsi (Illinois variant) on t_w(sigma), sigma the arclength along the tangent of
+//! the point before it, each trial point being corrected onto the branch: the fold is then
+//! as accurate as the corrector, whatever the step. Should a corrector fail there, the
+//! extremum of the cubic Hermite interpolant of w(s) between the two points stands in.
 
 use super::balance::{norm, relative, solve_dense, HarmonicBalance, HbSolution};
 use super::bifurcation::{bifurcations, Bifurcation};
@@ -47,7 +50,7 @@ impl Default for ContinuationOptions {
         ContinuationOptions {
             initial_step: 0.005,
             min_step: 1e-6,
-            max_step: 0.02,
+            max_step: 0.1,
             max_turn: 0.15,
             max_points: 5000,
             stability: true,
@@ -70,8 +73,10 @@ pub struct BranchPoint {
 /// A turning point (saddle-node) of the branch.
 #[derive(Debug, Clone, Copy, serde::Serialize)]
 pub struct Fold {
-    /// Frequency of the fold, rad/s, from the Hermite interpolant.
+    /// Frequency of the fold, rad/s.
     pub frequency: f64,
+    /// True when located on the branch (regula falsi), false for the Hermite estimate.
+    pub refined: bool,
     /// Index of the branch point before it.
     pub after: usize,
 }
@@ -284,7 +289,7 @@ fn follow(
             )?);
         }
     }
-    let folds = locate_folds(&points, &scaling);
+    let folds = locate_folds(hb, &points, &scaling);
     Ok(Branch {
         options: *hb.options(),
         folds,
@@ -419,29 +424,89 @@ fn land_on(
 }
 
 /// Folds between successive points whose frequency slopes differ in sign.
-fn locate_folds(points: &[BranchPoint], scaling: &Scaling) -> Vec<Fold> {
-    points
-        .windows(2)
-        .enumerate()
-        .filter(|(_, p)| p[0].frequency_slope * p[1].frequency_slope < 0.0)
-        .map(|(i, p)| {
-            let (y0, y1) = (
-                scaling.scaled(&p[0].solution),
-                scaling.scaled(&p[1].solution),
-            );
-            let chord: Vec<f64> = y1.iter().zip(&y0).map(|(a, b)| a - b).collect();
-            Fold {
-                frequency: hermite_extremum(
-                    p[0].solution.frequency,
-                    p[1].solution.frequency,
-                    p[0].frequency_slope,
-                    p[1].frequency_slope,
-                    norm(&chord),
-                ),
+fn locate_folds(hb: &mut HarmonicBalance, points: &[BranchPoint], scaling: &Scaling) -> Vec<Fold> {
+    let mut folds = Vec::new();
+    for (i, p) in points.windows(2).enumerate() {
+        if p[0].frequency_slope * p[1].frequency_slope >= 0.0 {
+            continue;
+        }
+        let (before, after) = (&p[0].solution, &p[1].solution);
+        let fold = match refine_fold(hb, before, after, scaling) {
+            Ok(frequency) => Fold {
+                frequency,
+                refined: true,
                 after: i,
+            },
+            Err(_) => {
+                let chord = difference(&scaling.scaled(after), &scaling.scaled(before));
+                Fold {
+                    frequency: hermite_extremum(
+                        before.frequency,
+                        after.frequency,
+                        p[0].frequency_slope,
+                        p[1].frequency_slope,
+                        norm(&chord),
+                    ),
+                    refined: false,
+                    after: i,
+                }
             }
-        })
-        .collect()
+        };
+        folds.push(fold);
+    }
+    folds
+}
+
+/// The fold between `before` and `after`: the root of the tangent's frequency component
+/// along the arclength from `before`, by the Illinois regula falsi.
+fn refine_fold(
+    hb: &mut HarmonicBalance,
+    before: &HbSolution,
+    after: &HbSolution,
+    scaling: &Scaling,
+) -> Result<f64> {
+    let y0 = scaling.scaled(before);
+    let chord = difference(&scaling.scaled(after), &y0);
+    // Both tangents are oriented along the chord, the direction of travel.
+    let t0 = unit_tangent(hb, before, scaling, &chord)?;
+    let last = t0.len() - 1;
+    let (mut a, mut ga) = (0.0, t0[last]);
+    let (mut b, mut gb) = (
+        dot(&t0, &chord),
+        unit_tangent(hb, after, scaling, &chord)?[last],
+    );
+    let mut frequency = before.frequency;
+    let mut kept_side = 0;
+    for _ in 0..40 {
+        let sigma = (a * gb - b * ga) / (gb - ga);
+        let point = correct(hb, &y0, &t0, sigma, scaling)?;
+        let g = unit_tangent(hb, &point, scaling, &t0)?[last];
+        frequency = point.frequency;
+        // w is stationary at the fold, so its error is of order g^2: 1e-9 leaves w exact
+        // to round-off.
+        if g.abs() < 1e-9 {
+            break;
+        }
+        // Illinois: halve the value kept twice in a row, so both ends move.
+        if g * ga > 0.0 {
+            (a, ga) = (sigma, g);
+            if kept_side == 1 {
+                gb /= 2.0;
+            }
+            kept_side = 1;
+        } else {
+            (b, gb) = (sigma, g);
+            if kept_side == -1 {
+                ga /= 2.0;
+            }
+            kept_side = -1;
+        }
+    }
+    Ok(frequency)
+}
+
+fn difference(a: &[f64], b: &[f64]) -> Vec<f64> {
+    a.iter().zip(b).map(|(x, y)| x - y).collect()
 }
 
 /// The extreme value of the cubic Hermite interpolant on [0, h] with end values w0, w1 and
