@@ -355,3 +355,19 @@ fn linear_rotor_matches_the_unbalance_response() {
     // first two critical speeds): round-off relative to the response.
     assert!(worst < 1e-9 * largest);
 }
+
+#[test]
+fn a_downward_sweep_finds_the_same_folds() {
+    let mut hb = duffing_hb(1);
+    let guess = vec![0.0; hb.unknowns()];
+    let down = continuation(&mut hb, TO, FROM, &guess, &ContinuationOptions::default()).unwrap();
+    let up = branch(1);
+    assert!(matches!(down.end, BranchEnd::Reached));
+    assert_eq!(down.folds.len(), 2);
+    // Met in the opposite order; both on the branch to the corrector's tolerance.
+    for (d, u) in down.folds.iter().zip(up.folds.iter().rev()) {
+        assert!((d.frequency - u.frequency).abs() < 1e-9 * u.frequency);
+    }
+    let last = &down.points[down.points.len() - 1].solution;
+    assert_eq!(last.frequency, FROM);
+}
