@@ -44,8 +44,10 @@ pub struct ContinuationOptions {
 }
 
 impl Default for ContinuationOptions {
-    /// Steps from 1e-6 to 0.02 of the range (at least 50 points), 0.15 rad of turn (which
-    /// places several points on each turning point), up to 5000 points, with stability.
+    /// Steps from 1e-6 to 0.1 of the range (at least 10 points; folds are located on the
+    /// branch, not interpolated, so long steps cost no accuracy there), 0.15 rad of turn
+    /// (which keeps the predictor near the branch round turning points), up to 5000
+    /// points, with stability.
     fn default() -> Self {
         ContinuationOptions {
             initial_step: 0.005,
