@@ -12,6 +12,8 @@
 //!   alternating frequency-time transforms (eqs. 4.21-4.22).
 //! - [`HarmonicBalance`]: the residual per harmonic (eqs. 4.15-4.19), its exact Jacobian
 //!   through the same AFT route, and Newton-Raphson at one frequency.
+//! - [`CondensedBalance`]: the same on the coordinates that carry nonlinear forces, the
+//!   linear rest condensed exactly per harmonic.
 //! - [`continuation`]: pseudo-arclength continuation in w through turning points.
 //! - [`stability`]: Hill's method for each periodic solution; [`bifurcation`]: where and
 //!   how it changes (fold, period doubling, Neimark-Sacker).
@@ -21,12 +23,14 @@
 
 mod balance;
 pub mod bifurcation;
+mod condensation;
 pub mod continuation;
 pub mod fourier;
 pub mod stability;
 
 pub use balance::{HarmonicBalance, HbSolution, Linearisation};
 pub use bifurcation::{bifurcations, Bifurcation, BifurcationKind};
+pub use condensation::{Condensed, CondensedBalance};
 pub use continuation::{
     continuation, resume, Branch, BranchEnd, BranchPoint, ContinuationOptions, Fold,
 };

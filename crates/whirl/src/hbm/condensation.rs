@@ -1,0 +1,412 @@
+//! Exact dynamic condensation per harmonic of the linear coordinates onto those that carry
+//! nonlinear forces (issue 5 item 1), so a Newton step costs the same for any model size.
+//!
+//! The linear operator is block diagonal over harmonics: slot 0 holds K and harmonic r the
+//! real form of the complex dynamic stiffness on (cos r, sin r),
+//!
+//! ```text
+//! D_r(w) = [ Z_r      r w D ]     Z_r = K - (r w)^2 M,  D = C + w G.
+//!          [ -r w D   Z_r   ]
+//! ```
+//!
+//! Split each block into the nonlinear coordinates (a) and the rest (b). The forces on b are
+//! linear, so q_b = D_bb^-1 (f_b - D_ba q_a) exactly, and the residual on a becomes
+//!
+//! ```text
+//! R_a = S q_a - g - F_nl,a,   S = D_aa - D_ab D_bb^-1 D_ba,   g = f_a - D_ab D_bb^-1 f_b.
+//! ```
+//!
+//! S and g depend on w only, so they are made once per frequency ([`Condensed`]) together
+//! with their exact w-derivatives, which continuation needs:
+//! dX = D_bb^-1 (dD_ba - dD_bb X) with X = D_bb^-1 D_ba gives dS = dD_aa - dD_ab X - D_ab dX,
+//! and likewise for g. The nonlinear forces are evaluated by the same AFT as the full
+//! problem, on a problem holding only the a coordinates.
+
+use faer::Mat;
+
+use super::balance::{norm, solve_dense};
+use super::fourier::{cos_slot, sin_slot};
+use super::{HarmonicBalance, HbOptions, HbProblem, HbSolution};
+use crate::error::{Error, Result};
+use crate::time::{Kinematics, NonlinearForce};
+
+/// A nonlinear force renumbered onto the condensed coordinates.
+struct Renumbered {
+    force: Box<dyn NonlinearForce>,
+    dofs: Vec<usize>,
+}
+
+impl NonlinearForce for Renumbered {
+    fn name(&self) -> String {
+        self.force.name()
+    }
+    fn dofs(&self) -> &[usize] {
+        &self.dofs
+    }
+    fn force(&mut self, at: &Kinematics, q: &[f64], v: &[f64], out: &mut [f64]) {
+        self.force.force(at, q, v, out);
+    }
+    fn jacobian(
+        &mut self,
+        at: &Kinematics,
+        q: &[f64],
+        v: &[f64],
+        dfdq: &mut [f64],
+        dfdv: &mut [f64],
+    ) {
+        self.force.jacobian(at, q, v, dfdq, dfdv);
+    }
+    fn stiffness_bound(&self) -> Vec<f64> {
+        self.force.stiffness_bound()
+    }
+}
+
+/// One block of the condensed linear part at one frequency.
+struct Block {
+    /// S, the Schur complement on a.
+    schur: Mat<f64>,
+    /// dS/dw.
+    schur_derivative: Mat<f64>,
+    /// g, the external force reduced onto a.
+    force: Vec<f64>,
+    /// dg/dw.
+    force_derivative: Vec<f64>,
+    /// X = D_bb^-1 D_ba and z = D_bb^-1 f_b, for q_b = z - X q_a.
+    transfer: Mat<f64>,
+    particular: Vec<f64>,
+}
+
+/// The linear part condensed onto the nonlinear coordinates at one frequency: block 0 for
+/// the constant term, block r for harmonic r.
+pub struct Condensed {
+    /// Frequency w, rad/s.
+    pub frequency: f64,
+    blocks: Vec<Block>,
+}
+
+/// Harmonic balance on the coordinates that carry nonlinear forces, with the linear rest
+/// condensed exactly. Unknowns x_a[slot * m + i] for the i-th of [`Self::kept`].
+pub struct CondensedBalance {
+    /// The linear part (its `nonlinear` is empty: the forces live in `reduced`).
+    linear: HbProblem,
+    /// The nonlinear forces on the kept coordinates, with zero linear part: its residual is
+    /// -F_nl,a and its Jacobian -dF_nl,a/dx_a.
+    reduced: HarmonicBalance,
+    kept: Vec<usize>,
+    rest: Vec<usize>,
+}
+
+impl CondensedBalance {
+    /// Sets up condensed harmonic balance for `problem`.
+    pub fn new(mut problem: HbProblem, options: HbOptions) -> Result<CondensedBalance> {
+        problem.check()?;
+        let forces = std::mem::take(&mut problem.nonlinear);
+        let mut kept: Vec<usize> = forces.iter().flat_map(|f| f.dofs().to_vec()).collect();
+        kept.sort_unstable();
+        kept.dedup();
+        let rest = (0..problem.size())
+            .filter(|d| kept.binary_search(d).is_err())
+            .collect();
+        let m = kept.len();
+        let renumbered = forces
+            .into_iter()
+            .map(|force| {
+                let dofs = force
+                    .dofs()
+                    .iter()
+                    .map(|d| kept.binary_search(d).expect("collected above"))
+                    .collect();
+                Box::new(Renumbered { force, dofs }) as Box<dyn NonlinearForce>
+            })
+            .collect();
+        let reduced = HbProblem {
+            mass: Mat::zeros(m, m),
+            stiffness: Mat::zeros(m, m),
+            damping: Mat::zeros(m, m),
+            gyroscopic: Mat::zeros(m, m),
+            constant_force: vec![0.0; m],
+            unbalance_re: vec![0.0; m],
+            unbalance_im: vec![0.0; m],
+            harmonic_re: vec![0.0; m],
+            harmonic_im: vec![0.0; m],
+            nonlinear: renumbered,
+        };
+        Ok(CondensedBalance {
+            linear: problem,
+            reduced: HarmonicBalance::new(reduced, options)?,
+            kept,
+            rest,
+        })
+    }
+
+    /// The coordinates kept (those carrying nonlinear forces), ascending.
+    pub fn kept(&self) -> &[usize] {
+        &self.kept
+    }
+
+    /// Number of unknowns, m (2H + 1).
+    pub fn unknowns(&self) -> usize {
+        self.reduced.unknowns()
+    }
+
+    fn harmonics(&self) -> usize {
+        self.reduced.options().harmonics
+    }
+
+    /// The linear part condensed at frequency w.
+    ///
+    /// # Errors
+    /// [`Error::Numerical`] when D_bb is singular: w sits on a resonance of the linear part
+    /// with the kept coordinates held fixed, where the rest cannot be condensed.
+    pub fn condense(&self, frequency: f64) -> Result<Condensed> {
+        let mut blocks = Vec::with_capacity(self.harmonics() + 1);
+        let (force, force_derivative) = self.external_force(0, frequency);
+        let n = self.linear.size();
+        blocks.push(self.condense_block(
+            &self.linear.stiffness,
+            &Mat::zeros(n, n),
+            &force,
+            &force_derivative,
+            frequency,
+        )?);
+        for r in 1..=self.harmonics() {
+            let (d, dd) = self.harmonic_stiffness(r, frequency);
+            let (force, force_derivative) = self.external_force(r, frequency);
+            blocks.push(self.condense_block(&d, &dd, &force, &force_derivative, frequency)?);
+        }
+        Ok(Condensed { frequency, blocks })
+    }
+
+    /// D_r(w) and dD_r/dw on (cos r, sin r), 2n square.
+    fn harmonic_stiffness(&self, r: usize, frequency: f64) -> (Mat<f64>, Mat<f64>) {
+        let p = &self.linear;
+        let n = p.size();
+        let (rf, rw) = (r as f64, r as f64 * frequency);
+        let mut d = Mat::zeros(2 * n, 2 * n);
+        let mut dd = Mat::zeros(2 * n, 2 * n);
+        for i in 0..n {
+            for j in 0..n {
+                let z = p.stiffness[(i, j)] - rw * rw * p.mass[(i, j)];
+                let dz = -2.0 * rf * rw * p.mass[(i, j)];
+                let damping = p.damping[(i, j)] + frequency * p.gyroscopic[(i, j)];
+                let coupling = rw * damping;
+                // d(r w (C + w G))/dw = r (C + 2 w G).
+                let d_coupling = rf * (damping + frequency * p.gyroscopic[(i, j)]);
+                for (row, col, value, derivative) in [
+                    (i, j, z, dz),
+                    (n + i, n + j, z, dz),
+                    (i, n + j, coupling, d_coupling),
+                    (n + i, j, -coupling, -d_coupling),
+                ] {
+                    d[(row, col)] = value;
+                    dd[(row, col)] = derivative;
+                }
+            }
+        }
+        (d, dd)
+    }
+
+    /// The external force of block r and its w-derivative: the constant force in block 0,
+    /// unbalance (w^2 f) and fixed forcing h in block 1 as Re((u + i v) e^{i w t}) =
+    /// u cos - v sin, nothing above.
+    fn external_force(&self, r: usize, frequency: f64) -> (Vec<f64>, Vec<f64>) {
+        let p = &self.linear;
+        let n = p.size();
+        match r {
+            0 => (p.constant_force.clone(), vec![0.0; n]),
+            1 => {
+                let w2 = frequency * frequency;
+                let mut f = vec![0.0; 2 * n];
+                let mut df = vec![0.0; 2 * n];
+                for dof in 0..n {
+                    f[dof] = w2 * p.unbalance_re[dof] + p.harmonic_re[dof];
+                    f[n + dof] = -(w2 * p.unbalance_im[dof] + p.harmonic_im[dof]);
+                    df[dof] = 2.0 * frequency * p.unbalance_re[dof];
+                    df[n + dof] = -2.0 * frequency * p.unbalance_im[dof];
+                }
+                (f, df)
+            }
+            _ => (vec![0.0; 2 * n], vec![0.0; 2 * n]),
+        }
+    }
+
+    /// Row/column indices of the kept and condensed coordinates in a block of
+    /// `copies` (1 for the constant term, 2 for cos and sin) copies of the n coordinates.
+    fn partition(&self, copies: usize) -> (Vec<usize>, Vec<usize>) {
+        let n = self.linear.size();
+        let spread = |dofs: &[usize]| -> Vec<usize> {
+            (0..copies)
+                .flat_map(|c| dofs.iter().map(move |d| c * n + d))
+                .collect()
+        };
+        (spread(&self.kept), spread(&self.rest))
+    }
+
+    fn condense_block(
+        &self,
+        d: &Mat<f64>,
+        dd: &Mat<f64>,
+        f: &[f64],
+        df: &[f64],
+        frequency: f64,
+    ) -> Result<Block> {
+        let (a, b) = self.partition(f.len() / self.linear.size());
+        let sub = |m: &Mat<f64>, rows: &[usize], cols: &[usize]| {
+            Mat::from_fn(rows.len(), cols.len(), |i, j| m[(rows[i], cols[j])])
+        };
+        let pick = |v: &[f64], rows: &[usize]| Mat::from_fn(rows.len(), 1, |i, _| v[rows[i]]);
+        let lu = sub(d, &b, &b).partial_piv_lu();
+        let solve = |rhs: Mat<f64>| -> Result<Mat<f64>> {
+            let mut y = rhs;
+            faer::linalg::solvers::Solve::solve_in_place(&lu, y.as_mut());
+            if y.col_iter().all(|c| c.iter().all(|v| v.is_finite())) {
+                Ok(y)
+            } else {
+                Err(Error::Numerical(format!(
+                    "condensation at {frequency} rad/s: the linear part with the nonlinear \
+                     coordinates held is singular (a resonance of the condensed coordinates)"
+                )))
+            }
+        };
+        let d_ab = sub(d, &a, &b);
+        let dd_bb = sub(dd, &b, &b);
+        let transfer = solve(sub(d, &b, &a))?;
+        let particular = solve(pick(f, &b))?;
+        let schur = sub(d, &a, &a) - &d_ab * &transfer;
+        let force = pick(f, &a) - &d_ab * &particular;
+        // dX = D_bb^-1 (dD_ba - dD_bb X), dz = D_bb^-1 (df_b - dD_bb z).
+        let d_transfer = solve(sub(dd, &b, &a) - &dd_bb * &transfer)?;
+        let d_particular = solve(pick(df, &b) - &dd_bb * &particular)?;
+        let dd_ab = sub(dd, &a, &b);
+        let schur_derivative = sub(dd, &a, &a) - &dd_ab * &transfer - &d_ab * &d_transfer;
+        let force_derivative = pick(df, &a) - &dd_ab * &particular - &d_ab * &d_particular;
+        let column = |m: Mat<f64>| (0..m.nrows()).map(|i| m[(i, 0)]).collect::<Vec<_>>();
+        Ok(Block {
+            schur,
+            schur_derivative,
+            force: column(force),
+            force_derivative: column(force_derivative),
+            transfer,
+            particular: column(particular),
+        })
+    }
+
+    /// The range of unknowns of block r: slot 0, or slots cos r and sin r, which are
+    /// adjacent (cos r = 2r - 1, sin r = 2r).
+    fn block_range(&self, r: usize) -> std::ops::Range<usize> {
+        let m = self.kept.len();
+        match r {
+            0 => 0..m,
+            _ => cos_slot(r) * m..(sin_slot(r) + 1) * m,
+        }
+    }
+
+    /// R_a = S x_a - g - F_nl,a and |S x_a| + |g| + |F_nl,a|, the terms that cancel.
+    pub fn residual(&mut self, condensed: &Condensed, x: &[f64]) -> (Vec<f64>, f64) {
+        let nonlinear = self.reduced.residual(x, condensed.frequency);
+        let mut linear = vec![0.0; x.len()];
+        let mut external = vec![0.0; x.len()];
+        for (r, block) in condensed.blocks.iter().enumerate() {
+            let range = self.block_range(r);
+            multiply(&block.schur, &x[range.clone()], &mut linear[range.clone()]);
+            external[range].copy_from_slice(&block.force);
+        }
+        let values = (0..x.len())
+            .map(|i| linear[i] - external[i] + nonlinear.values[i])
+            .collect();
+        (values, norm(&linear) + norm(&external) + nonlinear.scale)
+    }
+
+    /// dR_a/dx_a and dR_a/dw at (x_a, w), exact.
+    pub fn linearise(&mut self, condensed: &Condensed, x: &[f64]) -> (Mat<f64>, Vec<f64>) {
+        let nonlinear = self.reduced.linearise(x, condensed.frequency);
+        let mut jacobian = nonlinear.jacobian;
+        let mut frequency_derivative = nonlinear.frequency_derivative;
+        for (r, block) in condensed.blocks.iter().enumerate() {
+            let range = self.block_range(r);
+            for (i, row) in range.clone().enumerate() {
+                for (j, col) in range.clone().enumerate() {
+                    jacobian[(row, col)] += block.schur[(i, j)];
+                }
+            }
+            let mut ds_x = vec![0.0; range.len()];
+            multiply(&block.schur_derivative, &x[range.clone()], &mut ds_x);
+            for (i, row) in range.enumerate() {
+                frequency_derivative[row] += ds_x[i] - block.force_derivative[i];
+            }
+        }
+        (jacobian, frequency_derivative)
+    }
+
+    /// Harmonic balance at w by Newton-Raphson from `guess` (condensed unknowns); the
+    /// linear part is condensed once and every iteration costs O((m (2H + 1))^3).
+    ///
+    /// # Errors
+    /// As [`HarmonicBalance::solve`]: an unconverged point is never returned.
+    pub fn solve(&mut self, frequency: f64, guess: &[f64]) -> Result<HbSolution> {
+        self.reduced.check_arguments(frequency, guess)?;
+        let condensed = self.condense(frequency)?;
+        let options = *self.reduced.options();
+        let mut x = guess.to_vec();
+        let mut last = f64::NAN;
+        for iteration in 0..=options.max_iterations {
+            let (residual, scale) = self.residual(&condensed, &x);
+            let size = norm(&residual);
+            last = if size == 0.0 { 0.0 } else { size / scale };
+            if last <= options.tolerance {
+                return Ok(HbSolution {
+                    frequency,
+                    coefficients: x,
+                    iterations: iteration,
+                    relative_residual: last,
+                });
+            }
+            if !last.is_finite() || iteration == options.max_iterations {
+                break;
+            }
+            let (jacobian, _) = self.linearise(&condensed, &x);
+            let step = solve_dense(&jacobian, &residual).ok_or_else(|| {
+                Error::Numerical(format!(
+                    "condensed harmonic balance at {frequency} rad/s: singular Jacobian"
+                ))
+            })?;
+            for (xi, di) in x.iter_mut().zip(&step) {
+                *xi -= di;
+            }
+        }
+        Err(Error::Numerical(format!(
+            "condensed harmonic balance did not converge at {frequency} rad/s after {} \
+             Newton iterations (relative residual {last:e}, tolerance {:e})",
+            options.max_iterations, options.tolerance
+        )))
+    }
+
+    /// The full Fourier coefficients x[slot * n + dof] from the condensed ones:
+    /// q_a as solved, q_b = z - X q_a per block.
+    pub fn recover(&self, condensed: &Condensed, x: &[f64]) -> Vec<f64> {
+        let n = self.linear.size();
+        let mut full = vec![0.0; n * (2 * self.harmonics() + 1)];
+        for (r, block) in condensed.blocks.iter().enumerate() {
+            let range = self.block_range(r);
+            let (a, b) = self.partition(if r == 0 { 1 } else { 2 });
+            let start = if r == 0 { 0 } else { cos_slot(r) * n };
+            let q_a = &x[range];
+            for (i, &index) in a.iter().enumerate() {
+                full[start + index] = q_a[i];
+            }
+            let mut x_qa = vec![0.0; b.len()];
+            multiply(&block.transfer, q_a, &mut x_qa);
+            for (i, &index) in b.iter().enumerate() {
+                full[start + index] = block.particular[i] - x_qa[i];
+            }
+        }
+        full
+    }
+}
+
+/// out = A x.
+fn multiply(a: &Mat<f64>, x: &[f64], out: &mut [f64]) {
+    for (i, o) in out.iter_mut().enumerate() {
+        *o = (0..x.len()).map(|j| a[(i, j)] * x[j]).sum();
+    }
+}
