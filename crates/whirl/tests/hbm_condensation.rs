@@ -6,8 +6,11 @@
 use std::f64::consts::TAU;
 use std::time::Instant;
 
-use whirl::hbm::{CondensedBalance, HarmonicBalance, HbOptions, HbProblem};
-use whirl::time::{CubicSpring, NonlinearForce};
+use faer::Mat;
+use whirl::hbm::{
+    continuation, CondensedBalance, ContinuationOptions, HarmonicBalance, HbOptions, HbProblem,
+};
+use whirl::time::{CubicSpring, Kinematics, NonlinearForce};
 use whirl::{fe, model::Model};
 
 const HARMONICS: usize = 3;
@@ -152,4 +155,249 @@ fn the_condensed_frequency_derivative_is_exact() {
     // at h = 1e-3 w and 1.1e-8 at h = 1e-5 w (the h^2 law, so the derivative is exact);
     // round-off |R| eps / h is 3e-11. 1e-6 leaves room for either without hiding an error.
     assert!(worst < 1e-6 * size, "worst {worst:e} of {size:e}");
+}
+
+/// A rigid ring of clearance gamma around an isotropic rotor, contact linear in the
+/// penetration: F = -k_c (r - gamma)_+ e_r on (x, y) (SPEC section 11).
+struct ClearanceRing {
+    dofs: [usize; 2],
+    stiffness: f64,
+    clearance: f64,
+}
+
+impl NonlinearForce for ClearanceRing {
+    fn name(&self) -> String {
+        "clearance ring".into()
+    }
+    fn dofs(&self) -> &[usize] {
+        &self.dofs
+    }
+    fn force(&mut self, _: &Kinematics, q: &[f64], _: &[f64], out: &mut [f64]) {
+        let r = q[0].hypot(q[1]);
+        let factor = if r > self.clearance {
+            self.stiffness * (1.0 - self.clearance / r)
+        } else {
+            0.0
+        };
+        out[0] = -factor * q[0];
+        out[1] = -factor * q[1];
+    }
+    fn jacobian(
+        &mut self,
+        _: &Kinematics,
+        q: &[f64],
+        _: &[f64],
+        dfdq: &mut [f64],
+        dfdv: &mut [f64],
+    ) {
+        // d/dq of -k_c (1 - gamma / r) q = -k_c ((1 - gamma / r) I + gamma q q^T / r^3).
+        let r = q[0].hypot(q[1]);
+        dfdv.fill(0.0);
+        if r <= self.clearance {
+            dfdq.fill(0.0);
+            return;
+        }
+        let (k, g3) = (self.stiffness, self.clearance / r.powi(3));
+        let diagonal = 1.0 - self.clearance / r;
+        dfdq.copy_from_slice(&[
+            -k * (diagonal + g3 * q[0] * q[0]),
+            -k * g3 * q[0] * q[1],
+            -k * g3 * q[0] * q[1],
+            -k * (diagonal + g3 * q[1] * q[1]),
+        ]);
+    }
+    fn stiffness_bound(&self) -> Vec<f64> {
+        vec![self.stiffness, 0.0, 0.0, self.stiffness]
+    }
+}
+
+/// Jeffcott rotor in the ring: m = 1, k = 1, damping ratio 2.5 %, contact 10 times stiffer
+/// than the shaft, unbalance m e = 0.2 whose free resonance amplitude 4 is far beyond the
+/// clearance 1, so the orbit hits the ring and the resonance bends over (multi-valued).
+const RING_MASS: f64 = 1.0;
+const RING_SHAFT: f64 = 1.0;
+const RING_DAMPING: f64 = 0.05;
+const RING_CONTACT: f64 = 10.0;
+const RING_CLEARANCE: f64 = 1.0;
+const RING_UNBALANCE: f64 = 0.2;
+
+fn ring_rotor() -> HbProblem {
+    let diagonal = |v: f64| Mat::from_fn(2, 2, |i, j| if i == j { v } else { 0.0 });
+    HbProblem {
+        mass: diagonal(RING_MASS),
+        stiffness: diagonal(RING_SHAFT),
+        damping: diagonal(RING_DAMPING),
+        gyroscopic: diagonal(0.0),
+        constant_force: vec![0.0; 2],
+        // m e w^2 (cos w t, sin w t) = Re(m e w^2 (1, -i) e^{i w t}).
+        unbalance_re: vec![RING_UNBALANCE, 0.0],
+        unbalance_im: vec![0.0, -RING_UNBALANCE],
+        harmonic_re: vec![0.0; 2],
+        harmonic_im: vec![0.0; 2],
+        nonlinear: vec![Box::new(ClearanceRing {
+            dofs: [0, 1],
+            stiffness: RING_CONTACT,
+            clearance: RING_CLEARANCE,
+        })],
+    }
+}
+
+/// Defect of the closed form m e w^2 = |k_eff - m w^2 + i c w| r, with
+/// k_eff = k + k_c (1 - gamma / r) in contact (r > gamma) and k out of it, relative to the
+/// size of the terms that cancel in it (as the solver's residual is).
+fn ring_closed_form_defect(w: f64, r: f64) -> f64 {
+    let contact = if r > RING_CLEARANCE {
+        RING_CONTACT * (1.0 - RING_CLEARANCE / r)
+    } else {
+        0.0
+    };
+    let real = RING_SHAFT + contact - RING_MASS * w * w;
+    let forcing = RING_UNBALANCE * w * w;
+    let terms = (RING_SHAFT + contact + RING_MASS * w * w + RING_DAMPING * w) * r + forcing;
+    (real.hypot(RING_DAMPING * w) * r - forcing) / terms
+}
+
+/// The closed form squared is a quadratic in u = w^2 for each radius r > gamma:
+/// (m^2 r^2 - (m e)^2) u^2 + (c^2 - 2 k_eff m) r^2 u + k_eff^2 r^2 = 0. Its coefficients
+/// (a, b, c).
+fn ring_quadratic(r: f64) -> (f64, f64, f64) {
+    let k_eff = RING_SHAFT + RING_CONTACT * (1.0 - RING_CLEARANCE / r);
+    (
+        RING_MASS * RING_MASS * r * r - RING_UNBALANCE * RING_UNBALANCE,
+        (RING_DAMPING * RING_DAMPING - 2.0 * k_eff * RING_MASS) * r * r,
+        k_eff * k_eff * r * r,
+    )
+}
+
+/// The frequency of the contact branch on its upper side at radius r (the larger root).
+fn ring_upper_frequency(r: f64) -> f64 {
+    let (a, b, c) = ring_quadratic(r);
+    ((-b + (b * b - 4.0 * a * c).sqrt()) / (2.0 * a)).sqrt()
+}
+
+/// The fold of the contact branch: the largest w on it. Radii with a solution end where
+/// the discriminant vanishes (found by bisection); below that the largest w of the upper
+/// root is bracketed by a scan and refined by golden section.
+fn ring_closed_form_fold() -> f64 {
+    let discriminant = |r: f64| {
+        let (a, b, c) = ring_quadratic(r);
+        b * b - 4.0 * a * c
+    };
+    let (mut lo, mut hi) = (2.0 * RING_CLEARANCE, 100.0 * RING_CLEARANCE);
+    assert!(discriminant(lo) > 0.0 && discriminant(hi) < 0.0);
+    while hi - lo > 1e-14 * hi {
+        let mid = 0.5 * (lo + hi);
+        if discriminant(mid) > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let (from, width) = (RING_CLEARANCE, (lo - RING_CLEARANCE) / 1000.0);
+    let best = (1..=1000)
+        .map(|i| from + width * i as f64)
+        .fold(lo, |best, r| {
+            if ring_upper_frequency(r) > ring_upper_frequency(best) {
+                r
+            } else {
+                best
+            }
+        });
+    let (mut a, mut b) = (best - width, (best + width).min(lo));
+    let golden = (5f64.sqrt() - 1.0) / 2.0;
+    while b - a > 1e-10 * best {
+        let (x1, x2) = (b - golden * (b - a), a + golden * (b - a));
+        if ring_upper_frequency(x1) > ring_upper_frequency(x2) {
+            b = x2;
+        } else {
+            a = x1;
+        }
+    }
+    ring_upper_frequency(0.5 * (a + b))
+}
+
+/// Radius of the first harmonic of x, and the largest departure from a forward circular
+/// orbit relative to it: y = r sin(w t - phi) has y_cos = -x_sin and y_sin = x_cos, and the
+/// constant term and higher harmonics vanish.
+fn ring_orbit(x: &[f64]) -> (f64, f64) {
+    let n = 2;
+    let (xc, xs, yc, ys) = (x[n], x[2 * n], x[n + 1], x[2 * n + 1]);
+    let r = xc.hypot(xs);
+    let others = x
+        .iter()
+        .enumerate()
+        .filter(|&(i, _)| !(n..3 * n).contains(&i))
+        .fold(0.0f64, |m, (_, v)| m.max(v.abs()));
+    (r, ((yc + xs).abs() + (ys - xc).abs() + others) / r)
+}
+
+#[test]
+fn clearance_ring_reproduces_the_exact_circular_orbit_through_the_overhang() {
+    let options = HbOptions::new(HARMONICS);
+    // Every coordinate carries the contact force: the condensation keeps both and
+    // condenses nothing, and continuation runs on the condensed problem.
+    let mut hb = CondensedBalance::new(ring_rotor(), options).unwrap();
+    let guess = vec![0.0; hb.unknowns()];
+    let path = ContinuationOptions {
+        stability: false,
+        ..ContinuationOptions::default()
+    };
+    // The contact branch (r > gamma) is smooth: it leaves the free branch at w = 0.92,
+    // where the free orbit reaches the ring, bends over to a fold near the stiffened
+    // resonance and comes back (middle branch) to meet the free branch at a corner
+    // (r = gamma, w = 1.118), where the path ends: the contact stiffness jumps there.
+    let branch = continuation(&mut hb, 0.95, 5.0, &guess, &path).unwrap();
+    let (mut worst_orbit, mut worst_closed, mut widest) = (0.0f64, 0.0f64, 0.0f64);
+    let mut check = |x: &[f64], w: f64| {
+        let (r, orbit) = ring_orbit(x);
+        worst_orbit = worst_orbit.max(orbit);
+        worst_closed = worst_closed.max(ring_closed_form_defect(w, r).abs());
+        r
+    };
+    for p in &branch.points {
+        widest = widest.max(check(&p.solution.coefficients, p.solution.frequency));
+    }
+    // At w = 2 three orbits coexist: on the upper and middle contact branches and free.
+    let w = 2.0;
+    let crossings: Vec<f64> = branch
+        .points
+        .windows(2)
+        .filter(|p| (p[0].solution.frequency - w) * (p[1].solution.frequency - w) <= 0.0)
+        .map(|p| ring_orbit(&p[0].solution.coefficients).0)
+        .collect();
+    let free = hb.solve(w, &guess).unwrap();
+    let free_radius = check(&free.coefficients, w);
+    let lowest_middle = branch
+        .points
+        .iter()
+        .filter(|p| p.frequency_slope < 0.0)
+        .map(|p| p.solution.frequency)
+        .fold(f64::INFINITY, f64::min);
+    let fold = ring_closed_form_fold();
+    let fold_error = (branch.folds[0].frequency - fold).abs() / fold;
+    eprintln!("clearance ring: closed-form fold {fold:.12} rad/s, located to {fold_error:.2e}");
+    eprintln!(
+        "clearance ring: {} points, folds at {:?} rad/s, largest radius {widest:.3}, middle \
+         branch down to {lowest_middle:.4} rad/s; radii at w = 2: contact {crossings:.3?}, \
+         free {free_radius:.3}; worst circularity {worst_orbit:.2e}, worst closed-form \
+         defect {worst_closed:.2e} ({:?})",
+        branch.points.len(),
+        branch.folds.iter().map(|f| f.frequency).collect::<Vec<_>>(),
+        branch.end
+    );
+    // The multi-valued part: one fold, two contact orbits and the free one at w = 2.
+    assert_eq!(branch.folds.len(), 1);
+    assert_eq!(crossings.len(), 2);
+    assert!(crossings.iter().all(|&r| r > RING_CLEARANCE) && free_radius < RING_CLEARANCE);
+    assert!(widest > 2.0 * RING_CLEARANCE);
+    // The middle branch is followed down to near its corner at w = 1.118.
+    assert!(lowest_middle < 1.2, "middle branch ends at {lowest_middle}");
+    // Newton converges to a relative residual of 1e-10 and the circular orbit is exact in
+    // the Fourier basis (constant radius: the sampled contact force has no other harmonic),
+    // so both defects are at the solver's tolerance, well below 1e-8.
+    assert!(worst_orbit < 1e-8, "circularity {worst_orbit:e}");
+    assert!(worst_closed < 1e-9, "closed form {worst_closed:e}");
+    // The fold is located on the branch as accurately as the corrector converges; the
+    // frequency is flat there (dw/dr = 0), so it is better than the radius.
+    assert!(fold_error < 1e-9, "fold {fold_error:e}");
 }

@@ -149,8 +149,13 @@ impl CondensedBalance {
         self.reduced.unknowns()
     }
 
+    /// The discretisation and Newton settings.
+    pub fn options(&self) -> &HbOptions {
+        self.reduced.options()
+    }
+
     fn harmonics(&self) -> usize {
-        self.reduced.options().harmonics
+        self.options().harmonics
     }
 
     /// The linear part condensed at frequency w.
@@ -346,7 +351,7 @@ impl CondensedBalance {
     pub fn solve(&mut self, frequency: f64, guess: &[f64]) -> Result<HbSolution> {
         self.reduced.check_arguments(frequency, guess)?;
         let condensed = self.condense(frequency)?;
-        let options = *self.reduced.options();
+        let options = *self.options();
         let mut x = guess.to_vec();
         let mut last = f64::NAN;
         for iteration in 0..=options.max_iterations {

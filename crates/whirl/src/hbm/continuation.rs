@@ -18,12 +18,98 @@
 //! as accurate as the corrector, whatever the step. Should a corrector fail there, the
 //! extremum of the cubic Hermite interpolant of w(s) between the two points stands in.
 
-use super::balance::{norm, relative, solve_dense, HarmonicBalance, HbSolution};
+use super::balance::{norm, relative, solve_dense, HarmonicBalance, HbSolution, Residual};
 use super::bifurcation::{bifurcations, Bifurcation};
+use super::condensation::CondensedBalance;
 use super::stability::{hill_stability, Stability};
 use super::HbOptions;
 use crate::error::{Error, Result};
 use faer::Mat;
+
+/// What continuation asks of a harmonic balance, so that the full ([`HarmonicBalance`]) and
+/// the condensed ([`CondensedBalance`]) problem are followed by the same path code.
+pub trait Periodic {
+    /// The discretisation and Newton settings.
+    fn options(&self) -> &HbOptions;
+    /// Newton-Raphson at one frequency; never returns an unconverged point.
+    fn solve(&mut self, frequency: f64, guess: &[f64]) -> Result<HbSolution>;
+    /// R(x, w) and |terms that cancel in it|; not finite where it cannot be evaluated.
+    fn residual_at(&mut self, x: &[f64], frequency: f64) -> (Vec<f64>, f64);
+    /// dR/dx and dR/dw at (x, w).
+    fn derivatives(&mut self, x: &[f64], frequency: f64) -> Derivatives;
+    /// Stability of the periodic solution (x, w).
+    fn stability(&mut self, x: &[f64], frequency: f64) -> Result<Stability>;
+}
+
+/// dR/dx and dR/dw.
+pub struct Derivatives {
+    /// dR/dx.
+    pub jacobian: Mat<f64>,
+    /// dR/dw at fixed x.
+    pub frequency_derivative: Vec<f64>,
+}
+
+impl Periodic for HarmonicBalance {
+    fn options(&self) -> &HbOptions {
+        HarmonicBalance::options(self)
+    }
+    fn solve(&mut self, frequency: f64, guess: &[f64]) -> Result<HbSolution> {
+        HarmonicBalance::solve(self, frequency, guess)
+    }
+    fn residual_at(&mut self, x: &[f64], frequency: f64) -> (Vec<f64>, f64) {
+        let r = self.residual(x, frequency);
+        (r.values, r.scale)
+    }
+    fn derivatives(&mut self, x: &[f64], frequency: f64) -> Derivatives {
+        let lin = self.linearise(x, frequency);
+        Derivatives {
+            jacobian: lin.jacobian,
+            frequency_derivative: lin.frequency_derivative,
+        }
+    }
+    fn stability(&mut self, x: &[f64], frequency: f64) -> Result<Stability> {
+        hill_stability(self, x, frequency)
+    }
+}
+
+/// The condensed problem is condensed afresh at every frequency the corrector tries (the
+/// Schur complement depends on w); where condensation fails (a resonance of the condensed
+/// coordinates) the residual is NaN, which the corrector treats as a failed step.
+impl Periodic for CondensedBalance {
+    fn options(&self) -> &HbOptions {
+        CondensedBalance::options(self)
+    }
+    fn solve(&mut self, frequency: f64, guess: &[f64]) -> Result<HbSolution> {
+        CondensedBalance::solve(self, frequency, guess)
+    }
+    fn residual_at(&mut self, x: &[f64], frequency: f64) -> (Vec<f64>, f64) {
+        match self.condense(frequency) {
+            Ok(condensed) => self.residual(&condensed, x),
+            Err(_) => (vec![f64::NAN; x.len()], f64::NAN),
+        }
+    }
+    fn derivatives(&mut self, x: &[f64], frequency: f64) -> Derivatives {
+        let (jacobian, frequency_derivative) = match self.condense(frequency) {
+            Ok(condensed) => self.linearise(&condensed, x),
+            Err(_) => (
+                Mat::from_fn(x.len(), x.len(), |_, _| f64::NAN),
+                vec![f64::NAN; x.len()],
+            ),
+        };
+        Derivatives {
+            jacobian,
+            frequency_derivative,
+        }
+    }
+    /// Hill's method on the condensed problem would need the condensed stiffness at
+    /// complex exponents, not only at the harmonics: refused rather than approximated.
+    fn stability(&mut self, _: &[f64], frequency: f64) -> Result<Stability> {
+        Err(Error::Numerical(format!(
+            "Hill stability at {frequency} rad/s needs the full model: continue the condensed \
+             problem without stability, or check the recovered points with hill_stability"
+        )))
+    }
+}
 
 /// Step control of the continuation; lengths are in scaled arclength (the whole frequency
 /// range is one unit).
@@ -157,7 +243,7 @@ impl Scaling {
 /// [`Error::Numerical`] when the first point does not converge or the range is empty;
 /// later failures end the branch ([`BranchEnd::StepTooSmall`]) and keep what converged.
 pub fn continuation(
-    hb: &mut HarmonicBalance,
+    hb: &mut impl Periodic,
     from: f64,
     to: f64,
     guess: &[f64],
@@ -176,7 +262,7 @@ pub fn continuation(
 /// # Errors
 /// As [`continuation`].
 pub fn resume(
-    hb: &mut HarmonicBalance,
+    hb: &mut impl Periodic,
     point: &BranchPoint,
     from: f64,
     to: f64,
@@ -205,7 +291,7 @@ fn check_range(from: f64, to: f64) -> Result<()> {
 /// The continuation loop from the converged point `first`, leaving it with increasing
 /// frequency when `orientation` is positive and decreasing when negative.
 fn follow(
-    hb: &mut HarmonicBalance,
+    hb: &mut impl Periodic,
     first: HbSolution,
     orientation: f64,
     (from, to): (f64, f64),
@@ -284,11 +370,7 @@ fn follow(
     };
     if options.stability {
         for p in points.iter_mut() {
-            p.stability = Some(hill_stability(
-                hb,
-                &p.solution.coefficients,
-                p.solution.frequency,
-            )?);
+            p.stability = Some(hb.stability(&p.solution.coefficients, p.solution.frequency)?);
         }
     }
     let folds = locate_folds(hb, &points, &scaling);
@@ -321,8 +403,8 @@ fn branch_point(solution: HbSolution, tangent: &[f64], scaling: &Scaling) -> Bra
 }
 
 /// The augmented Jacobian [dR/dx s_x, dR/dw s_w; c^T] in scaled variables at `s`.
-fn augmented(hb: &mut HarmonicBalance, s: &HbSolution, scaling: &Scaling, c: &[f64]) -> Mat<f64> {
-    let lin = hb.linearise(&s.coefficients, s.frequency);
+fn augmented(hb: &mut impl Periodic, s: &HbSolution, scaling: &Scaling, c: &[f64]) -> Mat<f64> {
+    let lin = hb.derivatives(&s.coefficients, s.frequency);
     let size = s.coefficients.len();
     Mat::from_fn(size + 1, size + 1, |i, j| {
         if i == size {
@@ -337,7 +419,7 @@ fn augmented(hb: &mut HarmonicBalance, s: &HbSolution, scaling: &Scaling, c: &[f
 
 /// The unit tangent at `s` oriented along `previous` (positive projection on it).
 fn unit_tangent(
-    hb: &mut HarmonicBalance,
+    hb: &mut impl Periodic,
     s: &HbSolution,
     scaling: &Scaling,
     previous: &[f64],
@@ -357,7 +439,7 @@ fn unit_tangent(
 
 /// Pseudo-arclength corrector from the predictor y_0 + h t_0.
 fn correct(
-    hb: &mut HarmonicBalance,
+    hb: &mut impl Periodic,
     y0: &[f64],
     t0: &[f64],
     step: f64,
@@ -371,7 +453,8 @@ fn correct(
         if !(w.is_finite() && w > 0.0) {
             break;
         }
-        let residual = hb.residual(&x, w);
+        let (values, scale) = hb.residual_at(&x, w);
+        let residual = Residual { values, scale };
         let r = relative(&residual);
         // The arclength equation is linear: the predictor and every Newton step satisfy it.
         if r <= tolerance {
@@ -410,7 +493,7 @@ fn correct(
 /// The solution at exactly `to`, between `before` and `after`, by Newton at fixed
 /// frequency from their linear interpolation.
 fn land_on(
-    hb: &mut HarmonicBalance,
+    hb: &mut impl Periodic,
     before: &HbSolution,
     after: &HbSolution,
     to: f64,
@@ -426,7 +509,7 @@ fn land_on(
 }
 
 /// Folds between successive points whose frequency slopes differ in sign.
-fn locate_folds(hb: &mut HarmonicBalance, points: &[BranchPoint], scaling: &Scaling) -> Vec<Fold> {
+fn locate_folds(hb: &mut impl Periodic, points: &[BranchPoint], scaling: &Scaling) -> Vec<Fold> {
     let mut folds = Vec::new();
     for (i, p) in points.windows(2).enumerate() {
         if p[0].frequency_slope * p[1].frequency_slope >= 0.0 {
@@ -462,7 +545,7 @@ fn locate_folds(hb: &mut HarmonicBalance, points: &[BranchPoint], scaling: &Scal
 /// The fold between `before` and `after`: the root of the tangent's frequency component
 /// along the arclength from `before`, by the Illinois regula falsi.
 fn refine_fold(
-    hb: &mut HarmonicBalance,
+    hb: &mut impl Periodic,
     before: &HbSolution,
     after: &HbSolution,
     scaling: &Scaling,

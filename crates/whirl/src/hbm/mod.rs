@@ -32,7 +32,8 @@ pub use balance::{HarmonicBalance, HbSolution, Linearisation};
 pub use bifurcation::{bifurcations, Bifurcation, BifurcationKind};
 pub use condensation::{Condensed, CondensedBalance};
 pub use continuation::{
-    continuation, resume, Branch, BranchEnd, BranchPoint, ContinuationOptions, Fold,
+    continuation, resume, Branch, BranchEnd, BranchPoint, ContinuationOptions, Derivatives, Fold,
+    Periodic,
 };
 pub use fourier::aliasing_free_samples;
 pub use stability::{hill_stability, Stability};
