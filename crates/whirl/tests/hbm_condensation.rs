@@ -125,6 +125,51 @@ fn condensed_and_full_harmonic_balance_agree_on_the_reference_rotor() {
 }
 
 #[test]
+fn condensed_continuation_lands_where_full_continuation_lands() {
+    // The same path on the reference rotor through the first critical speed, condensed (4
+    // unknowns per slot) and full (84): the points differ (steps are scaled by each
+    // problem's own coefficients) but both land on the end frequency by Newton, where they
+    // must agree as the single solves do.
+    let options = HbOptions::new(HARMONICS);
+    let path = ContinuationOptions {
+        stability: false,
+        ..ContinuationOptions::default()
+    };
+    let (from, to) = (TAU * 150.0, TAU * 200.0);
+    let mut full = HarmonicBalance::new(reference_rotor(CUBIC), options).unwrap();
+    let mut condensed = CondensedBalance::new(reference_rotor(CUBIC), options).unwrap();
+    let clock = Instant::now();
+    let zero = vec![0.0; full.unknowns()];
+    let full_branch = continuation(&mut full, from, to, &zero, &path).unwrap();
+    let full_time = clock.elapsed();
+    let clock = Instant::now();
+    let zero = vec![0.0; condensed.unknowns()];
+    let condensed_branch = continuation(&mut condensed, from, to, &zero, &path).unwrap();
+    let condensed_time = clock.elapsed();
+    let (a, b) = (
+        full_branch.points.last().unwrap(),
+        condensed_branch.points.last().unwrap(),
+    );
+    assert_eq!(a.solution.frequency, to);
+    assert_eq!(b.solution.frequency, to);
+    let recovered = condensed.recover(&condensed.condense(to).unwrap(), &b.solution.coefficients);
+    let difference: Vec<f64> = recovered
+        .iter()
+        .zip(&a.solution.coefficients)
+        .map(|(x, y)| x - y)
+        .collect();
+    let relative = largest(&difference) / largest(&a.solution.coefficients);
+    eprintln!(
+        "continuation 150-200 Hz: full {} points in {full_time:?}, condensed {} points in \
+         {condensed_time:?}; end points agree to {relative:.2e}",
+        full_branch.points.len(),
+        condensed_branch.points.len()
+    );
+    // As for the single solves: both converged to round-off, condensation exact.
+    assert!(relative < 1e-9, "end points differ by {relative:e}");
+}
+
+#[test]
 fn the_condensed_frequency_derivative_is_exact() {
     // dR_a/dw with dS/dw and dg/dw through D_bb^-1 against central differences of the
     // condensed residual, condensation redone at w +- h.
