@@ -94,6 +94,8 @@ pub struct CondensedBalance {
     reduced: HarmonicBalance,
     kept: Vec<usize>,
     rest: Vec<usize>,
+    /// The last condensation, reused at the same frequency.
+    last: Option<Condensed>,
 }
 
 impl CondensedBalance {
@@ -136,6 +138,7 @@ impl CondensedBalance {
             reduced: HarmonicBalance::new(reduced, options)?,
             kept,
             rest,
+            last: None,
         })
     }
 
@@ -180,6 +183,23 @@ impl CondensedBalance {
             blocks.push(self.condense_block(&d, &dd, &force, &force_derivative, frequency)?);
         }
         Ok(Condensed { frequency, blocks })
+    }
+
+    /// Runs `task` with the condensation at w, reusing the last one when it was made at the
+    /// same w: the continuation corrector asks for the residual and then the derivatives at
+    /// each frequency it tries, and condensing costs more than the reduced Newton step.
+    pub(crate) fn with_condensed<T>(
+        &mut self,
+        frequency: f64,
+        task: impl FnOnce(&mut Self, &Condensed) -> T,
+    ) -> Result<T> {
+        let condensed = match self.last.take() {
+            Some(last) if last.frequency == frequency => last,
+            _ => self.condense(frequency)?,
+        };
+        let value = task(self, &condensed);
+        self.last = Some(condensed);
+        Ok(value)
     }
 
     /// D_r(w) and dD_r/dw on (cos r, sin r), 2n square.

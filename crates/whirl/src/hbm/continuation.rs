@@ -72,7 +72,7 @@ impl Periodic for HarmonicBalance {
     }
 }
 
-/// The condensed problem is condensed afresh at every frequency the corrector tries (the
+/// The condensed problem is condensed once at every frequency the corrector tries (the
 /// Schur complement depends on w); where condensation fails (a resonance of the condensed
 /// coordinates) the residual is NaN, which the corrector treats as a failed step.
 impl Periodic for CondensedBalance {
@@ -83,19 +83,18 @@ impl Periodic for CondensedBalance {
         CondensedBalance::solve(self, frequency, guess)
     }
     fn residual_at(&mut self, x: &[f64], frequency: f64) -> (Vec<f64>, f64) {
-        match self.condense(frequency) {
-            Ok(condensed) => self.residual(&condensed, x),
-            Err(_) => (vec![f64::NAN; x.len()], f64::NAN),
-        }
+        self.with_condensed(frequency, |hb, condensed| hb.residual(condensed, x))
+            .unwrap_or_else(|_| (vec![f64::NAN; x.len()], f64::NAN))
     }
     fn derivatives(&mut self, x: &[f64], frequency: f64) -> Derivatives {
-        let (jacobian, frequency_derivative) = match self.condense(frequency) {
-            Ok(condensed) => self.linearise(&condensed, x),
-            Err(_) => (
-                Mat::from_fn(x.len(), x.len(), |_, _| f64::NAN),
-                vec![f64::NAN; x.len()],
-            ),
-        };
+        let (jacobian, frequency_derivative) = self
+            .with_condensed(frequency, |hb, condensed| hb.linearise(condensed, x))
+            .unwrap_or_else(|_| {
+                (
+                    Mat::from_fn(x.len(), x.len(), |_, _| f64::NAN),
+                    vec![f64::NAN; x.len()],
+                )
+            });
         Derivatives {
             jacobian,
             frequency_derivative,
