@@ -370,12 +370,17 @@ impl CondensedBalance {
     /// As [`HarmonicBalance::solve`]: an unconverged point is never returned.
     pub fn solve(&mut self, frequency: f64, guess: &[f64]) -> Result<HbSolution> {
         self.reduced.check_arguments(frequency, guess)?;
-        let condensed = self.condense(frequency)?;
+        self.with_condensed(frequency, |hb, condensed| hb.newton(condensed, guess))?
+    }
+
+    /// Newton-Raphson on the condensed residual at the condensation's frequency.
+    fn newton(&mut self, condensed: &Condensed, guess: &[f64]) -> Result<HbSolution> {
+        let frequency = condensed.frequency;
         let options = *self.options();
         let mut x = guess.to_vec();
         let mut last = f64::NAN;
         for iteration in 0..=options.max_iterations {
-            let (residual, scale) = self.residual(&condensed, &x);
+            let (residual, scale) = self.residual(condensed, &x);
             let size = norm(&residual);
             last = if size == 0.0 { 0.0 } else { size / scale };
             if last <= options.tolerance {
@@ -389,7 +394,7 @@ impl CondensedBalance {
             if !last.is_finite() || iteration == options.max_iterations {
                 break;
             }
-            let (jacobian, _) = self.linearise(&condensed, &x);
+            let (jacobian, _) = self.linearise(condensed, &x);
             let step = solve_dense(&jacobian, &residual).ok_or_else(|| {
                 Error::Numerical(format!(
                     "condensed harmonic balance at {frequency} rad/s: singular Jacobian"
@@ -406,9 +411,20 @@ impl CondensedBalance {
         )))
     }
 
-    /// The full Fourier coefficients x[slot * n + dof] from the condensed ones:
-    /// q_a as solved, q_b = z - X q_a per block.
-    pub fn recover(&self, condensed: &Condensed, x: &[f64]) -> Vec<f64> {
+    /// The full Fourier coefficients x[slot * n + dof] of a condensed solution (the
+    /// condensation of its solve is reused).
+    ///
+    /// # Errors
+    /// As [`Self::condense`].
+    pub fn recover(&mut self, solution: &HbSolution) -> Result<Vec<f64>> {
+        self.with_condensed(solution.frequency, |hb, condensed| {
+            hb.recover_with(condensed, &solution.coefficients)
+        })
+    }
+
+    /// The full coefficients from the condensed ones x: q_a as solved, q_b = z - X q_a
+    /// per block.
+    fn recover_with(&self, condensed: &Condensed, x: &[f64]) -> Vec<f64> {
         let n = self.linear.size();
         let mut full = vec![0.0; n * (2 * self.harmonics() + 1)];
         for (r, block) in condensed.blocks.iter().enumerate() {
