@@ -267,6 +267,9 @@ impl CondensedBalance {
         (spread(&self.kept), spread(&self.rest))
     }
 
+    /// Condenses one block: D with dD/dw, its force f with df/dw. One factorisation of
+    /// D_bb serves X, z and their w-derivatives (two solves more, made always because
+    /// continuation needs them at every frequency it condenses).
     fn condense_block(
         &self,
         d: &Mat<f64>,
@@ -365,6 +368,9 @@ impl CondensedBalance {
 
     /// Harmonic balance at w by Newton-Raphson from `guess` (condensed unknowns); the
     /// linear part is condensed once and every iteration costs O((m (2H + 1))^3).
+    ///
+    /// The tolerance applies to the condensed residual relative to its own terms
+    /// (|S x_a| + |g| + |F_nl,a|).
     ///
     /// # Errors
     /// As [`HarmonicBalance::solve`]: an unconverged point is never returned.
