@@ -57,11 +57,11 @@ pub fn bifurcations(points: &[BranchPoint]) -> Vec<Bifurcation> {
             continue;
         }
         let unstable = if a.stable { b } else { a };
-        let crossing = unstable
-            .exponents
-            .iter()
-            .max_by(|x, y| x.0.total_cmp(&y.0))
-            .expect("Hill's method keeps 2n >= 2 exponents");
+        // Hill's method keeps 2n >= 2 exponents; a hand-built point without any has no
+        // crossing to classify.
+        let Some(crossing) = unstable.exponents.iter().max_by(|x, y| x.0.total_cmp(&y.0)) else {
+            continue;
+        };
         let w = pair[1].solution.frequency;
         let im = crossing.1.abs();
         let kind = if im <= ON_AXIS * w {

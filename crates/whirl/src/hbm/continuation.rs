@@ -604,12 +604,13 @@ fn hermite_extremum(w0: f64, w1: f64, m0: f64, m1: f64, h: f64) -> f64 {
         -c / b
     } else {
         let root = (b * b - 4.0 * a * c).max(0.0).sqrt();
-        let candidates = [(-b + root) / (2.0 * a), (-b - root) / (2.0 * a)];
+        let (plus, minus) = ((-b + root) / (2.0 * a), (-b - root) / (2.0 * a));
         // p' changes sign on [0, 1], so one root lies in it; take the nearer to its middle.
-        candidates
-            .into_iter()
-            .min_by(|x, y| (x - 0.5).abs().total_cmp(&(y - 0.5).abs()))
-            .expect("two candidates")
+        if (plus - 0.5).abs() <= (minus - 0.5).abs() {
+            plus
+        } else {
+            minus
+        }
     };
     let (u2, u3) = (u * u, u * u * u);
     (2.0 * u3 - 3.0 * u2 + 1.0) * w0
