@@ -462,7 +462,7 @@ fn start(
     let mut force = vec![0.0; n];
     let at = problem.external_force(0.0, &mut force);
     problem.add_nonlinear(&at, q0, v0, &mut force, scratch);
-    let a0 = initial_acceleration(problem, q0, v0, &force, at.speed)?;
+    let a0 = problem.acceleration(q0, v0, &force, at.speed);
     let q_before = (0..n).map(|i| q0[i] - h * v0[i] + 0.5 * h * h * a0[i]);
     Ok((q0.iter().copied().chain(q_before).collect(), at.speed))
 }
@@ -480,29 +480,6 @@ fn check_step(problem: &TimeProblem, h: f64) -> Result<()> {
         )));
     }
     Ok(())
-}
-
-/// q''_0 = M^-1 (F_0 - K q_0 - D v_0).
-fn initial_acceleration(
-    problem: &TimeProblem,
-    q0: &[f64],
-    v0: &[f64],
-    force: &[f64],
-    speed: f64,
-) -> Result<Vec<f64>> {
-    let n = problem.size();
-    let mut rhs = Mat::<f64>::from_fn(n, 1, |i, _| {
-        force[i]
-            - (0..n)
-                .map(|j| {
-                    problem.stiffness[(i, j)] * q0[j]
-                        + (problem.damping[(i, j)] + speed * problem.gyroscopic[(i, j)]) * v0[j]
-                })
-                .sum::<f64>()
-    });
-    let lu = problem.mass.partial_piv_lu();
-    faer::linalg::solvers::Solve::solve_in_place(&lu, rhs.as_mut());
-    Ok((0..n).map(|i| rhs[(i, 0)]).collect())
 }
 
 #[cfg(test)]
@@ -580,7 +557,7 @@ mod tests {
         let mut force = vec![0.0; n];
         let at = problem.external_force(0.0, &mut force);
         problem.add_nonlinear(&at, &q0, &v0, &mut force, &mut scratch);
-        let a0 = initial_acceleration(problem, &q0, &v0, &force, speed).unwrap();
+        let a0 = problem.acceleration(&q0, &v0, &force, speed);
         let mut q_prev: Vec<f64> = (0..n)
             .map(|i| q0[i] - h * v0[i] + 0.5 * h * h * a0[i])
             .collect();

@@ -472,7 +472,7 @@ fn march(
     let (mut q, mut v) = (q0.to_vec(), v0.to_vec());
     let at = problem.external_force(0.0, &mut w.force_prev);
     nonlinear_force(problem, &at, &q, &v, &dofs, &mut w.nl, &mut scratch);
-    let mut a = acceleration(problem, &q, &v, &w.force_prev, &w.nl, at.speed);
+    let mut a = problem.acceleration(&q, &v, &sum(&w.force_prev, &w.nl), at.speed);
     let mut speed = AtSpeed::new(problem, layout, at.speed, c, &dofs)?;
     vectorised(|| linear_force(&speed, &stiffness, &q, &v, &mut w.linear));
     let (alpha, h) = (c.alpha, c.h);
@@ -554,28 +554,9 @@ fn residual(
     w.residual.iter().fold(0.0f64, |m, r| m.max(r.abs()))
 }
 
-/// a = M^-1 (F + F_nl - D v - K q).
-fn acceleration(
-    problem: &TimeProblem,
-    q: &[f64],
-    v: &[f64],
-    f: &[f64],
-    nl: &[f64],
-    speed: f64,
-) -> Vec<f64> {
-    let n = problem.size();
-    let mut rhs = Mat::<f64>::from_fn(n, 1, |i, _| {
-        f[i] + nl[i]
-            - (0..n)
-                .map(|j| {
-                    (problem.damping[(i, j)] + speed * problem.gyroscopic[(i, j)]) * v[j]
-                        + problem.stiffness[(i, j)] * q[j]
-                })
-                .sum::<f64>()
-    });
-    let lu = problem.mass.partial_piv_lu();
-    faer::linalg::solvers::Solve::solve_in_place(&lu, rhs.as_mut());
-    (0..n).map(|i| rhs[(i, 0)]).collect()
+/// Element-wise a + b.
+fn sum(a: &[f64], b: &[f64]) -> Vec<f64> {
+    a.iter().zip(b).map(|(x, y)| x + y).collect()
 }
 
 #[cfg(test)]
@@ -668,7 +649,7 @@ mod tests {
         let (mut f0, mut f1, mut nl) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         let mut at = problem.external_force(0.0, &mut f0);
         problem.add_nonlinear(&at, &q, &v, &mut nl, &mut scratch);
-        let mut a = acceleration(problem, &q, &v, &f0, &nl, at.speed);
+        let mut a = problem.acceleration(&q, &v, &sum(&f0, &nl), at.speed);
         let mut history = Vec::new();
         history.extend_from_slice(&q);
         history.extend_from_slice(&v);

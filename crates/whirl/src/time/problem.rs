@@ -97,6 +97,23 @@ pub struct TimeProblem {
 }
 
 impl TimeProblem {
+    /// The acceleration M^-1 (F - (C + Omega G) v - K q) under the total force `force`
+    /// (external and nonlinear), used to start the integrators.
+    pub(crate) fn acceleration(&self, q: &[f64], v: &[f64], force: &[f64], speed: f64) -> Vec<f64> {
+        let n = self.size();
+        let mut rhs = Mat::<f64>::from_fn(n, 1, |i, _| {
+            force[i]
+                - (0..n)
+                    .map(|j| {
+                        self.stiffness[(i, j)] * q[j]
+                            + (self.damping[(i, j)] + speed * self.gyroscopic[(i, j)]) * v[j]
+                    })
+                    .sum::<f64>()
+        });
+        faer::linalg::solvers::Solve::solve_in_place(&self.mass.partial_piv_lu(), rhs.as_mut());
+        (0..n).map(|i| rhs[(i, 0)]).collect()
+    }
+
     /// Number of coordinates.
     pub fn size(&self) -> usize {
         self.mass.nrows()
