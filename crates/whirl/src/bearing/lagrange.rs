@@ -23,7 +23,7 @@
 use super::geometry::RollerGeometry;
 use crate::error::{Error, Result};
 use crate::model::RollerBearing;
-use crate::time::Kinematics;
+use crate::time::{solve_small, Kinematics};
 
 /// Most bearings one set of constraints handles.
 const MAX_BEARINGS: usize = 32;
@@ -318,32 +318,11 @@ fn solve_active(w: &mut Work, lambda: &mut [f64]) -> Result<()> {
         w.rhs[a] = w.predicted[w.index[a]];
     }
     let (a, rhs) = (&mut w.system[..k * k], &mut w.rhs[..k]);
-    for col in 0..k {
-        let pivot = (col..k)
-            .max_by(|&x, &y| a[x * k + col].abs().total_cmp(&a[y * k + col].abs()))
-            .unwrap_or(col);
-        if a[pivot * k + col].abs() < 1e-300 {
-            return Err(Error::Numerical(
-                "dependent roller constraints in the Lagrange-multiplier contact".into(),
-            ));
-        }
-        if pivot != col {
-            for b in 0..k {
-                a.swap(col * k + b, pivot * k + b);
-            }
-            rhs.swap(col, pivot);
-        }
-        for r in col + 1..k {
-            let f = a[r * k + col] / a[col * k + col];
-            for b in col..k {
-                a[r * k + b] -= f * a[col * k + b];
-            }
-            rhs[r] -= f * rhs[col];
-        }
-    }
-    for r in (0..k).rev() {
-        let s: f64 = (r + 1..k).map(|b| a[r * k + b] * rhs[b]).sum();
-        rhs[r] = (rhs[r] - s) / a[r * k + r];
+    solve_small(a, rhs);
+    if rhs.iter().any(|x| !x.is_finite()) {
+        return Err(Error::Numerical(
+            "dependent roller constraints in the Lagrange-multiplier contact".into(),
+        ));
     }
     for a in 0..k {
         lambda[w.index[a]] = rhs[a];

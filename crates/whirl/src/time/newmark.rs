@@ -26,7 +26,9 @@
 
 use faer::Mat;
 
-use super::problem::{axpy, bandwidths, vectorised, Band, BandLu, Columns, TimeProblem};
+use super::problem::{
+    axpy, bandwidths, solve_small, vectorised, Band, BandLu, Columns, TimeProblem,
+};
 use super::{check_state, Kinematics, MarchOptions, NlScratch, Observer};
 use crate::error::{Error, Result};
 
@@ -328,35 +330,6 @@ impl Tangent {
         for (column, &z) in speed.columns.chunks_exact(n).zip(&self.z) {
             axpy(-z, column, y);
         }
-    }
-}
-
-/// Solves the k x k row-major system in place by Gaussian elimination with partial
-/// pivoting; b becomes the solution. A singular system leaves non-finite values, which the
-/// Newton loop reports as non-convergence.
-fn solve_small(a: &mut [f64], b: &mut [f64]) {
-    let k = b.len();
-    for col in 0..k {
-        let pivot = (col..k)
-            .max_by(|&r, &s| a[r * k + col].abs().total_cmp(&a[s * k + col].abs()))
-            .unwrap_or(col);
-        if pivot != col {
-            for j in 0..k {
-                a.swap(col * k + j, pivot * k + j);
-            }
-            b.swap(col, pivot);
-        }
-        for r in col + 1..k {
-            let m = a[r * k + col] / a[col * k + col];
-            for j in col..k {
-                a[r * k + j] -= m * a[col * k + j];
-            }
-            b[r] -= m * b[col];
-        }
-    }
-    for col in (0..k).rev() {
-        let s: f64 = (col + 1..k).map(|j| a[col * k + j] * b[j]).sum();
-        b[col] = (b[col] - s) / a[col * k + col];
     }
 }
 

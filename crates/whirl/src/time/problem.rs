@@ -358,6 +358,35 @@ pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     ((pairs[0] + pairs[2]) + (pairs[1] + pairs[3])) + tail
 }
 
+/// Solves the k x k row-major system in place by Gaussian elimination with partial
+/// pivoting; b becomes the solution. A singular system leaves non-finite values, for the caller to
+/// report.
+pub(crate) fn solve_small(a: &mut [f64], b: &mut [f64]) {
+    let k = b.len();
+    for col in 0..k {
+        let pivot = (col..k)
+            .max_by(|&r, &s| a[r * k + col].abs().total_cmp(&a[s * k + col].abs()))
+            .unwrap_or(col);
+        if pivot != col {
+            for j in 0..k {
+                a.swap(col * k + j, pivot * k + j);
+            }
+            b.swap(col, pivot);
+        }
+        for r in col + 1..k {
+            let m = a[r * k + col] / a[col * k + col];
+            for j in col..k {
+                a[r * k + j] -= m * a[col * k + j];
+            }
+            b[r] -= m * b[col];
+        }
+    }
+    for col in (0..k).rev() {
+        let s: f64 = (col + 1..k).map(|j| a[col * k + j] * b[j]).sum();
+        b[col] = (b[col] - s) / a[col * k + col];
+    }
+}
+
 /// y += alpha x.
 #[inline(always)]
 pub(crate) fn axpy(alpha: f64, x: &[f64], y: &mut [f64]) {
