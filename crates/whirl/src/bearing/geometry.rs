@@ -14,6 +14,8 @@ pub struct Slice {
     pub roller: usize,
     /// Roller angle theta_j, rad.
     pub angle: f64,
+    /// sin and cos of the angle, computed once per roller for all its slices.
+    pub sin_cos: (f64, f64),
     /// Axial offset z_k of the slice from the bearing plane, m.
     pub z: f64,
     /// Approach not due to the shaft's motion: -gamma + skew - waviness, m.
@@ -25,14 +27,14 @@ pub struct Slice {
 impl Slice {
     /// d(delta)/d(u) for u = [ux, uy, tx, ty] (the first `len` entries are used).
     pub fn direction(&self) -> [f64; 4] {
-        let (s, c) = self.angle.sin_cos();
+        let (s, c) = self.sin_cos;
         [c, s, -self.z * s, self.z * c]
     }
 
     /// d/d(theta) of [`Slice::direction`]; times the cage speed it is the rate of the
     /// direction as the roller orbits.
     pub fn direction_turn(&self) -> [f64; 4] {
-        let (s, c) = self.angle.sin_cos();
+        let (s, c) = self.sin_cos;
         [-s, c, -self.z * c, -self.z * s]
     }
 }
@@ -137,10 +139,12 @@ impl RollerGeometry {
             let pitch = 2.0 * PI * j as f64 / self.rollers as f64 + self.cage_angle;
             let (wavy, wavy_rate) = self.waviness_at(pitch, cage_phase, cage_speed, at);
             let angle = pitch + cage_phase;
+            let sin_cos = angle.sin_cos();
             for (k, &z) in self.slice_z.iter().enumerate() {
                 visit(&Slice {
                     roller: j,
                     angle,
+                    sin_cos,
                     z: if self.tilt { z } else { 0.0 },
                     offset: -gamma + self.slice_skew[k] - wavy,
                     offset_rate: -wavy_rate,

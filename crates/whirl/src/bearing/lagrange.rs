@@ -252,7 +252,7 @@ impl LagrangeContacts {
         for (b, bearing) in self.bearings.iter().enumerate() {
             let w = &mut self.work;
             bearing.geometry.for_each_slice(at, |slice| {
-                let (s, c) = slice.angle.sin_cos();
+                let (s, c) = slice.sin_cos;
                 w.rows[row] = (c, s, b);
                 w.offsets[row] = slice.offset;
                 row += 1;
