@@ -26,8 +26,11 @@ use faer::Mat;
 
 use super::balance::{norm, solve_dense};
 use super::fourier::{cos_slot, sin_slot};
+use super::stability::{hill_exponents, Stability};
 use super::{HarmonicBalance, HbOptions, HbProblem, HbSolution};
 use crate::error::{Error, Result};
+use crate::fe::SystemMatrices;
+use crate::reduce::CraigBampton;
 use crate::time::{Kinematics, NonlinearForce};
 
 /// A nonlinear force renumbered onto the condensed coordinates.
@@ -96,7 +99,16 @@ pub struct CondensedBalance {
     rest: Vec<usize>,
     /// The last condensation, reused at the same frequency.
     last: Option<Condensed>,
+    /// Fixed-interface modes of the stability model.
+    stability_modes: usize,
+    /// The linear part of the stability model, made at the first stability request.
+    stability_model: Option<HarmonicBalance>,
 }
+
+/// Fixed-interface modes kept in the stability model by default: with the kept coordinates
+/// as its boundary they add the shaft's first bending pairs between the bearings, enough for
+/// the exponents of the modes below a few times the speed (checked against full Hill).
+pub const DEFAULT_STABILITY_MODES: usize = 4;
 
 impl CondensedBalance {
     /// Sets up condensed harmonic balance for `problem`.
@@ -139,7 +151,79 @@ impl CondensedBalance {
             kept,
             rest,
             last: None,
+            stability_modes: DEFAULT_STABILITY_MODES,
+            stability_model: None,
         })
+    }
+
+    /// Sets the number of fixed-interface modes of the stability model (see
+    /// [`Self::stability`]).
+    pub fn with_stability_modes(mut self, modes: usize) -> CondensedBalance {
+        self.stability_modes = modes;
+        self.stability_model = None;
+        self
+    }
+
+    /// Hill stability of the condensed solution `x` at w (rad/s).
+    ///
+    /// Hill's method needs the linear part at complex exponents, which the condensation per
+    /// harmonic does not give; it is solved instead on a Craig-Bampton model of the linear
+    /// part whose boundary is the kept coordinates, with `stability_modes` fixed-interface
+    /// modes. The nonlinear forces act on the kept coordinates only, so their Galerkin
+    /// matrices are exact; only the linear rest is truncated, to its lowest modes.
+    ///
+    /// # Errors
+    /// [`Error::Numerical`] when the reduction or the eigen-solver fails.
+    pub fn stability(&mut self, x: &[f64], frequency: f64) -> Result<Stability> {
+        self.reduced.check_arguments(frequency, x)?;
+        let model = match self.stability_model.take() {
+            Some(model) => model,
+            None => self.stability_basis()?,
+        };
+        let nonlinear = self.reduced.linearise(x, frequency);
+        let (n, m) = (model.problem().size(), self.kept.len());
+        let mut jacobian = model.linear_matrix(frequency);
+        let mut velocity = Mat::zeros(jacobian.nrows(), jacobian.ncols());
+        let slots = 2 * self.harmonics() + 1;
+        // Boundary coordinate i of the reduction is kept coordinate i (both ascending).
+        for (s, t) in (0..slots).flat_map(|s| (0..slots).map(move |t| (s, t))) {
+            for (i, j) in (0..m).flat_map(|i| (0..m).map(move |j| (i, j))) {
+                let (row, col) = (s * n + i, t * n + j);
+                let (r, c) = (s * m + i, t * m + j);
+                jacobian[(row, col)] += nonlinear.jacobian[(r, c)];
+                velocity[(row, col)] = nonlinear.velocity_galerkin[(r, c)];
+            }
+        }
+        let stability = hill_exponents(&model, &jacobian, &velocity, frequency);
+        self.stability_model = Some(model);
+        stability
+    }
+
+    /// The linear part reduced by Craig-Bampton onto the kept coordinates and the lowest
+    /// fixed-interface modes, as a harmonic balance without nonlinear forces.
+    fn stability_basis(&self) -> Result<HarmonicBalance> {
+        let p = &self.linear;
+        let system = SystemMatrices {
+            mass: p.mass.clone(),
+            stiffness: p.stiffness.clone(),
+            gyroscopic: p.gyroscopic.clone(),
+            damping: p.damping.clone(),
+        };
+        let cb = CraigBampton::new(&system, &self.kept, self.stability_modes)?;
+        let size = cb.size();
+        let problem = HbProblem {
+            mass: cb.reduced.mass,
+            stiffness: cb.reduced.stiffness,
+            damping: cb.reduced.damping,
+            gyroscopic: cb.reduced.gyroscopic,
+            constant_force: vec![0.0; size],
+            unbalance_re: vec![0.0; size],
+            unbalance_im: vec![0.0; size],
+            harmonic_re: vec![0.0; size],
+            harmonic_im: vec![0.0; size],
+            nonlinear: Vec::new(),
+        };
+        HarmonicBalance::new(problem, *self.options())
     }
 
     /// The coordinates kept (those carrying nonlinear forces), ascending.

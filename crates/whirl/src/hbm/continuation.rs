@@ -100,13 +100,10 @@ impl Periodic for CondensedBalance {
             frequency_derivative,
         }
     }
-    /// Hill's method on the condensed problem would need the condensed stiffness at
-    /// complex exponents, not only at the harmonics: refused rather than approximated.
-    fn stability(&mut self, _: &[f64], frequency: f64) -> Result<Stability> {
-        Err(Error::Numerical(format!(
-            "Hill stability at {frequency} rad/s needs the full model: continue the condensed \
-             problem without stability, or check the recovered points with hill_stability"
-        )))
+    /// Hill's method on a Craig-Bampton model of the linear part
+    /// ([`CondensedBalance::stability`]).
+    fn stability(&mut self, x: &[f64], frequency: f64) -> Result<Stability> {
+        CondensedBalance::stability(self, x, frequency)
     }
 }
 
