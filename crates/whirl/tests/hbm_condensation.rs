@@ -500,9 +500,12 @@ fn condensed_stability_matches_full_hill_on_the_reference_rotor() {
             worst < 1e-4,
             "least damped exponents differ by {worst:e} of w/2"
         );
-        // The largest real part is the stability margin (measured 3e-4 relative).
+        // The largest real part is the stability margin. Measured 1.4e-3 relative at
+        // 120 Hz, of the order of the full problem's own eigenvalue error: its companion
+        // matrix reaches |A| ~ 1e11 (the mesh's highest modes), and two full solves from
+        // coefficients that differ by 1e-12 gave real parts 1.1e-3 apart.
         let margin = (reduced.max_real - reference.max_real).abs() / reference.max_real.abs();
-        assert!(margin < 1e-3, "largest real part differs by {margin:e}");
+        assert!(margin < 3e-3, "largest real part differs by {margin:e}");
     }
 }
 

@@ -25,6 +25,7 @@
 use faer::Mat;
 
 use super::balance::{norm, solve_dense};
+use super::banded::BandedLu;
 use super::fourier::{cos_slot, sin_slot};
 use super::stability::{hill_exponents, Stability};
 use super::{HarmonicBalance, HbOptions, HbProblem, HbSolution};
@@ -97,6 +98,8 @@ pub struct CondensedBalance {
     reduced: HarmonicBalance,
     kept: Vec<usize>,
     rest: Vec<usize>,
+    /// Half-bandwidth of the linear matrices among the `rest` coordinates.
+    rest_bandwidth: usize,
     /// The last condensation, reused at the same frequency.
     last: Option<Condensed>,
     /// Fixed-interface modes of the stability model.
@@ -118,9 +121,10 @@ impl CondensedBalance {
         let mut kept: Vec<usize> = forces.iter().flat_map(|f| f.dofs().to_vec()).collect();
         kept.sort_unstable();
         kept.dedup();
-        let rest = (0..problem.size())
+        let rest: Vec<usize> = (0..problem.size())
             .filter(|d| kept.binary_search(d).is_err())
             .collect();
+        let rest_bandwidth = bandwidth(&problem, &rest);
         let m = kept.len();
         let renumbered = forces
             .into_iter()
@@ -150,6 +154,7 @@ impl CondensedBalance {
             reduced: HarmonicBalance::new(reduced, options)?,
             kept,
             rest,
+            rest_bandwidth,
             last: None,
             stability_modes: DEFAULT_STABILITY_MODES,
             stability_model: None,
@@ -251,21 +256,17 @@ impl CondensedBalance {
     /// [`Error::Numerical`] when D_bb is singular: w sits on a resonance of the linear part
     /// with the kept coordinates held fixed, where the rest cannot be condensed.
     pub fn condense(&self, frequency: f64) -> Result<Condensed> {
-        let mut blocks = Vec::with_capacity(self.harmonics() + 1);
-        let (force, force_derivative) = self.external_force(0, frequency);
-        let n = self.linear.size();
-        blocks.push(self.condense_block(
-            &self.linear.stiffness,
-            &Mat::zeros(n, n),
-            &force,
-            &force_derivative,
-            frequency,
-        )?);
-        for r in 1..=self.harmonics() {
-            let (d, dd) = self.harmonic_stiffness(r, frequency);
-            let (force, force_derivative) = self.external_force(r, frequency);
-            blocks.push(self.condense_block(&d, &dd, &force, &force_derivative, frequency)?);
-        }
+        let blocks = (0..=self.harmonics())
+            .map(|r| {
+                let (force, force_derivative) = self.external_force(r, frequency);
+                let block = HarmonicBlock {
+                    problem: &self.linear,
+                    r,
+                    frequency,
+                };
+                self.condense_block(&block, &force, &force_derivative)
+            })
+            .collect::<Result<Vec<_>>>()?;
         Ok(Condensed { frequency, blocks })
     }
 
@@ -284,35 +285,6 @@ impl CondensedBalance {
         let value = task(self, &condensed);
         self.last = Some(condensed);
         Ok(value)
-    }
-
-    /// D_r(w) and dD_r/dw on (cos r, sin r), 2n square.
-    fn harmonic_stiffness(&self, r: usize, frequency: f64) -> (Mat<f64>, Mat<f64>) {
-        let p = &self.linear;
-        let n = p.size();
-        let (rf, rw) = (r as f64, r as f64 * frequency);
-        let mut d = Mat::zeros(2 * n, 2 * n);
-        let mut dd = Mat::zeros(2 * n, 2 * n);
-        for i in 0..n {
-            for j in 0..n {
-                let z = p.stiffness[(i, j)] - rw * rw * p.mass[(i, j)];
-                let dz = -2.0 * rf * rw * p.mass[(i, j)];
-                let damping = p.damping[(i, j)] + frequency * p.gyroscopic[(i, j)];
-                let coupling = rw * damping;
-                // d(r w (C + w G))/dw = r (C + 2 w G).
-                let d_coupling = rf * (damping + frequency * p.gyroscopic[(i, j)]);
-                for (row, col, value, derivative) in [
-                    (i, j, z, dz),
-                    (n + i, n + j, z, dz),
-                    (i, n + j, coupling, d_coupling),
-                    (n + i, j, -coupling, -d_coupling),
-                ] {
-                    d[(row, col)] = value;
-                    dd[(row, col)] = derivative;
-                }
-            }
-        }
-        (d, dd)
     }
 
     /// The external force of block r and its w-derivative: the constant force in block 0,
@@ -341,56 +313,85 @@ impl CondensedBalance {
 
     /// Row/column indices of the kept and condensed coordinates in a block of
     /// `copies` (1 for the constant term, 2 for cos and sin) copies of the n coordinates.
+    /// Kept ones are in slot order (all cos, then all sin), as the unknowns; condensed ones
+    /// interleave the copies of each coordinate, which keeps D_bb banded.
     fn partition(&self, copies: usize) -> (Vec<usize>, Vec<usize>) {
         let n = self.linear.size();
-        let spread = |dofs: &[usize]| -> Vec<usize> {
-            (0..copies)
-                .flat_map(|c| dofs.iter().map(move |d| c * n + d))
-                .collect()
-        };
-        (spread(&self.kept), spread(&self.rest))
+        let kept = (0..copies)
+            .flat_map(|c| self.kept.iter().map(move |d| c * n + d))
+            .collect();
+        let rest = self
+            .rest
+            .iter()
+            .flat_map(|d| (0..copies).map(move |c| c * n + d))
+            .collect();
+        (kept, rest)
     }
 
     /// Condenses one block: D with dD/dw, its force f with df/dw. One factorisation of
     /// D_bb serves X, z and their w-derivatives (two solves more, made always because
-    /// continuation needs them at every frequency it condenses).
-    fn condense_block(
-        &self,
-        d: &Mat<f64>,
-        dd: &Mat<f64>,
-        f: &[f64],
-        df: &[f64],
-        frequency: f64,
-    ) -> Result<Block> {
-        let (a, b) = self.partition(f.len() / self.linear.size());
-        let sub = |m: &Mat<f64>, rows: &[usize], cols: &[usize]| {
-            Mat::from_fn(rows.len(), cols.len(), |i, j| m[(rows[i], cols[j])])
+    /// continuation needs them at every frequency it condenses). Only entries within the
+    /// band of D_bb are formed, so the cost grows linearly with the model size.
+    fn condense_block(&self, block: &HarmonicBlock<'_>, f: &[f64], df: &[f64]) -> Result<Block> {
+        let frequency = block.frequency;
+        let copies = f.len() / self.linear.size();
+        let (a, b) = self.partition(copies);
+        let value = |rows: &[usize], cols: &[usize]| {
+            Mat::from_fn(rows.len(), cols.len(), |i, j| {
+                block.entry(rows[i], cols[j]).0
+            })
+        };
+        let derivative = |rows: &[usize], cols: &[usize]| {
+            Mat::from_fn(rows.len(), cols.len(), |i, j| {
+                block.entry(rows[i], cols[j]).1
+            })
         };
         let pick = |v: &[f64], rows: &[usize]| Mat::from_fn(rows.len(), 1, |i, _| v[rows[i]]);
-        let lu = sub(d, &b, &b).partial_piv_lu();
+        // Interleaved, D_bb couples rows at most `copies` times the band apart.
+        let band = copies * (self.rest_bandwidth + 1) - 1;
+        let lu = BandedLu::new(b.len(), band, band, |i, j| block.entry(b[i], b[j]).0);
         let solve = |rhs: Mat<f64>| -> Result<Mat<f64>> {
+            let singular = || {
+                Error::Numerical(format!(
+                    "condensation at {frequency} rad/s: the linear part with the nonlinear \
+                     coordinates held is singular (a resonance of the condensed coordinates)"
+                ))
+            };
+            let lu = lu.as_ref().ok_or_else(singular)?;
             let mut y = rhs;
-            faer::linalg::solvers::Solve::solve_in_place(&lu, y.as_mut());
+            let mut column = vec![0.0; y.nrows()];
+            for j in 0..y.ncols() {
+                column
+                    .iter_mut()
+                    .enumerate()
+                    .for_each(|(i, c)| *c = y[(i, j)]);
+                lu.solve(&mut column);
+                column.iter().enumerate().for_each(|(i, c)| y[(i, j)] = *c);
+            }
             if y.col_iter().all(|c| c.iter().all(|v| v.is_finite())) {
                 Ok(y)
             } else {
-                Err(Error::Numerical(format!(
-                    "condensation at {frequency} rad/s: the linear part with the nonlinear \
-                     coordinates held is singular (a resonance of the condensed coordinates)"
-                )))
+                Err(singular())
             }
         };
-        let d_ab = sub(d, &a, &b);
-        let dd_bb = sub(dd, &b, &b);
-        let transfer = solve(sub(d, &b, &a))?;
+        // dD_bb Y within the band.
+        let band_product = |y: &Mat<f64>| {
+            Mat::from_fn(b.len(), y.ncols(), |i, j| {
+                (i.saturating_sub(band)..(i + band + 1).min(b.len()))
+                    .map(|k| block.entry(b[i], b[k]).1 * y[(k, j)])
+                    .sum::<f64>()
+            })
+        };
+        let d_ab = value(&a, &b);
+        let transfer = solve(value(&b, &a))?;
         let particular = solve(pick(f, &b))?;
-        let schur = sub(d, &a, &a) - &d_ab * &transfer;
+        let schur = value(&a, &a) - &d_ab * &transfer;
         let force = pick(f, &a) - &d_ab * &particular;
         // dX = D_bb^-1 (dD_ba - dD_bb X), dz = D_bb^-1 (df_b - dD_bb z).
-        let d_transfer = solve(sub(dd, &b, &a) - &dd_bb * &transfer)?;
-        let d_particular = solve(pick(df, &b) - &dd_bb * &particular)?;
-        let dd_ab = sub(dd, &a, &b);
-        let schur_derivative = sub(dd, &a, &a) - &dd_ab * &transfer - &d_ab * &d_transfer;
+        let d_transfer = solve(derivative(&b, &a) - band_product(&transfer))?;
+        let d_particular = solve(pick(df, &b) - band_product(&particular))?;
+        let dd_ab = derivative(&a, &b);
+        let schur_derivative = derivative(&a, &a) - &dd_ab * &transfer - &d_ab * &d_transfer;
         let force_derivative = pick(df, &a) - &dd_ab * &particular - &d_ab * &d_particular;
         let column = |m: Mat<f64>| (0..m.nrows()).map(|i| m[(i, 0)]).collect::<Vec<_>>();
         Ok(Block {
@@ -533,6 +534,68 @@ impl CondensedBalance {
         }
         full
     }
+}
+
+/// The dynamic stiffness of one harmonic r at w: the constant term's K for r = 0, else the
+/// real form D_r(w) on (cos r, sin r) of the module documentation; entries are made on
+/// demand, indices c n + dof for copy c (cos 0, sin 1).
+struct HarmonicBlock<'a> {
+    problem: &'a HbProblem,
+    r: usize,
+    frequency: f64,
+}
+
+impl HarmonicBlock<'_> {
+    /// Entry (row, col) of D_r and of dD_r/dw.
+    fn entry(&self, row: usize, col: usize) -> (f64, f64) {
+        let p = self.problem;
+        let n = p.size();
+        let (i, j) = (row % n, col % n);
+        if self.r == 0 {
+            return (p.stiffness[(i, j)], 0.0);
+        }
+        let (rf, w) = (self.r as f64, self.frequency);
+        let rw = rf * w;
+        match (row / n, col / n) {
+            (0, 0) | (1, 1) => (
+                p.stiffness[(i, j)] - rw * rw * p.mass[(i, j)],
+                -2.0 * rf * rw * p.mass[(i, j)],
+            ),
+            (copy, _) => {
+                let damping = p.damping[(i, j)] + w * p.gyroscopic[(i, j)];
+                // d(r w (C + w G))/dw = r (C + 2 w G).
+                let coupling = (rw * damping, rf * (damping + w * p.gyroscopic[(i, j)]));
+                if copy == 0 {
+                    coupling
+                } else {
+                    (-coupling.0, -coupling.1)
+                }
+            }
+        }
+    }
+}
+
+/// The largest |i - j| over nonzero entries (i, j) of M, K, C and G among `dofs` (indices
+/// into `dofs`).
+fn bandwidth(problem: &HbProblem, dofs: &[usize]) -> usize {
+    let matrices = [
+        &problem.mass,
+        &problem.stiffness,
+        &problem.damping,
+        &problem.gyroscopic,
+    ];
+    let mut width = 0;
+    for (i, &r) in dofs.iter().enumerate() {
+        for (j, &c) in dofs.iter().enumerate().skip(i + width + 1) {
+            if matrices
+                .iter()
+                .any(|m| m[(r, c)] != 0.0 || m[(c, r)] != 0.0)
+            {
+                width = j - i;
+            }
+        }
+    }
+    width
 }
 
 /// out = A x.

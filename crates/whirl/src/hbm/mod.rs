@@ -15,6 +15,8 @@
 //! - [`CondensedBalance`]: the same on the coordinates that carry nonlinear forces, the
 //!   linear rest condensed exactly per harmonic.
 //! - [`continuation`]: pseudo-arclength continuation in w through turning points.
+//! - [`bearings`]: roller bearings made periodic in the running speed ([`CageModel`]).
+//! - [`sweep`]: a model's periodic response over a speed range, as `whirl hbm` runs it.
 //! - [`stability`]: Hill's method for each periodic solution; [`bifurcation`]: where and
 //!   how it changes (fold, period doubling, Neimark-Sacker).
 //!
@@ -22,21 +24,26 @@
 //! time integrators use, so every contact law works in both.
 
 mod balance;
+mod banded;
+pub mod bearings;
 pub mod bifurcation;
 mod condensation;
 pub mod continuation;
 pub mod fourier;
 pub mod stability;
+pub mod sweep;
 
 pub use balance::{HarmonicBalance, HbSolution, Linearisation};
+pub use bearings::{CageModel, CagedBearing};
 pub use bifurcation::{bifurcations, Bifurcation, BifurcationKind};
-pub use condensation::{Condensed, CondensedBalance};
+pub use condensation::{Condensed, CondensedBalance, DEFAULT_STABILITY_MODES};
 pub use continuation::{
     continuation, resume, Branch, BranchEnd, BranchPoint, ContinuationOptions, Derivatives, Fold,
     Periodic,
 };
 pub use fourier::aliasing_free_samples;
 pub use stability::{hill_stability, Stability};
+pub use sweep::{sweep, Sweep, SweepOptions};
 
 use faer::Mat;
 

@@ -369,6 +369,18 @@ fn no_forces(_: &Model, _: &dyn Fn(usize) -> usize) -> Result<Vec<Box<dyn Nonlin
     Ok(Vec::new())
 }
 
+/// The full (unreduced) problem of `model` at constant speed `speed` (rad/s), for solvers
+/// other than the integrators (harmonic balance).
+pub(crate) fn full_problem(
+    model: &Model,
+    speed: f64,
+    bearings: Bearings,
+    forces: ForceBuilder<'_>,
+) -> Result<TimeProblem> {
+    integrated(model, None, SpeedProfile::Constant(speed), bearings, forces)
+        .map(|(_, problem)| problem)
+}
+
 /// The coordinates integrated and the problem in them.
 fn integrated(
     model: &Model,

@@ -1,0 +1,265 @@
+//! Roller bearings in harmonic balance (issue 5 item 2).
+//!
+//! With the rollers orbiting at the cage speed w_c the bearing force varies at the roller
+//! passage frequency N_b w_c, which is incommensurate with the running speed w: the true
+//! response is quasi-periodic and a Fourier series in w alone cannot hold it. Two periodic
+//! approximations make the force a function of the shaft's motion only:
+//!
+//! - [`CageModel::PassageAveraged`]: the force averaged over one roller pitch of cage
+//!   positions, the mean stiffness the shaft feels over many passages. Its varying part,
+//!   the source of the N_b w_c lines of a time simulation, is dropped.
+//! - [`CageModel::Frozen`]: the cage held at its position at t = 0 (the model's
+//!   `cage_angle`): the stiffness of one roller arrangement, anisotropic where the average
+//!   is nearly isotropic.
+//!
+//! In both the rollers keep their orbiting speed in the approach rate, so contact damping
+//! acts as in the time simulation. Waviness moves with the cage and the inner ring and
+//! has no periodic counterpart: a bearing with waviness is refused.
+
+use std::f64::consts::TAU;
+
+use serde::Serialize;
+
+use crate::bearing::{contact_coordinates, HertzBearing};
+use crate::error::{Error, Result};
+use crate::model::Model;
+use crate::time::{Kinematics, NonlinearForce};
+
+/// How the roller passage is made periodic in the running speed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum CageModel {
+    /// The force averaged over `positions` cage positions evenly spread over one roller
+    /// pitch.
+    PassageAveraged {
+        /// Cage positions per roller pitch.
+        positions: usize,
+    },
+    /// The cage held at its position at t = 0.
+    Frozen,
+}
+
+impl CageModel {
+    /// The passage average over 8 positions: the average of the reference bearing's
+    /// vertical stiffness changes by less than 1e-3 from 8 to 32 positions (its force is
+    /// smooth in the cage angle except where a roller enters the load zone).
+    pub const DEFAULT: CageModel = CageModel::PassageAveraged { positions: 8 };
+
+    /// A sentence for outputs saying which approximation was used.
+    pub fn describe(&self) -> String {
+        match self {
+            CageModel::PassageAveraged { positions } => format!(
+                "roller passage averaged over {positions} cage positions per roller pitch \
+                 (the varying-compliance excitation at N_b w_c is not represented)"
+            ),
+            CageModel::Frozen => "cage frozen at its position at t = 0 (the varying-compliance \
+                                  excitation at N_b w_c is not represented)"
+                .into(),
+        }
+    }
+}
+
+/// A Hertz roller bearing with its cage positions fixed by a [`CageModel`].
+pub struct CagedBearing {
+    inner: HertzBearing,
+    /// Spin angles that place the cage at each averaged position.
+    angles: Vec<f64>,
+    buffer: Vec<f64>,
+    buffer_v: Vec<f64>,
+}
+
+impl CagedBearing {
+    /// `inner` with its cage positions set by `cage`.
+    ///
+    /// # Errors
+    /// [`Error::Numerical`] when the bearing has waviness or `cage` has no positions.
+    pub fn new(inner: HertzBearing, cage: CageModel) -> Result<CagedBearing> {
+        let geometry = inner.geometry();
+        if !geometry.waviness.is_empty() {
+            return Err(Error::Numerical(format!(
+                "{}: waviness makes the bearing force quasi-periodic (it moves with the cage \
+                 and the inner ring), which harmonic balance in the running speed cannot \
+                 hold; remove the waviness for harmonic balance or use `whirl simulate`",
+                inner.name()
+            )));
+        }
+        // The cage advances by cage_ratio per radian of spin angle.
+        let pitch_angle = TAU / geometry.rollers as f64 / geometry.cage_ratio;
+        let angles = match cage {
+            CageModel::PassageAveraged { positions: 0 } => {
+                return Err(Error::Numerical(
+                    "the passage average needs at least one cage position per pitch".into(),
+                ))
+            }
+            CageModel::PassageAveraged { positions } => (0..positions)
+                .map(|k| pitch_angle * k as f64 / positions as f64)
+                .collect(),
+            CageModel::Frozen => vec![0.0],
+        };
+        let m = inner.dofs().len();
+        Ok(CagedBearing {
+            inner,
+            angles,
+            buffer: vec![0.0; m * m],
+            buffer_v: vec![0.0; m * m],
+        })
+    }
+
+    fn at(&self, at: &Kinematics, k: usize) -> Kinematics {
+        Kinematics {
+            time: at.time,
+            speed: at.speed,
+            angle: self.angles[k],
+        }
+    }
+
+    fn weight(&self) -> f64 {
+        1.0 / self.angles.len() as f64
+    }
+}
+
+impl NonlinearForce for CagedBearing {
+    fn name(&self) -> String {
+        self.inner.name()
+    }
+
+    fn dofs(&self) -> &[usize] {
+        self.inner.dofs()
+    }
+
+    fn force(&mut self, at: &Kinematics, q: &[f64], v: &[f64], out: &mut [f64]) {
+        out.iter_mut().for_each(|f| *f = 0.0);
+        let w = self.weight();
+        let m = out.len();
+        for k in 0..self.angles.len() {
+            let position = self.at(at, k);
+            self.inner.force(&position, q, v, &mut self.buffer[..m]);
+            for (o, f) in out.iter_mut().zip(&self.buffer[..m]) {
+                *o += w * f;
+            }
+        }
+    }
+
+    fn jacobian(
+        &mut self,
+        at: &Kinematics,
+        q: &[f64],
+        v: &[f64],
+        dfdq: &mut [f64],
+        dfdv: &mut [f64],
+    ) {
+        dfdq.iter_mut().for_each(|f| *f = 0.0);
+        dfdv.iter_mut().for_each(|f| *f = 0.0);
+        let w = self.weight();
+        for k in 0..self.angles.len() {
+            let position = self.at(at, k);
+            self.inner
+                .jacobian(&position, q, v, &mut self.buffer, &mut self.buffer_v);
+            for (o, f) in dfdq.iter_mut().zip(&self.buffer) {
+                *o += w * f;
+            }
+            for (o, f) in dfdv.iter_mut().zip(&self.buffer_v) {
+                *o += w * f;
+            }
+        }
+    }
+
+    fn stiffness_bound(&self) -> Vec<f64> {
+        self.inner.stiffness_bound()
+    }
+}
+
+/// Hertz contacts of every roller bearing of `model` with their cages fixed by `cage` (a
+/// [`crate::time::ForceBuilder`] once `cage` is bound).
+///
+/// # Errors
+/// As [`CagedBearing::new`], or when a bearing's coordinates are missing.
+pub fn caged_bearings(
+    model: &Model,
+    coordinate: &dyn Fn(usize) -> usize,
+    cage: CageModel,
+) -> Result<Vec<Box<dyn NonlinearForce>>> {
+    model
+        .roller_bearings
+        .iter()
+        .map(|b| {
+            let hertz = HertzBearing::new(b, contact_coordinates(b, coordinate)?)?;
+            Ok(Box::new(CagedBearing::new(hertz, cage)?) as Box<dyn NonlinearForce>)
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bearing::stiffness::FrozenBearing;
+
+    fn reference_bearing() -> crate::model::RollerBearing {
+        let model = Model::from_toml_str(crate::examples::REFERENCE_ROTOR, None).unwrap();
+        model.roller_bearings[0].clone()
+    }
+
+    #[test]
+    fn frozen_cage_force_equals_the_frozen_bearing_of_the_stiffness_module() {
+        // The stiffness module's FrozenBearing places the cage by its angle at rest; the
+        // caged bearing must place it at the model's cage angle whatever the time and spin
+        // angle it is called with.
+        let bearing = reference_bearing();
+        let hertz = HertzBearing::new(&bearing, vec![0, 1]).unwrap();
+        let mut caged = CagedBearing::new(hertz, CageModel::Frozen).unwrap();
+        let gamma = bearing.clearance.at_speed(0.0);
+        let mut frozen = FrozenBearing::new(&bearing, gamma, bearing.cage_angle).unwrap();
+        let at = Kinematics {
+            time: 0.3,
+            speed: 0.0,
+            angle: 5.0,
+        };
+        for u in [[3e-6, -2.2e-5], [-1.5e-5, -1.1e-5], [0.0, 2.5e-5]] {
+            let mut f = [0.0; 2];
+            caged.force(&at, &u, &[0.0; 2], &mut f);
+            let expected = frozen.force(u);
+            let scale = expected[0].hypot(expected[1]).max(1.0);
+            // Same Hertz sum in another order: round-off only.
+            assert!(
+                (f[0] - expected[0]).abs() < 1e-9 * scale
+                    && (f[1] - expected[1]).abs() < 1e-9 * scale,
+                "{f:?} vs {expected:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn passage_average_does_not_depend_on_time_or_spin_angle() {
+        let bearing = reference_bearing();
+        let hertz = HertzBearing::new(&bearing, vec![0, 1]).unwrap();
+        let mut caged = CagedBearing::new(hertz, CageModel::DEFAULT).unwrap();
+        let u = [2e-6, -2.3e-5];
+        let mut first = [0.0; 2];
+        let mut other = [0.0; 2];
+        let at = |t: f64| Kinematics {
+            time: t,
+            speed: 300.0,
+            angle: 300.0 * t,
+        };
+        caged.force(&at(0.0), &u, &[0.0; 2], &mut first);
+        caged.force(&at(0.0123), &u, &[0.0; 2], &mut other);
+        assert!(first[1] > 0.0, "the rollers push the shaft up: {first:?}");
+        assert_eq!(first, other);
+    }
+
+    #[test]
+    fn waviness_is_refused_with_the_reason() {
+        let mut bearing = reference_bearing();
+        bearing.waviness.push(crate::model::Waviness {
+            ring: crate::model::Ring::Outer,
+            order: 5,
+            amplitude: 1e-6,
+            phase: 0.0,
+        });
+        let hertz = HertzBearing::new(&bearing, vec![0, 1]).unwrap();
+        let Err(e) = CagedBearing::new(hertz, CageModel::DEFAULT) else {
+            panic!("a wavy bearing was accepted");
+        };
+        assert!(e.to_string().contains("waviness"), "{e}");
+    }
+}
