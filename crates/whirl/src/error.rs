@@ -122,6 +122,10 @@ pub enum Error {
         /// What happened and what to change.
         message: String,
     },
+    /// A long computation was stopped on request; what was finished is kept where the
+    /// message says.
+    #[error("{0}")]
+    Interrupted(String),
 }
 
 impl From<InputError> for Error {

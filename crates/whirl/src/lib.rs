@@ -31,6 +31,7 @@ pub mod fe;
 pub mod hbm;
 pub mod modal;
 pub mod model;
+pub mod nsv;
 pub mod post;
 pub mod reduce;
 pub mod response;

@@ -31,7 +31,10 @@ pub mod peaks;
 pub mod spectrum;
 pub mod tracking;
 
-pub use peaks::{amplitude_at, largest_non_synchronous, spectral_peaks, SpectralPeak};
+pub use peaks::{
+    amplitude_at, largest_non_synchronous, largest_non_synchronous_below, spectral_peaks,
+    SpectralPeak,
+};
 pub use spectrum::{
     amplitude_spectrum, amplitude_spectrum_with, full_spectrum, FullSpectrum, FullSpectrumPlanner,
     Spectrum, SpectrumOptions, SpectrumPlanner, Window,

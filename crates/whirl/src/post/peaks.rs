@@ -82,6 +82,43 @@ pub fn largest_non_synchronous(
     tolerance_bins: f64,
     max_order: usize,
 ) -> Option<SpectralPeak> {
+    largest_non_synchronous_where(
+        spectrum,
+        running_speed_hz,
+        tolerance_bins,
+        max_order,
+        |_| true,
+    )
+}
+
+/// As [`largest_non_synchronous`], among the peaks at or below `max_frequency_hz` only, with
+/// every multiple of the running speed up to there synchronous: the NSV of a cascade that
+/// shows (and judges) only that band. Peaks are found on the whole spectrum, so one just
+/// inside the band is refined with its neighbour beyond it, and the band's edge is no peak.
+pub fn largest_non_synchronous_below(
+    spectrum: &Spectrum,
+    running_speed_hz: f64,
+    tolerance_bins: f64,
+    max_frequency_hz: f64,
+) -> Option<SpectralPeak> {
+    let orders = if running_speed_hz.is_finite() && running_speed_hz > 0.0 {
+        // One order beyond the band, so a peak refined just past the edge is still judged.
+        (max_frequency_hz / running_speed_hz).ceil().max(0.0) as usize + 1
+    } else {
+        0
+    };
+    largest_non_synchronous_where(spectrum, running_speed_hz, tolerance_bins, orders, |p| {
+        p.frequency_hz <= max_frequency_hz
+    })
+}
+
+fn largest_non_synchronous_where(
+    spectrum: &Spectrum,
+    running_speed_hz: f64,
+    tolerance_bins: f64,
+    max_order: usize,
+    keep: impl Fn(&SpectralPeak) -> bool,
+) -> Option<SpectralPeak> {
     let tolerance_hz = tolerance_bins.max(0.0) * spectrum.resolution_hz;
     let speed_ok = running_speed_hz.is_finite() && running_speed_hz > 0.0;
     let synchronous = |f: f64| {
@@ -93,7 +130,7 @@ pub fn largest_non_synchronous(
     };
     spectral_peaks(spectrum, running_speed_hz, 0.0, usize::MAX)
         .into_iter()
-        .find(|p| !synchronous(p.frequency_hz))
+        .find(|p| keep(p) && !synchronous(p.frequency_hz))
 }
 
 /// The amplitude of the peak nearest `frequency_hz`: the largest bin within one bin of it,

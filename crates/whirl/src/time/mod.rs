@@ -36,7 +36,7 @@ pub use simulate::{
     simulate, simulate_with, stable_step, stable_step_with, Channel, ForceBuilder, Initial, Method,
     Progress, RunStatus, SimulationOptions, SimulationResult,
 };
-pub use simulate::{simulate_contacts, stable_step_for, DIVERGENCE_NET};
+pub use simulate::{simulate_contacts, simulate_response, stable_step_for, DIVERGENCE_NET};
 pub use statics::static_equilibrium;
 
 use crate::error::{Error, Result};

@@ -451,7 +451,16 @@ pub fn simulate_with(
     bearings: Bearings,
     forces: ForceBuilder<'_>,
 ) -> Result<SimulationResult> {
-    march_and_record(model, options, bearings, forces, None, 1)
+    march_and_record(model, options, bearings, forces, None, 1, Records::Channels)
+}
+
+/// What a run records besides the channels of its nodes.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Records {
+    /// Also every roller bearing's node and what each roller did.
+    Rollers,
+    /// Only the channels of `options.nodes`.
+    Channels,
 }
 
 /// Simulates `model` with its roller bearings modelled by `law`, recording every
@@ -463,6 +472,29 @@ pub fn simulate_contacts(
     law: ContactLaw,
     record_every: usize,
 ) -> Result<SimulationResult> {
+    simulate_law(model, options, law, record_every, Records::Rollers)
+}
+
+/// As [`simulate_contacts`], recording only the channels of `options.nodes`: no bearing
+/// nodes added, no [`RollerRecord`]s. For many runs that need one response each (a
+/// cascade), where evaluating and storing every roller at every sample would cost about as
+/// much as the march.
+pub fn simulate_response(
+    model: &Model,
+    options: &SimulationOptions,
+    law: ContactLaw,
+    record_every: usize,
+) -> Result<SimulationResult> {
+    simulate_law(model, options, law, record_every, Records::Channels)
+}
+
+fn simulate_law(
+    model: &Model,
+    options: &SimulationOptions,
+    law: ContactLaw,
+    record_every: usize,
+    records: Records,
+) -> Result<SimulationResult> {
     match law {
         ContactLaw::Linear => march_and_record(
             model,
@@ -471,6 +503,7 @@ pub fn simulate_contacts(
             &no_forces,
             None,
             record_every,
+            records,
         ),
         ContactLaw::Hertz => march_and_record(
             model,
@@ -479,6 +512,7 @@ pub fn simulate_contacts(
             &hertz_bearings,
             Some(law),
             record_every,
+            records,
         ),
         ContactLaw::Forcing => march_and_record(
             model,
@@ -487,6 +521,7 @@ pub fn simulate_contacts(
             &forcing_bearings,
             Some(law),
             record_every,
+            records,
         ),
         ContactLaw::Lagrange => march_and_record(
             model,
@@ -495,6 +530,7 @@ pub fn simulate_contacts(
             &no_forces,
             Some(law),
             record_every,
+            records,
         ),
     }
 }
@@ -554,6 +590,7 @@ fn march_and_record(
     forces: ForceBuilder<'_>,
     law: Option<ContactLaw>,
     record_every: usize,
+    records: Records,
 ) -> Result<SimulationResult> {
     check_options(model, options)?;
     if record_every == 0 {
@@ -586,14 +623,15 @@ fn march_and_record(
     let stable_step = central_difference_limit(&problem)?;
 
     let bound = options.divergence_bound;
-    let channels: Vec<(String, usize, SparseRow)> = recorded_nodes(model, options, law)
+    let rollers_law = law.filter(|_| records == Records::Rollers);
+    let channels: Vec<(String, usize, SparseRow)> = recorded_nodes(model, options, rollers_law)
         .into_iter()
         .flat_map(|node| [Direction::Ux, Direction::Uy].map(|d| (node, dof(node, d))))
         .map(|(node, d)| (dof_name(d), node, coords.recovery_row(d)))
         .collect();
     let steps = (options.duration / options.step).round() as usize;
     let capacity = steps / record_every + 1;
-    let mut probes = match law {
+    let mut probes = match rollers_law {
         Some(law) => model
             .roller_bearings
             .iter()

@@ -1,0 +1,185 @@
+//! The checkpoint of a cascade: a folder holding `manifest.json` (what is being computed)
+//! and one `point-<index>.json` per finished speed.
+//!
+//! Each point is written to a temporary file in the folder and renamed onto its name, so a
+//! run killed at any moment leaves every point file complete or absent, never half
+//! written. Numbers are JSON in the shortest form that reads back to the same f64, so a
+//! resumed cascade is bit for bit the uninterrupted one. The manifest holds a hash of the
+//! validated model (so editing a comment in the file keeps the checkpoint, changing a
+//! number does not), the options and the derived step and band, and whirl's version; a
+//! folder whose manifest differs is refused, never mixed. One run at a time per folder.
+//! The writes guard against an interrupted process, not a power cut (no fsync).
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use serde_json::{json, Value};
+
+use super::options::{CascadeOptions, Resolved};
+use super::point::CascadePoint;
+use crate::error::{Error, InputError, Result};
+use crate::model::Model;
+
+/// Format of the folder; a change makes older folders be refused.
+const FORMAT: u32 = 1;
+
+const MANIFEST: &str = "manifest.json";
+
+/// An open checkpoint folder whose manifest matches the cascade being computed.
+pub(super) struct Checkpoint {
+    dir: PathBuf,
+}
+
+/// The manifest of a cascade of `model` with these options.
+fn manifest(model: &Model, options: &CascadeOptions, resolved: &Resolved) -> Result<Value> {
+    let model_json = serde_json::to_string(model)
+        .map_err(|e| Error::Numerical(format!("cannot encode the model for its hash: {e}")))?;
+    Ok(json!({
+        "format": FORMAT,
+        "whirl_version": env!("CARGO_PKG_VERSION"),
+        "model_hash": format!("{:016x}", fnv1a(model_json.as_bytes())),
+        "options": options,
+        "resolved": resolved,
+    }))
+}
+
+/// FNV-1a, 64 bits: a hash that stays the same across Rust versions and platforms.
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+fn io<'a>(action: &'static str, path: &'a Path) -> impl FnOnce(std::io::Error) -> Error + 'a {
+    move |source| Error::Io {
+        action,
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+impl Checkpoint {
+    /// Opens (creating if needed) the checkpoint folder `dir` for this cascade.
+    ///
+    /// # Errors
+    /// [`Error::Input`] (field `checkpoint`) when the folder holds another cascade: other
+    /// model, options or whirl version; [`Error::Io`] when it cannot be read or written.
+    pub(super) fn open(
+        dir: &Path,
+        model: &Model,
+        options: &CascadeOptions,
+        resolved: &Resolved,
+    ) -> Result<Checkpoint> {
+        let wanted = manifest(model, options, resolved)?;
+        fs::create_dir_all(dir).map_err(io("create the checkpoint folder", dir))?;
+        let path = dir.join(MANIFEST);
+        if path.exists() {
+            let text = fs::read_to_string(&path).map_err(io("read", &path))?;
+            let found: Value = serde_json::from_str(&text).unwrap_or(Value::Null);
+            if found != wanted {
+                return Err(mismatch(dir, &found, &wanted));
+            }
+        } else {
+            let text = serde_json::to_string_pretty(&wanted)
+                .map_err(|e| Error::Numerical(format!("cannot encode the manifest: {e}")))?;
+            write_atomically(&path, text.as_bytes())?;
+        }
+        remove_leftovers(dir)?;
+        Ok(Checkpoint {
+            dir: dir.to_path_buf(),
+        })
+    }
+
+    fn point_path(&self, index: usize) -> PathBuf {
+        self.dir.join(format!("point-{index:05}.json"))
+    }
+
+    /// The finished point `index` at `speed` (rad/s), if it was saved. A file that cannot
+    /// be read, or holds another speed, counts as not saved (it is computed again).
+    pub(super) fn load(&self, index: usize, speed: f64) -> Option<CascadePoint> {
+        let text = fs::read_to_string(self.point_path(index)).ok()?;
+        let point: CascadePoint = serde_json::from_str(&text).ok()?;
+        (point.speed == speed).then_some(point)
+    }
+
+    /// Saves point `index` atomically.
+    pub(super) fn save(&self, index: usize, point: &CascadePoint) -> Result<()> {
+        let text = serde_json::to_string(point)
+            .map_err(|e| Error::Numerical(format!("cannot encode a cascade point: {e}")))?;
+        write_atomically(&self.point_path(index), text.as_bytes())
+    }
+
+    /// The folder.
+    pub(super) fn dir(&self) -> &Path {
+        &self.dir
+    }
+}
+
+/// Writes `bytes` to a temporary file beside `path` and renames it onto `path`.
+fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
+    let name = path
+        .file_name()
+        .and_then(|n| n.to_str())
+        .unwrap_or("checkpoint");
+    let tmp = path.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
+    fs::write(&tmp, bytes).map_err(io("write", &tmp))?;
+    fs::rename(&tmp, path).map_err(io("rename into place", path))
+}
+
+/// Removes temporary files a killed run left behind.
+fn remove_leftovers(dir: &Path) -> Result<()> {
+    for entry in fs::read_dir(dir).map_err(io("read", dir))?.flatten() {
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        if name.starts_with('.') && name.contains(".tmp-") {
+            let _ = fs::remove_file(entry.path());
+        }
+    }
+    Ok(())
+}
+
+/// The refusal to mix two cascades, naming what differs.
+fn mismatch(dir: &Path, found: &Value, wanted: &Value) -> Error {
+    let differs = |key: &str| found.get(key) != wanted.get(key);
+    let mut what: Vec<String> = Vec::new();
+    if differs("model_hash") {
+        what.push("the model".into());
+    }
+    for group in ["options", "resolved"] {
+        if let (Some(Value::Object(a)), Some(Value::Object(b))) =
+            (found.get(group), wanted.get(group))
+        {
+            what.extend(b.keys().filter(|k| a.get(*k) != b.get(*k)).cloned());
+        }
+    }
+    if differs("format") || differs("whirl_version") || what.is_empty() {
+        what.push("the whirl version or checkpoint format".into());
+    }
+    InputError::field(
+        "checkpoint",
+        format!(
+            "the checkpoint folder `{}` holds a cascade that differs in {}; its finished \
+             speeds cannot be mixed with this run's",
+            dir.display(),
+            what.join(", ")
+        ),
+    )
+    .help(
+        "delete that folder to start over (whirl cascade: --restart), or write this run \
+         elsewhere",
+    )
+    .into()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fnv1a_matches_its_published_vectors() {
+        // Reference values of the FNV-1a 64-bit test suite (Fowler, Noll, Vo).
+        assert_eq!(fnv1a(b""), 0xcbf2_9ce4_8422_2325);
+        assert_eq!(fnv1a(b"a"), 0xaf63_dc4c_8601_ec8c);
+        assert_eq!(fnv1a(b"foobar"), 0x8594_4171_f739_67e8);
+    }
+}

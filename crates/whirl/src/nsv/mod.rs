@@ -1,0 +1,350 @@
+//! Non-synchronous vibration over a speed range: the cascade (waterfall) diagram and the
+//! NSV at each speed, classified and summarised (SPEC section 9, thesis ch. 5).
+//!
+//! # The cascade
+//!
+//! At each spin speed Omega of a sweep, independently of the others, [`cascade`]
+//!
+//! 1. marches the rotor (full or Craig-Bampton reduced, central difference, from the static
+//!    equilibrium under gravity, roller bearings by the chosen
+//!    [`ContactLaw`](crate::time::ContactLaw)) for
+//!    `settle + record` seconds, recording the response node's u_x and u_y;
+//! 2. discards the first `settle` seconds and takes the windowed amplitude spectrum of the
+//!    chosen component over the rest, scaled to physical zero-to-peak amplitude
+//!    ([`crate::post::spectrum`]: `A_k = c_k |X_k| / sum(w)`), with the window-weighted
+//!    mean (the static sag) removed;
+//! 3. finds the largest peak that is not within `tolerance_bins` of a multiple of the
+//!    running speed ([`crate::post::largest_non_synchronous_below`], refined between bins):
+//!    the NSV amplitude of SPEC section 9. Its whirl direction comes from the full spectrum
+//!    of `x + i y` (forward at +f, backward at -f), and its amplitude in the record's two
+//!    halves tells a steady vibration from free vibration still dying away.
+//!
+//! Then the NSV of every speed is classified ([`NsvClass`]: sub-synchronous whirl, whip,
+//! varying compliance and its combinations with the running speed, super-harmonic,
+//! transient, other; the rules are in [`classify`]'s documentation), using its neighbours
+//! in speed (is the frequency locked?), the bearings' contact frequencies (N_b w_c, eq. 4.4)
+//! and the natural frequencies of the rotor on linearised bearings (a Campbell diagram).
+//! [`Cascade::nsv_summary`] gives the onset speed, the largest NSV and the dominant class.
+//!
+//! The band kept and searched runs from 0 to `max_frequency_hz` (by default 2.5 times the
+//! top speed, or 1.25 times the highest contact frequency there, whichever is higher).
+//!
+//! # Parallel, deterministic, resumable
+//!
+//! Speeds run in parallel on rayon's pool; each is a deterministic function of the model
+//! and the options, so the results do not depend on the number of threads (keep faer
+//! single-threaded, `faer::set_global_parallelism(faer::Par::Seq)`, as the CLI does: faer's
+//! own threads would only compete with the speeds). With a checkpoint folder every finished
+//! speed is saved at once, atomically (see [`checkpoint`]); a later call with the same
+//! model and options loads the finished speeds and computes only the rest, with results
+//! identical to an uninterrupted run. A folder holding another cascade is refused.
+//!
+//! ```no_run
+//! use whirl::model::Model;
+//! use whirl::nsv::{cascade, CascadeOptions};
+//! use whirl::units::{parse_range, Dimension};
+//!
+//! let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None)?;
+//! let speeds = parse_range("1:750Hz:150", Dimension::AngularSpeed)?;
+//! let options = CascadeOptions::new(&model, speeds);
+//! let result = cascade(&model, &options, Some("out/cascade.partial".as_ref()), None)?;
+//! let summary = result.nsv_summary(whirl::nsv::DEFAULT_THRESHOLD_M);
+//! println!("NSV from {:?} Hz, largest {:?}", summary.onset_speed_hz, summary.largest);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+pub mod checkpoint;
+pub mod classify;
+mod options;
+mod point;
+mod summary;
+
+use std::ops::ControlFlow;
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::time::Instant;
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+pub use classify::{NamedFrequency, Nsv, NsvClass, WhirlDirection};
+pub use options::{
+    CascadeOptions, Component, Resolved, DEFAULT_MODES, DEFAULT_TOLERANCE_BINS, SAMPLE_INTERVAL,
+    STABLE_FRACTION,
+};
+pub use point::{CascadePoint, NsvPeak};
+pub use summary::{ClassCount, LargestNsv, NsvSummary, DEFAULT_THRESHOLD_M};
+
+use crate::error::{Error, Result};
+use crate::fe::{assemble, Bearings};
+use crate::modal::{campbell, CampbellOptions};
+use crate::model::Model;
+use crate::time::contact_frequencies;
+use checkpoint::Checkpoint;
+use classify::Context;
+
+/// Natural frequencies (Campbell branches) compared with sub-synchronous peaks.
+const NATURAL_BRANCHES: usize = 6;
+
+/// Neighbours on each side in speed that a peak's frequency lock is looked for in: two, so
+/// that one speed where another vibration was the larger does not break the lock.
+const LOCK_NEIGHBOURS: usize = 2;
+
+/// How far a cascade has got, for a progress display.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CascadeProgress {
+    /// Speeds finished, those loaded from the checkpoint included.
+    pub done: usize,
+    /// Speeds in the cascade.
+    pub total: usize,
+    /// Speeds loaded from the checkpoint.
+    pub resumed: usize,
+}
+
+/// Told of progress after the checkpoint is read and after each speed; return
+/// `ControlFlow::Break(())` to stop (finished speeds stay saved, speeds running finish).
+pub type ProgressFn<'a> = &'a (dyn Fn(CascadeProgress) -> ControlFlow<()> + Sync);
+
+/// A computed cascade: one spectrum and one classified NSV per speed.
+#[derive(Debug, Clone, Serialize)]
+pub struct Cascade {
+    /// The options it was computed with.
+    pub options: CascadeOptions,
+    /// Step, sampling and band shared by every speed.
+    pub resolved: Resolved,
+    /// Frequencies of the one-sided bins kept, Hz.
+    pub frequency_hz: Vec<f64>,
+    /// Frequencies of the full-spectrum bins kept (empty unless `options.full`), Hz.
+    pub full_frequency_hz: Vec<f64>,
+    /// One point per speed, in the order of `options.speeds`.
+    pub points: Vec<CascadePoint>,
+    /// Contact frequencies at each speed (N_b w_c, waviness), Hz.
+    pub contact_frequencies: Vec<Vec<NamedFrequency>>,
+    /// Natural frequencies of the rotor on linearised bearings at each speed, Hz.
+    pub natural_frequencies: Vec<Vec<NamedFrequency>>,
+    /// The classified NSV at each speed; `None` where there is no non-synchronous peak or
+    /// the run diverged.
+    pub nsv: Vec<Option<Nsv>>,
+    /// Speeds loaded from the checkpoint rather than computed.
+    pub resumed: usize,
+    /// Wall-clock time of this call, s.
+    pub wall_time_s: f64,
+}
+
+impl Cascade {
+    /// The NSV in a few numbers, counting peaks at or above `threshold_m` (m, zero-to-peak;
+    /// [`DEFAULT_THRESHOLD_M`] is a sensible start).
+    pub fn nsv_summary(&self, threshold_m: f64) -> NsvSummary {
+        let diverged = self
+            .points
+            .iter()
+            .filter(|p| p.diverged.is_some())
+            .map(|p| p.speed_hz)
+            .collect();
+        summary::summarise(&self.nsv, diverged, threshold_m)
+    }
+
+    /// The speeds, Hz.
+    pub fn speeds_hz(&self) -> Vec<f64> {
+        self.points.iter().map(|p| p.speed_hz).collect()
+    }
+}
+
+/// Computes the cascade of `model` (see the module documentation). With `checkpoint`, the
+/// speeds already finished there are loaded and each new one is saved as soon as it is
+/// done. `progress` is told how far it has got and may stop it.
+///
+/// # Errors
+/// [`Error::Input`] for bad options (the field is named) or a checkpoint folder holding
+/// another cascade (field `checkpoint`); [`Error::Interrupted`] when `progress` stopped it;
+/// [`Error::Io`] when the checkpoint cannot be written; what the simulation reports for a
+/// model it cannot run. A run that diverges at some speed is no error: that point says so.
+pub fn cascade(
+    model: &Model,
+    options: &CascadeOptions,
+    checkpoint: Option<&Path>,
+    progress: Option<ProgressFn<'_>>,
+) -> Result<Cascade> {
+    let start = Instant::now();
+    let resolved = options::resolve(model, options)?;
+    let store = checkpoint
+        .map(|dir| Checkpoint::open(dir, model, options, &resolved))
+        .transpose()?;
+    let mut points: Vec<Option<CascadePoint>> = options
+        .speeds
+        .iter()
+        .enumerate()
+        .map(|(i, &w)| store.as_ref().and_then(|s| s.load(i, w)))
+        .collect();
+    let resumed = points.iter().flatten().count();
+    let total = points.len();
+    let tell = |done: usize| {
+        progress.map_or(ControlFlow::Continue(()), |report| {
+            report(CascadeProgress {
+                done,
+                total,
+                resumed,
+            })
+        })
+    };
+    let stop = AtomicBool::new(tell(resumed).is_break());
+    let done = AtomicUsize::new(resumed);
+    let missing: Vec<usize> = (0..total).filter(|&i| points[i].is_none()).collect();
+    let computed = missing
+        .par_iter()
+        .filter(|_| !stop.load(Ordering::Relaxed))
+        .map(|&i| {
+            let point = point::compute(model, options, &resolved, options.speeds[i])?;
+            if let Some(s) = &store {
+                s.save(i, &point)?;
+            }
+            let finished = done.fetch_add(1, Ordering::Relaxed) + 1;
+            if tell(finished).is_break() {
+                stop.store(true, Ordering::Relaxed);
+            }
+            Ok((i, point))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    for (i, p) in computed {
+        points[i] = Some(p);
+    }
+    let points: Vec<CascadePoint> = points.into_iter().flatten().collect();
+    if points.len() < total {
+        return Err(interrupted(points.len(), total, store.as_ref()));
+    }
+    let mut cascade = assemble_cascade(model, options, resolved, points)?;
+    cascade.resumed = resumed;
+    cascade.wall_time_s = start.elapsed().as_secs_f64();
+    Ok(cascade)
+}
+
+fn interrupted(done: usize, total: usize, store: Option<&Checkpoint>) -> Error {
+    let kept = store.map_or("nothing was kept (no checkpoint folder)".to_string(), |s| {
+        format!("they are kept in `{}`", s.dir().display())
+    });
+    Error::Interrupted(format!(
+        "the cascade was stopped after {done} of {total} speeds; {kept}"
+    ))
+}
+
+/// Frequencies, contact and natural frequencies, and the classified NSV of the points.
+fn assemble_cascade(
+    model: &Model,
+    options: &CascadeOptions,
+    resolved: Resolved,
+    points: Vec<CascadePoint>,
+) -> Result<Cascade> {
+    let df = resolved.resolution_hz;
+    let frequency_hz = (0..resolved.bins).map(|k| k as f64 * df).collect();
+    let full_frequency_hz = if options.full {
+        point::full_bins(&resolved).map(|k| k as f64 * df).collect()
+    } else {
+        Vec::new()
+    };
+    let contact: Vec<Vec<NamedFrequency>> = options
+        .speeds
+        .iter()
+        .map(|&w| contact_bases(model, w))
+        .collect();
+    let natural = natural_frequencies(model, &options.speeds)?;
+    let tolerance_hz = options.tolerance_bins * df;
+    let contexts: Vec<Context<'_>> = contact
+        .iter()
+        .zip(&natural)
+        .map(|(contact, natural)| Context {
+            contact,
+            natural,
+            tolerance_hz,
+        })
+        .collect();
+    let nsv = classify::classify(&points, &contexts, &neighbours_in_speed(&options.speeds));
+    Ok(Cascade {
+        options: options.clone(),
+        resolved,
+        frequency_hz,
+        full_frequency_hz,
+        points,
+        contact_frequencies: contact.clone(),
+        natural_frequencies: natural,
+        nsv,
+        resumed: 0,
+        wall_time_s: 0.0,
+    })
+}
+
+/// The speeds in ascending order (indices into `speeds`).
+fn ascending(speeds: &[f64]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..speeds.len()).collect();
+    order.sort_by(|&a, &b| speeds[a].total_cmp(&speeds[b]));
+    order
+}
+
+/// For each speed, the indices of up to [`LOCK_NEIGHBOURS`] speeds on each side of it.
+fn neighbours_in_speed(speeds: &[f64]) -> Vec<Vec<usize>> {
+    let order = ascending(speeds);
+    let mut out = vec![Vec::new(); speeds.len()];
+    for (rank, &i) in order.iter().enumerate() {
+        let low = rank.saturating_sub(LOCK_NEIGHBOURS);
+        let high = (rank + LOCK_NEIGHBOURS).min(order.len() - 1);
+        out[i] = (low..=high)
+            .filter(|&r| r != rank)
+            .map(|r| order[r])
+            .collect();
+    }
+    out
+}
+
+/// The varying-compliance and waviness frequencies of every roller bearing at `speed`
+/// (rad/s), each frequency once (the bearing is named where two share a source).
+fn contact_bases(model: &Model, speed: f64) -> Vec<NamedFrequency> {
+    let mut out: Vec<NamedFrequency> = Vec::new();
+    for b in &model.roller_bearings {
+        for c in contact_frequencies(b, speed) {
+            let same = |o: &NamedFrequency| {
+                (o.frequency_hz - c.frequency_hz).abs() <= 1e-9 * c.frequency_hz.abs().max(1.0)
+            };
+            if out.iter().any(same) {
+                continue;
+            }
+            let label = if c.source == "varying compliance" {
+                "N_b w_c".to_string()
+            } else {
+                c.source.clone()
+            };
+            let name = if out.iter().any(|o| o.name == label) {
+                format!("{label} ({})", b.name)
+            } else {
+                label
+            };
+            out.push(NamedFrequency {
+                name,
+                frequency_hz: c.frequency_hz,
+            });
+        }
+    }
+    out
+}
+
+/// The first [`NATURAL_BRANCHES`] whirl frequencies of the rotor on linearised bearings at
+/// each speed, named `mode 1 forward` etc.
+fn natural_frequencies(model: &Model, speeds: &[f64]) -> Result<Vec<Vec<NamedFrequency>>> {
+    let order = ascending(speeds);
+    let sorted: Vec<f64> = order.iter().map(|&i| speeds[i]).collect();
+    let system = assemble(model, Bearings::Linearised);
+    let mut campbell_options = CampbellOptions::new(sorted);
+    campbell_options.modes = NATURAL_BRANCHES.min(system.dofs());
+    let diagram = campbell(&system, &campbell_options)?;
+    let mut out = vec![Vec::new(); speeds.len()];
+    for (rank, &i) in order.iter().enumerate() {
+        out[i] = diagram
+            .branches
+            .iter()
+            .filter(|b| b.frequency_hz[rank].is_finite())
+            .map(|b| NamedFrequency {
+                name: format!("mode {} {}", b.index + 1, b.whirl_at[rank].name()),
+                frequency_hz: b.frequency_hz[rank],
+            })
+            .collect();
+    }
+    Ok(out)
+}

@@ -1,0 +1,263 @@
+//! What a cascade computes, and the derived numbers every speed shares (time step,
+//! sampling, frequency band).
+
+use serde::Serialize;
+
+use crate::error::{Error, InputError, Result};
+use crate::model::Model;
+use crate::post::spectrum::MIN_SAMPLES;
+use crate::post::Window;
+use crate::time::{contact_frequencies, stable_step_for, ContactLaw};
+use crate::units::rad_s_to_hz;
+
+/// The central difference runs at this fraction of its stability limit by default (as
+/// `whirl simulate` does): close enough to be cheap, far enough that round-off in the limit
+/// does not matter.
+pub const STABLE_FRACTION: f64 = 0.9;
+
+/// Recorded samples are at most this far apart, s (100 kHz): far above every frequency of
+/// the band and the bearing nodes' contact resonances (a few kHz), so nothing aliases into
+/// the band (see `whirl simulate`'s `DEFAULT_SAMPLE_INTERVAL`).
+pub const SAMPLE_INTERVAL: f64 = 1e-5;
+
+/// Default number of fixed-interface modes of the Craig-Bampton model: 12 modes keep the
+/// reference rotor's frequencies below 1 kHz within 0.1 % and raise the stable step tenfold
+/// (`whirl reduce`).
+pub const DEFAULT_MODES: usize = 12;
+
+/// Default tolerance of "at a multiple of the running speed", in bins: the Hann window's
+/// main lobe is +-2 bins, so a synchronous peak refined between bins lies well inside.
+pub const DEFAULT_TOLERANCE_BINS: f64 = 2.0;
+
+/// The default band reaches this many times the top running speed (2X and a margin) ...
+const BAND_ORDERS: f64 = 2.5;
+/// ... or this far above the highest varying-compliance or waviness frequency at the top
+/// speed, whichever is higher.
+const BAND_MARGIN: f64 = 1.25;
+
+/// Which displacement of the response node the one-sided spectrum is taken of.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum Component {
+    /// Horizontal, u_x.
+    Ux,
+    /// Vertical, u_y: the thesis' cascades (figs. 5.x) show the disk's vertical response.
+    #[default]
+    Uy,
+}
+
+/// What a cascade computes. Build with [`CascadeOptions::new`] and change fields.
+#[derive(Debug, Clone, Serialize)]
+pub struct CascadeOptions {
+    /// Spin speeds, rad/s, each positive (the order of the list is kept in the results).
+    pub speeds: Vec<f64>,
+    /// Time simulated and discarded before the record at each speed, s.
+    pub settle: f64,
+    /// Time recorded after settling, whose spectrum is taken, s. The bin spacing is its
+    /// inverse.
+    pub record: f64,
+    /// Contact law of the roller bearings.
+    pub law: ContactLaw,
+    /// Craig-Bampton reduction with this many fixed-interface modes; `None` for the full
+    /// model.
+    pub reduction: Option<usize>,
+    /// Central-difference time step, s; `None` for [`STABLE_FRACTION`] of the stability
+    /// limit.
+    pub step: Option<f64>,
+    /// The node whose response is analysed.
+    pub node: usize,
+    /// Which of its displacements gives the one-sided spectrum (the full spectrum uses both).
+    pub component: Component,
+    /// Data window of the spectra.
+    pub window: Window,
+    /// Top of the frequency band kept and searched, Hz; `None` for the default (the higher of
+    /// 2.5 times the top speed and 1.25 times the highest contact frequency there).
+    pub max_frequency_hz: Option<f64>,
+    /// A peak within this many bins of a multiple of the running speed is synchronous; the
+    /// same tolerance names 0.5X and contact combinations.
+    pub tolerance_bins: f64,
+    /// Keep the full (two-sided) spectrum of `x + i y` of every speed, not only its reading
+    /// at the NSV peak.
+    pub full: bool,
+    /// A recorded displacement beyond this (m) means the run at that speed diverged.
+    pub divergence_bound: f64,
+}
+
+impl CascadeOptions {
+    /// The defaults for `model` at `speeds` (rad/s): 0.5 s settling and 0.5 s recorded
+    /// (2 Hz bins), the model's default contact law (Hertz with roller bearings), the
+    /// reduced model ([`DEFAULT_MODES`]), the first disk's node (else the middle node), its
+    /// vertical displacement, Hann window, the default band, 2 bins tolerance.
+    pub fn new(model: &Model, speeds: Vec<f64>) -> Self {
+        let node = model
+            .disks
+            .first()
+            .map_or(model.node_count() / 2, |d| d.station.node);
+        CascadeOptions {
+            speeds,
+            settle: 0.5,
+            record: 0.5,
+            law: ContactLaw::default_for(model),
+            reduction: Some(DEFAULT_MODES),
+            step: None,
+            node,
+            component: Component::Uy,
+            window: Window::Hann,
+            max_frequency_hz: None,
+            tolerance_bins: DEFAULT_TOLERANCE_BINS,
+            full: false,
+            divergence_bound: 0.01,
+        }
+    }
+}
+
+/// Numbers derived once from the options and shared by every speed.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Resolved {
+    /// Time step, s.
+    pub step: f64,
+    /// Steps per recorded sample.
+    pub record_every: usize,
+    /// Samples in the record whose spectrum is taken.
+    pub samples: usize,
+    /// Sample rate of the record, Hz.
+    pub sample_rate_hz: f64,
+    /// Bin spacing, Hz.
+    pub resolution_hz: f64,
+    /// Top of the band, Hz.
+    pub max_frequency_hz: f64,
+    /// One-sided bins kept: 0 up to `bins - 1`.
+    pub bins: usize,
+}
+
+/// An option error naming the field.
+fn bad(field: &str, message: String, help: &str) -> Error {
+    InputError::field(field, message).help(help).into()
+}
+
+/// Checks the options against the model and works out step, sampling and band.
+pub(super) fn resolve(model: &Model, o: &CascadeOptions) -> Result<Resolved> {
+    check(model, o)?;
+    let step = match o.step {
+        Some(h) => h,
+        None => STABLE_FRACTION * stable_step_for(model, o.reduction, o.law)?,
+    };
+    // As many steps as fit in the sample interval, at least one; the allowance keeps a step
+    // of exactly SAMPLE_INTERVAL / k at k despite round-off.
+    let record_every = ((SAMPLE_INTERVAL / step) * (1.0 + 1e-9)).floor().max(1.0) as usize;
+    let interval = step * record_every as f64;
+    let samples = (o.record / interval + 1e-9).floor() as usize;
+    if samples < MIN_SAMPLES {
+        return Err(bad(
+            "record",
+            format!(
+                "{} s recorded at {interval:.3e} s per sample gives {samples} samples; a \
+                 spectrum needs at least {MIN_SAMPLES}",
+                o.record
+            ),
+            "record longer (0.5 s gives 2 Hz bins)",
+        ));
+    }
+    let sample_rate_hz = 1.0 / interval;
+    let resolution_hz = sample_rate_hz / samples as f64;
+    let nyquist = 0.5 * sample_rate_hz;
+    let max_frequency_hz = o
+        .max_frequency_hz
+        .unwrap_or_else(|| default_band(model, &o.speeds))
+        .min(nyquist);
+    let bins = ((max_frequency_hz / resolution_hz).floor() as usize + 1).min(samples / 2 + 1);
+    Ok(Resolved {
+        step,
+        record_every,
+        samples,
+        sample_rate_hz,
+        resolution_hz,
+        max_frequency_hz,
+        bins,
+    })
+}
+
+/// The default band's top: 2.5X of the top speed, or 1.25 times the highest contact
+/// frequency there, whichever is higher, Hz.
+fn default_band(model: &Model, speeds: &[f64]) -> f64 {
+    let top = speeds.iter().copied().fold(0.0, f64::max);
+    let contact = model
+        .roller_bearings
+        .iter()
+        .flat_map(|b| contact_frequencies(b, top))
+        .map(|c| c.frequency_hz)
+        .fold(0.0, f64::max);
+    (BAND_ORDERS * rad_s_to_hz(top)).max(BAND_MARGIN * contact)
+}
+
+fn check(model: &Model, o: &CascadeOptions) -> Result<()> {
+    if o.speeds.is_empty() {
+        return Err(bad(
+            "speeds",
+            "a cascade needs at least one speed".into(),
+            "give a range such as 1:750Hz:150",
+        ));
+    }
+    if let Some(w) = o.speeds.iter().find(|w| !(w.is_finite() && **w > 0.0)) {
+        return Err(bad(
+            "speeds",
+            format!("every speed must be positive, got {w} rad/s"),
+            "start the range above zero, e.g. 1:750Hz:150 (at rest there is no running \
+             speed to call a vibration synchronous to)",
+        ));
+    }
+    let positive = |x: f64| x.is_finite() && x > 0.0;
+    if !(o.settle.is_finite() && o.settle >= 0.0) {
+        return Err(bad(
+            "settle",
+            format!("the settling time must be 0 s or more, got {} s", o.settle),
+            "e.g. 0.5 s",
+        ));
+    }
+    if !positive(o.record) {
+        return Err(bad(
+            "record",
+            format!("the recorded time must be positive, got {} s", o.record),
+            "e.g. 0.5 s (2 Hz bins)",
+        ));
+    }
+    if let Some(h) = o.step.filter(|h| !positive(*h)) {
+        return Err(bad(
+            "step",
+            format!("the time step must be positive, got {h} s"),
+            "leave it out for 0.9 times the stability limit",
+        ));
+    }
+    if o.node >= model.node_count() {
+        return Err(bad(
+            "node",
+            format!("node {} is not on the shaft", o.node),
+            &format!("nodes are numbered 0 to {}", model.node_count() - 1),
+        ));
+    }
+    if let Some(f) = o.max_frequency_hz.filter(|f| !positive(*f)) {
+        return Err(bad(
+            "max_frequency",
+            format!("the top of the band must be positive, got {f} Hz"),
+            "e.g. 3 kHz, or leave it out for the default",
+        ));
+    }
+    if !(o.tolerance_bins.is_finite() && o.tolerance_bins >= 0.0) {
+        return Err(bad(
+            "tolerance",
+            format!(
+                "the tolerance must be 0 bins or more, got {}",
+                o.tolerance_bins
+            ),
+            "e.g. 2 bins",
+        ));
+    }
+    if !positive(o.divergence_bound) {
+        return Err(bad(
+            "divergence_bound",
+            format!("must be positive, got {} m", o.divergence_bound),
+            "e.g. 0.01 m",
+        ));
+    }
+    Ok(())
+}
