@@ -390,7 +390,8 @@ fn clearance_ring_reproduces_the_exact_circular_orbit_through_the_overhang() {
     // The contact branch (r > gamma) is smooth: it leaves the free branch at w = 0.92,
     // where the free orbit reaches the ring, bends over to a fold near the stiffened
     // resonance and comes back (middle branch) to meet the free branch at a corner
-    // (r = gamma, w = 1.118), where the path ends: the contact stiffness jumps there.
+    // (r = gamma, w = 1.1145), where the contact stiffness jumps; the path turns there onto
+    // the free branch and follows it to the end.
     let branch = continuation(&mut hb, 0.95, 5.0, &guess, &path).unwrap();
     let (mut worst_orbit, mut worst_closed, mut widest) = (0.0f64, 0.0f64, 0.0f64);
     let mut check = |x: &[f64], w: f64| {
@@ -430,13 +431,34 @@ fn clearance_ring_reproduces_the_exact_circular_orbit_through_the_overhang() {
         branch.folds.iter().map(|f| f.frequency).collect::<Vec<_>>(),
         branch.end
     );
-    // The multi-valued part: one fold, two contact orbits and the free one at w = 2.
-    assert_eq!(branch.folds.len(), 1);
-    assert_eq!(crossings.len(), 2);
-    assert!(crossings.iter().all(|&r| r > RING_CLEARANCE) && free_radius < RING_CLEARANCE);
+    // The multi-valued part: the fold and the corner, and at w = 2 the two contact orbits
+    // and the free one, all three on the path.
+    assert_eq!(branch.folds.len(), 2);
+    assert_eq!(crossings.len(), 3);
+    assert!(crossings[..2].iter().all(|&r| r > RING_CLEARANCE));
+    assert!(crossings[2] < RING_CLEARANCE && free_radius < RING_CLEARANCE);
     assert!(widest > 2.0 * RING_CLEARANCE);
-    // The middle branch is followed down to near its corner at w = 1.118.
-    assert!(lowest_middle < 1.2, "middle branch ends at {lowest_middle}");
+    assert!(matches!(branch.end, whirl::hbm::BranchEnd::Reached));
+    // The corner, where the free orbit's radius m e w^2 / |k - m w^2 + i c w| equals
+    // gamma: with u = w^2, (m^2 - (m e)^2 / gamma^2) u^2 + (c^2 - 2 k m) u + k^2 = 0 (larger
+    // root). The tangent jumps there, yet the sign change of its frequency component is
+    // bracketed down to the corner itself by the regula falsi (measured 1.7e-12).
+    let (a, b, c) = (
+        RING_MASS * RING_MASS - (RING_UNBALANCE / RING_CLEARANCE).powi(2),
+        RING_DAMPING * RING_DAMPING - 2.0 * RING_SHAFT * RING_MASS,
+        RING_SHAFT * RING_SHAFT,
+    );
+    let corner = ((-b + (b * b - 4.0 * a * c).sqrt()) / (2.0 * a)).sqrt();
+    let corner_error = (branch.folds[1].frequency - corner).abs() / corner;
+    eprintln!("clearance ring: corner {corner:.6} rad/s, located to {corner_error:.1e}");
+    assert!(
+        corner_error < 1e-8,
+        "corner {corner} located to {corner_error:e}"
+    );
+    assert!(
+        lowest_middle < 1.25,
+        "middle branch ends at {lowest_middle}"
+    );
     // Newton converges to a relative residual of 1e-10 and the circular orbit is exact in
     // the Fourier basis (constant radius: the sampled contact force has no other harmonic),
     // so both defects are at the solver's tolerance, well below 1e-8.

@@ -64,13 +64,19 @@ impl BandedLu {
                     *lu.at(pivot, j) = a;
                 }
             }
+            let width = lu.lower + lu.upper + 1;
             for i in k + 1..=last_row {
                 let l = lu.get(i, k) / value;
                 *lu.at(i, k) = l;
                 if l != 0.0 {
-                    for j in k + 1..=last_col {
-                        let u = lu.get(k, j);
-                        *lu.at(i, j) -= l * u;
+                    // Columns k + 1 ..= last_col of rows k and i are contiguous in storage.
+                    let from_k = lu.index(k, k + 1);
+                    let from_i = k + 1 + lu.lower - i;
+                    let (pivot_row, below) = lu.rows.split_at_mut(i * width);
+                    let u = &pivot_row[from_k..from_k + last_col - k];
+                    let row = &mut below[from_i..from_i + last_col - k];
+                    for (a, b) in row.iter_mut().zip(u) {
+                        *a -= l * b;
                     }
                 }
             }
@@ -102,11 +108,11 @@ impl BandedLu {
             }
         }
         for i in (0..n).rev() {
-            let mut s = b[i];
-            for j in i + 1..=(i + self.upper).min(n - 1) {
-                s -= self.get(i, j) * b[j];
-            }
-            b[i] = s / self.get(i, i);
+            let last = (i + self.upper).min(n - 1);
+            let start = self.index(i, i);
+            let row = &self.rows[start + 1..start + 1 + last - i];
+            let s: f64 = row.iter().zip(&b[i + 1..=last]).map(|(a, x)| a * x).sum();
+            b[i] = (b[i] - s) / self.rows[start];
         }
     }
 }

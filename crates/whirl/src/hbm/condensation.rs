@@ -27,7 +27,7 @@ use faer::Mat;
 use super::balance::{norm, solve_dense};
 use super::banded::BandedLu;
 use super::fourier::{cos_slot, sin_slot};
-use super::stability::{hill_exponents, Stability};
+use super::stability::{hill_problem, HillProblem, Stability};
 use super::{HarmonicBalance, HbOptions, HbProblem, HbSolution};
 use crate::error::{Error, Result};
 use crate::fe::SystemMatrices;
@@ -100,6 +100,8 @@ pub struct CondensedBalance {
     rest: Vec<usize>,
     /// Half-bandwidth of the linear matrices among the `rest` coordinates.
     rest_bandwidth: usize,
+    /// The linear matrices for entry-wise reads.
+    plain: PlainMatrices,
     /// The last condensation, reused at the same frequency.
     last: Option<Condensed>,
     /// Fixed-interface modes of the stability model.
@@ -125,6 +127,7 @@ impl CondensedBalance {
             .filter(|d| kept.binary_search(d).is_err())
             .collect();
         let rest_bandwidth = bandwidth(&problem, &rest);
+        let plain = PlainMatrices::new(&problem);
         let m = kept.len();
         let renumbered = forces
             .into_iter()
@@ -155,6 +158,7 @@ impl CondensedBalance {
             kept,
             rest,
             rest_bandwidth,
+            plain,
             last: None,
             stability_modes: DEFAULT_STABILITY_MODES,
             stability_model: None,
@@ -180,6 +184,14 @@ impl CondensedBalance {
     /// # Errors
     /// [`Error::Numerical`] when the reduction or the eigen-solver fails.
     pub fn stability(&mut self, x: &[f64], frequency: f64) -> Result<Stability> {
+        self.hill_problem(x, frequency)?.solve()
+    }
+
+    /// Hill's eigenproblem of [`Self::stability`], to solve later.
+    ///
+    /// # Errors
+    /// As [`Self::stability`].
+    pub fn hill_problem(&mut self, x: &[f64], frequency: f64) -> Result<HillProblem> {
         self.reduced.check_arguments(frequency, x)?;
         let model = match self.stability_model.take() {
             Some(model) => model,
@@ -199,9 +211,9 @@ impl CondensedBalance {
                 velocity[(row, col)] = nonlinear.velocity_galerkin[(r, c)];
             }
         }
-        let stability = hill_exponents(&model, &jacobian, &velocity, frequency);
+        let problem = hill_problem(&model, &jacobian, &velocity, frequency);
         self.stability_model = Some(model);
-        stability
+        problem
     }
 
     /// The linear part reduced by Craig-Bampton onto the kept coordinates and the lowest
@@ -260,7 +272,7 @@ impl CondensedBalance {
             .map(|r| {
                 let (force, force_derivative) = self.external_force(r, frequency);
                 let block = HarmonicBlock {
-                    problem: &self.linear,
+                    matrices: &self.plain,
                     r,
                     frequency,
                 };
@@ -349,7 +361,15 @@ impl CondensedBalance {
         let pick = |v: &[f64], rows: &[usize]| Mat::from_fn(rows.len(), 1, |i, _| v[rows[i]]);
         // Interleaved, D_bb couples rows at most `copies` times the band apart.
         let band = copies * (self.rest_bandwidth + 1) - 1;
-        let lu = BandedLu::new(b.len(), band, band, |i, j| block.entry(b[i], b[j]).0);
+        // D_bb and dD_bb within the band, row i at offsets k - i + band.
+        let width = 2 * band + 1;
+        let mut d_bb = vec![(0.0, 0.0); b.len() * width];
+        for i in 0..b.len() {
+            for k in i.saturating_sub(band)..(i + band + 1).min(b.len()) {
+                d_bb[i * width + k + band - i] = block.entry(b[i], b[k]);
+            }
+        }
+        let lu = BandedLu::new(b.len(), band, band, |i, k| d_bb[i * width + k + band - i].0);
         let solve = |rhs: Mat<f64>| -> Result<Mat<f64>> {
             let singular = || {
                 Error::Numerical(format!(
@@ -378,7 +398,7 @@ impl CondensedBalance {
         let band_product = |y: &Mat<f64>| {
             Mat::from_fn(b.len(), y.ncols(), |i, j| {
                 (i.saturating_sub(band)..(i + band + 1).min(b.len()))
-                    .map(|k| block.entry(b[i], b[k]).1 * y[(k, j)])
+                    .map(|k| d_bb[i * width + k + band - i].1 * y[(k, j)])
                     .sum::<f64>()
             })
         };
@@ -540,7 +560,7 @@ impl CondensedBalance {
 /// real form D_r(w) on (cos r, sin r) of the module documentation; entries are made on
 /// demand, indices c n + dof for copy c (cos 0, sin 1).
 struct HarmonicBlock<'a> {
-    problem: &'a HbProblem,
+    matrices: &'a PlainMatrices,
     r: usize,
     frequency: f64,
 }
@@ -548,29 +568,53 @@ struct HarmonicBlock<'a> {
 impl HarmonicBlock<'_> {
     /// Entry (row, col) of D_r and of dD_r/dw.
     fn entry(&self, row: usize, col: usize) -> (f64, f64) {
-        let p = self.problem;
-        let n = p.size();
+        let p = self.matrices;
+        let n = p.n;
         let (i, j) = (row % n, col % n);
+        let at = i * n + j;
         if self.r == 0 {
-            return (p.stiffness[(i, j)], 0.0);
+            return (p.stiffness[at], 0.0);
         }
         let (rf, w) = (self.r as f64, self.frequency);
         let rw = rf * w;
         match (row / n, col / n) {
             (0, 0) | (1, 1) => (
-                p.stiffness[(i, j)] - rw * rw * p.mass[(i, j)],
-                -2.0 * rf * rw * p.mass[(i, j)],
+                p.stiffness[at] - rw * rw * p.mass[at],
+                -2.0 * rf * rw * p.mass[at],
             ),
             (copy, _) => {
-                let damping = p.damping[(i, j)] + w * p.gyroscopic[(i, j)];
+                let damping = p.damping[at] + w * p.gyroscopic[at];
                 // d(r w (C + w G))/dw = r (C + 2 w G).
-                let coupling = (rw * damping, rf * (damping + w * p.gyroscopic[(i, j)]));
+                let coupling = (rw * damping, rf * (damping + w * p.gyroscopic[at]));
                 if copy == 0 {
                     coupling
                 } else {
                     (-coupling.0, -coupling.1)
                 }
             }
+        }
+    }
+}
+
+/// M, K, C and G row-major: the condensation reads single entries in its inner loops.
+struct PlainMatrices {
+    n: usize,
+    mass: Vec<f64>,
+    stiffness: Vec<f64>,
+    damping: Vec<f64>,
+    gyroscopic: Vec<f64>,
+}
+
+impl PlainMatrices {
+    fn new(p: &HbProblem) -> PlainMatrices {
+        let n = p.size();
+        let plain = |m: &Mat<f64>| (0..n * n).map(|k| m[(k / n, k % n)]).collect::<Vec<f64>>();
+        PlainMatrices {
+            n,
+            mass: plain(&p.mass),
+            stiffness: plain(&p.stiffness),
+            damping: plain(&p.damping),
+            gyroscopic: plain(&p.gyroscopic),
         }
     }
 }

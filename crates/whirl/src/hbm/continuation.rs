@@ -21,10 +21,11 @@
 use super::balance::{norm, relative, solve_dense, HarmonicBalance, HbSolution, Residual};
 use super::bifurcation::{bifurcations, Bifurcation};
 use super::condensation::CondensedBalance;
-use super::stability::{hill_stability, Stability};
+use super::stability::{hill_problem, HillProblem, Stability};
 use super::HbOptions;
 use crate::error::{Error, Result};
 use faer::Mat;
+use rayon::prelude::*;
 
 /// What continuation asks of a harmonic balance, so that the full ([`HarmonicBalance`]) and
 /// the condensed ([`CondensedBalance`]) problem are followed by the same path code.
@@ -37,8 +38,8 @@ pub trait Periodic {
     fn residual_at(&mut self, x: &[f64], frequency: f64) -> (Vec<f64>, f64);
     /// dR/dx and dR/dw at (x, w).
     fn derivatives(&mut self, x: &[f64], frequency: f64) -> Derivatives;
-    /// Stability of the periodic solution (x, w).
-    fn stability(&mut self, x: &[f64], frequency: f64) -> Result<Stability>;
+    /// Hill's eigenproblem of the periodic solution (x, w).
+    fn hill_problem(&mut self, x: &[f64], frequency: f64) -> Result<HillProblem>;
 }
 
 /// dR/dx and dR/dw.
@@ -67,8 +68,10 @@ impl Periodic for HarmonicBalance {
             frequency_derivative: lin.frequency_derivative,
         }
     }
-    fn stability(&mut self, x: &[f64], frequency: f64) -> Result<Stability> {
-        hill_stability(self, x, frequency)
+    fn hill_problem(&mut self, x: &[f64], frequency: f64) -> Result<HillProblem> {
+        self.check_arguments(frequency, x)?;
+        let lin = self.linearise(x, frequency);
+        hill_problem(self, &lin.jacobian, &lin.velocity_galerkin, frequency)
     }
 }
 
@@ -102,8 +105,8 @@ impl Periodic for CondensedBalance {
     }
     /// Hill's method on a Craig-Bampton model of the linear part
     /// ([`CondensedBalance::stability`]).
-    fn stability(&mut self, x: &[f64], frequency: f64) -> Result<Stability> {
-        CondensedBalance::stability(self, x, frequency)
+    fn hill_problem(&mut self, x: &[f64], frequency: f64) -> Result<HillProblem> {
+        CondensedBalance::hill_problem(self, x, frequency)
     }
 }
 
@@ -198,6 +201,11 @@ pub struct Branch {
     pub points: Vec<BranchPoint>,
     /// Folds, in path order.
     pub folds: Vec<Fold>,
+    /// Frequencies (rad/s) of corners, which non-smooth forces (contacts that open and
+    /// close) produce: points where the tangent turned by more than `max_turn` and halving
+    /// the step did not shrink the turn, or that were reached by stepping over a point where the corrector
+    /// failed at every step (Newton at fixed frequency just ahead).
+    pub corners: Vec<f64>,
     /// Changes of stability, in path order (empty without stability).
     pub bifurcations: Vec<Bifurcation>,
     /// Why the branch ended.
@@ -307,6 +315,9 @@ fn follow(
     let mut tangent = unit_tangent(hb, &first, &scaling, &start_direction)?;
     let mut points = vec![branch_point(first, &tangent, &scaling)];
     let mut step = options.initial_step;
+    let mut corners = Vec::new();
+    // The turn of the last attempt rejected for turning too much.
+    let mut rejected_turn: Option<f64> = None;
     let end = loop {
         if points.len() >= options.max_points {
             break BranchEnd::PointLimit;
@@ -315,30 +326,46 @@ fn follow(
         let y0 = scaling.scaled(last);
         let attempt = correct(hb, &y0, &tangent, step, &scaling)
             .and_then(|s| Ok((unit_tangent(hb, &s, &scaling, &tangent)?, s)));
+        let turn = attempt
+            .as_ref()
+            .map_or(f64::NAN, |(t, _)| dot(t, &tangent).clamp(-1.0, 1.0).acos());
+        let rejected_before = rejected_turn.take();
         let accepted = match attempt {
-            Ok((next_tangent, s)) if dot(&next_tangent, &tangent) >= options.max_turn.cos() => {
+            Ok((next_tangent, s)) if turn <= options.max_turn => Some((next_tangent, s)),
+            // On a smooth branch the turn halves with the step. One that does not shrink
+            // (by less than a quarter), or persists at the smallest step, is a corner of a
+            // non-smooth branch (a contact opening or closing), not an unresolved fold:
+            // accept it.
+            Ok((next_tangent, s))
+                if step / 2.0 < options.min_step
+                    || rejected_before.is_some_and(|before| turn > 0.75 * before) =>
+            {
+                corners.push(s.frequency);
                 Some((next_tangent, s))
             }
-            Ok(_) => None,
+            Ok(_) => {
+                rejected_turn = Some(turn);
+                None
+            }
             Err(e) if step / 2.0 < options.min_step => {
-                break BranchEnd::StepTooSmall {
-                    frequency: last.frequency,
-                    message: e.to_string(),
-                };
+                match step_over(hb, last, &tangent, &scaling) {
+                    Some((next_tangent, s)) => {
+                        corners.push(s.frequency);
+                        step = options.initial_step;
+                        Some((next_tangent, s))
+                    }
+                    None => {
+                        break BranchEnd::StepTooSmall {
+                            frequency: last.frequency,
+                            message: e.to_string(),
+                        }
+                    }
+                }
             }
             Err(_) => None,
         };
         let Some((next_tangent, solution)) = accepted else {
             step /= 2.0;
-            if step < options.min_step {
-                break BranchEnd::StepTooSmall {
-                    frequency: last.frequency,
-                    message: format!(
-                        "the tangent turns by more than {} rad within the smallest step",
-                        options.max_turn
-                    ),
-                };
-            }
             continue;
         };
         if direction * (solution.frequency - to) >= 0.0 {
@@ -365,18 +392,56 @@ fn follow(
         tangent = next_tangent;
     };
     if options.stability {
-        for p in points.iter_mut() {
-            p.stability = Some(hb.stability(&p.solution.coefficients, p.solution.frequency)?);
-        }
+        add_stability(hb, &mut points)?;
     }
     let folds = locate_folds(hb, &points, &scaling);
     Ok(Branch {
         options: *hb.options(),
         folds,
+        corners,
         bifurcations: bifurcations(&points),
         points,
         end,
     })
+}
+
+/// Past a point where the arclength corrector fails at every step (a non-smooth corner
+/// where Newton on the augmented system cycles): Newton at fixed frequency a little ahead
+/// in the direction of travel, 1e-5, 1e-4 then 1e-3 of the range, from `last`. The new point
+/// is converged like any other; what lies between is not followed.
+fn step_over(
+    hb: &mut impl Periodic,
+    last: &HbSolution,
+    tangent: &[f64],
+    scaling: &Scaling,
+) -> Option<(Vec<f64>, HbSolution)> {
+    let travel = tangent[tangent.len() - 1].signum();
+    [1e-5, 1e-4, 1e-3].into_iter().find_map(|fraction| {
+        let frequency = last.frequency + travel * fraction * scaling.frequency;
+        let s = hb.solve(frequency, &last.coefficients).ok()?;
+        let t = unit_tangent(hb, &s, scaling, tangent).ok()?;
+        Some((t, s))
+    })
+}
+
+/// Hill stability of every point: the eigenproblems are built in order (that needs the
+/// harmonic balance's buffers) and solved in parallel, a chunk at a time to bound memory.
+/// Each solve is independent, so the result does not depend on the thread count.
+fn add_stability(hb: &mut impl Periodic, points: &mut [BranchPoint]) -> Result<()> {
+    for chunk in points.chunks_mut(32) {
+        let problems = chunk
+            .iter()
+            .map(|p| hb.hill_problem(&p.solution.coefficients, p.solution.frequency))
+            .collect::<Result<Vec<_>>>()?;
+        let verdicts = problems
+            .into_par_iter()
+            .map(HillProblem::solve)
+            .collect::<Result<Vec<_>>>()?;
+        for (p, v) in chunk.iter_mut().zip(verdicts) {
+            p.stability = Some(v);
+        }
+    }
+    Ok(())
 }
 
 /// Quick convergence (at most 3 iterations) lengthens the step by half, slow convergence

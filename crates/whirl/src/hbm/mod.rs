@@ -42,7 +42,7 @@ pub use continuation::{
     Periodic,
 };
 pub use fourier::aliasing_free_samples;
-pub use stability::{hill_stability, Stability};
+pub use stability::{hill_stability, HillProblem, Stability};
 pub use sweep::{sweep, Sweep, SweepOptions};
 
 use faer::Mat;

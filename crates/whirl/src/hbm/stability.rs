@@ -37,17 +37,27 @@ pub struct Stability {
 pub fn hill_stability(hb: &mut HarmonicBalance, x: &[f64], frequency: f64) -> Result<Stability> {
     hb.check_arguments(frequency, x)?;
     let lin = hb.linearise(x, frequency);
-    hill_exponents(hb, &lin.jacobian, &lin.velocity_galerkin, frequency)
+    hill_problem(hb, &lin.jacobian, &lin.velocity_galerkin, frequency)?.solve()
 }
 
-/// Hill's method from dR/dx (`jacobian`) and G[dF/dv] (`velocity_galerkin`) of a solution
-/// of `hb`'s problem, which supplies M and D.
-pub(crate) fn hill_exponents(
+/// Hill's eigenproblem of one periodic solution, ready to solve: building it needs the
+/// harmonic balance (and its work buffers), solving it does not, so the solves of a
+/// branch's points can run in parallel.
+pub struct HillProblem {
+    companion: Mat<f64>,
+    /// Number of coordinates n (2n exponents are kept).
+    coordinates: usize,
+    frequency: f64,
+}
+
+/// Hill's eigenproblem from dR/dx (`jacobian`) and G[dF/dv] (`velocity_galerkin`) of a
+/// solution of `hb`'s problem, which supplies M and D.
+pub(crate) fn hill_problem(
     hb: &HarmonicBalance,
     jacobian: &Mat<f64>,
     velocity_galerkin: &Mat<f64>,
     frequency: f64,
-) -> Result<Stability> {
+) -> Result<HillProblem> {
     let n = hb.problem().size();
     let size = hb.unknowns();
     let mass_inverse = block_inverse_mass(hb, size)?;
@@ -65,26 +75,41 @@ pub(crate) fn hill_exponents(
         (false, true) => -stiffness_part[(i - size, j)],
         (false, false) => -damping_part[(i - size, j - size)],
     });
-    let values = companion.eigenvalues().map_err(|_| {
-        Error::Numerical(format!(
-            "Hill's eigenproblem did not converge at {frequency} rad/s"
-        ))
-    })?;
-    let mut all: Vec<(f64, f64)> = values.iter().map(|v| (v.re, v.im)).collect();
-    let largest = all.iter().map(|(re, im)| re.hypot(*im)).fold(0.0, f64::max);
-    let exponents = floquet_exponents(all.as_mut_slice(), 2 * n, frequency);
-    let max_real = exponents
-        .iter()
-        .map(|e| e.0)
-        .fold(f64::NEG_INFINITY, f64::max);
-    // Eigenvalues carry round-off of about eps |A|; 1e-10 of the largest is well above it
-    // and well below any physical growth rate.
-    let stable = max_real < 1e-10 * largest;
-    Ok(Stability {
-        exponents,
-        max_real,
-        stable,
+    Ok(HillProblem {
+        companion,
+        coordinates: n,
+        frequency,
     })
+}
+
+impl HillProblem {
+    /// The Floquet exponents and the verdict.
+    ///
+    /// # Errors
+    /// [`Error::Numerical`] when the eigen-solver fails.
+    pub fn solve(self) -> Result<Stability> {
+        let frequency = self.frequency;
+        let values = self.companion.eigenvalues().map_err(|_| {
+            Error::Numerical(format!(
+                "Hill's eigenproblem did not converge at {frequency} rad/s"
+            ))
+        })?;
+        let mut all: Vec<(f64, f64)> = values.iter().map(|v| (v.re, v.im)).collect();
+        let largest = all.iter().map(|(re, im)| re.hypot(*im)).fold(0.0, f64::max);
+        let exponents = floquet_exponents(all.as_mut_slice(), 2 * self.coordinates, frequency);
+        let max_real = exponents
+            .iter()
+            .map(|e| e.0)
+            .fold(f64::NEG_INFINITY, f64::max);
+        // Eigenvalues carry round-off of about eps |A|; 1e-10 of the largest is well above
+        // it and well below any physical growth rate.
+        let stable = max_real < 1e-10 * largest;
+        Ok(Stability {
+            exponents,
+            max_real,
+            stable,
+        })
+    }
 }
 
 /// The `count` Floquet exponents among the Hill eigenvalues `values`, folded into the strip
