@@ -53,6 +53,8 @@ enum Command {
     Stiffness(commands::stiffness::Args),
     /// Forcing function of a roller bearing (thesis eq. 3.12) fitted to its Hertz response.
     FitForcing(commands::fit_forcing::Args),
+    /// Periodic response by harmonic balance over speed, its stability and bifurcations.
+    Hbm(commands::hbm::Args),
 }
 
 fn main() -> ExitCode {
@@ -70,6 +72,7 @@ fn main() -> ExitCode {
         Command::Simulate(a) => commands::simulate::run(a),
         Command::Stiffness(a) => commands::stiffness::run(a),
         Command::FitForcing(a) => commands::fit_forcing::run(a),
+        Command::Hbm(a) => commands::hbm::run(a),
     };
     match result {
         Ok(outcome) => {

@@ -5,6 +5,7 @@ pub mod campbell;
 pub mod check;
 pub mod convergence;
 pub mod fit_forcing;
+pub mod hbm;
 pub mod modal;
 pub mod reduce;
 pub mod simulate;

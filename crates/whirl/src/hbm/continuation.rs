@@ -126,6 +126,10 @@ pub struct ContinuationOptions {
     pub max_points: usize,
     /// Compute Hill stability at every point.
     pub stability: bool,
+    /// When this many successive points span less than 1e-3 of the range in frequency, or
+    /// the path turns back out of the range, it is restarted ahead of the furthest point
+    /// ([`Branch::jumps`]); 0 never (the path then ends with [`BranchEnd::LeftRange`]).
+    pub stall_points: usize,
 }
 
 impl Default for ContinuationOptions {
@@ -141,6 +145,7 @@ impl Default for ContinuationOptions {
             max_turn: 0.15,
             max_points: 5000,
             stability: true,
+            stall_points: 100,
         }
     }
 }
@@ -206,6 +211,11 @@ pub struct Branch {
     /// the step did not shrink the turn, or that were reached by stepping over a point where the corrector
     /// failed at every step (Newton at fixed frequency just ahead).
     pub corners: Vec<f64>,
+    /// Restarts (from, to) in rad/s where the path stalled (a non-smooth stretch wiggling
+    /// on the spot for `stall_points` points) or turned back out of the range: Newton at
+    /// fixed frequency ahead of the furthest point, from it. What lies between is not followed, as in a
+    /// sweep experiment that jumps.
+    pub jumps: Vec<(f64, f64)>,
     /// Changes of stability, in path order (empty without stability).
     pub bifurcations: Vec<Bifurcation>,
     /// Why the branch ended.
@@ -313,9 +323,15 @@ fn follow(
     let mut start_direction = vec![0.0; first.coefficients.len() + 1];
     start_direction[first.coefficients.len()] = orientation;
     let mut tangent = unit_tangent(hb, &first, &scaling, &start_direction)?;
+    let first_frequency = first.frequency;
     let mut points = vec![branch_point(first, &tangent, &scaling)];
     let mut step = options.initial_step;
     let mut corners = Vec::new();
+    let mut jumps = Vec::new();
+    let (mut furthest, mut furthest_index) = (direction * first_frequency, 0);
+    // Indices of the points after which the path jumped: no fold or bifurcation is looked
+    // for across them.
+    let mut boundaries: Vec<usize> = Vec::new();
     // The turn of the last attempt rejected for turning too much.
     let mut rejected_turn: Option<f64> = None;
     let end = loop {
@@ -384,22 +400,58 @@ fn follow(
                 }
             }
         }
-        if direction * (solution.frequency - from) < 0.0 {
+        let left = direction * (solution.frequency - from) < 0.0;
+        if left && options.stall_points == 0 {
             break BranchEnd::LeftRange;
         }
-        step = next_step(step, solution.iterations, options);
-        points.push(branch_point(solution, &next_tangent, &scaling));
-        tangent = next_tangent;
+        if !left {
+            step = next_step(step, solution.iterations, options);
+            if direction * solution.frequency > furthest {
+                (furthest, furthest_index) = (direction * solution.frequency, points.len());
+            }
+            points.push(branch_point(solution, &next_tangent, &scaling));
+            tangent = next_tangent;
+        }
+        let stalled = options.stall_points > 0
+            && points.len() > options.stall_points
+            && frequency_span(&points[points.len() - options.stall_points..])
+                < STALL_SPAN * scaling.frequency;
+        // A path that turns back out of the range, or wiggles on the spot, is restarted
+        // ahead of the furthest point, from it.
+        if left || stalled {
+            let base = &points[furthest_index].solution;
+            let ahead = (direction * furthest, to);
+            let Some((t, s)) = jump_ahead(hb, base, ahead, direction, &scaling) else {
+                break BranchEnd::StepTooSmall {
+                    frequency: base.frequency,
+                    message: "the path turned back or stalled and could not be restarted ahead"
+                        .into(),
+                };
+            };
+            jumps.push((base.frequency, s.frequency));
+            boundaries.push(points.len() - 1);
+            (furthest, furthest_index, step) =
+                (direction * s.frequency, points.len(), options.initial_step);
+            let reached = s.frequency == to;
+            points.push(branch_point(s, &t, &scaling));
+            tangent = t;
+            if reached {
+                break BranchEnd::Reached;
+            }
+        }
     };
     if options.stability {
         add_stability(hb, &mut points)?;
     }
-    let folds = locate_folds(hb, &points, &scaling);
+    let folds = locate_folds(hb, &points, &scaling, &boundaries);
+    let mut bifurcations = bifurcations(&points);
+    bifurcations.retain(|b| !boundaries.contains(&b.after));
     Ok(Branch {
         options: *hb.options(),
         folds,
         corners,
-        bifurcations: bifurcations(&points),
+        jumps,
+        bifurcations,
         points,
         end,
     })
@@ -420,6 +472,46 @@ fn step_over(
         let frequency = last.frequency + travel * fraction * scaling.frequency;
         let s = hb.solve(frequency, &last.coefficients).ok()?;
         let t = unit_tangent(hb, &s, scaling, tangent).ok()?;
+        Some((t, s))
+    })
+}
+
+/// A path whose last `stall_points` points span less than this fraction of the range in
+/// frequency has stalled: a branch followed through a turning point or down a middle
+/// branch moves on, a non-smooth stretch wiggling on the spot does not.
+const STALL_SPAN: f64 = 1e-3;
+
+/// The spread of the points' frequencies, rad/s.
+fn frequency_span(points: &[BranchPoint]) -> f64 {
+    let (lo, hi) = points
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p.solution.frequency), hi.max(p.solution.frequency))
+        });
+    hi - lo
+}
+
+/// Newton at fixed frequency 1e-3, 1e-2 then 3e-2 of the range beyond `furthest` (rad/s)
+/// in `direction`, but not beyond `to`, from `last`; the new point's tangent points along
+/// the range.
+fn jump_ahead(
+    hb: &mut impl Periodic,
+    last: &HbSolution,
+    (furthest, to): (f64, f64),
+    direction: f64,
+    scaling: &Scaling,
+) -> Option<(Vec<f64>, HbSolution)> {
+    let mut along = vec![0.0; last.coefficients.len() + 1];
+    along[last.coefficients.len()] = direction;
+    [1e-3, 1e-2, 3e-2].into_iter().find_map(|fraction| {
+        let ahead = furthest + direction * fraction * scaling.frequency;
+        let frequency = if direction * (ahead - to) > 0.0 {
+            to
+        } else {
+            ahead
+        };
+        let s = hb.solve(frequency, &last.coefficients).ok()?;
+        let t = unit_tangent(hb, &s, scaling, &along).ok()?;
         Some((t, s))
     })
 }
@@ -570,10 +662,15 @@ fn land_on(
 }
 
 /// Folds between successive points whose frequency slopes differ in sign.
-fn locate_folds(hb: &mut impl Periodic, points: &[BranchPoint], scaling: &Scaling) -> Vec<Fold> {
+fn locate_folds(
+    hb: &mut impl Periodic,
+    points: &[BranchPoint],
+    scaling: &Scaling,
+    boundaries: &[usize],
+) -> Vec<Fold> {
     let mut folds = Vec::new();
     for (i, p) in points.windows(2).enumerate() {
-        if p[0].frequency_slope * p[1].frequency_slope >= 0.0 {
+        if p[0].frequency_slope * p[1].frequency_slope >= 0.0 || boundaries.contains(&i) {
             continue;
         }
         let (before, after) = (&p[0].solution, &p[1].solution);

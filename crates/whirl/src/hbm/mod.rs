@@ -16,6 +16,7 @@
 //!   linear rest condensed exactly per harmonic.
 //! - [`continuation`]: pseudo-arclength continuation in w through turning points.
 //! - [`bearings`]: roller bearings made periodic in the running speed ([`CageModel`]).
+//! - [`compare`]: time marching read in the same terms, to check harmonic balance against.
 //! - [`sweep`]: a model's periodic response over a speed range, as `whirl hbm` runs it.
 //! - [`stability`]: Hill's method for each periodic solution; [`bifurcation`]: where and
 //!   how it changes (fold, period doubling, Neimark-Sacker).
@@ -27,6 +28,7 @@ mod balance;
 mod banded;
 pub mod bearings;
 pub mod bifurcation;
+pub mod compare;
 mod condensation;
 pub mod continuation;
 pub mod fourier;
@@ -36,6 +38,7 @@ pub mod sweep;
 pub use balance::{HarmonicBalance, HbSolution, Linearisation};
 pub use bearings::{CageModel, CagedBearing};
 pub use bifurcation::{bifurcations, Bifurcation, BifurcationKind};
+pub use compare::{settled_response, MarchSettings, SettledResponse};
 pub use condensation::{Condensed, CondensedBalance, DEFAULT_STABILITY_MODES};
 pub use continuation::{
     continuation, resume, Branch, BranchEnd, BranchPoint, ContinuationOptions, Derivatives, Fold,

@@ -1,0 +1,711 @@
+//! `whirl hbm model.toml [--speeds 1:750Hz] [--harmonics 5] [--nodes 10,0]
+//! [--contact hertz|forcing] [--cage passage|frozen] [--compare-time 100Hz,330Hz]
+//! [--harmonics-study 1..5]`: the periodic (synchronous) response by harmonic balance,
+//! followed over speed by continuation, with Hill stability and the bifurcations where it
+//! changes (issue 5).
+//!
+//! Writes `branch.csv` (one row per continuation point in path order: speed, stability,
+//! largest real part of the Floquet exponents, Newton iterations, and per node the
+//! amplitude of the constant term and of each harmonic of u_x and u_y), `bifurcations.csv`
+//! (kind, speed, frequency of the crossing exponent: the non-synchronous frequency that
+//! appears at a Neimark-Sacker point), the plot `harmonics` (amplitude of each harmonic at
+//! the first node over speed, stable solid and unstable dashed, bifurcations marked) and
+//! `stability` (the largest real part over speed). `--compare-time` adds `compare_time.csv`
+//! and the time-marching amplitudes as markers on `harmonics` (thesis fig. 4.27);
+//! `--harmonics-study` adds `harmonics_study.csv` and the plot `harmonics_study`
+//! (the first harmonic for each H, thesis fig. 4.28).
+//!
+//! The roller passage is not periodic in the running speed; summary.json and every plot
+//! title say which periodic approximation was used ([`whirl::hbm::CageModel`]).
+
+use std::f64::consts::TAU;
+use std::fmt::Write;
+
+use clap::ValueEnum;
+use serde_json::{json, Value};
+use whirl::fe::{dof, Direction};
+use whirl::hbm::{
+    settled_response, sweep, BifurcationKind, BranchEnd, CageModel, MarchSettings, SettledResponse,
+    Sweep, SweepOptions, DEFAULT_STABILITY_MODES,
+};
+use whirl::model::Model;
+use whirl::time::ContactLaw;
+use whirl_plot::{Colour, Figure2d, LegendPosition, Marker, RefLine, Series, Style};
+
+use super::{
+    finish, hz, lib, load, mode_count, report_nodes, speed, speeds, summary_head, time, Common,
+    Outcome, Speeds,
+};
+use crate::error::Diag;
+use crate::output::{header, num, Output};
+
+/// Contact laws harmonic balance can use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Contact {
+    /// Hertz contact per roller, made periodic by `--cage`.
+    Hertz,
+    /// The bearing's forcing function (eq. 3.12).
+    Forcing,
+}
+
+/// Periodic approximations of the roller passage.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Cage {
+    /// Force averaged over cage positions across one roller pitch.
+    Passage,
+    /// Cage held at the model's cage angle.
+    Frozen,
+}
+
+/// `whirl hbm`
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    pub common: Common,
+    /// Speed range `start:stop` (a count, if given, is ignored: continuation chooses its
+    /// steps), e.g. `1:750Hz`; plain numbers are rad/s [default: 1 Hz to 1.2 x the model's
+    /// top operating speed].
+    #[arg(long, value_name = "RANGE", value_parser = speed_span)]
+    pub speeds: Option<Speeds>,
+    /// Harmonics H of the running speed.
+    #[arg(long, value_name = "H", default_value = "5", value_parser = mode_count)]
+    pub harmonics: usize,
+    /// Nodes to report, comma-separated; the first is plotted [default: every disk and
+    /// bearing node].
+    #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = super::node_index)]
+    pub nodes: Vec<usize>,
+    /// Contact law of the roller bearings.
+    #[arg(long, value_enum, default_value = "hertz")]
+    pub contact: Contact,
+    /// How the roller passage is made periodic (Hertz only).
+    #[arg(long, value_enum, default_value = "passage")]
+    pub cage: Cage,
+    /// Cage positions per roller pitch of the passage average.
+    #[arg(long, value_name = "N", default_value = "8", value_parser = mode_count)]
+    pub cage_positions: usize,
+    /// Time samples per period of the alternating frequency-time transform [default: 16 H,
+    /// at least 64].
+    #[arg(long, value_name = "N")]
+    pub samples: Option<usize>,
+    /// Skip Hill stability (faster; no bifurcations).
+    #[arg(long)]
+    pub no_stability: bool,
+    /// Fixed-interface modes of the stability model.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_STABILITY_MODES, value_parser = mode_count)]
+    pub stability_modes: usize,
+    /// Speeds at which to run the time integrator and overlay its settled amplitudes,
+    /// comma-separated, e.g. `100Hz,330Hz`.
+    #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = speed)]
+    pub compare_time: Vec<f64>,
+    /// Settling time of the comparison runs.
+    #[arg(long, value_name = "TIME", default_value = "0.5s", value_parser = time)]
+    pub settle: f64,
+    /// Recorded (analysed) time of the comparison runs.
+    #[arg(long, value_name = "TIME", default_value = "0.5s", value_parser = time)]
+    pub record: f64,
+    /// Repeat the sweep for these harmonic counts, e.g. `1..5` or `1,3,5` (thesis fig.
+    /// 4.28).
+    #[arg(long, value_name = "LIST", value_parser = harmonic_list)]
+    pub harmonics_study: Option<HarmonicList>,
+}
+
+/// Clap parser of `start:stop` (or `start:stop:count`, the count ignored).
+fn speed_span(text: &str) -> Result<Speeds, String> {
+    if text.split(':').count() == 2 {
+        speeds(&format!("{text}:2"))
+    } else {
+        speeds(text)
+    }
+}
+
+/// Harmonic counts of a study.
+#[derive(Debug, Clone)]
+pub struct HarmonicList(pub Vec<usize>);
+
+/// Clap parser of `a..b` or `a,b,c` (1 to 50 each).
+fn harmonic_list(text: &str) -> Result<HarmonicList, String> {
+    let parse = |t: &str| -> Result<usize, String> {
+        match t.trim().parse::<usize>() {
+            Ok(h) if (1..=50).contains(&h) => Ok(h),
+            _ => Err(format!(
+                "`{t}`: a harmonic count is a whole number from 1 to 50"
+            )),
+        }
+    };
+    let list = match text.split_once("..") {
+        Some((a, b)) => {
+            let (a, b) = (parse(a)?, parse(b)?);
+            if b < a {
+                return Err(format!("`{text}`: the range must not run backwards"));
+            }
+            (a..=b).collect()
+        }
+        None => text.split(',').map(parse).collect::<Result<Vec<_>, _>>()?,
+    };
+    Ok(HarmonicList(list))
+}
+
+pub fn run(args: &Args) -> miette::Result<Outcome> {
+    let loaded = load(&args.common.model)?;
+    let model = &loaded.model;
+    let nodes = report_nodes(model, &args.nodes)?;
+    let options = sweep_options(args, model, args.harmonics)?;
+    let result = lib(sweep(model, &options))?;
+    let comparisons = args
+        .compare_time
+        .iter()
+        .map(|&w| compare_at(model, args, w, nodes[0]))
+        .collect::<miette::Result<Vec<_>>>()?;
+    let study = match &args.harmonics_study {
+        Some(list) => list
+            .0
+            .iter()
+            .map(|&h| {
+                let mut o = sweep_options(args, model, h)?;
+                o.stability = false;
+                Ok((h, lib(sweep(model, &o))?))
+            })
+            .collect::<miette::Result<Vec<_>>>()?,
+        None => Vec::new(),
+    };
+
+    let summary = summary(&loaded, &options, &result, &nodes, &comparisons, &study);
+    let text = text_summary(model, &result, &comparisons);
+    let mut out = Output::begin(&args.common.out_dir("hbm"))?;
+    write_branch(&mut out, &result, &nodes)?;
+    write_bifurcations(&mut out, &result)?;
+    let figure = harmonics_plot(&result, nodes[0], &comparisons);
+    out.plot("harmonics", |p| figure.save(p))?;
+    if options.stability {
+        let figure = stability_plot(&result);
+        out.plot("stability", |p| figure.save(p))?;
+    }
+    if !comparisons.is_empty() {
+        write_comparisons(&mut out, &result, &comparisons)?;
+    }
+    if !study.is_empty() {
+        write_study(&mut out, &study, nodes[0])?;
+        let figure = study_plot(&study, nodes[0]);
+        out.plot("harmonics_study", |p| figure.save(p))?;
+    }
+    finish(out, summary, text, &args.common)
+}
+
+fn sweep_options(args: &Args, model: &Model, harmonics: usize) -> miette::Result<SweepOptions> {
+    let range = Speeds::or_default(&args.speeds, model, TAU, 2);
+    let (from, to) = match (range.first(), range.last()) {
+        (Some(&a), Some(&b)) if a > 0.0 && b > a => (a, b),
+        _ => {
+            return Err(Diag::new(format!(
+                "--speeds: harmonic balance needs a rising range of positive speeds, got {:?} Hz",
+                range.iter().map(|w| hz(*w)).collect::<Vec<_>>()
+            ))
+            .help("e.g. --speeds 1:750Hz")
+            .into())
+        }
+    };
+    let mut options = SweepOptions::new(from, to, harmonics);
+    options.contact = match args.contact {
+        Contact::Hertz => ContactLaw::Hertz,
+        Contact::Forcing => ContactLaw::Forcing,
+    };
+    options.cage = match args.cage {
+        Cage::Passage => CageModel::PassageAveraged {
+            positions: args.cage_positions,
+        },
+        Cage::Frozen => CageModel::Frozen,
+    };
+    if let Some(samples) = args.samples {
+        if samples <= 2 * harmonics {
+            return Err(Diag::new(format!(
+                "--samples {samples}: the transform needs more than 2 H = {} samples per period",
+                2 * harmonics
+            ))
+            .help("leave it out for the default (16 H, at least 64)")
+            .into());
+        }
+        options.samples = Some(samples);
+    }
+    options.stability = !args.no_stability;
+    options.stability_modes = args.stability_modes;
+    Ok(options)
+}
+
+/// A time-marching comparison: the settled response at one speed, read against the branch
+/// point nearest in speed.
+type Comparison = SettledResponse;
+
+fn compare_at(model: &Model, args: &Args, w: f64, node: usize) -> miette::Result<Comparison> {
+    let settings = MarchSettings {
+        settle: args.settle,
+        record: args.record,
+        contact: match args.contact {
+            Contact::Hertz => ContactLaw::Hertz,
+            Contact::Forcing => ContactLaw::Forcing,
+        },
+        ..MarchSettings::default()
+    };
+    lib(settled_response(model, w, node, args.harmonics, &settings))
+}
+
+/// The index of the branch point nearest in speed to `w`.
+fn nearest_point(result: &Sweep, w: f64) -> usize {
+    result
+        .branch
+        .points
+        .iter()
+        .enumerate()
+        .min_by(|a, b| {
+            (a.1.solution.frequency - w)
+                .abs()
+                .total_cmp(&(b.1.solution.frequency - w).abs())
+        })
+        .map_or(0, |(i, _)| i)
+}
+
+fn end_reason(end: &BranchEnd) -> String {
+    match end {
+        BranchEnd::Reached => "reached the last speed".into(),
+        BranchEnd::LeftRange => "turned back below the first speed".into(),
+        BranchEnd::PointLimit => "stopped at the point limit".into(),
+        BranchEnd::EndNotConverged { message } => {
+            format!("the last speed itself did not converge: {message}")
+        }
+        BranchEnd::StepTooSmall { frequency, message } => format!(
+            "stopped at {:.3} Hz, the corrector failing at the smallest step: {message}",
+            hz(*frequency)
+        ),
+    }
+}
+
+fn kind_name(kind: BifurcationKind) -> &'static str {
+    match kind {
+        BifurcationKind::Fold => "fold",
+        BifurcationKind::PeriodDoubling => "period doubling",
+        BifurcationKind::NeimarkSacker => "Neimark-Sacker",
+    }
+}
+
+fn summary(
+    loaded: &super::Loaded,
+    options: &SweepOptions,
+    result: &Sweep,
+    nodes: &[usize],
+    comparisons: &[Comparison],
+    study: &[(usize, Sweep)],
+) -> Value {
+    let mut s = summary_head("hbm", loaded);
+    let branch = &result.branch;
+    s.insert("bearings".into(), result.bearings.clone().into());
+    s.insert("harmonics".into(), options.harmonics.into());
+    s.insert("samples_per_period".into(), branch.options.samples.into());
+    s.insert(
+        "speed_range_hz".into(),
+        json!([hz(options.from), hz(options.to)]),
+    );
+    s.insert("points".into(), branch.points.len().into());
+    s.insert("end".into(), end_reason(&branch.end).into());
+    s.insert("wall_time_s".into(), result.wall_time_s.into());
+    s.insert("stability".into(), options.stability.into());
+    s.insert("stability_modes".into(), options.stability_modes.into());
+    s.insert("nodes".into(), json!(nodes));
+    s.insert(
+        "folds_hz".into(),
+        json!(branch
+            .folds
+            .iter()
+            .map(|f| hz(f.frequency))
+            .collect::<Vec<_>>()),
+    );
+    s.insert(
+        "corners_hz".into(),
+        json!(branch.corners.iter().map(|c| hz(*c)).collect::<Vec<_>>()),
+    );
+    s.insert(
+        "bifurcations".into(),
+        branch
+            .bifurcations
+            .iter()
+            .map(|b| {
+                json!({
+                    "kind": kind_name(b.kind),
+                    "speed_hz": hz(b.frequency),
+                    "exponent_frequency_hz": hz(b.exponent_frequency),
+                    "loses_stability": b.loses_stability,
+                })
+            })
+            .collect::<Vec<_>>()
+            .into(),
+    );
+    let first_loss = branch
+        .bifurcations
+        .iter()
+        .find(|b| b.loses_stability)
+        .map(|b| hz(b.frequency));
+    s.insert("first_stability_loss_hz".into(), json!(first_loss));
+    if !comparisons.is_empty() {
+        s.insert(
+            "compare_time".into(),
+            comparisons
+                .iter()
+                .map(|c| comparison_json(result, c))
+                .collect::<Vec<_>>()
+                .into(),
+        );
+    }
+    if !study.is_empty() {
+        s.insert(
+            "harmonics_study".into(),
+            study
+                .iter()
+                .map(|(h, r)| json!({"harmonics": h, "points": r.branch.points.len(), "wall_time_s": r.wall_time_s}))
+                .collect::<Vec<_>>()
+                .into(),
+        );
+    }
+    Value::Object(s)
+}
+
+fn comparison_json(result: &Sweep, c: &Comparison) -> Value {
+    let i = nearest_point(result, c.speed);
+    let uy = dof(c.node, Direction::Uy);
+    let hb = result.amplitude(i, uy, 1);
+    json!({
+        "speed_hz": hz(c.speed),
+        "node": c.node,
+        "hb_speed_hz": hz(result.branch.points[i].solution.frequency),
+        "hb_1x_uy_m": hb,
+        "time_1x_uy_m": c.uy[0],
+        "difference_pct": 100.0 * (hb - c.uy[0]) / c.uy[0],
+        "time_non_synchronous": c.non_synchronous.map(|(f, a)| json!({"frequency_hz": f, "amplitude_m": a})),
+    })
+}
+
+fn text_summary(model: &Model, result: &Sweep, comparisons: &[Comparison]) -> String {
+    let mut text = String::new();
+    let branch = &result.branch;
+    let _ = writeln!(
+        text,
+        "{}: harmonic balance, H = {}, {} points in {:.2} s ({}); {}",
+        model.name,
+        branch.options.harmonics,
+        branch.points.len(),
+        result.wall_time_s,
+        result.bearings,
+        end_reason(&branch.end)
+    );
+    for b in &branch.bifurcations {
+        let _ = writeln!(
+            text,
+            "  {} at {:.2} Hz: stability {}, exponent at {:.2} Hz",
+            kind_name(b.kind),
+            hz(b.frequency),
+            if b.loses_stability {
+                "lost"
+            } else {
+                "regained"
+            },
+            hz(b.exponent_frequency)
+        );
+    }
+    for c in comparisons {
+        let i = nearest_point(result, c.speed);
+        let hb = result.amplitude(i, dof(c.node, Direction::Uy), 1);
+        let _ = writeln!(
+            text,
+            "  {:.1} Hz, node {}: 1X uy harmonic balance {:.4e} m, time marching {:.4e} m ({:+.2} %)",
+            hz(c.speed),
+            c.node,
+            hb,
+            c.uy[0],
+            100.0 * (hb - c.uy[0]) / c.uy[0]
+        );
+    }
+    text
+}
+
+fn write_branch(out: &mut Output, result: &Sweep, nodes: &[usize]) -> miette::Result<()> {
+    let h = result.harmonics();
+    let mut head = header(&[
+        "point",
+        "speed_hz",
+        "stable",
+        "max_real_exponent_per_s",
+        "iterations",
+    ]);
+    for &n in nodes {
+        for axis in ["ux", "uy"] {
+            head.push(format!("n{n}_{axis}_mean_m"));
+            for r in 1..=h {
+                head.push(format!("n{n}_{axis}_{r}x_m"));
+            }
+        }
+    }
+    let rows = result.branch.points.iter().enumerate().map(|(i, p)| {
+        let (stable, real) = p
+            .stability
+            .as_ref()
+            .map_or((String::new(), String::new()), |s| {
+                (s.stable.to_string(), num(s.max_real))
+            });
+        let mut row = vec![
+            i.to_string(),
+            num(hz(p.solution.frequency)),
+            stable,
+            real,
+            p.solution.iterations.to_string(),
+        ];
+        for &n in nodes {
+            for d in [Direction::Ux, Direction::Uy] {
+                row.extend((0..=h).map(|r| num(result.amplitude(i, dof(n, d), r))));
+            }
+        }
+        row
+    });
+    out.csv("branch.csv", &head, rows)
+}
+
+fn write_bifurcations(out: &mut Output, result: &Sweep) -> miette::Result<()> {
+    let rows = result.branch.bifurcations.iter().map(|b| {
+        vec![
+            kind_name(b.kind).to_string(),
+            num(hz(b.frequency)),
+            num(60.0 * hz(b.frequency)),
+            num(hz(b.exponent_frequency)),
+            if b.loses_stability {
+                "lost"
+            } else {
+                "regained"
+            }
+            .to_string(),
+        ]
+    });
+    out.csv(
+        "bifurcations.csv",
+        &header(&[
+            "kind",
+            "speed_hz",
+            "speed_rpm",
+            "exponent_frequency_hz",
+            "stability",
+        ]),
+        rows,
+    )
+}
+
+fn write_comparisons(
+    out: &mut Output,
+    result: &Sweep,
+    comparisons: &[Comparison],
+) -> miette::Result<()> {
+    let rows = comparisons.iter().map(|c| {
+        let i = nearest_point(result, c.speed);
+        let (ux, uy) = (dof(c.node, Direction::Ux), dof(c.node, Direction::Uy));
+        let (hb_x, hb_y) = (result.amplitude(i, ux, 1), result.amplitude(i, uy, 1));
+        let (nsv_f, nsv_a) = c
+            .non_synchronous
+            .map_or((String::new(), String::new()), |(f, a)| (num(f), num(a)));
+        vec![
+            num(hz(c.speed)),
+            c.node.to_string(),
+            num(hb_x),
+            num(c.ux[0]),
+            num(hb_y),
+            num(c.uy[0]),
+            num(100.0 * (hb_y - c.uy[0]) / c.uy[0]),
+            nsv_f,
+            nsv_a,
+        ]
+    });
+    out.csv(
+        "compare_time.csv",
+        &header(&[
+            "speed_hz",
+            "node",
+            "hb_1x_ux_m",
+            "time_1x_ux_m",
+            "hb_1x_uy_m",
+            "time_1x_uy_m",
+            "uy_difference_pct",
+            "time_nsv_hz",
+            "time_nsv_m",
+        ]),
+        rows,
+    )
+}
+
+fn write_study(out: &mut Output, study: &[(usize, Sweep)], node: usize) -> miette::Result<()> {
+    let uy = dof(node, Direction::Uy);
+    let rows = study.iter().flat_map(|(h, r)| {
+        r.branch.points.iter().enumerate().map(move |(i, p)| {
+            vec![
+                h.to_string(),
+                num(hz(p.solution.frequency)),
+                num(r.amplitude(i, uy, 1)),
+            ]
+        })
+    });
+    out.csv(
+        "harmonics_study.csv",
+        &header(&["harmonics", "speed_hz", &format!("n{node}_uy_1x_m")]),
+        rows,
+    )
+}
+
+/// Runs of consecutive points with the same stability, as (stable, indices).
+fn stability_runs(result: &Sweep) -> Vec<(bool, Vec<usize>)> {
+    let mut runs: Vec<(bool, Vec<usize>)> = Vec::new();
+    for (i, p) in result.branch.points.iter().enumerate() {
+        let stable = p.stability.as_ref().is_none_or(|s| s.stable);
+        match runs.last_mut() {
+            Some((s, idx)) if *s == stable => idx.push(i),
+            _ => {
+                // Start the new run at the last point so the curve stays connected.
+                let mut idx = runs
+                    .last()
+                    .map_or(Vec::new(), |(_, v)| vec![v[v.len() - 1]]);
+                idx.push(i);
+                runs.push((stable, idx));
+            }
+        }
+    }
+    runs
+}
+
+fn harmonics_plot(result: &Sweep, node: usize, comparisons: &[Comparison]) -> Figure2d {
+    let uy = dof(node, Direction::Uy);
+    let mut figure = Figure2d::new(
+        format!(
+            "Harmonics of uy at node {node} ({})",
+            short_bearings(result)
+        ),
+        "Spin speed [Hz]",
+        "Amplitude [µm]",
+    );
+    figure.log_y = true;
+    figure.legend = LegendPosition::UpperRight;
+    let speeds: Vec<f64> = result
+        .branch
+        .points
+        .iter()
+        .map(|p| hz(p.solution.frequency))
+        .collect();
+    for r in 1..=result.harmonics() {
+        let colour = Colour::Palette(r - 1);
+        for (k, (stable, idx)) in stability_runs(result).into_iter().enumerate() {
+            let x = idx.iter().map(|&i| speeds[i]).collect();
+            let y = idx
+                .iter()
+                .map(|&i| 1e6 * result.amplitude(i, uy, r))
+                .collect();
+            let style = if stable {
+                Style::solid(colour)
+            } else {
+                Style::dashed(colour)
+            };
+            let mut series = Series::new(x, y).style(style);
+            if k == 0 {
+                series = series.label(format!("{r}X"));
+            }
+            figure.series.push(series);
+        }
+    }
+    // Harmonics far below the largest (the response at the lowest speeds) would squeeze
+    // the decades that matter.
+    let top = figure
+        .series
+        .iter()
+        .flat_map(|s| s.y.iter().copied())
+        .fold(0.0f64, f64::max);
+    if top > 0.0 {
+        figure.y_range = Some((1e-4 * top, 3.0 * top));
+    }
+    if !comparisons.is_empty() {
+        figure.series.push(
+            Series::new(
+                comparisons.iter().map(|c| hz(c.speed)).collect(),
+                comparisons.iter().map(|c| 1e6 * c.uy[0]).collect(),
+            )
+            .label("1X time marching")
+            .style(Style::markers(Colour::Palette(0), Marker::Circle)),
+        );
+    }
+    figure.vertical_lines = result
+        .branch
+        .bifurcations
+        .iter()
+        .filter(|b| b.loses_stability)
+        .map(|b| RefLine::new(hz(b.frequency)).label(kind_label(b.kind)))
+        .collect();
+    figure
+}
+
+fn kind_label(kind: BifurcationKind) -> &'static str {
+    match kind {
+        BifurcationKind::Fold => "F",
+        BifurcationKind::PeriodDoubling => "PD",
+        BifurcationKind::NeimarkSacker => "NS",
+    }
+}
+
+fn short_bearings(result: &Sweep) -> &'static str {
+    if result
+        .bearings
+        .starts_with("Hertz contacts, roller passage averaged")
+    {
+        "passage-averaged rollers"
+    } else if result.bearings.starts_with("Hertz contacts, cage frozen") {
+        "frozen cage"
+    } else {
+        "forcing function"
+    }
+}
+
+fn stability_plot(result: &Sweep) -> Figure2d {
+    let mut figure = Figure2d::new(
+        "Largest real part of the Floquet exponents (> 0: unstable)",
+        "Spin speed [Hz]",
+        "Re(lambda) [1/s]",
+    );
+    let (x, y) = result
+        .branch
+        .points
+        .iter()
+        .filter_map(|p| {
+            p.stability
+                .as_ref()
+                .map(|s| (hz(p.solution.frequency), s.max_real))
+        })
+        .unzip();
+    figure
+        .series
+        .push(Series::new(x, y).style(Style::solid(Colour::Palette(0))));
+    figure.horizontal_lines = vec![RefLine::new(0.0)];
+    figure.legend = LegendPosition::Hidden;
+    figure
+}
+
+fn study_plot(study: &[(usize, Sweep)], node: usize) -> Figure2d {
+    let uy = dof(node, Direction::Uy);
+    let mut figure = Figure2d::new(
+        format!("1X of uy at node {node} for several harmonic counts"),
+        "Spin speed [Hz]",
+        "Amplitude [µm]",
+    );
+    figure.log_y = true;
+    for (k, (h, r)) in study.iter().enumerate() {
+        let (x, y) = r
+            .branch
+            .points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| (hz(p.solution.frequency), 1e6 * r.amplitude(i, uy, 1)))
+            .unzip();
+        figure.series.push(
+            Series::new(x, y)
+                .label(format!("H = {h}"))
+                .style(Style::solid(Colour::Palette(k))),
+        );
+    }
+    figure
+}
