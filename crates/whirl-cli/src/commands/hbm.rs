@@ -148,7 +148,11 @@ fn harmonic_list(text: &str) -> Result<HarmonicList, String> {
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     let model = &loaded.model;
-    let nodes = report_nodes(model, &args.nodes)?;
+    let mut nodes = report_nodes(model, &args.nodes)?;
+    if args.nodes.is_empty() {
+        // Disks first: the first node is plotted and compared.
+        nodes.sort_by_key(|n| !model.disks.iter().any(|d| d.station.node == *n));
+    }
     let options = sweep_options(args, model, args.harmonics)?;
     let result = lib(sweep(model, &options))?;
     let comparisons = args
