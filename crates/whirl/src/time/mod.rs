@@ -31,7 +31,7 @@ pub use rk::{runge_kutta, RkStats, RkTolerances};
 pub use rollers::{
     contact_frequencies, peak_near, ContactFrequency, ContactLaw, ContactSummary, RollerRecord,
 };
-pub(crate) use simulate::full_problem;
+pub(crate) use simulate::model_problem;
 pub use simulate::{
     simulate, simulate_with, stable_step, stable_step_with, Channel, ForceBuilder, Initial, Method,
     Progress, RunStatus, SimulationOptions, SimulationResult,

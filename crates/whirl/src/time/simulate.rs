@@ -371,14 +371,24 @@ fn no_forces(_: &Model, _: &dyn Fn(usize) -> usize) -> Result<Vec<Box<dyn Nonlin
 
 /// The full (unreduced) problem of `model` at constant speed `speed` (rad/s), for solvers
 /// other than the integrators (harmonic balance).
-pub(crate) fn full_problem(
+/// The problem of `model` at constant speed `speed` (rad/s), full or Craig-Bampton reduced
+/// with `reduction` fixed-interface modes, for solvers other than the integrators
+/// (harmonic balance), with the reduction's map back to physical DOFs.
+pub(crate) fn model_problem(
     model: &Model,
+    reduction: Option<usize>,
     speed: f64,
     bearings: Bearings,
     forces: ForceBuilder<'_>,
-) -> Result<TimeProblem> {
-    integrated(model, None, SpeedProfile::Constant(speed), bearings, forces)
-        .map(|(_, problem)| problem)
+) -> Result<(TimeProblem, Option<CraigBampton>)> {
+    integrated(
+        model,
+        reduction,
+        SpeedProfile::Constant(speed),
+        bearings,
+        forces,
+    )
+    .map(|(coordinates, problem)| (problem, coordinates.reduction))
 }
 
 /// The coordinates integrated and the problem in them.

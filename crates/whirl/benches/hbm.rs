@@ -1,0 +1,36 @@
+//! Benchmarks of harmonic balance on the reference rotor (issue 5); figures go to
+//! BENCHMARKS.md. Run with `cargo bench -p whirl --bench hbm`.
+
+mod common;
+
+use std::f64::consts::TAU;
+
+use whirl::hbm::{sweep, SweepOptions};
+use whirl::model::Model;
+
+fn main() {
+    // faer's own threads off: the Hill solves of a branch run in parallel with rayon.
+    faer::set_global_parallelism(faer::Par::Seq);
+    let model =
+        Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).expect("bundled model");
+    for (stability, reduction, name) in [
+        (false, None, "1-750 Hz, H = 5, full model, no stability"),
+        (true, None, "1-750 Hz, H = 5, full model, Hill stability"),
+        (
+            true,
+            Some(12),
+            "1-750 Hz, H = 5, reduced 8+12, Hill stability",
+        ),
+    ] {
+        let mut options = SweepOptions::new(TAU, TAU * 750.0, 5);
+        options.stability = stability;
+        options.reduction = reduction;
+        let mut points = 0;
+        common::time(name, 3, || {
+            let s = sweep(&model, &options).expect("the sweep runs");
+            points = s.branch.points.len();
+            s
+        });
+        println!("{:<55} ({points} points)", "");
+    }
+}
