@@ -55,6 +55,8 @@ enum Command {
     FitForcing(commands::fit_forcing::Args),
     /// Periodic response by harmonic balance over speed, its stability and bifurcations.
     Hbm(commands::hbm::Args),
+    /// Cascade (waterfall) of non-synchronous vibration over a speed range, classified.
+    Cascade(commands::cascade::Args),
 }
 
 fn main() -> ExitCode {
@@ -73,6 +75,7 @@ fn main() -> ExitCode {
         Command::Stiffness(a) => commands::stiffness::run(a),
         Command::FitForcing(a) => commands::fit_forcing::run(a),
         Command::Hbm(a) => commands::hbm::run(a),
+        Command::Cascade(a) => commands::cascade::run(a),
     };
     match result {
         Ok(outcome) => {

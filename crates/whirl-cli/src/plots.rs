@@ -17,9 +17,11 @@ use whirl_plot::{
 
 use crate::commands::campbell::order_name;
 
+mod cascade;
 mod reduce;
 mod time;
 
+pub use cascade::{cascade_map, full_map, nsv_amplitude, waterfall};
 pub use reduce::{reduction_error, stable_steps};
 pub use time::{contact_line, contact_zone};
 pub use time::{orbits, spectrum, time_history};

@@ -2,6 +2,7 @@
 //! `--json`, parsers of speeds and lists, names of whirl branches.
 
 pub mod campbell;
+pub mod cascade;
 pub mod check;
 pub mod convergence;
 pub mod fit_forcing;

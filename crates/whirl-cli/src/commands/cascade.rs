@@ -1,0 +1,474 @@
+//! `whirl cascade model.toml [--speeds 1:750Hz:150] [--settle 0.5s] [--record 0.5s]
+//! [--contact hertz|lagrange|forcing|linear] [--reduce 12 | --full-model] [--node N]
+//! [--component ux|uy] [--window hann|flat-top] [--max-frequency 3000Hz] [--tolerance 2]
+//! [--threshold 1um] [--full] [--restart]`: the cascade (waterfall) diagram of non-synchronous
+//! vibration over a speed range (SPEC section 9, thesis ch. 5; see [`whirl::nsv`]).
+//!
+//! Writes `cascade.csv` (long format: `speed_hz,frequency_hz,amplitude_m`, every bin of
+//! the band at every speed), `nsv.csv` (per speed: 1X, the largest non-synchronous peak,
+//! its order, class, whirl direction, forward and backward radii, decay over the record),
+//! with `--full` also `full_cascade.csv` (signed frequency: forward whirl positive), and
+//! the plots `waterfall` (spectra stacked along speed, log amplitude), `cascade_map`
+//! (frequency over speed, colour = log amplitude, NSV peaks above the threshold marked),
+//! `nsv` (1X and NSV amplitude over speed by class) and with `--full` `full_map`; 1X, 2X,
+//! 0.5X and N_b w_c lines are drawn on the maps and the waterfall. summary.json holds the
+//! NSV summary: onset speed above `--threshold`, largest NSV and where, dominant class.
+//!
+//! # Checkpoint
+//!
+//! Every finished speed is saved at once in `<out>.partial/` (beside the output folder;
+//! `out/cascade.partial` by default), atomically, so a run that is interrupted (Ctrl-C, a
+//! kill, a crash) and started again with the same command computes only the missing
+//! speeds and ends with the same bytes as an uninterrupted run. The folder stays after a
+//! successful run (running the same command again only redraws); a folder holding another
+//! model or other options is refused with what differs, and `--restart` deletes it first.
+
+use std::fmt::Write;
+use std::io::IsTerminal;
+use std::ops::ControlFlow;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+use serde_json::{json, Value};
+use whirl::model::Model;
+use whirl::nsv::{
+    cascade, Cascade, CascadeOptions, CascadeProgress, Component, NsvSummary, DEFAULT_MODES,
+    DEFAULT_THRESHOLD_M, DEFAULT_TOLERANCE_BINS,
+};
+use whirl::post::Window;
+use whirl::units::{parse_quantity, parse_range, Dimension};
+
+use super::simulate::Contact;
+use super::{
+    finish, hz, load, mode_count, node_index, positive_length, speeds, summary_head, time,
+};
+use super::{Common, Loaded, Outcome, Speeds};
+use crate::error::{from_whirl, Diag};
+use crate::output::{header, num, Output};
+use crate::plots;
+
+/// Speeds of the default sweep over the model's operating range.
+const DEFAULT_SPEEDS: usize = 150;
+
+/// The response's displacement for the one-sided spectrum.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ComponentArg {
+    /// Horizontal.
+    Ux,
+    /// Vertical (the thesis' cascades).
+    Uy,
+}
+
+/// The data window.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum WindowArg {
+    /// Hann: peaks +-2 bins wide, amplitudes refined between bins.
+    Hann,
+    /// Flat top: amplitudes right within 0.05 % at every bin, peaks +-5 bins wide.
+    FlatTop,
+}
+
+/// `whirl cascade`
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    pub common: Common,
+    /// Spin speeds `start:stop:count`, e.g. `1:750Hz:150`; plain numbers are rad/s
+    /// [default: 150 speeds over the model's operating range].
+    #[arg(long, value_name = "RANGE", value_parser = speeds)]
+    pub speeds: Option<Speeds>,
+    /// Time simulated and discarded at each speed before the record.
+    #[arg(long, value_name = "TIME", default_value = "0.5s", value_parser = time, allow_hyphen_values = true)]
+    pub settle: f64,
+    /// Time recorded at each speed; its inverse is the bin spacing (0.5 s: 2 Hz).
+    #[arg(long, value_name = "TIME", default_value = "0.5s", value_parser = time, allow_hyphen_values = true)]
+    pub record: f64,
+    /// Contact law of the roller bearings [default: hertz when the model has roller
+    /// bearings, linear otherwise].
+    #[arg(long, value_name = "LAW", value_enum)]
+    pub contact: Option<Contact>,
+    /// Craig-Bampton reduction keeping N fixed-interface modes.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MODES, value_parser = mode_count)]
+    pub reduce: usize,
+    /// Integrate the full model instead of the reduced one (about ten times slower).
+    #[arg(long, conflicts_with = "reduce")]
+    pub full_model: bool,
+    /// Central-difference time step [default: 0.9 x the stability limit].
+    #[arg(long, value_name = "TIME", value_parser = time, allow_hyphen_values = true)]
+    pub step: Option<f64>,
+    /// The node whose response is analysed [default: the first disk's node].
+    #[arg(long, value_name = "N", value_parser = node_index)]
+    pub node: Option<usize>,
+    /// Which displacement gives the one-sided spectrum (the full spectrum uses both).
+    #[arg(long, value_enum, default_value = "uy")]
+    pub component: ComponentArg,
+    /// Data window of the spectra.
+    #[arg(long, value_enum, default_value = "hann")]
+    pub window: WindowArg,
+    /// Top of the frequency band kept and searched: `3000Hz`, or a plain number in Hz
+    /// [default: 2.5 x the top speed or 1.25 x the highest contact frequency there].
+    #[arg(long, value_name = "FREQ", value_parser = frequency, allow_hyphen_values = true)]
+    pub max_frequency: Option<f64>,
+    /// A peak within this many bins of a multiple of the running speed is synchronous.
+    #[arg(long, value_name = "BINS", default_value_t = DEFAULT_TOLERANCE_BINS, value_parser = bins, allow_hyphen_values = true)]
+    pub tolerance: f64,
+    /// NSV amplitude (zero-to-peak) from which a speed counts in the summary: onset,
+    /// classes.
+    #[arg(long, value_name = "LENGTH", default_value_t = DEFAULT_THRESHOLD_M, value_parser = positive_length, allow_hyphen_values = true)]
+    pub threshold: f64,
+    /// Also the full spectrum of x + i y (forward whirl at positive, backward at negative
+    /// frequency): full_cascade.csv and the plot full_map.
+    #[arg(long)]
+    pub full: bool,
+    /// Delete the checkpoint folder `<out>.partial` first and compute every speed again.
+    #[arg(long)]
+    pub restart: bool,
+}
+
+/// Clap parser of a frequency: `3000Hz`, `180000rpm`, or a plain number in Hz.
+fn frequency(text: &str) -> Result<f64, String> {
+    let f = match text.trim().parse::<f64>() {
+        Ok(f) => f,
+        Err(_) => hz(parse_quantity(text, Dimension::AngularSpeed).map_err(|e| e.to_string())?),
+    };
+    if f.is_finite() && f > 0.0 {
+        Ok(f)
+    } else {
+        Err(format!("`{text}`: the frequency must be positive"))
+    }
+}
+
+/// Clap parser of a tolerance in bins: a number, 0 or more.
+fn bins(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(b) if b.is_finite() && b >= 0.0 => Ok(b),
+        _ => Err(format!(
+            "`{text}` is not a number of bins (0 or more, e.g. 2)"
+        )),
+    }
+}
+
+pub fn run(args: &Args) -> miette::Result<Outcome> {
+    let loaded = load(&args.common.model)?;
+    let model = &loaded.model;
+    let options = cascade_options(args, model)?;
+    let out_dir = args.common.out_dir("cascade");
+    let checkpoint = checkpoint_dir(&out_dir)?;
+    if args.restart && checkpoint.exists() {
+        std::fs::remove_dir_all(&checkpoint)
+            .map_err(|e| Diag::new(format!("cannot delete `{}`: {e}", checkpoint.display())))?;
+    }
+    let display = ProgressLine::new();
+    let report = |p: CascadeProgress| {
+        if let Some(d) = &display {
+            d.draw(p);
+        }
+        ControlFlow::Continue(())
+    };
+    let result = cascade(model, &options, Some(&checkpoint), Some(&report));
+    if display.is_some() {
+        eprint!("\r{:40}\r", "");
+    }
+    let result = result.map_err(|e| checkpoint_error(e, &checkpoint))?;
+    let nsv = result.nsv_summary(args.threshold);
+
+    let summary = summary(&loaded, args, &result, &nsv, &checkpoint);
+    let text = text(model, &result, &nsv, &checkpoint);
+    let mut out = Output::begin(&out_dir)?;
+    write_tables(&mut out, &result)?;
+    out.plot("waterfall", |stem| plots::waterfall(&result).save(stem))?;
+    out.plot("cascade_map", |stem| {
+        plots::cascade_map(&result, args.threshold).save(stem)
+    })?;
+    out.plot("nsv", |stem| {
+        plots::nsv_amplitude(&result, args.threshold).save(stem)
+    })?;
+    if args.full {
+        out.plot("full_map", |stem| plots::full_map(&result).save(stem))?;
+    }
+    finish(out, summary, text, &args.common)
+}
+
+/// The library's options from the command line.
+fn cascade_options(args: &Args, model: &Model) -> miette::Result<CascadeOptions> {
+    let speeds = match &args.speeds {
+        Some(s) => s.0.clone(),
+        None => default_speeds(model)?,
+    };
+    let mut o = CascadeOptions::new(model, speeds);
+    o.settle = args.settle;
+    o.record = args.record;
+    if let Some(c) = args.contact {
+        o.law = c.law();
+    }
+    o.reduction = (!args.full_model).then_some(args.reduce);
+    o.step = args.step;
+    if let Some(n) = args.node {
+        o.node = n;
+    }
+    o.component = match args.component {
+        ComponentArg::Ux => Component::Ux,
+        ComponentArg::Uy => Component::Uy,
+    };
+    o.window = match args.window {
+        WindowArg::Hann => Window::Hann,
+        WindowArg::FlatTop => Window::FlatTop,
+    };
+    o.max_frequency_hz = args.max_frequency;
+    o.tolerance_bins = args.tolerance;
+    o.full = args.full;
+    Ok(o)
+}
+
+/// 150 speeds over the model's operating range.
+fn default_speeds(model: &Model) -> miette::Result<Vec<f64>> {
+    let Some((low, high)) = model.operating else {
+        return Err(
+            Diag::option("--speeds", "the model states no operating speed range")
+                .help("give the speeds, e.g. --speeds 1:750Hz:150, or add [operating] to the model")
+                .into(),
+        );
+    };
+    let low = if low > 0.0 {
+        low
+    } else {
+        high / DEFAULT_SPEEDS as f64
+    };
+    let text = format!("{low}:{high}:{DEFAULT_SPEEDS}");
+    parse_range(&text, Dimension::AngularSpeed).map_err(|e| Diag::new(e.to_string()).into())
+}
+
+/// `<out>.partial`, beside the output folder.
+fn checkpoint_dir(out: &Path) -> miette::Result<PathBuf> {
+    let name = out.file_name().and_then(|n| n.to_str()).ok_or_else(|| {
+        Diag::option(
+            "--out",
+            format!("`{}` does not name a folder", out.display()),
+        )
+        .help("give a folder such as `out/cascade`")
+    })?;
+    Ok(out.with_file_name(format!("{name}.partial")))
+}
+
+/// The library's error; a checkpoint of another cascade gets the CLI's way out.
+fn checkpoint_error(e: whirl::Error, dir: &Path) -> miette::Report {
+    match &e {
+        whirl::Error::Input(input) if input.field.as_deref() == Some("checkpoint") => {
+            Diag::new(input.message.clone())
+                .help(format!(
+                    "run again with --restart to delete `{}` and compute every speed anew, or \
+                     give another --out",
+                    dir.display()
+                ))
+                .into()
+        }
+        _ => from_whirl(e, ""),
+    }
+}
+
+/// `cascade: 37/150 speeds`, redrawn at most four times a second, when stderr is a
+/// terminal (a log file or a pipe gets nothing).
+struct ProgressLine {
+    last: Mutex<Option<Instant>>,
+}
+
+impl ProgressLine {
+    fn new() -> Option<ProgressLine> {
+        std::io::stderr().is_terminal().then(|| ProgressLine {
+            last: Mutex::new(None),
+        })
+    }
+
+    fn draw(&self, p: CascadeProgress) {
+        let Ok(mut last) = self.last.lock() else {
+            return;
+        };
+        let finished = p.done == p.total;
+        if !finished && last.is_some_and(|t| t.elapsed() < Duration::from_millis(250)) {
+            return;
+        }
+        *last = Some(Instant::now());
+        let resumed = if p.resumed > 0 {
+            format!(" ({} from the checkpoint)", p.resumed)
+        } else {
+            String::new()
+        };
+        eprint!("\rcascade: {}/{} speeds{resumed}", p.done, p.total);
+    }
+}
+
+fn summary(
+    loaded: &Loaded,
+    args: &Args,
+    c: &Cascade,
+    nsv: &NsvSummary,
+    checkpoint: &Path,
+) -> Value {
+    let o = &c.options;
+    let r = &c.resolved;
+    let mut s = summary_head("cascade", loaded);
+    s.insert("speeds".into(), c.points.len().into());
+    s.insert("speed_range_hz".into(), json!(speed_range(c)));
+    s.insert("contact".into(), o.law.name().into());
+    s.insert("reduction_modes".into(), json!(o.reduction));
+    s.insert("node".into(), o.node.into());
+    s.insert("component".into(), json!(o.component));
+    s.insert("settle_s".into(), o.settle.into());
+    s.insert("record_s".into(), o.record.into());
+    s.insert("step_s".into(), r.step.into());
+    s.insert("sample_interval_s".into(), (1.0 / r.sample_rate_hz).into());
+    s.insert("samples_per_record".into(), r.samples.into());
+    s.insert("window".into(), o.window.to_string().into());
+    s.insert("resolution_hz".into(), r.resolution_hz.into());
+    s.insert("max_frequency_hz".into(), r.max_frequency_hz.into());
+    s.insert("tolerance_bins".into(), o.tolerance_bins.into());
+    s.insert("full_spectrum".into(), args.full.into());
+    s.insert("nsv".into(), json!(nsv));
+    s.insert("resumed_speeds".into(), c.resumed.into());
+    s.insert("wall_time_s".into(), c.wall_time_s.into());
+    s.insert(
+        "checkpoint_folder".into(),
+        checkpoint.display().to_string().into(),
+    );
+    s.insert(
+        "notes".into(),
+        json!([
+            "amplitudes are zero-to-peak, m, of the analysed component with the window-weighted mean removed; peaks refined between bins",
+            "nsv: the largest spectral peak in the band not within tolerance_bins of a multiple of the running speed; classes and their rules: whirl::nsv::classify",
+            "transient NSV (free vibration still dying away over the record) never make the onset, the largest or the dominant class",
+            "direction: forward when the full spectrum of x + i y is larger at +f than at -f",
+        ]),
+    );
+    Value::Object(s)
+}
+
+/// Lowest and highest speed, Hz.
+fn speed_range(c: &Cascade) -> (f64, f64) {
+    let s = c.speeds_hz();
+    let low = s.iter().copied().fold(f64::INFINITY, f64::min);
+    let high = s.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    (low, high)
+}
+
+fn text(model: &Model, c: &Cascade, nsv: &NsvSummary, checkpoint: &Path) -> String {
+    let mut t = String::new();
+    let (low, high) = speed_range(c);
+    let _ = writeln!(
+        t,
+        "{}: cascade of {} speeds {low:.1}-{high:.1} Hz ({} contact, {}), {} s settled + {} \
+         s recorded each, {:.2} Hz bins up to {:.0} Hz, in {:.1} s ({} speeds from the \
+         checkpoint {})",
+        model.name,
+        c.points.len(),
+        c.options.law.name(),
+        c.options
+            .reduction
+            .map_or("full model".to_string(), |m| format!("reduced, {m} modes")),
+        c.options.settle,
+        c.options.record,
+        c.resolved.resolution_hz,
+        c.resolved.max_frequency_hz,
+        c.wall_time_s,
+        c.resumed,
+        checkpoint.display()
+    );
+    let threshold = format!("{:.2} um", 1e6 * nsv.threshold_m);
+    let _ = match nsv.onset_speed_hz {
+        Some(f) => writeln!(t, "NSV onset (>= {threshold}): {f:.1} Hz"),
+        None => writeln!(t, "no steady NSV reaches {threshold}"),
+    };
+    if let Some(l) = &nsv.largest {
+        let _ = writeln!(
+            t,
+            "largest NSV: {:.2} um at {:.1} Hz ({:.3}X) when running at {:.1} Hz, {} whirl, {}",
+            1e6 * l.amplitude_m,
+            l.frequency_hz,
+            l.order,
+            l.speed_hz,
+            match l.direction {
+                whirl::nsv::WhirlDirection::Forward => "forward",
+                whirl::nsv::WhirlDirection::Backward => "backward",
+            },
+            l.class.name()
+        );
+    }
+    if let Some(d) = nsv.dominant_class {
+        let counts: Vec<String> = nsv
+            .classes
+            .iter()
+            .map(|k| format!("{} {}", k.class.name(), k.speeds))
+            .collect();
+        let _ = writeln!(
+            t,
+            "dominant class: {} (speeds above the threshold: {})",
+            d.name(),
+            counts.join(", ")
+        );
+    }
+    if !nsv.diverged_speeds_hz.is_empty() {
+        let _ = writeln!(
+            t,
+            "diverged at {} speed(s), from {:.1} Hz: see nsv.csv",
+            nsv.diverged_speeds_hz.len(),
+            nsv.diverged_speeds_hz[0]
+        );
+    }
+    t
+}
+
+fn write_tables(out: &mut Output, c: &Cascade) -> miette::Result<()> {
+    let rows = c.points.iter().flat_map(|p| {
+        p.amplitude
+            .iter()
+            .zip(&c.frequency_hz)
+            .map(move |(a, f)| [num(p.speed_hz), num(*f), num(*a)])
+    });
+    let h = header(&["speed_hz", "frequency_hz", "amplitude_m"]);
+    out.csv("cascade.csv", &h, rows)?;
+    if c.options.full {
+        let rows = c.points.iter().flat_map(|p| {
+            p.full_amplitude
+                .iter()
+                .zip(&c.full_frequency_hz)
+                .map(move |(a, f)| [num(p.speed_hz), num(*f), num(*a)])
+        });
+        out.csv("full_cascade.csv", &h, rows)?;
+    }
+    let rows = c.points.iter().zip(&c.nsv).map(|(p, n)| {
+        let peak = n.as_ref().map(|n| n.peak);
+        let cell =
+            |f: fn(&whirl::nsv::NsvPeak) -> f64| peak.as_ref().map_or(String::new(), |p| num(f(p)));
+        vec![
+            num(p.speed_hz),
+            num(p.one_x_m),
+            cell(|p| p.frequency_hz),
+            cell(|p| p.amplitude_m),
+            cell(|p| p.order),
+            n.as_ref().map_or(String::new(), |n| n.class.name().into()),
+            n.as_ref().map_or(String::new(), |n| {
+                json!(n.direction).as_str().unwrap_or("").into()
+            }),
+            cell(|p| p.forward_m),
+            cell(|p| p.backward_m),
+            cell(|p| p.decay_ratio),
+            n.as_ref().map_or(String::new(), |n| n.explanation.clone()),
+            p.diverged.clone().unwrap_or_default(),
+        ]
+    });
+    let h = header(&[
+        "speed_hz",
+        "one_x_m",
+        "nsv_frequency_hz",
+        "nsv_amplitude_m",
+        "nsv_order",
+        "class",
+        "direction",
+        "forward_m",
+        "backward_m",
+        "decay_ratio",
+        "explanation",
+        "diverged",
+    ]);
+    out.csv("nsv.csv", &h, rows)
+}

@@ -1,0 +1,243 @@
+//! Figures of a cascade: the waterfall (thesis figs. 5.1-5.9), the colour map seen from
+//! above, the NSV amplitude over speed, and the full-spectrum map.
+//!
+//! Order lines (1X, 2X, 0.5X) and the varying-compliance frequency N_b w_c are drawn on the
+//! waterfall and the maps, dashed. Amplitudes are drawn on a logarithmic scale over
+//! [`DECADES`] decades below the largest: on a linear one the 1X near a critical speed
+//! would flatten every non-synchronous peak into the baseline.
+
+use whirl::nsv::{Cascade, CascadePoint, Component, NsvClass};
+use whirl_plot::{Colour, Figure2d, HeatMap, LegendPosition, Marker, RefLine, Series, Style};
+
+/// Decades of amplitude below the largest that the waterfall and the maps show.
+const DECADES: f64 = 4.0;
+
+/// Height of one waterfall trace's full scale, in steps between drawn traces: traces
+/// overlap a little, as in a printed waterfall.
+const TRACE_HEIGHT: f64 = 3.0;
+
+/// At most this many traces in the waterfall (every k-th speed; the maps show them all):
+/// more merge into a solid block.
+const MAX_TRACES: usize = 60;
+
+/// Orders of the running speed drawn as lines.
+const ORDERS: [f64; 3] = [0.5, 1.0, 2.0];
+
+/// `ux` or `uy`.
+fn component(c: &Cascade) -> &'static str {
+    match c.options.component {
+        Component::Ux => "ux",
+        Component::Uy => "uy",
+    }
+}
+
+/// The completed points in ascending speed, each speed once.
+fn ascending(c: &Cascade) -> Vec<&CascadePoint> {
+    let mut points: Vec<&CascadePoint> = c.points.iter().filter(|p| p.diverged.is_none()).collect();
+    points.sort_by(|a, b| a.speed_hz.total_cmp(&b.speed_hz));
+    points.dedup_by(|a, b| a.speed_hz == b.speed_hz);
+    points
+}
+
+/// The largest amplitude of the completed points, m.
+fn largest(points: &[&CascadePoint]) -> f64 {
+    points
+        .iter()
+        .flat_map(|p| p.amplitude.iter().copied())
+        .fold(0.0, f64::max)
+}
+
+/// The lines f = k Omega (`sign` -1 draws them at negative frequency) and f = N_b w_c,
+/// as (speed, frequency) curves over `speeds`; `swap` puts frequency on x.
+fn order_lines(c: &Cascade, speeds: &[f64], sign: f64, swap: bool) -> Vec<Series> {
+    let curve = |f: Vec<f64>| {
+        if swap {
+            Series::new(f, speeds.to_vec())
+        } else {
+            Series::new(speeds.to_vec(), f)
+        }
+    };
+    let mut lines: Vec<Series> = ORDERS
+        .iter()
+        .enumerate()
+        .map(|(i, &k)| {
+            curve(speeds.iter().map(|s| sign * k * s).collect())
+                .label(format!("{k}X"))
+                .style(Style::dashed(Colour::Palette(i + 1)).width(1))
+        })
+        .collect();
+    if let Some(vc) = varying_compliance(c, speeds) {
+        lines.push(
+            curve(vc.iter().map(|f| sign * f).collect())
+                .label("N_b w_c")
+                .style(Style::dashed(Colour::Palette(5)).width(1)),
+        );
+    }
+    lines
+}
+
+/// N_b w_c of the first roller bearing at each of `speeds` (Hz), if the model has one. The
+/// cage speed is proportional to the spin speed, so the ratio at any point carries over.
+fn varying_compliance(c: &Cascade, speeds: &[f64]) -> Option<Vec<f64>> {
+    let (point, bases) = c
+        .points
+        .iter()
+        .zip(&c.contact_frequencies)
+        .find(|(_, b)| !b.is_empty())?;
+    let ratio = bases.iter().find(|b| b.name == "N_b w_c")?.frequency_hz / point.speed_hz;
+    Some(speeds.iter().map(|s| ratio * s).collect())
+}
+
+/// Spectra stacked along speed: each trace at its speed, rising by log amplitude.
+pub fn waterfall(c: &Cascade) -> Figure2d {
+    let all = ascending(c);
+    let top = largest(&all);
+    let floor = top * 10f64.powf(-DECADES);
+    let speeds: Vec<f64> = all.iter().map(|p| p.speed_hz).collect();
+    let every = all.len().div_ceil(MAX_TRACES).max(1);
+    let points: Vec<&CascadePoint> = all.iter().step_by(every).copied().collect();
+    let span = speeds.last().copied().unwrap_or(1.0) - speeds.first().copied().unwrap_or(0.0);
+    let height = TRACE_HEIGHT * span / (points.len().max(2) - 1) as f64;
+    let mut fig = Figure2d::new(
+        format!(
+            "Waterfall of node {} {}: each trace rises {:.0} Hz for {DECADES} decades up to \
+             {:.3e} m",
+            c.options.node,
+            component(c),
+            height,
+            top
+        ),
+        "Frequency [Hz]",
+        "Speed [Hz] (trace: log amplitude)",
+    );
+    // From the back (highest speed) to the front, so nearer traces are drawn over.
+    for p in points.iter().rev() {
+        let y = p
+            .amplitude
+            .iter()
+            .map(|&a| p.speed_hz + height * ((a.max(floor) / floor).log10() / DECADES))
+            .collect();
+        fig.series.push(
+            Series::new(c.frequency_hz.clone(), y)
+                .style(Style::solid(Colour::Rgb(40, 40, 90)).width(1)),
+        );
+    }
+    fig.series.extend(order_lines(c, &speeds, 1.0, true));
+    fig.x_range = Some((0.0, c.resolved.max_frequency_hz));
+    fig.legend = LegendPosition::LowerRight;
+    fig
+}
+
+/// A heat map of `column(point)` over the completed speeds, log colour over [`DECADES`].
+fn map(c: &Cascade, frequency_hz: &[f64], column: impl Fn(&CascadePoint) -> &[f64]) -> HeatMap {
+    let points = ascending(c);
+    let speeds: Vec<f64> = points.iter().map(|p| p.speed_hz).collect();
+    let z: Vec<Vec<f64>> = (0..frequency_hz.len())
+        .map(|j| {
+            points
+                .iter()
+                .map(|p| column(p).get(j).copied().unwrap_or(f64::NAN))
+                .collect()
+        })
+        .collect();
+    let top = points
+        .iter()
+        .flat_map(|p| column(p).iter().copied())
+        .fold(0.0, f64::max);
+    let mut m = HeatMap::new(
+        format!(
+            "Cascade of node {} {} (colour: log amplitude)",
+            c.options.node,
+            component(c)
+        ),
+        "Speed [Hz]",
+        "Frequency [Hz]",
+        "Amplitude [m]",
+    )
+    .with_data(speeds, frequency_hz.to_vec(), z);
+    m.log_colour = true;
+    if top > 0.0 {
+        m.z_range = Some((top * 10f64.powf(-DECADES), top));
+    }
+    m.legend = LegendPosition::UpperLeft;
+    m
+}
+
+/// Frequency over speed, colour = log amplitude; order lines; the NSV peaks at or above
+/// `threshold` (m) marked.
+pub fn cascade_map(c: &Cascade, threshold: f64) -> HeatMap {
+    let mut m = map(c, &c.frequency_hz, |p| &p.amplitude);
+    m.overlays = order_lines(c, &m.x, 1.0, false);
+    let (x, y): (Vec<f64>, Vec<f64>) = c
+        .nsv
+        .iter()
+        .flatten()
+        .filter(|n| n.peak.amplitude_m >= threshold && n.class != NsvClass::Transient)
+        .map(|n| (n.speed_hz, n.peak.frequency_hz))
+        .unzip();
+    m.overlays.push(
+        Series::new(x, y)
+            .label("NSV >= threshold")
+            .style(Style::markers(Colour::Rgb(255, 255, 255), Marker::OpenCircle).marker_size(5)),
+    );
+    m
+}
+
+/// The full spectrum of x + i y over speed: forward whirl above zero, backward below.
+pub fn full_map(c: &Cascade) -> HeatMap {
+    let mut m = map(c, &c.full_frequency_hz, |p| &p.full_amplitude);
+    m.title = format!(
+        "Full spectrum of node {}: forward whirl above 0 Hz, backward below",
+        c.options.node
+    );
+    m.overlays = order_lines(c, &m.x, 1.0, false);
+    m.overlays.extend(
+        order_lines(c, &m.x, -1.0, false)
+            .into_iter()
+            .map(|s| Series { label: None, ..s }),
+    );
+    m
+}
+
+/// 1X and the NSV amplitude over speed, NSV by class; the threshold as a line.
+pub fn nsv_amplitude(c: &Cascade, threshold: f64) -> Figure2d {
+    let mut fig = Figure2d::new(
+        format!(
+            "Largest non-synchronous vibration at node {} {}",
+            c.options.node,
+            component(c)
+        ),
+        "Speed [Hz]",
+        "Amplitude [µm]",
+    );
+    let points = ascending(c);
+    fig.series.push(
+        Series::new(
+            points.iter().map(|p| p.speed_hz).collect(),
+            points.iter().map(|p| 1e6 * p.one_x_m).collect(),
+        )
+        .label("1X")
+        .style(Style::solid(Colour::GREY)),
+    );
+    for (i, class) in NsvClass::ALL.iter().enumerate() {
+        let (x, y): (Vec<f64>, Vec<f64>) = c
+            .nsv
+            .iter()
+            .flatten()
+            .filter(|n| n.class == *class)
+            .map(|n| (n.speed_hz, 1e6 * n.peak.amplitude_m))
+            .unzip();
+        if !x.is_empty() {
+            fig.series.push(
+                Series::new(x, y)
+                    .label(class.name())
+                    .style(Style::markers(Colour::Palette(i), Marker::Circle).marker_size(4)),
+            );
+        }
+    }
+    fig.log_y = true;
+    fig.horizontal_lines
+        .push(RefLine::new(1e6 * threshold).label("threshold"));
+    fig.legend = LegendPosition::LowerRight;
+    fig
+}

@@ -1,0 +1,117 @@
+//! `whirl cascade` end to end: the files and the summary; a run that lost some finished
+//! speeds (as a killed run does) resumes from its checkpoint to the same bytes as an
+//! uninterrupted run; a checkpoint of other options is refused until `--restart`; bad
+//! input names the option.
+
+use std::path::{Path, PathBuf};
+use std::process::Output;
+
+use assert_cmd::Command;
+use serde_json::Value;
+
+const MODEL: &str = "../../examples/reference_rotor.toml";
+
+/// Four speeds, 0.1 s settled and 0.1 s recorded: a quick cascade (10 Hz bins).
+const QUICK: [&str; 6] = [
+    "--speeds",
+    "40Hz:400Hz:4",
+    "--settle",
+    "0.1s",
+    "--record",
+    "0.1s",
+];
+
+fn whirl(out: &Path, args: &[&str]) -> Output {
+    Command::cargo_bin("whirl")
+        .unwrap()
+        .arg("cascade")
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join(MODEL))
+        .args(args)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .unwrap()
+}
+
+fn read(path: PathBuf) -> Vec<u8> {
+    std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+fn summary(out: &Path) -> Value {
+    serde_json::from_slice(&read(out.join("summary.json"))).unwrap()
+}
+
+#[test]
+fn writes_the_cascade_and_resumes_to_the_same_bytes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("cascade");
+    let first = whirl(&out, &QUICK);
+    assert!(first.status.success(), "{first:?}");
+    for file in [
+        "summary.json",
+        "cascade.csv",
+        "nsv.csv",
+        "waterfall.png",
+        "waterfall.svg",
+        "cascade_map.png",
+        "cascade_map.svg",
+        "nsv.png",
+        "nsv.svg",
+    ] {
+        assert!(out.join(file).is_file(), "{file} missing");
+    }
+    let s = summary(&out);
+    assert_eq!(s["speeds"], 4);
+    assert_eq!(s["resumed_speeds"], 0);
+    assert!(s["nsv"]["threshold_m"].as_f64() == Some(1e-6), "{s}");
+    let cascade_csv = read(out.join("cascade.csv"));
+    let nsv_csv = read(out.join("nsv.csv"));
+    // Long format: a header and one row per speed and bin.
+    let text = String::from_utf8(cascade_csv.clone()).unwrap();
+    assert!(text.starts_with("speed_hz,frequency_hz,amplitude_m\n"));
+
+    // A killed run keeps the speeds it finished and loses the rest: remove two.
+    let checkpoint = tmp.path().join("cascade.partial");
+    for index in [1, 3] {
+        std::fs::remove_file(checkpoint.join(format!("point-{index:05}.json"))).unwrap();
+    }
+    let again = whirl(&out, &QUICK);
+    assert!(again.status.success(), "{again:?}");
+    assert_eq!(summary(&out)["resumed_speeds"], 2);
+    assert!(
+        read(out.join("cascade.csv")) == cascade_csv,
+        "cascade.csv differs"
+    );
+    assert!(read(out.join("nsv.csv")) == nsv_csv, "nsv.csv differs");
+
+    // Other options on the same checkpoint: refused, saying how to start over.
+    let mut longer = QUICK.to_vec();
+    longer[5] = "0.2s";
+    let refused = whirl(&out, &longer);
+    assert!(!refused.status.success());
+    let err = String::from_utf8_lossy(&refused.stderr);
+    assert!(err.contains("record") && err.contains("--restart"), "{err}");
+    longer.push("--restart");
+    let restarted = whirl(&out, &longer);
+    assert!(restarted.status.success(), "{restarted:?}");
+    assert_eq!(summary(&out)["record_s"], 0.2);
+}
+
+#[test]
+fn bad_input_names_the_option() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("cascade");
+    for (args, words) in [
+        (vec!["--speeds", "0:100Hz:3"], vec!["speeds", "positive"]),
+        (vec!["--node", "99"], vec!["node 99", "0 to 20"]),
+        (vec!["--tolerance", "-1"], vec!["--tolerance", "bins"]),
+    ] {
+        let output = whirl(&out, &args);
+        assert!(!output.status.success(), "{args:?} succeeded");
+        let err = String::from_utf8_lossy(&output.stderr);
+        for w in words {
+            assert!(err.contains(w), "{args:?}: `{w}` not in {err}");
+        }
+        assert!(!out.exists(), "{args:?} wrote an output folder");
+    }
+}
