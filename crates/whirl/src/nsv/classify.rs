@@ -22,7 +22,8 @@
 //!    of a natural frequency of the rotor on linearised bearings at that speed (Campbell):
 //!    the contact stiffness of a bearing with clearance is not its linear stiffness, so the
 //!    match is loose.
-//! 6. **super-harmonic**: above 1X and not explained above.
+//! 6. **super-harmonic**: above 1X and not explained above (a peak above 1X within
+//!    [`NATURAL_TOLERANCE`] of a natural frequency is a mode ringing, named **other**).
 //! 7. **other**.
 
 use serde::{Deserialize, Serialize};
@@ -226,13 +227,14 @@ fn name(
     if let Some(found) = contact_match(speed_hz, f, c) {
         return found;
     }
-    if let Some(n) = nearest_natural(f, c)
-        .filter(|n| sub && (f - n.frequency_hz).abs() <= NATURAL_TOLERANCE * n.frequency_hz)
-    {
-        return (
-            NsvClass::Whip,
-            format!("near {} ({:.1} Hz)", n.name, n.frequency_hz),
-        );
+    let near = nearest_natural(f, c)
+        .filter(|n| (f - n.frequency_hz).abs() <= NATURAL_TOLERANCE * n.frequency_hz);
+    if let Some(n) = near {
+        let why = format!("near {} ({:.1} Hz)", n.name, n.frequency_hz);
+        // Above the running speed a mode ringing at its own frequency is no whip, and no
+        // super-harmonic of the speed either.
+        let class = if sub { NsvClass::Whip } else { NsvClass::Other };
+        return (class, why);
     }
     if f > speed_hz {
         return (NsvClass::SuperHarmonic, format!("{:.3}X", peak.order));
@@ -326,6 +328,8 @@ mod tests {
         assert_eq!(class(265.0, 100.0), NsvClass::Combination);
         assert_eq!(class(47.0, 200.0), NsvClass::Whip);
         assert_eq!(class(150.0, 100.0), NsvClass::SuperHarmonic);
+        // The first mode ringing above a low running speed.
+        assert_eq!(class(49.0, 30.0), NsvClass::Other);
         assert_eq!(class(20.0, 200.0), NsvClass::Other);
         let mut dying = peak(47.0, 200.0);
         dying.decay_ratio = 0.1;
