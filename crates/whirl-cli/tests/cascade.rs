@@ -1,6 +1,6 @@
 //! `whirl cascade` end to end: the files and the summary; a run that lost some finished
 //! speeds (as a killed run does) resumes from its checkpoint to the same bytes as an
-//! uninterrupted run; a checkpoint of other options is refused until `--restart`; bad
+//! uninterrupted run, and so does a run on one thread; a checkpoint of other options is refused until `--restart`; bad
 //! input names the option.
 
 use std::path::{Path, PathBuf};
@@ -22,8 +22,16 @@ const QUICK: [&str; 6] = [
 ];
 
 fn whirl(out: &Path, args: &[&str]) -> Output {
-    Command::cargo_bin("whirl")
-        .unwrap()
+    whirl_on(out, args, None)
+}
+
+/// `whirl cascade` on `threads` rayon threads (default: one per core).
+fn whirl_on(out: &Path, args: &[&str], threads: Option<usize>) -> Output {
+    let mut command = Command::cargo_bin("whirl").unwrap();
+    if let Some(n) = threads {
+        command.env("RAYON_NUM_THREADS", n.to_string());
+    }
+    command
         .arg("cascade")
         .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join(MODEL))
         .args(args)
@@ -83,6 +91,15 @@ fn writes_the_cascade_and_resumes_to_the_same_bytes() {
         "cascade.csv differs"
     );
     assert!(read(out.join("nsv.csv")) == nsv_csv, "nsv.csv differs");
+
+    // One thread, from scratch: the same bytes again.
+    let serial = tmp.path().join("serial");
+    assert!(whirl_on(&serial, &QUICK, Some(1)).status.success());
+    assert!(
+        read(serial.join("cascade.csv")) == cascade_csv,
+        "1 thread differs"
+    );
+    assert!(read(serial.join("nsv.csv")) == nsv_csv, "1 thread differs");
 
     // Other options on the same checkpoint: refused, saying how to start over.
     let mut longer = QUICK.to_vec();
