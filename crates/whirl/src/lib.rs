@@ -35,6 +35,7 @@ pub mod nsv;
 pub mod post;
 pub mod reduce;
 pub mod response;
+pub mod study;
 pub mod time;
 pub mod units;
 

@@ -26,7 +26,7 @@ pub mod forcing_regression;
 pub mod geometry;
 pub mod hertz;
 pub mod lagrange;
-mod least_squares;
+pub(crate) mod least_squares;
 pub mod stiffness;
 
 pub use forcing::{forcing_bearings, law_speeds, valid_up_to, ForcingBearing};

@@ -1,0 +1,55 @@
+//! The study file as written (TOML), before validation. The reference for users is
+//! `docs/study-file.md`.
+
+use serde::Deserialize;
+use toml::Spanned;
+
+/// The whole study file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StudyFile {
+    /// The model file, relative to the study file's folder.
+    pub model: Spanned<String>,
+    /// A title for plots and summaries.
+    pub title: Option<String>,
+    /// Cascade settings shared by every point (see `docs/study-file.md`).
+    pub cascade: Option<Spanned<toml::Table>>,
+    /// The sweeps.
+    #[serde(default)]
+    pub sweep: Vec<Spanned<SweepFile>>,
+}
+
+/// `[[sweep]]`: one parameter over a list of values.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SweepFile {
+    /// A name for plots and tables (default: the parameter path).
+    pub name: Option<String>,
+    /// The parameter's path in the model file (`roller_bearing[*].clearance`) or in the
+    /// cascade settings (`cascade.contact`).
+    pub parameter: Spanned<String>,
+    /// The values, written as in the model file (`"20 um"`, `16`, `"lagrange"`).
+    pub values: Spanned<Vec<Spanned<toml::Value>>>,
+    /// Other values set at every point of this sweep, path = value.
+    pub set: Option<Spanned<toml::Table>>,
+    /// Fit of the largest NSV versus the parameter: `"linear"`, `"quadratic"`, `"cubic"`.
+    pub fit: Option<Spanned<String>>,
+}
+
+/// `[cascade]`, after the sweeps' edits: every field optional.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CascadeFile {
+    /// Speeds `start:stop:count`, e.g. `"1:750Hz:150"`.
+    pub speeds: Option<String>,
+    /// Settling time discarded at each speed, e.g. `"0.5 s"`.
+    pub settle: Option<toml::Value>,
+    /// Recorded time analysed at each speed, e.g. `"0.5 s"`.
+    pub record: Option<toml::Value>,
+    /// Bearing contact law: `"hertz"` or `"lagrange"`.
+    pub contact: Option<String>,
+    /// Craig-Bampton modes; 0 for the full model.
+    pub reduce: Option<i64>,
+    /// The node whose response is analysed (default: the first disk's).
+    pub node: Option<i64>,
+}

@@ -1,0 +1,109 @@
+//! The `[cascade]` table of a study: the settings of every point's cascade, validated.
+
+use serde::Serialize;
+
+use super::file::CascadeFile;
+use crate::error::InputError;
+use crate::units::{parse_quantity, parse_range, Dimension};
+
+/// Contact laws a study's cascade may use.
+pub const CONTACT_LAWS: [&str; 2] = ["hertz", "lagrange"];
+
+/// Cascade settings of one point; `None` leaves the cascade's default.
+#[derive(Debug, Clone, PartialEq, Serialize, Default)]
+pub struct CascadeSettings {
+    /// Spin speeds, rad/s.
+    pub speeds: Option<Vec<f64>>,
+    /// Settling time per speed, s.
+    pub settle: Option<f64>,
+    /// Recorded (analysed) time per speed, s.
+    pub record: Option<f64>,
+    /// Contact law, one of [`CONTACT_LAWS`].
+    pub contact: Option<String>,
+    /// Craig-Bampton modes; `Some(0)` for the full model.
+    pub reduce: Option<usize>,
+    /// Node whose response is analysed.
+    pub node: Option<usize>,
+}
+
+/// Validates a `[cascade]` table; errors name the field as `cascade.<field>`.
+pub fn cascade_settings(table: &toml::Table) -> Result<CascadeSettings, InputError> {
+    let raw: CascadeFile =
+        toml::Value::Table(table.clone())
+            .try_into()
+            .map_err(|e: toml::de::Error| {
+                InputError::field("cascade", e.message().to_string()).help(
+                    "the [cascade] fields are speeds, settle, record, contact, reduce and node \
+                 (docs/study-file.md)",
+                )
+            })?;
+    Ok(CascadeSettings {
+        speeds: raw.speeds.as_deref().map(speeds).transpose()?,
+        settle: raw.settle.as_ref().map(|v| time(v, "settle")).transpose()?,
+        record: raw.record.as_ref().map(|v| time(v, "record")).transpose()?,
+        contact: raw.contact.map(contact).transpose()?,
+        reduce: raw
+            .reduce
+            .map(|n| whole(n, "reduce", 0, 200, "0 for the full model, e.g. 12"))
+            .transpose()?,
+        node: raw
+            .node
+            .map(|n| whole(n, "node", 0, 100_000, "a node of the model, e.g. 10"))
+            .transpose()?,
+    })
+}
+
+fn speeds(text: &str) -> Result<Vec<f64>, InputError> {
+    let bad = |why: String| {
+        InputError::field("cascade.speeds", why)
+            .help("write start:stop:count, e.g. \"1:750Hz:150\"")
+    };
+    let w = parse_range(text, Dimension::AngularSpeed).map_err(|e| bad(e.to_string()))?;
+    if w.first().is_some_and(|&w0| w0 <= 0.0) {
+        return Err(bad(format!("`{text}`: speeds must be positive")));
+    }
+    Ok(w)
+}
+
+fn time(value: &toml::Value, field: &str) -> Result<f64, InputError> {
+    let name = format!("cascade.{field}");
+    let t = match value {
+        toml::Value::Float(x) => Ok(*x),
+        toml::Value::Integer(n) => Ok(*n as f64),
+        toml::Value::String(s) => parse_quantity(s, Dimension::Time).map_err(|e| e.to_string()),
+        other => Err(format!("expected a time, got {}", other.type_str())),
+    }
+    .map_err(|why| InputError::field(&name, why).help("write a time such as \"0.5 s\""))?;
+    if !(t.is_finite() && t > 0.0) {
+        return Err(InputError::field(
+            &name,
+            format!("must be a positive time, got {t} s"),
+        ));
+    }
+    Ok(t)
+}
+
+fn contact(law: String) -> Result<String, InputError> {
+    let lower = law.to_lowercase();
+    if CONTACT_LAWS.contains(&lower.as_str()) {
+        Ok(lower)
+    } else {
+        Err(InputError::field(
+            "cascade.contact",
+            format!("`{law}` is not a contact law of the cascade"),
+        )
+        .help(format!("use one of: {}", CONTACT_LAWS.join(", "))))
+    }
+}
+
+fn whole(n: i64, field: &str, min: i64, max: i64, example: &str) -> Result<usize, InputError> {
+    if (min..=max).contains(&n) {
+        Ok(n as usize)
+    } else {
+        Err(InputError::field(
+            format!("cascade.{field}"),
+            format!("must be a whole number from {min} to {max}, got {n}"),
+        )
+        .help(example.to_string()))
+    }
+}

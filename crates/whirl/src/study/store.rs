@@ -1,0 +1,192 @@
+//! The checkpoint folder of a study: each finished point saved at once, so an interrupted
+//! study continues where it stopped.
+//!
+//! Layout: `study.json` records the fingerprint of the study file and the model file that
+//! started the folder; `points/<key>.json` holds one finished point, `<key>` being the
+//! fingerprint of that point's exact input (model text after its edits, cascade settings,
+//! whirl version). A point file is written to a temporary name and renamed into place, so
+//! it is either whole or absent, whatever the moment of interruption. A folder started by a
+//! different study file or model is refused rather than mixed; a point file that cannot be
+//! read back (written by another whirl version) is computed again.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use serde::de::DeserializeOwned;
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, InputError, Result};
+
+/// The manifest of a checkpoint folder.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+struct Manifest {
+    /// Fingerprint of the study file and model file texts.
+    fingerprint: String,
+    /// The study file, for the message when it does not match.
+    study_file: String,
+}
+
+/// An open checkpoint folder.
+#[derive(Debug)]
+pub struct Store {
+    dir: PathBuf,
+}
+
+/// FNV-1a, 64 bits, of `parts` separated by a zero byte, as 16 hex digits: a fingerprint
+/// stable across runs, machines and Rust versions (std's hasher promises none of that).
+pub fn fingerprint(parts: &[&str]) -> String {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for part in parts {
+        for b in part.bytes().chain(std::iter::once(0)) {
+            h ^= u64::from(b);
+            h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+    format!("{h:016x}")
+}
+
+fn io<'a>(action: &'static str, path: &'a Path) -> impl FnOnce(std::io::Error) -> Error + 'a {
+    move |source| Error::Io {
+        action,
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+impl Store {
+    /// Opens (or creates) the checkpoint folder `dir` for the study whose fingerprint is
+    /// `fingerprint`. With `restart`, points of an earlier study are discarded; without it,
+    /// a folder of a different study is an error that says what to do.
+    pub fn open(dir: &Path, fingerprint: &str, study_file: &Path, restart: bool) -> Result<Store> {
+        let manifest_path = dir.join("study.json");
+        let store = Store {
+            dir: dir.to_path_buf(),
+        };
+        if restart && dir.join("points").is_dir() {
+            fs::remove_dir_all(dir.join("points")).map_err(io("remove", dir))?;
+        } else if let Some(old) = read_manifest(&manifest_path) {
+            if old.fingerprint != fingerprint {
+                return Err(different_study(dir, &old, store.finished()).into());
+            }
+        } else if store.finished() > 0 {
+            return Err(different_study(dir, &unknown_manifest(), store.finished()).into());
+        }
+        fs::create_dir_all(dir.join("points")).map_err(io("create the folder", dir))?;
+        let manifest = Manifest {
+            fingerprint: fingerprint.to_string(),
+            study_file: study_file.display().to_string(),
+        };
+        let text = serde_json::to_string_pretty(&manifest)
+            .map_err(|e| Error::Numerical(format!("cannot encode the study manifest: {e}")))?;
+        write_atomic(&manifest_path, text.as_bytes())?;
+        Ok(store)
+    }
+
+    /// The folder.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// Number of finished points in the folder.
+    pub fn finished(&self) -> usize {
+        fs::read_dir(self.dir.join("points")).map_or(0, |entries| {
+            entries
+                .filter_map(|e| e.ok())
+                .filter(|e| e.path().extension().is_some_and(|x| x == "json"))
+                .count()
+        })
+    }
+
+    /// The finished point `key`, when it is there and readable.
+    pub fn load<T: DeserializeOwned>(&self, key: &str) -> Option<T> {
+        let text = fs::read_to_string(self.point_path(key)).ok()?;
+        serde_json::from_str(&text).ok()
+    }
+
+    /// Saves the finished point `key` atomically.
+    pub fn save<T: Serialize>(&self, key: &str, point: &T) -> Result<()> {
+        let text = serde_json::to_string(point)
+            .map_err(|e| Error::Numerical(format!("cannot encode point {key}: {e}")))?;
+        write_atomic(&self.point_path(key), text.as_bytes())
+    }
+
+    fn point_path(&self, key: &str) -> PathBuf {
+        self.dir.join("points").join(format!("{key}.json"))
+    }
+}
+
+fn read_manifest(path: &Path) -> Option<Manifest> {
+    serde_json::from_str(&fs::read_to_string(path).ok()?).ok()
+}
+
+fn unknown_manifest() -> Manifest {
+    Manifest {
+        fingerprint: String::new(),
+        study_file: "an unknown study (its study.json is missing or unreadable)".into(),
+    }
+}
+
+fn different_study(dir: &Path, old: &Manifest, finished: usize) -> InputError {
+    InputError::field(
+        "--checkpoint",
+        format!(
+            "`{}` holds {finished} finished points of a different study ({}, or its model, \
+             has changed since they were computed); whirl does not mix them",
+            dir.display(),
+            old.study_file
+        ),
+    )
+    .help(
+        "give --restart to discard those points and start again, or --checkpoint with \
+         another folder to keep them",
+    )
+}
+
+/// Writes `path` through a temporary sibling and a rename: the file is whole or absent.
+fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("point");
+    let tmp = path.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
+    fs::write(&tmp, bytes).map_err(io("write", &tmp))?;
+    fs::rename(&tmp, path).map_err(io("rename into place", path))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn temp_dir(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("whirl-store-{name}-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        dir
+    }
+
+    #[test]
+    fn fingerprint_is_fnv1a() {
+        // FNV-1a 64 of the empty string is the offset basis; of "a\0" two rounds.
+        assert_eq!(fingerprint(&[]), "cbf29ce484222325");
+        assert_ne!(fingerprint(&["ab", "c"]), fingerprint(&["a", "bc"]));
+    }
+
+    #[test]
+    fn saves_loads_and_refuses_a_different_study() {
+        let dir = temp_dir("refuse");
+        let study = Path::new("study.toml");
+        let store = Store::open(&dir, "one", study, false).unwrap();
+        store.save("k1", &vec![1.5, 2.5]).unwrap();
+        assert_eq!(store.load::<Vec<f64>>("k1"), Some(vec![1.5, 2.5]));
+        assert_eq!(store.load::<Vec<f64>>("k2"), None);
+        // Reopened by the same study: the point is still there.
+        let again = Store::open(&dir, "one", study, false).unwrap();
+        assert_eq!(again.finished(), 1);
+        // A different study is refused, naming the fix.
+        let e = Store::open(&dir, "two", study, false)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("1 finished points of a different study"), "{e}");
+        assert!(e.contains("--restart"), "{e}");
+        // --restart discards the old points.
+        let fresh = Store::open(&dir, "two", study, true).unwrap();
+        assert_eq!(fresh.finished(), 0);
+        let _ = fs::remove_dir_all(&dir);
+    }
+}

@@ -1,0 +1,130 @@
+//! Study files: parameter edits by path, sweep expansion and validation messages.
+
+use std::path::PathBuf;
+
+use whirl::model::{Clearance, Model};
+use whirl::study::Study;
+
+fn reference_model() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/reference_rotor.toml")
+}
+
+/// A study of the reference rotor whose body (after `model = ...`) is `body`.
+fn study(body: &str) -> whirl::Result<Study> {
+    let text = format!(
+        "model = {:?}\n{body}",
+        reference_model().display().to_string()
+    );
+    Study::from_toml_str(&text, std::path::Path::new("study.toml"))
+}
+
+fn base() -> Model {
+    Model::from_file(&reference_model()).unwrap()
+}
+
+fn error(body: &str) -> String {
+    study(body).unwrap_err().to_string()
+}
+
+#[test]
+fn a_clearance_sweep_changes_exactly_the_clearances() {
+    let s = study(
+        "[[sweep]]\nparameter = \"roller_bearing[*].clearance\"\n\
+         values = [\"20 um\", \"60 um\", 1.2e-4, \"90 um\"]\nfit = \"cubic\"\n\
+         [[sweep]]\nparameter = \"roller_bearing[*].clearance\"\nvalues = [\"60 um\", \"80 um\"]\n",
+    )
+    .unwrap();
+    // 20, 60, 120, 90 and 80 um: the 60 um point of both sweeps is one point.
+    assert_eq!(s.points.len(), 5);
+    assert_eq!(s.sweeps[0].points, [0, 1, 2, 3]);
+    assert_eq!(s.sweeps[1].points, [1, 4]);
+    let si: Vec<f64> = s.sweeps[0].values.iter().map(|v| v.si.unwrap()).collect();
+    assert_eq!(si, [2e-5, 6e-5, 1.2e-4, 9e-5]);
+    assert_eq!(s.sweeps[0].fit_degree, Some(3));
+    for (k, want) in [(1, 6e-5), (2, 1.2e-4)] {
+        let mut expected = base();
+        for b in &mut expected.roller_bearings {
+            b.clearance = Clearance::Constant(want);
+        }
+        // Everything else is the base model, bit for bit.
+        assert_eq!(s.points[k].model, expected);
+    }
+    // The reference rotor's own clearance is 20 um: that point is the base model.
+    assert_eq!(s.points[0].model, base());
+}
+
+#[test]
+fn selectors_pick_one_bearing_by_number_or_name() {
+    let s = study(
+        "[[sweep]]\nparameter = 'roller_bearing[\"bearing B\"].rollers'\nvalues = [16]\n\
+         [[sweep]]\nparameter = \"roller_bearing[0].rollers\"\nvalues = [32]\n",
+    )
+    .unwrap();
+    let rollers = |p: usize| -> Vec<usize> {
+        s.points[p]
+            .model
+            .roller_bearings
+            .iter()
+            .map(|b| b.rollers)
+            .collect()
+    };
+    assert_eq!(rollers(0), [8, 16]);
+    assert_eq!(rollers(1), [32, 8]);
+}
+
+#[test]
+fn set_fixes_other_parameters_and_cascade_settings_can_be_swept() {
+    let s = study(
+        "[cascade]\nspeeds = \"1:750Hz:150\"\ncontact = \"hertz\"\n\
+         [[sweep]]\nparameter = \"cascade.contact\"\nvalues = [\"hertz\", \"lagrange\"]\n\
+         set = { \"unbalance[0].eccentricity\" = \"10 um\" }\n",
+    )
+    .unwrap();
+    assert_eq!(s.points.len(), 2);
+    for p in &s.points {
+        // 10 um on the 10 kg disk.
+        assert!((p.model.unbalances[0].mass_radius - 1e-4).abs() < 1e-15);
+        assert_eq!(p.cascade.speeds.as_ref().map(Vec::len), Some(150));
+    }
+    assert_eq!(s.points[1].cascade.contact.as_deref(), Some("lagrange"));
+    assert_eq!(s.sweeps[0].values[1].si, None);
+    assert_eq!(
+        s.points[1].label(),
+        "eccentricity = 10 um, contact = lagrange"
+    );
+}
+
+#[test]
+fn a_bad_value_gets_the_model_files_own_message_at_the_study_value() {
+    let e = error("[[sweep]]\nparameter = \"roller_bearing[*].rollers\"\nvalues = [8, 0]\n");
+    assert!(
+        e.starts_with("study.toml:4:14: `sweep[0].values[1]`"),
+        "{e}"
+    );
+    assert!(e.contains("makes an invalid model"), "{e}");
+    // The model's validation names its field and its range.
+    assert!(e.contains("`roller_bearing[0].rollers`"), "{e}");
+    assert!(e.contains("got 0"), "{e}");
+}
+
+#[test]
+fn a_bad_path_or_field_is_named_with_the_fix() {
+    let e = error("[[sweep]]\nparameter = \"roller_bearing.clearance\"\nvalues = [1e-5]\n");
+    assert!(e.contains("`roller_bearing[*]`"), "{e}");
+    let e = error("[[sweep]]\nparameter = \"bearings.clearance\"\nvalues = [1e-5]\n");
+    assert!(e.contains("the file has no `bearings`"), "{e}");
+    assert!(e.contains("roller_bearing"), "{e}");
+    let e = error("[[sweep]]\nparameter = \"roller_bearing[*].clearence\"\nvalues = [1e-5]\n");
+    assert!(e.contains("unknown field `clearence`"), "{e}");
+    let e = error("[[sweep]]\nparameter = \"cascade.contact\"\nvalues = [\"coulomb\"]\n");
+    assert!(e.contains("hertz, lagrange"), "{e}");
+    let e = error("[[sweep]]\nparamter = \"x\"\n");
+    assert!(e.contains("docs/study-file.md"), "{e}");
+    let e = error("[[sweep]]\nparameter = \"cascade.contact\"\nvalues = [\"hertz\", \"lagrange\"]\nfit = \"linear\"\n");
+    assert!(e.contains("not a number"), "{e}");
+    assert!(error("").contains("no sweep"));
+    let e = error(
+        "[cascade]\nsettle = \"-1 s\"\n[[sweep]]\nparameter = \"damping.alpha\"\nvalues = [1]\n",
+    );
+    assert!(e.contains("`cascade.settle`"), "{e}");
+}
