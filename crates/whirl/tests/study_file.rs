@@ -86,7 +86,10 @@ fn set_fixes_other_parameters_and_cascade_settings_can_be_swept() {
         assert!((p.model.unbalances[0].mass_radius - 1e-4).abs() < 1e-15);
         assert_eq!(p.cascade.speeds.as_ref().map(Vec::len), Some(150));
     }
-    assert_eq!(s.points[1].cascade.contact.as_deref(), Some("lagrange"));
+    assert_eq!(
+        s.points[1].cascade.contact,
+        Some(whirl::time::ContactLaw::Lagrange)
+    );
     assert_eq!(s.sweeps[0].values[1].si, None);
     assert_eq!(
         s.points[1].label(),
@@ -117,7 +120,7 @@ fn a_bad_path_or_field_is_named_with_the_fix() {
     let e = error("[[sweep]]\nparameter = \"roller_bearing[*].clearence\"\nvalues = [1e-5]\n");
     assert!(e.contains("unknown field `clearence`"), "{e}");
     let e = error("[[sweep]]\nparameter = \"cascade.contact\"\nvalues = [\"coulomb\"]\n");
-    assert!(e.contains("hertz, lagrange"), "{e}");
+    assert!(e.contains("hertz, lagrange, forcing, linear"), "{e}");
     let e = error("[[sweep]]\nparamter = \"x\"\n");
     assert!(e.contains("docs/study-file.md"), "{e}");
     let e = error("[[sweep]]\nparameter = \"cascade.contact\"\nvalues = [\"hertz\", \"lagrange\"]\nfit = \"linear\"\n");

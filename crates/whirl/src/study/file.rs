@@ -46,10 +46,14 @@ pub struct CascadeFile {
     pub settle: Option<toml::Value>,
     /// Recorded time analysed at each speed, e.g. `"0.5 s"`.
     pub record: Option<toml::Value>,
-    /// Bearing contact law: `"hertz"` or `"lagrange"`.
+    /// Bearing contact law: `"hertz"`, `"lagrange"`, `"forcing"` or `"linear"`.
     pub contact: Option<String>,
     /// Craig-Bampton modes; 0 for the full model.
     pub reduce: Option<i64>,
     /// The node whose response is analysed (default: the first disk's).
     pub node: Option<i64>,
+    /// Its displacement analysed: `"uy"` (default) or `"ux"`.
+    pub component: Option<String>,
+    /// Top of the analysed band, e.g. `"1000 Hz"`.
+    pub max_frequency: Option<toml::Value>,
 }

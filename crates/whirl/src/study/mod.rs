@@ -19,6 +19,7 @@ pub mod file;
 pub mod fit;
 pub mod path;
 pub mod ranking;
+pub mod results;
 pub mod settings;
 pub mod store;
 

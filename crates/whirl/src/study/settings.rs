@@ -4,10 +4,16 @@ use serde::Serialize;
 
 use super::file::CascadeFile;
 use crate::error::InputError;
+use crate::time::ContactLaw;
 use crate::units::{parse_quantity, parse_range, Dimension};
 
 /// Contact laws a study's cascade may use.
-pub const CONTACT_LAWS: [&str; 2] = ["hertz", "lagrange"];
+pub const CONTACT_LAWS: [ContactLaw; 4] = [
+    ContactLaw::Hertz,
+    ContactLaw::Lagrange,
+    ContactLaw::Forcing,
+    ContactLaw::Linear,
+];
 
 /// Cascade settings of one point; `None` leaves the cascade's default.
 #[derive(Debug, Clone, PartialEq, Serialize, Default)]
@@ -18,12 +24,16 @@ pub struct CascadeSettings {
     pub settle: Option<f64>,
     /// Recorded (analysed) time per speed, s.
     pub record: Option<f64>,
-    /// Contact law, one of [`CONTACT_LAWS`].
-    pub contact: Option<String>,
+    /// Contact law of the roller bearings.
+    pub contact: Option<ContactLaw>,
     /// Craig-Bampton modes; `Some(0)` for the full model.
     pub reduce: Option<usize>,
     /// Node whose response is analysed.
     pub node: Option<usize>,
+    /// Its displacement analysed: `"ux"` or `"uy"`.
+    pub component: Option<String>,
+    /// Top of the analysed frequency band, Hz.
+    pub max_frequency_hz: Option<f64>,
 }
 
 /// Validates a `[cascade]` table; errors name the field as `cascade.<field>`.
@@ -33,8 +43,8 @@ pub fn cascade_settings(table: &toml::Table) -> Result<CascadeSettings, InputErr
             .try_into()
             .map_err(|e: toml::de::Error| {
                 InputError::field("cascade", e.message().to_string()).help(
-                    "the [cascade] fields are speeds, settle, record, contact, reduce and node \
-                 (docs/study-file.md)",
+                    "the [cascade] fields are speeds, settle, record, contact, reduce, node, \
+                 component and max_frequency (docs/study-file.md)",
                 )
             })?;
     Ok(CascadeSettings {
@@ -50,6 +60,8 @@ pub fn cascade_settings(table: &toml::Table) -> Result<CascadeSettings, InputErr
             .node
             .map(|n| whole(n, "node", 0, 100_000, "a node of the model, e.g. 10"))
             .transpose()?,
+        component: raw.component.map(component).transpose()?,
+        max_frequency_hz: raw.max_frequency.as_ref().map(max_frequency).transpose()?,
     })
 }
 
@@ -83,17 +95,51 @@ fn time(value: &toml::Value, field: &str) -> Result<f64, InputError> {
     Ok(t)
 }
 
-fn contact(law: String) -> Result<String, InputError> {
+fn contact(law: String) -> Result<ContactLaw, InputError> {
     let lower = law.to_lowercase();
-    if CONTACT_LAWS.contains(&lower.as_str()) {
-        Ok(lower)
-    } else {
-        Err(InputError::field(
-            "cascade.contact",
-            format!("`{law}` is not a contact law of the cascade"),
+    CONTACT_LAWS
+        .into_iter()
+        .find(|c| c.name() == lower)
+        .ok_or_else(|| {
+            let names: Vec<&str> = CONTACT_LAWS.iter().map(|c| c.name()).collect();
+            InputError::field(
+                "cascade.contact",
+                format!("`{law}` is not a contact law of the cascade"),
+            )
+            .help(format!("use one of: {}", names.join(", ")))
+        })
+}
+
+fn component(name: String) -> Result<String, InputError> {
+    match name.to_lowercase().as_str() {
+        c @ ("ux" | "uy") => Ok(c.to_string()),
+        _ => Err(InputError::field(
+            "cascade.component",
+            format!("`{name}` is not a displacement of the node"),
         )
-        .help(format!("use one of: {}", CONTACT_LAWS.join(", "))))
+        .help("use \"uy\" (vertical, the thesis' cascades) or \"ux\" (horizontal)")),
     }
+}
+
+fn max_frequency(value: &toml::Value) -> Result<f64, InputError> {
+    let bad = |why: String| {
+        InputError::field("cascade.max_frequency", why)
+            .help("write a frequency such as \"1000 Hz\"")
+    };
+    let w = match value {
+        toml::Value::String(s) => {
+            parse_quantity(s, Dimension::AngularSpeed).map_err(|e| bad(e.to_string()))?
+        }
+        other => {
+            return Err(bad(format!(
+                "expected a frequency with its unit, got {other}"
+            )))
+        }
+    };
+    if !(w.is_finite() && w > 0.0) {
+        return Err(bad(format!("must be positive, got {w} rad/s")));
+    }
+    Ok(crate::units::rad_s_to_hz(w))
 }
 
 fn whole(n: i64, field: &str, min: i64, max: i64, example: &str) -> Result<usize, InputError> {

@@ -1,0 +1,157 @@
+//! Running a study's points and what a study concludes from them.
+//!
+//! Points run one after another (each cascade already spreads its speeds over the cores);
+//! a point found in the checkpoint folder is not computed again, and each computed point is
+//! saved the moment it is finished.
+
+use serde::{Deserialize, Serialize};
+
+use super::fit::{polynomial_fit, PolynomialFit};
+use super::ranking::{effect, rank, Effect};
+use super::store::Store;
+use super::{Point, Study};
+use crate::error::Result;
+
+/// The NSV summary of one point's cascade.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct NsvSummary {
+    /// Largest non-synchronous amplitude over all speeds, m (0 when there is none).
+    pub largest: f64,
+    /// Speed where it occurs, Hz.
+    pub largest_speed_hz: Option<f64>,
+    /// Its frequency, Hz.
+    pub largest_frequency_hz: Option<f64>,
+    /// Its class (`sub-synchronous whirl`, `whip`, ...).
+    pub largest_class: Option<String>,
+    /// Lowest speed with a significant non-synchronous peak, Hz.
+    pub onset_speed_hz: Option<f64>,
+    /// The class of NSV seen at most speeds.
+    pub dominant_class: Option<String>,
+    /// Largest synchronous (1X) amplitude over all speeds, m.
+    pub largest_synchronous: f64,
+}
+
+/// A cascade as a colour map: amplitude over speed and frequency.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CascadeMap {
+    /// Speeds, Hz.
+    pub speeds_hz: Vec<f64>,
+    /// Frequencies, Hz.
+    pub frequencies_hz: Vec<f64>,
+    /// Amplitude, m: one row per frequency, one column per speed.
+    pub amplitude: Vec<Vec<f64>>,
+}
+
+/// One finished point, as saved in the checkpoint folder.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PointResult {
+    /// The point's key.
+    pub key: String,
+    /// The NSV summary.
+    pub nsv: NsvSummary,
+    /// The cascade, for plots.
+    pub map: CascadeMap,
+    /// Wall-clock time of the cascade, s.
+    pub wall_time_s: f64,
+}
+
+/// One sweep's outcome.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SweepResult {
+    /// The sweep's name.
+    pub name: String,
+    /// The parameter path.
+    pub parameter: String,
+    /// The values as written.
+    pub values: Vec<String>,
+    /// The values in SI, where they are numbers.
+    pub values_si: Vec<Option<f64>>,
+    /// The largest NSV at each value, m.
+    pub largest_nsv: Vec<f64>,
+    /// The NSV onset speed at each value, Hz.
+    pub onset_speed_hz: Vec<Option<f64>>,
+    /// The fitted polynomial (thesis eq. 5.1), when the sweep asks for one.
+    pub fit: Option<PolynomialFit>,
+}
+
+/// What a study concludes.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StudyResults {
+    /// Each sweep's outcome, in file order.
+    pub sweeps: Vec<SweepResult>,
+    /// The sweeps from the largest effect on the largest NSV to the smallest.
+    pub ranking: Vec<Effect>,
+}
+
+/// How a point came to be available.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Source {
+    /// Computed now.
+    Computed,
+    /// Read from the checkpoint folder.
+    Resumed,
+}
+
+/// Brings every point of `study` to a result: from `store` when it is there, otherwise by
+/// `compute`, saving each at once. `report` hears of each point as it becomes available
+/// (index, point, how). Fails at the first point that fails; the finished ones stay saved.
+pub fn run_points(
+    study: &Study,
+    store: &Store,
+    mut compute: impl FnMut(&Point) -> Result<PointResult>,
+    mut report: impl FnMut(usize, &Point, Source, &PointResult),
+) -> Result<Vec<PointResult>> {
+    let mut results = Vec::with_capacity(study.points.len());
+    for (k, point) in study.points.iter().enumerate() {
+        let (result, source) = match store.load::<PointResult>(&point.key) {
+            Some(saved) if saved.key == point.key => (saved, Source::Resumed),
+            _ => {
+                let fresh = compute(point)?;
+                store.save(&point.key, &fresh)?;
+                (fresh, Source::Computed)
+            }
+        };
+        report(k, point, source, &result);
+        results.push(result);
+    }
+    Ok(results)
+}
+
+/// The sweeps' outcomes, fits and ranking from the results of every point (in the order of
+/// [`Study::points`]).
+pub fn analyse(study: &Study, results: &[PointResult]) -> Result<StudyResults> {
+    let mut sweeps = Vec::new();
+    let mut effects = Vec::new();
+    for sweep in &study.sweeps {
+        let nsv: Vec<f64> = sweep
+            .points
+            .iter()
+            .map(|&p| results[p].nsv.largest)
+            .collect();
+        let fit = match sweep.fit_degree {
+            None => None,
+            Some(degree) => {
+                let x: Vec<f64> = sweep.values.iter().filter_map(|v| v.si).collect();
+                Some(polynomial_fit(&x, &nsv, degree)?)
+            }
+        };
+        effects.extend(effect(&sweep.name, &sweep.parameter, &nsv));
+        sweeps.push(SweepResult {
+            name: sweep.name.clone(),
+            parameter: sweep.parameter.clone(),
+            values: sweep.values.iter().map(|v| v.text.clone()).collect(),
+            values_si: sweep.values.iter().map(|v| v.si).collect(),
+            largest_nsv: nsv,
+            onset_speed_hz: sweep
+                .points
+                .iter()
+                .map(|&p| results[p].nsv.onset_speed_hz)
+                .collect(),
+            fit,
+        });
+    }
+    Ok(StudyResults {
+        sweeps,
+        ranking: rank(effects),
+    })
+}

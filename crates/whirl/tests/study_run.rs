@@ -1,0 +1,110 @@
+//! Running a study's points: resuming from the checkpoint folder, fits and ranking.
+//! The cascades are replaced by a closed form of the clearance so that the study machinery
+//! is checked on its own, exactly.
+
+use std::cell::Cell;
+use std::path::{Path, PathBuf};
+
+use whirl::study::results::{analyse, run_points, CascadeMap, NsvSummary, PointResult, Source};
+use whirl::study::store::Store;
+use whirl::study::{Point, Study};
+
+/// Table 5.1 of the thesis in SI: delta_nsv(gamma) = P1 g^3 + P2 g^2 + P3 g + P4.
+const TABLE_5_1: [f64; 4] = [-3.125e8, 7.162e4, -1.956, 4.296e-5];
+
+fn table_5_1(gamma: f64) -> f64 {
+    TABLE_5_1.iter().fold(0.0, |a, c| a * gamma + c)
+}
+
+fn study() -> Study {
+    let model =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/reference_rotor.toml");
+    let text = format!(
+        "model = {:?}\n\
+         [[sweep]]\nname = \"clearance\"\nparameter = \"roller_bearing[*].clearance\"\n\
+         values = [\"20 um\", \"40 um\", \"60 um\", \"80 um\", \"100 um\", \"120 um\"]\n\
+         fit = \"cubic\"\n\
+         [[sweep]]\nname = \"rollers\"\nparameter = \"roller_bearing[*].rollers\"\n\
+         values = [8, 16, 32]\n",
+        model.display().to_string()
+    );
+    Study::from_toml_str(&text, Path::new("study.toml")).unwrap()
+}
+
+/// A stand-in for a cascade: the largest NSV is table 5.1 at the point's clearance, less
+/// one per cent per roller beyond 8.
+fn fake_cascade(point: &Point) -> whirl::Result<PointResult> {
+    let b = &point.model.roller_bearings[0];
+    let largest = table_5_1(b.clearance.at_speed(0.0)) * (1.0 - 0.01 * (b.rollers - 8) as f64);
+    Ok(PointResult {
+        key: point.key.clone(),
+        nsv: NsvSummary {
+            largest,
+            largest_speed_hz: Some(300.0),
+            largest_frequency_hz: Some(50.0),
+            largest_class: Some("whip".into()),
+            onset_speed_hz: Some(250.0),
+            dominant_class: Some("whip".into()),
+            largest_synchronous: 1e-4,
+        },
+        map: CascadeMap {
+            speeds_hz: vec![100.0, 200.0],
+            frequencies_hz: vec![0.0, 2.0],
+            amplitude: vec![vec![0.0, 0.0], vec![largest, largest]],
+        },
+        wall_time_s: 0.0,
+    })
+}
+
+#[test]
+fn an_interrupted_study_continues_with_the_points_not_yet_saved() {
+    let s = study();
+    // 6 clearances and 2 more roller counts (8 rollers at 20 um is shared).
+    assert_eq!(s.points.len(), 8);
+    let dir = std::env::temp_dir().join(format!("whirl-study-run-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let store = Store::open(&dir, &s.fingerprint, Path::new("study.toml"), false).unwrap();
+    // The first run fails at the fourth point, as an interruption would stop it.
+    let calls = Cell::new(0);
+    let failing = |p: &Point| {
+        calls.set(calls.get() + 1);
+        if calls.get() == 4 {
+            Err(whirl::Error::Numerical("interrupted".into()))
+        } else {
+            fake_cascade(p)
+        }
+    };
+    assert!(run_points(&s, &store, failing, |_, _, _, _| {}).is_err());
+    assert_eq!(store.finished(), 3);
+    // The second run computes only the five points left, and resumes the three saved.
+    let computed = Cell::new(0);
+    let mut resumed = 0;
+    let counting = |p: &Point| {
+        computed.set(computed.get() + 1);
+        fake_cascade(p)
+    };
+    let results = run_points(&s, &store, counting, |_, _, source, _| {
+        resumed += usize::from(source == Source::Resumed)
+    })
+    .unwrap();
+    assert_eq!((computed.get(), resumed), (5, 3));
+    // Results saved and read back are the same numbers as computed ones.
+    for (p, r) in s.points.iter().zip(&results) {
+        assert_eq!(r, &fake_cascade(p).unwrap());
+    }
+
+    let outcome = analyse(&s, &results).unwrap();
+    // The clearance sweep samples table 5.1 exactly: the cubic fit gives it back (round-off
+    // of a problem whose columns span 15 decades, hence 1e-6 relative) with R^2 = 1.
+    let fit = outcome.sweeps[0].fit.as_ref().unwrap();
+    for (got, want) in fit.coefficients.iter().zip(TABLE_5_1) {
+        assert!((got / want - 1.0).abs() < 1e-6, "{got} vs {want}");
+    }
+    assert!((fit.r_squared - 1.0).abs() < 1e-9);
+    // Clearance ranks first: table 5.1 grows about tenfold from 20 to 120 um, while the
+    // roller count changes the NSV by 24 % at most.
+    assert_eq!(outcome.ranking[0].sweep, "clearance");
+    let rollers = &outcome.ranking[1];
+    assert!((rollers.relative_change.unwrap() - 0.24 / 0.76).abs() < 1e-12);
+    let _ = std::fs::remove_dir_all(&dir);
+}
