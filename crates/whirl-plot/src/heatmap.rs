@@ -207,7 +207,18 @@ impl Render for HeatMap {
         root: &DrawingArea<DB, Shift>,
         scale: f64,
     ) -> Result<(), PlotError> {
-        let m = Metrics::FULL.scaled(scale);
+        self.draw_on(root, Metrics::FULL.scaled(scale))
+    }
+}
+
+impl HeatMap {
+    /// Draws the heat map on `root` with text and line sizes `m` (a whole figure, or one
+    /// panel of a [`crate::HeatMapGrid`]).
+    pub(crate) fn draw_on<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        m: Metrics,
+    ) -> Result<(), PlotError> {
         let Layout {
             x_edges: xe,
             y_edges: ye,

@@ -8,6 +8,7 @@
 //! | x-y lines and markers | [`Figure2d`] | Campbell diagram, unbalance response, time series |
 //! | panels in rows x columns | [`Grid`] | mode shapes of six modes, Bode magnitude above phase |
 //! | colour map with overlays | [`HeatMap`] | cascade (waterfall seen from above) with order lines |
+//! | colour maps in rows x columns | [`HeatMapGrid`] | the cascades of a parameter study |
 //!
 //! Every figure is saved twice by `save(stem)`: `stem.png` (raster, about 1000 x 700 pixels,
 //! drawn at twice that size and averaged down because plotters does not anti-alias lines) and
@@ -49,6 +50,7 @@ mod figure;
 mod font;
 mod grid;
 mod heatmap;
+mod heatmap_grid;
 mod marker;
 mod render;
 mod series;
@@ -59,6 +61,7 @@ pub use figure::{Annotation, Figure2d, RefLine};
 pub use font::{FONT_BYTES, FONT_FAMILY};
 pub use grid::Grid;
 pub use heatmap::HeatMap;
+pub use heatmap_grid::HeatMapGrid;
 pub use series::{LegendPosition, Series};
 pub use style::{Colour, Line, Marker, Style, PALETTE};
 

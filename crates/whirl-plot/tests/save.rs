@@ -4,8 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use whirl_plot::{
-    Annotation, Colour, Figure2d, Grid, HeatMap, LegendPosition, Line, Marker, PlotError, RefLine,
-    Series, Style,
+    Annotation, Colour, Figure2d, Grid, HeatMap, HeatMapGrid, LegendPosition, Line, Marker,
+    PlotError, RefLine, Series, Style,
 };
 
 const PNG_SIGNATURE: [u8; 8] = [0x89, b'P', b'N', b'G', b'\r', b'\n', 0x1a, b'\n'];
@@ -176,6 +176,20 @@ fn heat_map_writes_png_and_svg_with_embedded_bitmap() {
             "cells are one embedded image"
         );
     }
+}
+
+#[test]
+fn heat_map_grid_writes_with_blank_cells_and_refuses_too_many_panels() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut grid = HeatMapGrid::new("Cascades", 2, 2);
+    grid.panels = vec![Some(cascade()), None, Some(cascade())];
+    let stem = dir.path().join("cascades");
+    assert_written(&grid.save(&stem).unwrap(), &stem, "Cascades");
+    grid.panels = vec![Some(cascade()); 5];
+    assert!(matches!(
+        grid.save(&stem),
+        Err(PlotError::GridShape { panels: 5, .. })
+    ));
 }
 
 #[test]

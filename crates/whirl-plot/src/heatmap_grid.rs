@@ -1,0 +1,97 @@
+//! Several colour maps in one figure, laid out in rows and columns: the cascades of a
+//! parameter study, one small map per point.
+
+use std::path::{Path, PathBuf};
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::chart::{draw_title, split_title};
+use crate::font::Metrics;
+use crate::heatmap::HeatMap;
+use crate::render::{save, Render, MIN_SIZE};
+use crate::PlotError;
+
+/// Panels of [`HeatMap`] in `rows` x `cols`, row by row; `None` leaves a cell blank (a
+/// sweep with fewer values than the longest). Each panel keeps its own title, labels,
+/// colour scale and overlays; its `size` is ignored. Give the panels one `z_range` to
+/// compare their colours.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeatMapGrid {
+    /// Title above all panels; empty for none.
+    pub title: String,
+    /// Number of rows.
+    pub rows: usize,
+    /// Number of columns.
+    pub cols: usize,
+    /// The panels, row by row; at most `rows * cols`.
+    pub panels: Vec<Option<HeatMap>>,
+    /// Size of the whole figure in pixels.
+    pub size: (u32, u32),
+}
+
+impl HeatMapGrid {
+    /// An empty grid of `rows` x `cols` cells, sized about 520 x 380 pixels per panel.
+    pub fn new(title: impl Into<String>, rows: usize, cols: usize) -> Self {
+        let per =
+            |n: usize, each: u32| u32::try_from(n).map_or(u32::MAX, |n| n.saturating_mul(each));
+        HeatMapGrid {
+            title: title.into(),
+            rows,
+            cols,
+            panels: Vec::new(),
+            size: (
+                per(cols, 520).max(MIN_SIZE.0),
+                per(rows, 380).max(MIN_SIZE.1) + 40,
+            ),
+        }
+    }
+
+    /// Writes `stem.png` and `stem.svg` (creating the parent directory if needed) and returns
+    /// their paths, PNG first.
+    pub fn save(&self, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
+        save(self, stem)
+    }
+}
+
+impl Render for HeatMapGrid {
+    fn size(&self) -> (u32, u32) {
+        self.size
+    }
+
+    fn check(&self) -> Result<(), PlotError> {
+        let cells = self.rows.checked_mul(self.cols).unwrap_or(0);
+        if cells == 0 || cells < self.panels.len() {
+            return Err(PlotError::GridShape {
+                rows: self.rows,
+                cols: self.cols,
+                panels: self.panels.len(),
+            });
+        }
+        let (w, h) = self.size;
+        let too_small =
+            |total: u32, n: usize, least: u32| u32::try_from(n).map_or(true, |n| total / n < least);
+        if too_small(w, self.cols, MIN_SIZE.0) || too_small(h, self.rows, MIN_SIZE.1) {
+            return Err(PlotError::TooSmall(w, h));
+        }
+        self.panels.iter().flatten().try_for_each(Render::check)
+    }
+
+    fn render<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        scale: f64,
+    ) -> Result<(), PlotError> {
+        let (strip, area) = split_title(root, &self.title, Metrics::FULL.scaled(scale));
+        if let Some(strip) = strip {
+            draw_title(&strip, &self.title, Metrics::FULL.scaled(scale))?;
+        }
+        let cells = area.split_evenly((self.rows, self.cols));
+        for (panel, cell) in self.panels.iter().zip(&cells) {
+            if let Some(panel) = panel {
+                panel.draw_on(cell, Metrics::PANEL.scaled(scale))?;
+            }
+        }
+        Ok(())
+    }
+}
