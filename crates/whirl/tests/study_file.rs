@@ -131,3 +131,23 @@ fn a_bad_path_or_field_is_named_with_the_fix() {
     );
     assert!(e.contains("`cascade.settle`"), "{e}");
 }
+
+#[test]
+fn the_shipped_thesis_study_is_valid_and_shares_its_base_points() {
+    let path =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/thesis_chapter5_study.toml");
+    let s = Study::from_file(&path).unwrap();
+    assert_eq!(s.sweeps.len(), 10);
+    // Figs. 5.1-5.6 share their points down to 12 distinct Hertz cascades, figs. 5.7-5.9
+    // to 7 Lagrange ones, and fig. 5.10 adds the 9 clearances not already there.
+    assert_eq!(s.points.len(), 28);
+}
+
+#[test]
+fn a_value_written_in_other_units_is_the_same_point() {
+    let s = study(
+        "[[sweep]]\nparameter = \"roller_bearing[*].clearance\"\nvalues = [\"60 um\", 6e-5, \"6e-5 m\"]\n",
+    )
+    .unwrap();
+    assert_eq!(s.points.len(), 1);
+}

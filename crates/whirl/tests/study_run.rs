@@ -50,7 +50,7 @@ fn fake_cascade(point: &Point) -> whirl::Result<PointResult> {
         map: CascadeMap {
             speeds_hz: vec![100.0, 200.0],
             frequencies_hz: vec![0.0, 2.0],
-            amplitude: vec![vec![0.0, 0.0], vec![largest, largest]],
+            amplitude: vec![vec![Some(0.0), None], vec![Some(largest as f32); 2]],
         },
         wall_time_s: 0.0,
     })

@@ -56,4 +56,6 @@ pub struct CascadeFile {
     pub component: Option<String>,
     /// Top of the analysed band, e.g. `"1000 Hz"`.
     pub max_frequency: Option<toml::Value>,
+    /// NSV below this does not count for the onset speed, e.g. `"1 um"`.
+    pub nsv_threshold: Option<toml::Value>,
 }

@@ -47,7 +47,7 @@ pub struct Study {
     pub title: String,
     /// The model file, as resolved from the study file's folder.
     pub model_file: PathBuf,
-    /// Fingerprint of the study file's and the model file's texts.
+    /// Fingerprint of what the study computes: its sweeps and its points' inputs.
     pub fingerprint: String,
     /// The sweeps, in file order.
     pub sweeps: Vec<Sweep>,
@@ -82,7 +82,8 @@ pub struct SweepValue {
 /// One point: a model and cascade settings.
 #[derive(Debug, Clone)]
 pub struct Point {
-    /// Fingerprint of its input: names its file in the checkpoint folder.
+    /// Fingerprint of its validated model and cascade settings (and whirl's version):
+    /// names its file in the checkpoint folder.
     pub key: String,
     /// What differs from the base model and settings, `path = value`, in order.
     pub changes: Vec<(String, String)>,
@@ -163,9 +164,14 @@ impl Study {
                 ),
             ));
         }
+        // What the study computes and concludes, not how its files are written: a comment
+        // or a unit written differently changes nothing.
+        let mut parts = vec![serde_json::to_string(&sweeps).unwrap_or_default()];
+        parts.extend(expander.points.iter().map(|p| p.key.clone()));
+        let parts: Vec<&str> = parts.iter().map(String::as_str).collect();
         Ok(Study {
             title: raw.title.unwrap_or_else(|| "study".into()),
-            fingerprint: store::fingerprint(&[text, &model_text]),
+            fingerprint: store::fingerprint(&parts),
             model_file,
             sweeps,
             points: expander.points,
@@ -325,8 +331,11 @@ impl Expander {
             .map_err(|e| InputError::field(&field, e.message().to_string()).at(span.clone()))?;
         let settings = cascade_settings(&table)
             .map_err(|e| invalid(&field, span.clone(), &describe(), "cascade", Error::from(e)))?;
-        let cascade_text = serde_json::to_string(&settings).unwrap_or_default();
-        let key = store::fingerprint(&[env!("CARGO_PKG_VERSION"), &model_text, &cascade_text]);
+        // The key is that of the validated model and settings, so that "60 um" and 6e-5 are
+        // one point.
+        let model_json = serde_json::to_string(&valid).unwrap_or_default();
+        let cascade_json = serde_json::to_string(&settings).unwrap_or_default();
+        let key = store::fingerprint(&[env!("CARGO_PKG_VERSION"), &model_json, &cascade_json]);
         if let Some(&k) = self.by_key.get(&key) {
             return Ok(k);
         }

@@ -38,8 +38,9 @@ pub struct CascadeMap {
     pub speeds_hz: Vec<f64>,
     /// Frequencies, Hz.
     pub frequencies_hz: Vec<f64>,
-    /// Amplitude, m: one row per frequency, one column per speed.
-    pub amplitude: Vec<Vec<f64>>,
+    /// Amplitude, m: one row per frequency, one column per speed; `None` where the run
+    /// diverged. Single precision: it is for plots, and it halves the checkpoint's size.
+    pub amplitude: Vec<Vec<Option<f32>>>,
 }
 
 /// One finished point, as saved in the checkpoint folder.

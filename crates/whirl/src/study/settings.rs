@@ -34,6 +34,8 @@ pub struct CascadeSettings {
     pub component: Option<String>,
     /// Top of the analysed frequency band, Hz.
     pub max_frequency_hz: Option<f64>,
+    /// NSV smaller than this does not count for the onset speed, m.
+    pub nsv_threshold: Option<f64>,
 }
 
 /// Validates a `[cascade]` table; errors name the field as `cascade.<field>`.
@@ -44,7 +46,7 @@ pub fn cascade_settings(table: &toml::Table) -> Result<CascadeSettings, InputErr
             .map_err(|e: toml::de::Error| {
                 InputError::field("cascade", e.message().to_string()).help(
                     "the [cascade] fields are speeds, settle, record, contact, reduce, node, \
-                 component and max_frequency (docs/study-file.md)",
+                 component, max_frequency and nsv_threshold (docs/study-file.md)",
                 )
             })?;
     Ok(CascadeSettings {
@@ -62,6 +64,7 @@ pub fn cascade_settings(table: &toml::Table) -> Result<CascadeSettings, InputErr
             .transpose()?,
         component: raw.component.map(component).transpose()?,
         max_frequency_hz: raw.max_frequency.as_ref().map(max_frequency).transpose()?,
+        nsv_threshold: raw.nsv_threshold.as_ref().map(threshold).transpose()?,
     })
 }
 
@@ -152,4 +155,22 @@ fn whole(n: i64, field: &str, min: i64, max: i64, example: &str) -> Result<usize
         )
         .help(example.to_string()))
     }
+}
+
+fn threshold(value: &toml::Value) -> Result<f64, InputError> {
+    let bad = |why: String| {
+        InputError::field("cascade.nsv_threshold", why).help("write a length such as \"1 um\"")
+    };
+    let x = match value {
+        toml::Value::Float(x) => *x,
+        toml::Value::Integer(n) => *n as f64,
+        toml::Value::String(s) => {
+            parse_quantity(s, Dimension::Length).map_err(|e| bad(e.to_string()))?
+        }
+        other => return Err(bad(format!("expected a length, got {other}"))),
+    };
+    if !(x.is_finite() && x >= 0.0) {
+        return Err(bad(format!("must not be negative, got {x} m")));
+    }
+    Ok(x)
 }

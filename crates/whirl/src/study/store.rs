@@ -1,10 +1,10 @@
 //! The checkpoint folder of a study: each finished point saved at once, so an interrupted
 //! study continues where it stopped.
 //!
-//! Layout: `study.json` records the fingerprint of the study file and the model file that
-//! started the folder; `points/<key>.json` holds one finished point, `<key>` being the
-//! fingerprint of that point's exact input (model text after its edits, cascade settings,
-//! whirl version). A point file is written to a temporary name and renamed into place, so
+//! Layout: `study.json` records the fingerprint of the study that started the folder (its
+//! sweeps and its points' inputs); `points/<key>.json` holds one finished point, `<key>`
+//! being the fingerprint of that point's exact input (validated model after its edits,
+//! cascade settings, whirl version). A point file is written to a temporary name and renamed into place, so
 //! it is either whole or absent, whatever the moment of interruption. A folder started by a
 //! different study file or model is refused rather than mixed; a point file that cannot be
 //! read back (written by another whirl version) is computed again.
@@ -20,7 +20,7 @@ use crate::error::{Error, InputError, Result};
 /// The manifest of a checkpoint folder.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 struct Manifest {
-    /// Fingerprint of the study file and model file texts.
+    /// Fingerprint of the study.
     fingerprint: String,
     /// The study file, for the message when it does not match.
     study_file: String,
