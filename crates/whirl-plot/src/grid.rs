@@ -63,20 +63,7 @@ impl Render for Grid {
     }
 
     fn check(&self) -> Result<(), PlotError> {
-        let cells = self.rows.checked_mul(self.cols).unwrap_or(0);
-        if cells == 0 || cells < self.panels.len() {
-            return Err(PlotError::GridShape {
-                rows: self.rows,
-                cols: self.cols,
-                panels: self.panels.len(),
-            });
-        }
-        let (w, h) = self.size;
-        let too_small =
-            |total: u32, n: usize, least: u32| u32::try_from(n).map_or(true, |n| total / n < least);
-        if too_small(w, self.cols, MIN_SIZE.0) || too_small(h, self.rows, MIN_SIZE.1) {
-            return Err(PlotError::TooSmall(w, h));
-        }
+        check_shape(self.rows, self.cols, self.panels.len(), self.size)?;
         self.panels.iter().try_for_each(|p| p.axes().map(|_| ()))
     }
 
@@ -102,4 +89,25 @@ impl Render for Grid {
         }
         Ok(())
     }
+}
+
+/// Fails unless `panels` fit in `rows` x `cols` cells and each cell of a figure of `size`
+/// pixels leaves room for axes and labels.
+pub(crate) fn check_shape(
+    rows: usize,
+    cols: usize,
+    panels: usize,
+    size: (u32, u32),
+) -> Result<(), PlotError> {
+    let cells = rows.checked_mul(cols).unwrap_or(0);
+    if cells == 0 || cells < panels {
+        return Err(PlotError::GridShape { rows, cols, panels });
+    }
+    let (w, h) = size;
+    let too_small =
+        |total: u32, n: usize, least: u32| u32::try_from(n).map_or(true, |n| total / n < least);
+    if too_small(w, cols, MIN_SIZE.0) || too_small(h, rows, MIN_SIZE.1) {
+        return Err(PlotError::TooSmall(w, h));
+    }
+    Ok(())
 }

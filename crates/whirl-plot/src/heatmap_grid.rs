@@ -8,6 +8,7 @@ use plotters::prelude::*;
 
 use crate::chart::{draw_title, split_title};
 use crate::font::Metrics;
+use crate::grid::check_shape;
 use crate::heatmap::HeatMap;
 use crate::render::{save, Render, MIN_SIZE};
 use crate::PlotError;
@@ -60,20 +61,7 @@ impl Render for HeatMapGrid {
     }
 
     fn check(&self) -> Result<(), PlotError> {
-        let cells = self.rows.checked_mul(self.cols).unwrap_or(0);
-        if cells == 0 || cells < self.panels.len() {
-            return Err(PlotError::GridShape {
-                rows: self.rows,
-                cols: self.cols,
-                panels: self.panels.len(),
-            });
-        }
-        let (w, h) = self.size;
-        let too_small =
-            |total: u32, n: usize, least: u32| u32::try_from(n).map_or(true, |n| total / n < least);
-        if too_small(w, self.cols, MIN_SIZE.0) || too_small(h, self.rows, MIN_SIZE.1) {
-            return Err(PlotError::TooSmall(w, h));
-        }
+        check_shape(self.rows, self.cols, self.panels.len(), self.size)?;
         self.panels.iter().flatten().try_for_each(Render::check)
     }
 
