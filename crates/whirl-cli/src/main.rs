@@ -14,6 +14,7 @@ mod error;
 mod output;
 mod plots;
 mod plots_stiffness;
+mod plots_study;
 
 use std::io::Write;
 use std::process::ExitCode;
@@ -57,6 +58,8 @@ enum Command {
     Hbm(commands::hbm::Args),
     /// Cascade (waterfall) of non-synchronous vibration over a speed range, classified.
     Cascade(commands::cascade::Args),
+    /// Sensitivity study: sweeps of model parameters, each point a cascade (thesis ch. 5).
+    Study(commands::study::Args),
 }
 
 fn main() -> ExitCode {
@@ -76,6 +79,7 @@ fn main() -> ExitCode {
         Command::FitForcing(a) => commands::fit_forcing::run(a),
         Command::Hbm(a) => commands::hbm::run(a),
         Command::Cascade(a) => commands::cascade::run(a),
+        Command::Study(a) => commands::study::run(a),
     };
     match result {
         Ok(outcome) => {

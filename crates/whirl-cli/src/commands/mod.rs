@@ -11,6 +11,7 @@ pub mod modal;
 pub mod reduce;
 pub mod simulate;
 pub mod stiffness;
+pub mod study;
 pub mod unbalance;
 
 use std::path::{Path, PathBuf};
@@ -96,9 +97,19 @@ pub fn lib<T>(r: whirl::Result<T>) -> miette::Result<T> {
 /// Writes the summary, finishes the folder and builds the outcome.
 pub fn finish(
     out: Output,
-    mut summary: Value,
+    summary: Value,
     text: String,
     common: &Common,
+) -> miette::Result<Outcome> {
+    finish_json(out, summary, text, common.json)
+}
+
+/// [`finish`] for a command without [`Common`]: `json` prints the summary as JSON.
+pub fn finish_json(
+    out: Output,
+    mut summary: Value,
+    text: String,
+    json: bool,
 ) -> miette::Result<Outcome> {
     let (dir, files) = out.finish(&mut summary)?;
     Ok(Outcome {
@@ -106,7 +117,7 @@ pub fn finish(
         text,
         dir,
         files,
-        json: common.json,
+        json,
     })
 }
 

@@ -18,6 +18,7 @@
 pub mod file;
 pub mod fit;
 pub mod path;
+pub mod point;
 pub mod ranking;
 pub mod results;
 pub mod settings;
@@ -73,7 +74,7 @@ pub struct Sweep {
 /// A value of a sweep.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SweepValue {
-    /// As written in the study file (`"20 um"`, `16`).
+    /// As written in the study file, a string without its quotes (`20 um`, `16`).
     pub text: String,
     /// In SI, for numbers and quantities with a unit; `None` for words (`"lagrange"`).
     pub si: Option<f64>,
@@ -263,7 +264,7 @@ impl Expander {
                 span: v.span(),
             };
             swept.push(SweepValue {
-                text: edit.text.clone(),
+                text: plain_text(v.get_ref()),
                 si: si_value(v.get_ref()),
             });
             let edits: Vec<&Edit> = fixed.iter().chain(std::iter::once(&edit)).collect();
@@ -473,5 +474,13 @@ fn si_value(v: &toml::Value) -> Option<f64> {
         .iter()
         .find_map(|&d| parse_quantity(s, d).ok()),
         _ => None,
+    }
+}
+
+/// A value as a person reads it: a string without its quotes, anything else as TOML.
+fn plain_text(v: &toml::Value) -> String {
+    match v {
+        toml::Value::String(s) => s.clone(),
+        other => other.to_string(),
     }
 }

@@ -1,0 +1,331 @@
+//! `whirl study study.toml [--out DIR] [--checkpoint DIR] [--restart]`: sensitivity of the
+//! non-synchronous vibration to model parameters, each point a cascade (thesis ch. 5,
+//! figs. 5.1-5.10, table 5.1). The study file is described in `docs/study-file.md`.
+//!
+//! Every finished point is saved at once in the checkpoint folder (default `<out>.points`,
+//! beside the output folder); running the same study again computes only the points not
+//! yet there, and a point interrupted half-way continues from its finished speeds. A
+//! checkpoint folder of a different study (the study file or the model changed) is refused.
+//!
+//! Writes `points.csv` (one row per distinct point: its changes and NSV summary),
+//! `sweeps.csv` (one row per sweep and value), `fits.csv` (eq. 5.1 coefficients and R^2),
+//! `ranking.csv` (sweeps by their effect on the largest NSV), the plots `cascades_<i>` (the
+//! cascades of sweep i side by side, one colour scale), `largest_nsv_<i>` (largest NSV
+//! versus the parameter, with the fit when asked for, fig. 5.10), and `summary.json`.
+
+use std::fmt::Write;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use serde_json::{json, Value};
+use whirl::study::results::{analyse, run_points, PointResult, Source, StudyResults};
+use whirl::study::store::Store;
+use whirl::study::{point, Point, Study};
+
+use super::{finish_json, lib, Outcome};
+use crate::error::{from_whirl, Diag};
+use crate::output::{header, num, opt, Output};
+use crate::plots_study;
+
+/// `whirl study`
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// The study file (TOML), e.g. examples/thesis_chapter5_study.toml.
+    #[arg(value_name = "STUDY")]
+    pub study: PathBuf,
+    /// Output folder [default: out/study]. Replaced as a whole when the study finishes.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Folder of finished points, kept between runs [default: the output folder's path
+    /// with `.points` added].
+    #[arg(long, value_name = "DIR")]
+    pub checkpoint: Option<PathBuf>,
+    /// Discard the points of the checkpoint folder and start again.
+    #[arg(long)]
+    pub restart: bool,
+    /// Print summary.json to stdout instead of the text summary.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs the study.
+pub fn run(args: &Args) -> miette::Result<Outcome> {
+    let study = load_study(&args.study)?;
+    let out_dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| Path::new("out").join("study"));
+    let checkpoint = args.checkpoint.clone().unwrap_or_else(|| {
+        let mut name = out_dir.clone().into_os_string();
+        name.push(".points");
+        PathBuf::from(name)
+    });
+    let store = Store::open(&checkpoint, &study.fingerprint, &args.study, args.restart)
+        .map_err(|e| from_whirl(e, ""))?;
+    let start = Instant::now();
+    let results = lib(run_points(
+        &study,
+        &store,
+        |p| compute_point(p, &store),
+        |k, p, source, r| tell(k, study.points.len(), p, source, r),
+    ))?;
+    let outcome = lib(analyse(&study, &results))?;
+    let mut out = Output::begin(&out_dir)?;
+    write_tables(&mut out, &study, &results, &outcome)?;
+    for (i, sweep) in outcome.sweeps.iter().enumerate() {
+        let maps: Vec<_> = study.sweeps[i]
+            .points
+            .iter()
+            .map(|&p| &results[p].map)
+            .collect();
+        out.plot(&format!("cascades_{i}"), |stem| {
+            plots_study::cascade_grid(sweep, &maps).save(stem)
+        })?;
+        out.plot(&format!("largest_nsv_{i}"), |stem| {
+            plots_study::largest_nsv(sweep).save(stem)
+        })?;
+    }
+    let summary = summary(args, &study, &store, &results, &outcome, start);
+    let text = text(&study, &outcome, &store);
+    finish_json(out, summary, text, args.json)
+}
+
+/// Reads and validates the study file; errors show the line of the file at fault.
+fn load_study(path: &Path) -> miette::Result<Study> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        Diag::new(format!(
+            "cannot read the study file `{}`: {e}",
+            path.display()
+        ))
+        .help("check the path; examples/thesis_chapter5_study.toml is a complete study")
+    })?;
+    Study::from_toml_str(&text, path).map_err(|e| {
+        // An error of the base model is located in the model file: show that file's line.
+        let file = match &e {
+            whirl::Error::Input(i) => i.file.clone(),
+            _ => None,
+        };
+        let source = match file {
+            Some(f) if f != path => std::fs::read_to_string(f).unwrap_or_default(),
+            _ => text.clone(),
+        };
+        from_whirl(e, &source)
+    })
+}
+
+/// One point's cascade, resuming from its own folder of finished speeds.
+fn compute_point(p: &Point, store: &Store) -> whirl::Result<PointResult> {
+    let partial = store.dir().join("partial").join(&p.key);
+    let result = point::compute(p, Some(&partial), None)?;
+    // The point is saved whole by the caller; its speeds are no longer needed (nor their
+    // folder, once no point is half done).
+    let _ = std::fs::remove_dir_all(&partial);
+    if let Some(parent) = partial.parent() {
+        let _ = std::fs::remove_dir(parent);
+    }
+    Ok(result)
+}
+
+/// A line on stderr per point, as it becomes available.
+fn tell(k: usize, total: usize, p: &Point, source: Source, r: &PointResult) {
+    let how = match source {
+        Source::Computed => format!("{:.1} s", r.wall_time_s),
+        Source::Resumed => "from the checkpoint".into(),
+    };
+    eprintln!(
+        "[{}/{total}] {}: largest NSV {:.3e} m ({how})",
+        k + 1,
+        p.label(),
+        r.nsv.largest
+    );
+}
+
+fn write_tables(
+    out: &mut Output,
+    study: &Study,
+    results: &[PointResult],
+    outcome: &StudyResults,
+) -> miette::Result<()> {
+    out.csv(
+        "points.csv",
+        &header(&[
+            "point",
+            "changes",
+            "largest_nsv_m",
+            "largest_nsv_speed_hz",
+            "largest_nsv_frequency_hz",
+            "largest_nsv_class",
+            "onset_speed_hz",
+            "dominant_class",
+            "largest_1x_m",
+            "wall_time_s",
+        ]),
+        study
+            .points
+            .iter()
+            .zip(results)
+            .enumerate()
+            .map(|(k, (p, r))| {
+                vec![
+                    k.to_string(),
+                    p.label(),
+                    num(r.nsv.largest),
+                    opt(r.nsv.largest_speed_hz),
+                    opt(r.nsv.largest_frequency_hz),
+                    r.nsv.largest_class.clone().unwrap_or_default(),
+                    opt(r.nsv.onset_speed_hz),
+                    r.nsv.dominant_class.clone().unwrap_or_default(),
+                    num(r.nsv.largest_synchronous),
+                    num(r.wall_time_s),
+                ]
+            }),
+    )?;
+    let rows = outcome.sweeps.iter().enumerate().flat_map(|(i, s)| {
+        (0..s.values.len()).map(move |j| {
+            vec![
+                i.to_string(),
+                s.name.clone(),
+                s.parameter.clone(),
+                s.values[j].clone(),
+                opt(s.values_si[j]),
+                num(s.largest_nsv[j]),
+                opt(s.onset_speed_hz[j]),
+            ]
+        })
+    });
+    out.csv(
+        "sweeps.csv",
+        &header(&[
+            "sweep",
+            "name",
+            "parameter",
+            "value",
+            "value_si",
+            "largest_nsv_m",
+            "onset_speed_hz",
+        ]),
+        rows,
+    )?;
+    let fits = outcome.sweeps.iter().enumerate().filter_map(|(i, s)| {
+        let f = s.fit.as_ref()?;
+        let mut row = vec![
+            i.to_string(),
+            s.name.clone(),
+            (f.coefficients.len() - 1).to_string(),
+        ];
+        row.extend(f.coefficients.iter().map(|c| num(*c)));
+        row.extend((f.coefficients.len()..4).map(|_| String::new()));
+        row.extend([num(f.r_squared), num(f.rms_residual)]);
+        Some(row)
+    });
+    out.csv(
+        "fits.csv",
+        &header(&[
+            "sweep",
+            "name",
+            "degree",
+            "p1",
+            "p2",
+            "p3",
+            "p4",
+            "r_squared",
+            "rms_residual_m",
+        ]),
+        fits,
+    )?;
+    out.csv(
+        "ranking.csv",
+        &header(&[
+            "rank",
+            "sweep",
+            "parameter",
+            "smallest_largest_nsv_m",
+            "largest_largest_nsv_m",
+            "relative_change",
+        ]),
+        outcome.ranking.iter().enumerate().map(|(k, e)| {
+            vec![
+                (k + 1).to_string(),
+                e.sweep.clone(),
+                e.parameter.clone(),
+                num(e.smallest),
+                num(e.largest),
+                opt(e.relative_change),
+            ]
+        }),
+    )
+}
+
+fn summary(
+    args: &Args,
+    study: &Study,
+    store: &Store,
+    results: &[PointResult],
+    outcome: &StudyResults,
+    start: Instant,
+) -> Value {
+    let points: Vec<Value> = study
+        .points
+        .iter()
+        .zip(results)
+        .map(|(p, r)| json!({ "key": p.key, "label": p.label(), "nsv": r.nsv, "wall_time_s": r.wall_time_s }))
+        .collect();
+    json!({
+        "command": "study",
+        "whirl_version": env!("CARGO_PKG_VERSION"),
+        "study_file": args.study.display().to_string(),
+        "model_file": study.model_file.display().to_string(),
+        "title": study.title,
+        "checkpoint": store.dir().display().to_string(),
+        "points": points,
+        "sweeps": outcome.sweeps,
+        "ranking": outcome.ranking,
+        "cascade_time_s": results.iter().map(|r| r.wall_time_s).sum::<f64>(),
+        "wall_time_s": start.elapsed().as_secs_f64(),
+    })
+}
+
+fn text(study: &Study, outcome: &StudyResults, store: &Store) -> String {
+    let mut t = String::new();
+    let _ = writeln!(
+        t,
+        "{}: {} sweeps, {} distinct points (checkpoint {})",
+        study.title,
+        study.sweeps.len(),
+        study.points.len(),
+        store.dir().display()
+    );
+    for s in &outcome.sweeps {
+        let _ = writeln!(t, "{}:", s.name);
+        for (j, v) in s.values.iter().enumerate() {
+            let onset = s.onset_speed_hz[j].map_or("none".into(), |f| format!("{f:.0} Hz"));
+            let _ = writeln!(
+                t,
+                "  {v:>12}  largest NSV {:.3e} m, onset {onset}",
+                s.largest_nsv[j]
+            );
+        }
+        if let Some(f) = &s.fit {
+            let c: Vec<String> = f.coefficients.iter().map(|c| format!("{c:.4e}")).collect();
+            let _ = writeln!(
+                t,
+                "  fit (highest power first): {}, R^2 = {:.4}",
+                c.join(", "),
+                f.r_squared
+            );
+        }
+    }
+    let _ = writeln!(
+        t,
+        "effect on the largest NSV, (max - min) / min over each sweep:"
+    );
+    for (k, e) in outcome.ranking.iter().enumerate() {
+        let change = e
+            .relative_change
+            .map_or("unbounded (no NSV at some value)".into(), |c| {
+                format!("{c:.2}")
+            });
+        let _ = writeln!(t, "  {}. {} ({}): {change}", k + 1, e.sweep, e.parameter);
+    }
+    t
+}

@@ -1,0 +1,108 @@
+//! Figures of `whirl study`: the cascades of a sweep side by side (thesis figs. 5.1-5.9) and
+//! the largest NSV versus the swept parameter with its fit (fig. 5.10).
+
+use whirl::study::results::{CascadeMap, SweepResult};
+use whirl::units::{parse_quantity, Dimension};
+use whirl_plot::{Annotation, Colour, Figure2d, HeatMap, HeatMapGrid, Marker, Series, Style};
+
+/// Decades of amplitude below the sweep's largest that the colour scale spans: enough to
+/// show an NSV a thousand times below the synchronous peak.
+const COLOUR_DECADES: f64 = 3.0;
+
+/// The cascades of one sweep in a row, one colour scale (logarithmic) for all, the 1X and
+/// 0.5X lines drawn over them.
+pub fn cascade_grid(sweep: &SweepResult, maps: &[&CascadeMap]) -> HeatMapGrid {
+    let top = maps
+        .iter()
+        .flat_map(|m| m.amplitude.iter().flatten().flatten())
+        .fold(0.0f64, |a, &b| a.max(f64::from(b)));
+    let range = (top > 0.0).then(|| (top * 10f64.powf(-COLOUR_DECADES), top));
+    let mut grid = HeatMapGrid::new(
+        format!("{}: cascades (amplitude of the response, m)", sweep.name),
+        1,
+        maps.len().max(1),
+    );
+    for (value, map) in sweep.values.iter().zip(maps) {
+        let mut panel = HeatMap::new(value, "Speed [Hz]", "Frequency [Hz]", "Amplitude [m]")
+            .with_data(
+                map.speeds_hz.clone(),
+                map.frequencies_hz.clone(),
+                map.amplitude
+                    .iter()
+                    .map(|row| row.iter().map(|a| a.map_or(f64::NAN, f64::from)).collect())
+                    .collect(),
+            );
+        panel.log_colour = true;
+        panel.z_range = range;
+        for (order, label) in [(1.0, "1X"), (0.5, "0.5X")] {
+            let y = map.speeds_hz.iter().map(|s| order * s).collect();
+            panel.overlays.push(
+                Series::new(map.speeds_hz.clone(), y)
+                    .label(label)
+                    .style(Style::dashed(Colour::Rgb(255, 255, 255))),
+            );
+        }
+        grid.panels.push(Some(panel));
+    }
+    grid
+}
+
+/// Largest NSV versus the swept parameter, with the fitted polynomial. Lengths are drawn in
+/// µm; other numbers in SI; words (contact laws) at positions 1, 2, ... with their names.
+pub fn largest_nsv(sweep: &SweepResult) -> Figure2d {
+    // Quantities written with a length unit; a bare number could be anything.
+    let lengths = sweep
+        .values
+        .iter()
+        .all(|v| parse_quantity(v, Dimension::Length).is_ok() && v.parse::<f64>().is_err());
+    let numeric = sweep.values_si.iter().all(Option::is_some);
+    let (scale, x_label) = if lengths {
+        (1e6, format!("{} [µm]", sweep.parameter))
+    } else if numeric {
+        (1.0, format!("{} [SI]", sweep.parameter))
+    } else {
+        (1.0, sweep.parameter.clone())
+    };
+    let x: Vec<f64> = if numeric {
+        sweep
+            .values_si
+            .iter()
+            .map(|v| v.unwrap_or(f64::NAN) * scale)
+            .collect()
+    } else {
+        (1..=sweep.values.len()).map(|k| k as f64).collect()
+    };
+    let y: Vec<f64> = sweep.largest_nsv.iter().map(|a| a * 1e6).collect();
+    let mut fig = Figure2d::new(
+        format!("{}: largest non-synchronous vibration", sweep.name),
+        x_label,
+        "Largest NSV [µm]",
+    );
+    fig.series.push(
+        Series::new(x.clone(), y.clone())
+            .label("cascades")
+            .style(Style::markers(Colour::Palette(0), Marker::Circle)),
+    );
+    if let Some(fit) = &sweep.fit {
+        let (lo, hi) = x
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                (a.min(v), b.max(v))
+            });
+        let xs: Vec<f64> = (0..=100)
+            .map(|i| lo + (hi - lo) * i as f64 / 100.0)
+            .collect();
+        let ys = xs.iter().map(|&v| fit.at(v / scale) * 1e6).collect();
+        fig.series.push(
+            Series::new(xs, ys)
+                .label(format!("least-squares fit, R² = {:.4}", fit.r_squared))
+                .style(Style::solid(Colour::Palette(1))),
+        );
+    }
+    if !numeric {
+        for ((xi, yi), v) in x.iter().zip(&y).zip(&sweep.values) {
+            fig.annotations.push(Annotation::new(*xi, *yi, v.clone()));
+        }
+    }
+    fig
+}

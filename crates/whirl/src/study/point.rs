@@ -1,0 +1,109 @@
+//! One point of a study: its cascade ([`crate::nsv::cascade`]) and what the study keeps of
+//! it (the NSV summary and the colour map).
+
+use std::path::Path;
+
+use super::results::{CascadeMap, NsvSummary, PointResult};
+use super::Point;
+use crate::error::{InputError, Result};
+use crate::nsv::{cascade, Cascade, CascadeOptions, Component, ProgressFn, DEFAULT_THRESHOLD_M};
+use crate::units::hz_to_rad_s;
+
+/// Speeds of a cascade whose settings give none: this many over the model's operating range.
+pub const DEFAULT_SPEED_COUNT: usize = 150;
+
+/// The cascade options of a point: the cascade's defaults, changed where the study's
+/// `[cascade]` table says so.
+pub fn cascade_options(point: &Point) -> Result<CascadeOptions> {
+    let s = &point.cascade;
+    let speeds = match (&s.speeds, point.model.operating) {
+        (Some(w), _) => w.clone(),
+        (None, Some((lo, hi))) => {
+            let lo = lo.max(hz_to_rad_s(1.0));
+            let n = DEFAULT_SPEED_COUNT;
+            (0..n)
+                .map(|i| lo + (hi - lo) * i as f64 / (n - 1) as f64)
+                .collect()
+        }
+        (None, None) => {
+            return Err(InputError::field(
+                "cascade.speeds",
+                "the model has no [operating] speed range to take the speeds from",
+            )
+            .help("give them, e.g. speeds = \"1:750Hz:150\" in [cascade]")
+            .into())
+        }
+    };
+    let mut o = CascadeOptions::new(&point.model, speeds);
+    if let Some(t) = s.settle {
+        o.settle = t;
+    }
+    if let Some(t) = s.record {
+        o.record = t;
+    }
+    if let Some(law) = s.contact {
+        o.law = law;
+    }
+    if let Some(modes) = s.reduce {
+        o.reduction = (modes > 0).then_some(modes);
+    }
+    if let Some(node) = s.node {
+        o.node = node;
+    }
+    if let Some(c) = &s.component {
+        o.component = if c == "ux" {
+            Component::Ux
+        } else {
+            Component::Uy
+        };
+    }
+    if s.max_frequency_hz.is_some() {
+        o.max_frequency_hz = s.max_frequency_hz;
+    }
+    Ok(o)
+}
+
+/// Computes a point's cascade (resuming from, and saving speeds in, `checkpoint`) and
+/// keeps what the study needs of it.
+pub fn compute(
+    point: &Point,
+    checkpoint: Option<&Path>,
+    progress: Option<ProgressFn<'_>>,
+) -> Result<PointResult> {
+    let options = cascade_options(point)?;
+    let c = cascade(&point.model, &options, checkpoint, progress)?;
+    let threshold = point.cascade.nsv_threshold.unwrap_or(DEFAULT_THRESHOLD_M);
+    Ok(point_result(&point.key, &c, threshold))
+}
+
+/// The NSV summary and colour map of a cascade.
+pub fn point_result(key: &str, c: &Cascade, threshold: f64) -> PointResult {
+    let summary = c.nsv_summary(threshold);
+    let largest = summary.largest.as_ref();
+    let amplitude = (0..c.frequency_hz.len())
+        .map(|k| {
+            c.points
+                .iter()
+                .map(|p| p.amplitude.get(k).map(|&a| a as f32))
+                .collect()
+        })
+        .collect();
+    PointResult {
+        key: key.to_string(),
+        nsv: NsvSummary {
+            largest: largest.map_or(0.0, |l| l.amplitude_m),
+            largest_speed_hz: largest.map(|l| l.speed_hz),
+            largest_frequency_hz: largest.map(|l| l.frequency_hz),
+            largest_class: largest.map(|l| l.class.name().to_string()),
+            onset_speed_hz: summary.onset_speed_hz,
+            dominant_class: summary.dominant_class.map(|c| c.name().to_string()),
+            largest_synchronous: c.points.iter().map(|p| p.one_x_m).fold(0.0, f64::max),
+        },
+        map: CascadeMap {
+            speeds_hz: c.speeds_hz(),
+            frequencies_hz: c.frequency_hz.clone(),
+            amplitude,
+        },
+        wall_time_s: c.wall_time_s,
+    }
+}
