@@ -10,7 +10,7 @@ use crate::chart::{draw_title, split_title};
 use crate::font::Metrics;
 use crate::grid::check_shape;
 use crate::heatmap::HeatMap;
-use crate::render::{save, Render, MIN_SIZE};
+use crate::render::{save, Render};
 use crate::PlotError;
 
 /// Panels of [`HeatMap`] in `rows` x `cols`, row by row; `None` leaves a cell blank (a
@@ -32,19 +32,18 @@ pub struct HeatMapGrid {
 }
 
 impl HeatMapGrid {
-    /// An empty grid of `rows` x `cols` cells, sized about 520 x 380 pixels per panel.
+    /// An empty grid of `rows` x `cols` cells, sized about 520 x 400 pixels per panel and at
+    /// least 1000 x 700 in all (room for the title however few the panels).
     pub fn new(title: impl Into<String>, rows: usize, cols: usize) -> Self {
-        let per =
-            |n: usize, each: u32| u32::try_from(n).map_or(u32::MAX, |n| n.saturating_mul(each));
+        let per = |n: usize, each: u32, least: u32| {
+            u32::try_from(n).map_or(u32::MAX, |n| n.saturating_mul(each).max(least))
+        };
         HeatMapGrid {
             title: title.into(),
             rows,
             cols,
             panels: Vec::new(),
-            size: (
-                per(cols, 520).max(MIN_SIZE.0),
-                per(rows, 380).max(MIN_SIZE.1) + 40,
-            ),
+            size: (per(cols, 520, 1000), per(rows, 400, 700)),
         }
     }
 
