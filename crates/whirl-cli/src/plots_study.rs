@@ -23,21 +23,11 @@ pub fn cascade_grid(sweep: &SweepResult, maps: &[&CascadeMap]) -> HeatMapGrid {
         maps.len().max(1),
     );
     for (value, map) in sweep.values.iter().zip(maps) {
-        // Up to the top speed (where the 1X line leaves the panel): the NSV of interest is
-        // below it, and the band above (contact frequencies) would squash it.
-        let top_speed = map.speeds_hz.iter().copied().fold(0.0, f64::max);
-        let rows = map
-            .frequencies_hz
-            .iter()
-            .take_while(|&&f| f <= top_speed)
-            .count()
-            .clamp(1, map.frequencies_hz.len().max(1))
-            .min(map.amplitude.len());
         let mut panel = HeatMap::new(value, "Speed [Hz]", "Frequency [Hz]", "Amplitude [m]")
             .with_data(
                 map.speeds_hz.clone(),
-                map.frequencies_hz[..rows].to_vec(),
-                map.amplitude[..rows]
+                map.frequencies_hz.clone(),
+                map.amplitude
                     .iter()
                     .map(|row| row.iter().map(|a| a.map_or(f64::NAN, f64::from)).collect())
                     .collect(),

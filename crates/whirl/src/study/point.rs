@@ -76,11 +76,16 @@ pub fn compute(
     Ok(point_result(&point.key, &c, threshold))
 }
 
-/// The NSV summary and colour map of a cascade.
+/// The NSV summary and colour map of a cascade. The map stops at the top speed (where
+/// the 1X line leaves it): the NSV of interest lies below, and the band above it (up to the
+/// contact frequencies, 13 kHz with 32 rollers) would multiply the checkpoint's size.
 pub fn point_result(key: &str, c: &Cascade, threshold: f64) -> PointResult {
     let summary = c.nsv_summary(threshold);
     let largest = summary.largest.as_ref();
-    let amplitude = (0..c.frequency_hz.len())
+    let speeds_hz = c.speeds_hz();
+    let top = speeds_hz.iter().copied().fold(0.0, f64::max);
+    let rows = c.frequency_hz.iter().take_while(|&&f| f <= top).count();
+    let amplitude = (0..rows)
         .map(|k| {
             c.points
                 .iter()
@@ -100,8 +105,8 @@ pub fn point_result(key: &str, c: &Cascade, threshold: f64) -> PointResult {
             largest_synchronous: c.points.iter().map(|p| p.one_x_m).fold(0.0, f64::max),
         },
         map: CascadeMap {
-            speeds_hz: c.speeds_hz(),
-            frequencies_hz: c.frequency_hz.clone(),
+            speeds_hz,
+            frequencies_hz: c.frequency_hz[..rows].to_vec(),
             amplitude,
         },
         wall_time_s: c.wall_time_s,

@@ -31,7 +31,7 @@ pub struct NsvSummary {
     pub largest_synchronous: f64,
 }
 
-/// A cascade as a colour map: amplitude over speed and frequency.
+/// A cascade as a colour map: amplitude over speed and frequency (up to the top speed).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CascadeMap {
     /// Speeds, Hz.
