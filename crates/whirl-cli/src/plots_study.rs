@@ -11,9 +11,11 @@ const COLOUR_DECADES: f64 = 3.0;
 
 /// The cascades of one sweep in a row, one colour scale (logarithmic) for all, the 1X and
 /// 0.5X lines drawn over them.
-pub fn cascade_grid(sweep: &SweepResult, maps: &[&CascadeMap]) -> HeatMapGrid {
+/// A failed point (`None`) leaves its panel blank.
+pub fn cascade_grid(sweep: &SweepResult, maps: &[Option<&CascadeMap>]) -> HeatMapGrid {
     let top = maps
         .iter()
+        .flatten()
         .flat_map(|m| m.amplitude.iter().flatten().flatten())
         .fold(0.0f64, |a, &b| a.max(f64::from(b)));
     let range = (top > 0.0).then(|| (top * 10f64.powf(-COLOUR_DECADES), top));
@@ -23,6 +25,10 @@ pub fn cascade_grid(sweep: &SweepResult, maps: &[&CascadeMap]) -> HeatMapGrid {
         maps.len().max(1),
     );
     for (value, map) in sweep.values.iter().zip(maps) {
+        let Some(map) = map else {
+            grid.panels.push(None);
+            continue;
+        };
         let mut panel = HeatMap::new(value, "Speed [Hz]", "Frequency [Hz]", "Amplitude [m]")
             .with_data(
                 map.speeds_hz.clone(),
@@ -72,7 +78,11 @@ pub fn largest_nsv(sweep: &SweepResult) -> Figure2d {
     } else {
         (1..=sweep.values.len()).map(|k| k as f64).collect()
     };
-    let y: Vec<f64> = sweep.largest_nsv.iter().map(|a| a * 1e6).collect();
+    let y: Vec<f64> = sweep
+        .largest_nsv
+        .iter()
+        .map(|a| a.map_or(f64::NAN, |a| a * 1e6))
+        .collect();
     let mut fig = Figure2d::new(
         format!("{}: largest non-synchronous vibration", sweep.name),
         x_label,

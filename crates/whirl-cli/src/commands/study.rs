@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use serde_json::{json, Value};
-use whirl::study::results::{analyse, run_points, PointResult, Source, StudyResults};
+use whirl::study::results::{analyse, run_points, PointOutcome, PointResult, Source, StudyResults};
 use whirl::study::store::Store;
 use whirl::study::{point, Point, Study};
 
@@ -69,14 +69,14 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         |p| compute_point(p, &store),
         |k, p, source, r| tell(k, study.points.len(), p, source, r),
     ))?;
-    let outcome = lib(analyse(&study, &results))?;
+    let outcome = analyse(&study, &results);
     let mut out = Output::begin(&out_dir)?;
     write_tables(&mut out, &study, &results, &outcome)?;
     for (i, sweep) in outcome.sweeps.iter().enumerate() {
         let maps: Vec<_> = study.sweeps[i]
             .points
             .iter()
-            .map(|&p| &results[p].map)
+            .map(|&p| results[p].as_ref().ok().map(|r| &r.map))
             .collect();
         out.plot(&format!("cascades_{i}"), |stem| {
             plots_study::cascade_grid(sweep, &maps).save(stem)
@@ -127,23 +127,26 @@ fn compute_point(p: &Point, store: &Store) -> whirl::Result<PointResult> {
 }
 
 /// A line on stderr per point, as it becomes available.
-fn tell(k: usize, total: usize, p: &Point, source: Source, r: &PointResult) {
-    let how = match source {
-        Source::Computed => format!("{:.1} s", r.wall_time_s),
-        Source::Resumed => "from the checkpoint".into(),
+fn tell(k: usize, total: usize, p: &Point, source: Source, outcome: &PointOutcome) {
+    let what = match (outcome, source) {
+        (Ok(r), Source::Computed) => {
+            format!(
+                "largest NSV {:.3e} m ({:.1} s)",
+                r.nsv.largest, r.wall_time_s
+            )
+        }
+        (Ok(r), Source::Resumed) => {
+            format!("largest NSV {:.3e} m (from the checkpoint)", r.nsv.largest)
+        }
+        (Err(e), _) => format!("FAILED, left out: {e}"),
     };
-    eprintln!(
-        "[{}/{total}] {}: largest NSV {:.3e} m ({how})",
-        k + 1,
-        p.label(),
-        r.nsv.largest
-    );
+    eprintln!("[{}/{total}] {}: {what}", k + 1, p.label());
 }
 
 fn write_tables(
     out: &mut Output,
     study: &Study,
-    results: &[PointResult],
+    results: &[PointOutcome],
     outcome: &StudyResults,
 ) -> miette::Result<()> {
     out.csv(
@@ -159,6 +162,7 @@ fn write_tables(
             "dominant_class",
             "largest_1x_m",
             "wall_time_s",
+            "error",
         ]),
         study
             .points
@@ -166,18 +170,26 @@ fn write_tables(
             .zip(results)
             .enumerate()
             .map(|(k, (p, r))| {
-                vec![
-                    k.to_string(),
-                    p.label(),
-                    num(r.nsv.largest),
-                    opt(r.nsv.largest_speed_hz),
-                    opt(r.nsv.largest_frequency_hz),
-                    r.nsv.largest_class.clone().unwrap_or_default(),
-                    opt(r.nsv.onset_speed_hz),
-                    r.nsv.dominant_class.clone().unwrap_or_default(),
-                    num(r.nsv.largest_synchronous),
-                    num(r.wall_time_s),
-                ]
+                let mut row = vec![k.to_string(), p.label()];
+                row.extend(match r {
+                    Ok(r) => vec![
+                        num(r.nsv.largest),
+                        opt(r.nsv.largest_speed_hz),
+                        opt(r.nsv.largest_frequency_hz),
+                        r.nsv.largest_class.clone().unwrap_or_default(),
+                        opt(r.nsv.onset_speed_hz),
+                        r.nsv.dominant_class.clone().unwrap_or_default(),
+                        num(r.nsv.largest_synchronous),
+                        num(r.wall_time_s),
+                        String::new(),
+                    ],
+                    Err(e) => {
+                        let mut failed = vec![String::new(); 8];
+                        failed.push(e.clone());
+                        failed
+                    }
+                });
+                row
             }),
     )?;
     let rows = outcome.sweeps.iter().enumerate().flat_map(|(i, s)| {
@@ -188,7 +200,7 @@ fn write_tables(
                 s.parameter.clone(),
                 s.values[j].clone(),
                 opt(s.values_si[j]),
-                num(s.largest_nsv[j]),
+                opt(s.largest_nsv[j]),
                 opt(s.onset_speed_hz[j]),
             ]
         })
@@ -260,7 +272,7 @@ fn summary(
     args: &Args,
     study: &Study,
     store: &Store,
-    results: &[PointResult],
+    results: &[PointOutcome],
     outcome: &StudyResults,
     start: Instant,
 ) -> Value {
@@ -268,8 +280,13 @@ fn summary(
         .points
         .iter()
         .zip(results)
-        .map(|(p, r)| json!({ "key": p.key, "label": p.label(), "nsv": r.nsv, "wall_time_s": r.wall_time_s }))
+        .map(|(p, r)| match r {
+            Ok(r) => json!({ "key": p.key, "label": p.label(), "nsv": r.nsv,
+                             "wall_time_s": r.wall_time_s }),
+            Err(e) => json!({ "key": p.key, "label": p.label(), "error": e }),
+        })
         .collect();
+    let done = || results.iter().flatten();
     json!({
         "command": "study",
         "whirl_version": env!("CARGO_PKG_VERSION"),
@@ -280,7 +297,8 @@ fn summary(
         "points": points,
         "sweeps": outcome.sweeps,
         "ranking": outcome.ranking,
-        "cascade_time_s": results.iter().map(|r| r.wall_time_s).sum::<f64>(),
+        "failed_points": results.iter().filter(|r| r.is_err()).count(),
+        "cascade_time_s": done().map(|r| r.wall_time_s).sum::<f64>(),
         "wall_time_s": start.elapsed().as_secs_f64(),
     })
 }
@@ -299,11 +317,13 @@ fn text(study: &Study, outcome: &StudyResults, store: &Store) -> String {
         let _ = writeln!(t, "{}:", s.name);
         for (j, v) in s.values.iter().enumerate() {
             let onset = s.onset_speed_hz[j].map_or("none".into(), |f| format!("{f:.0} Hz"));
-            let _ = writeln!(
-                t,
-                "  {v:>12}  largest NSV {:.3e} m, onset {onset}",
-                s.largest_nsv[j]
-            );
+            let _ = match s.largest_nsv[j] {
+                Some(a) => writeln!(t, "  {v:>12}  largest NSV {a:.3e} m, onset {onset}"),
+                None => writeln!(t, "  {v:>12}  FAILED (see points.csv)"),
+            };
+        }
+        if let Some(e) = &s.fit_error {
+            let _ = writeln!(t, "  no fit: {e}");
         }
         if let Some(f) = &s.fit {
             let c: Vec<String> = f.coefficients.iter().map(|c| format!("{c:.4e}")).collect();

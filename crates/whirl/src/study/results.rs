@@ -2,7 +2,8 @@
 //!
 //! Points run one after another (each cascade already spreads its speeds over the cores);
 //! a point found in the checkpoint folder is not computed again, and each computed point is
-//! saved the moment it is finished.
+//! saved the moment it is finished. A point whose cascade fails is reported and left out
+//! (not saved, so a later run tries it again); the study goes on with the others.
 
 use serde::{Deserialize, Serialize};
 
@@ -67,12 +68,15 @@ pub struct SweepResult {
     pub values: Vec<String>,
     /// The values in SI, where they are numbers.
     pub values_si: Vec<Option<f64>>,
-    /// The largest NSV at each value, m.
-    pub largest_nsv: Vec<f64>,
+    /// The largest NSV at each value, m; `None` where the point failed.
+    pub largest_nsv: Vec<Option<f64>>,
     /// The NSV onset speed at each value, Hz.
     pub onset_speed_hz: Vec<Option<f64>>,
-    /// The fitted polynomial (thesis eq. 5.1), when the sweep asks for one.
+    /// The fitted polynomial (thesis eq. 5.1) over the points that did not fail, when the
+    /// sweep asks for one.
     pub fit: Option<PolynomialFit>,
+    /// Why the fit asked for is missing (too few points left).
+    pub fit_error: Option<String>,
 }
 
 /// What a study concludes.
@@ -93,50 +97,68 @@ pub enum Source {
     Resumed,
 }
 
+/// A point's result, or why its cascade failed.
+pub type PointOutcome = std::result::Result<PointResult, String>;
+
 /// Brings every point of `study` to a result: from `store` when it is there, otherwise by
 /// `compute`, saving each at once. `report` hears of each point as it becomes available
-/// (index, point, how). Fails at the first point that fails; the finished ones stay saved.
+/// (index, point, how, outcome). A point that fails is kept as its message; only a failure
+/// to save stops the study (the finished points stay saved).
 pub fn run_points(
     study: &Study,
     store: &Store,
     mut compute: impl FnMut(&Point) -> Result<PointResult>,
-    mut report: impl FnMut(usize, &Point, Source, &PointResult),
-) -> Result<Vec<PointResult>> {
+    mut report: impl FnMut(usize, &Point, Source, &PointOutcome),
+) -> Result<Vec<PointOutcome>> {
     let mut results = Vec::with_capacity(study.points.len());
     for (k, point) in study.points.iter().enumerate() {
-        let (result, source) = match store.load::<PointResult>(&point.key) {
-            Some(saved) if saved.key == point.key => (saved, Source::Resumed),
-            _ => {
-                let fresh = compute(point)?;
-                store.save(&point.key, &fresh)?;
-                (fresh, Source::Computed)
-            }
+        let (outcome, source) = match store.load::<PointResult>(&point.key) {
+            Some(saved) if saved.key == point.key => (Ok(saved), Source::Resumed),
+            _ => match compute(point) {
+                Ok(fresh) => {
+                    store.save(&point.key, &fresh)?;
+                    (Ok(fresh), Source::Computed)
+                }
+                Err(e) => (Err(e.to_string()), Source::Computed),
+            },
         };
-        report(k, point, source, &result);
-        results.push(result);
+        report(k, point, source, &outcome);
+        results.push(outcome);
     }
     Ok(results)
 }
 
-/// The sweeps' outcomes, fits and ranking from the results of every point (in the order of
-/// [`Study::points`]).
-pub fn analyse(study: &Study, results: &[PointResult]) -> Result<StudyResults> {
+/// The sweeps' outcomes, fits and ranking from the outcome of every point (in the order
+/// of [`Study::points`]); failed points are left out of fits and ranking.
+pub fn analyse(study: &Study, results: &[PointOutcome]) -> StudyResults {
     let mut sweeps = Vec::new();
     let mut effects = Vec::new();
     for sweep in &study.sweeps {
-        let nsv: Vec<f64> = sweep
+        let done = |p: usize| results[p].as_ref().ok();
+        let nsv: Vec<Option<f64>> = sweep
             .points
             .iter()
-            .map(|&p| results[p].nsv.largest)
+            .map(|&p| done(p).map(|r| r.nsv.largest))
             .collect();
-        let fit = match sweep.fit_degree {
-            None => None,
+        // (value in SI, largest NSV) of the points that did not fail.
+        let pairs: Vec<(Option<f64>, f64)> = sweep
+            .values
+            .iter()
+            .zip(&nsv)
+            .filter_map(|(v, n)| Some((v.si, (*n)?)))
+            .collect();
+        let found: Vec<f64> = pairs.iter().map(|p| p.1).collect();
+        let (fit, fit_error) = match sweep.fit_degree {
+            None => (None, None),
             Some(degree) => {
-                let x: Vec<f64> = sweep.values.iter().filter_map(|v| v.si).collect();
-                Some(polynomial_fit(&x, &nsv, degree)?)
+                let x: Vec<f64> = pairs.iter().filter_map(|p| p.0).collect();
+                match polynomial_fit(&x, &found, degree) {
+                    Ok(f) => (Some(f), None),
+                    Err(e) => (None, Some(e.to_string())),
+                }
             }
         };
-        effects.extend(effect(&sweep.name, &sweep.parameter, &nsv));
+        effects.extend(effect(&sweep.name, &sweep.parameter, &found));
         sweeps.push(SweepResult {
             name: sweep.name.clone(),
             parameter: sweep.parameter.clone(),
@@ -146,13 +168,14 @@ pub fn analyse(study: &Study, results: &[PointResult]) -> Result<StudyResults> {
             onset_speed_hz: sweep
                 .points
                 .iter()
-                .map(|&p| results[p].nsv.onset_speed_hz)
+                .map(|&p| done(p).and_then(|r| r.nsv.onset_speed_hz))
                 .collect(),
             fit,
+            fit_error,
         });
     }
-    Ok(StudyResults {
+    StudyResults {
         sweeps,
         ranking: rank(effects),
-    })
+    }
 }
