@@ -32,15 +32,12 @@ impl Grid {
     /// An empty grid of `rows` x `cols` cells, sized about 500 x 360 pixels per panel and at
     /// least 1000 x 700 in all.
     pub fn new(title: impl Into<String>, rows: usize, cols: usize) -> Self {
-        let per = |n: usize, each: u32, least: u32| {
-            u32::try_from(n).map_or(u32::MAX, |n| n.saturating_mul(each).max(least))
-        };
         Grid {
             title: title.into(),
             rows,
             cols,
             panels: Vec::new(),
-            size: (per(cols, 500, 1000), per(rows, 360, 700)),
+            size: grid_size(rows, cols, (500, 360)),
         }
     }
 
@@ -72,12 +69,8 @@ impl Render for Grid {
         root: &DrawingArea<DB, Shift>,
         scale: f64,
     ) -> Result<(), PlotError> {
-        let (strip, area) = split_title(root, &self.title, Metrics::FULL.scaled(scale));
-        if let Some(strip) = strip {
-            draw_title(&strip, &self.title, Metrics::FULL.scaled(scale))?;
-        }
+        let cells = titled_cells(root, &self.title, (self.rows, self.cols), scale)?;
         let m = Metrics::PANEL.scaled(scale);
-        let cells = area.split_evenly((self.rows, self.cols));
         // Line up the plotting areas of each column: give all its panels the widest y labels.
         let mut y_area = vec![0; self.cols];
         for (k, (panel, cell)) in self.panels.iter().zip(&cells).enumerate() {
@@ -110,4 +103,28 @@ pub(crate) fn check_shape(
         return Err(PlotError::TooSmall(w, h));
     }
     Ok(())
+}
+
+/// Size of a figure of `rows` x `cols` panels of about `panel` pixels each, at least
+/// 1000 x 700 in all (room for the title however few the panels).
+pub(crate) fn grid_size(rows: usize, cols: usize, panel: (u32, u32)) -> (u32, u32) {
+    let per = |n: usize, each: u32, least: u32| {
+        u32::try_from(n).map_or(u32::MAX, |n| n.saturating_mul(each).max(least))
+    };
+    (per(cols, panel.0, 1000), per(rows, panel.1, 700))
+}
+
+/// Draws `title` across the top of `root` and splits the rest into `rows` x `cols` cells,
+/// row by row.
+pub(crate) fn titled_cells<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    (rows, cols): (usize, usize),
+    scale: f64,
+) -> Result<Vec<DrawingArea<DB, Shift>>, PlotError> {
+    let (strip, area) = split_title(root, title, Metrics::FULL.scaled(scale));
+    if let Some(strip) = strip {
+        draw_title(&strip, title, Metrics::FULL.scaled(scale))?;
+    }
+    Ok(area.split_evenly((rows, cols)))
 }

@@ -6,9 +6,8 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::chart::{draw_title, split_title};
 use crate::font::Metrics;
-use crate::grid::check_shape;
+use crate::grid::{check_shape, grid_size, titled_cells};
 use crate::heatmap::HeatMap;
 use crate::render::{save, Render};
 use crate::PlotError;
@@ -35,15 +34,12 @@ impl HeatMapGrid {
     /// An empty grid of `rows` x `cols` cells, sized about 520 x 400 pixels per panel and at
     /// least 1000 x 700 in all (room for the title however few the panels).
     pub fn new(title: impl Into<String>, rows: usize, cols: usize) -> Self {
-        let per = |n: usize, each: u32, least: u32| {
-            u32::try_from(n).map_or(u32::MAX, |n| n.saturating_mul(each).max(least))
-        };
         HeatMapGrid {
             title: title.into(),
             rows,
             cols,
             panels: Vec::new(),
-            size: (per(cols, 520, 1000), per(rows, 400, 700)),
+            size: grid_size(rows, cols, (520, 400)),
         }
     }
 
@@ -69,11 +65,7 @@ impl Render for HeatMapGrid {
         root: &DrawingArea<DB, Shift>,
         scale: f64,
     ) -> Result<(), PlotError> {
-        let (strip, area) = split_title(root, &self.title, Metrics::FULL.scaled(scale));
-        if let Some(strip) = strip {
-            draw_title(&strip, &self.title, Metrics::FULL.scaled(scale))?;
-        }
-        let cells = area.split_evenly((self.rows, self.cols));
+        let cells = titled_cells(root, &self.title, (self.rows, self.cols), scale)?;
         for (panel, cell) in self.panels.iter().zip(&cells) {
             if let Some(panel) = panel {
                 panel.draw_on(cell, Metrics::PANEL.scaled(scale))?;

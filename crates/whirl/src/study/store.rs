@@ -16,6 +16,7 @@ use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, InputError, Result};
+use crate::nsv::checkpoint::{fnv1a, io, write_atomically};
 
 /// The manifest of a checkpoint folder.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -35,22 +36,11 @@ pub struct Store {
 /// FNV-1a, 64 bits, of `parts` separated by a zero byte, as 16 hex digits: a fingerprint
 /// stable across runs, machines and Rust versions (std's hasher promises none of that).
 pub fn fingerprint(parts: &[&str]) -> String {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for part in parts {
-        for b in part.bytes().chain(std::iter::once(0)) {
-            h ^= u64::from(b);
-            h = h.wrapping_mul(0x0000_0100_0000_01b3);
-        }
-    }
-    format!("{h:016x}")
-}
-
-fn io<'a>(action: &'static str, path: &'a Path) -> impl FnOnce(std::io::Error) -> Error + 'a {
-    move |source| Error::Io {
-        action,
-        path: path.to_path_buf(),
-        source,
-    }
+    let bytes: Vec<u8> = parts
+        .iter()
+        .flat_map(|p| p.bytes().chain(std::iter::once(0)))
+        .collect();
+    format!("{:016x}", fnv1a(&bytes))
 }
 
 impl Store {
@@ -78,7 +68,7 @@ impl Store {
         };
         let text = serde_json::to_string_pretty(&manifest)
             .map_err(|e| Error::Numerical(format!("cannot encode the study manifest: {e}")))?;
-        write_atomic(&manifest_path, text.as_bytes())?;
+        write_atomically(&manifest_path, text.as_bytes())?;
         Ok(store)
     }
 
@@ -107,7 +97,7 @@ impl Store {
     pub fn save<T: Serialize>(&self, key: &str, point: &T) -> Result<()> {
         let text = serde_json::to_string(point)
             .map_err(|e| Error::Numerical(format!("cannot encode point {key}: {e}")))?;
-        write_atomic(&self.point_path(key), text.as_bytes())
+        write_atomically(&self.point_path(key), text.as_bytes())
     }
 
     fn point_path(&self, key: &str) -> PathBuf {
@@ -140,14 +130,6 @@ fn different_study(dir: &Path, old: &Manifest, finished: usize) -> InputError {
         "give --restart to discard those points and start again, or --checkpoint with \
          another folder to keep them",
     )
-}
-
-/// Writes `path` through a temporary sibling and a rename: the file is whole or absent.
-fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("point");
-    let tmp = path.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
-    fs::write(&tmp, bytes).map_err(io("write", &tmp))?;
-    fs::rename(&tmp, path).map_err(io("rename into place", path))
 }
 
 #[cfg(test)]
