@@ -75,7 +75,7 @@ fn selectors_pick_one_bearing_by_number_or_name() {
 #[test]
 fn set_fixes_other_parameters_and_cascade_settings_can_be_swept() {
     let s = study(
-        "[cascade]\nspeeds = \"1:750Hz:150\"\ncontact = \"hertz\"\n\
+        "[cascade]\nspeeds = \"1:750Hz:150\"\ncontact = \"hertz\"\nstep = \"5 us\"\n\
          [[sweep]]\nparameter = \"cascade.contact\"\nvalues = [\"hertz\", \"lagrange\"]\n\
          set = { \"unbalance[0].eccentricity\" = \"10 um\" }\n",
     )
@@ -85,6 +85,7 @@ fn set_fixes_other_parameters_and_cascade_settings_can_be_swept() {
         // 10 um on the 10 kg disk.
         assert!((p.model.unbalances[0].mass_radius - 1e-4).abs() < 1e-15);
         assert_eq!(p.cascade.speeds.as_ref().map(Vec::len), Some(150));
+        assert_eq!(p.cascade.step, Some(5e-6));
     }
     assert_eq!(
         s.points[1].cascade.contact,

@@ -48,6 +48,8 @@ pub struct CascadeFile {
     pub record: Option<toml::Value>,
     /// Bearing contact law: `"hertz"`, `"lagrange"`, `"forcing"` or `"linear"`.
     pub contact: Option<String>,
+    /// Central-difference time step, e.g. `"5 us"` (default: 0.9 of the stability limit).
+    pub step: Option<toml::Value>,
     /// Craig-Bampton modes; 0 for the full model.
     pub reduce: Option<i64>,
     /// The node whose response is analysed (default: the first disk's).

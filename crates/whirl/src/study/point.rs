@@ -41,6 +41,9 @@ pub fn cascade_options(point: &Point) -> Result<CascadeOptions> {
     if let Some(t) = s.record {
         o.record = t;
     }
+    if s.step.is_some() {
+        o.step = s.step;
+    }
     if let Some(law) = s.contact {
         o.law = law;
     }

@@ -24,8 +24,11 @@ pub struct Effect {
 }
 
 /// The effect of one sweep, from the largest NSV at each of its points (m, not negative).
-/// `None` for a sweep without points.
+/// `None` for a sweep of fewer than two points, which shows no change at all.
 pub fn effect(sweep: &str, parameter: &str, nsv: &[f64]) -> Option<Effect> {
+    if nsv.len() < 2 {
+        return None;
+    }
     let smallest = nsv.iter().copied().reduce(f64::min)?;
     let largest = nsv.iter().copied().reduce(f64::max)?;
     Some(Effect {
@@ -63,5 +66,6 @@ mod tests {
         assert!((ranked[2].relative_change.unwrap() - 0.2e-5 / 2.8e-5).abs() < 1e-12);
         assert_eq!(ranked[0].relative_change, None);
         assert!(effect("none", "p", &[]).is_none());
+        assert!(effect("one point", "p", &[1e-5]).is_none());
     }
 }

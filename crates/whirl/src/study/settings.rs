@@ -27,6 +27,10 @@ pub struct CascadeSettings {
     pub settle: Option<f64>,
     /// Recorded (analysed) time per speed, s.
     pub record: Option<f64>,
+    /// Central-difference time step, s. Left out of the point's key when absent, as every
+    /// setting added later must be, so that checkpoints written before it stay valid.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub step: Option<f64>,
     /// Contact law of the roller bearings.
     pub contact: Option<ContactLaw>,
     /// Craig-Bampton modes; `Some(0)` for the full model.
@@ -48,7 +52,7 @@ pub fn cascade_settings(table: &toml::Table) -> Result<CascadeSettings, InputErr
             .try_into()
             .map_err(|e: toml::de::Error| {
                 InputError::field("cascade", e.message().to_string()).help(
-                    "the [cascade] fields are speeds, settle, record, contact, reduce, node, \
+                    "the [cascade] fields are speeds, settle, record, step, contact, reduce, node, \
                  component, max_frequency and nsv_threshold (docs/study-file.md)",
                 )
             })?;
@@ -56,6 +60,7 @@ pub fn cascade_settings(table: &toml::Table) -> Result<CascadeSettings, InputErr
         speeds: raw.speeds.as_deref().map(speeds).transpose()?,
         settle: raw.settle.as_ref().map(|v| time(v, "settle")).transpose()?,
         record: raw.record.as_ref().map(|v| time(v, "record")).transpose()?,
+        step: raw.step.as_ref().map(|v| time(v, "step")).transpose()?,
         contact: raw.contact.map(contact).transpose()?,
         reduce: raw
             .reduce
