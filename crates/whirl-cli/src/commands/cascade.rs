@@ -452,6 +452,8 @@ fn write_tables(out: &mut Output, c: &Cascade) -> miette::Result<()> {
             cell(|p| p.forward_m),
             cell(|p| p.backward_m),
             cell(|p| p.decay_ratio),
+            peak.and_then(|p| p.settling_ratio)
+                .map_or(String::new(), num),
             n.as_ref().map_or(String::new(), |n| n.explanation.clone()),
             p.diverged.clone().unwrap_or_default(),
         ]
@@ -467,6 +469,7 @@ fn write_tables(out: &mut Output, c: &Cascade) -> miette::Result<()> {
         "forward_m",
         "backward_m",
         "decay_ratio",
+        "settling_ratio",
         "explanation",
         "diverged",
     ]);

@@ -21,7 +21,7 @@ use crate::error::{Error, InputError, Result};
 use crate::model::Model;
 
 /// Format of the folder; a change makes older folders be refused.
-const FORMAT: u32 = 1;
+const FORMAT: u32 = 2;
 
 const MANIFEST: &str = "manifest.json";
 

@@ -3,11 +3,15 @@
 //! Checks in this order, the first that holds names the peak (`tol` is the cascade's
 //! tolerance, `tolerance_bins` times the bin spacing):
 //!
-//! 1. **transient**: its amplitude in the record's second half is below a quarter of that
-//!    in the first ([`TRANSIENT_DECAY`]): free vibration from the start still dying away,
-//!    not a steady NSV; settle longer. A warning more than a verdict: two components closer
-//!    than a bin (a mode's forward and backward whirl split by a hertz) beat, and a beat
-//!    of two nearly equal components can read as low over half a record.
+//! 1. **transient**: free vibration from the start still dying away, not a steady NSV
+//!    (settle longer). Its amplitude is measured over three equal stretches, the end of
+//!    the settling time and the record's two halves: it is transient when it falls to
+//!    less than [`DECAY_PER_STRETCH`] from each stretch to the next, the second fall not
+//!    more than 2x gentler than the first, as an exponential decay does. Two components
+//!    closer than a bin (a mode's forward and backward whirl, split by a hertz) beat
+//!    instead: their envelope does not keep falling. When the settling time is shorter than
+//!    half the record only the record's halves are compared, against
+//!    [`TRANSIENT_DECAY`].
 //! 2. **sub-synchronous whirl**: within `tol` of 0.5X (the thesis' whirl "at twice the
 //!    first critical speed").
 //! 3. **whip**, frequency-locked: sub-synchronous, and a neighbouring speed's NSV lies
@@ -30,12 +34,19 @@ use serde::{Deserialize, Serialize};
 
 use super::point::{CascadePoint, NsvPeak};
 
-/// Below this ratio of second-half to first-half amplitude a peak is transient. Free
-/// vibration at 2 % damping of a 50 Hz mode decays by exp(-0.02 * 2 pi * 50 * 0.25) = 0.21
-/// over a quarter second (half the default record); a steady vibration keeps a ratio near
-/// 1, and on the reference rotor beats of the first mode's forward and backward whirl were
-/// seen down to 0.33 over 0.25 s, so the line is drawn below that.
+/// Below this ratio of second-half to first-half amplitude a peak is transient when only
+/// the record's halves are compared. Free vibration at 2 % damping of a 50 Hz mode decays
+/// by exp(-0.02 * 2 pi * 50 * 0.25) = 0.21 over a quarter second (half the default record);
+/// a steady vibration keeps a ratio near 1, and on the reference rotor beats of the first
+/// mode's forward and backward whirl were seen down to 0.33 over 0.25 s, so the line is
+/// drawn below that.
 pub const TRANSIENT_DECAY: f64 = 0.25;
+
+/// With three stretches compared, a peak is transient when each stretch holds less than
+/// this fraction of the amplitude of the one before (the second fraction at most twice the
+/// first). The 50 Hz mode above gives 0.21 per quarter second, and 0.53 per tenth of
+/// a second (0.2 s records).
+pub const DECAY_PER_STRETCH: f64 = 0.6;
 
 /// A sub-synchronous peak within this fraction of a linearised natural frequency is whip.
 pub const NATURAL_TOLERANCE: f64 = 0.1;
@@ -188,9 +199,8 @@ fn locked_with(
     c: &Context<'_>,
 ) -> bool {
     let tolerance = lock_tolerance(peak.frequency_hz, c.tolerance_hz);
-    let steady = |p: &NsvPeak| p.decay_ratio >= TRANSIENT_DECAY;
-    steady(peak)
-        && steady(other)
+    !transient(peak)
+        && !transient(other)
         && (peak.frequency_hz - other.frequency_hz).abs() <= tolerance
         && peak.order * (speed_hz - other_speed_hz).abs() > 2.0 * tolerance
 }
@@ -205,7 +215,7 @@ fn name(
     let f = peak.frequency_hz;
     let tol = c.tolerance_hz;
     let sub = f < speed_hz;
-    if peak.decay_ratio < TRANSIENT_DECAY {
+    if transient(peak) {
         let why = format!(
             "decays to {:.2} of its first-half amplitude over the record",
             peak.decay_ratio
@@ -240,6 +250,20 @@ fn name(
         return (NsvClass::SuperHarmonic, format!("{:.3}X", peak.order));
     }
     (NsvClass::Other, format!("{:.3}X", peak.order))
+}
+
+/// Whether `peak` is free vibration dying away (rule 1 of the module documentation).
+fn transient(peak: &NsvPeak) -> bool {
+    let later = peak.decay_ratio;
+    match peak.settling_ratio {
+        Some(earlier) => {
+            // Falling on, not rebounding: the later fall may be steeper (a decay that
+            // reaches the level of other components' leakage).
+            let falls_on = later <= 2.0 * earlier;
+            earlier < DECAY_PER_STRETCH && later < DECAY_PER_STRETCH && falls_on
+        }
+        None => later < TRANSIENT_DECAY,
+    }
 }
 
 /// The natural frequency nearest `f`.
@@ -298,6 +322,7 @@ mod tests {
             forward_m: 1e-6,
             backward_m: 2e-7,
             decay_ratio: 1.0,
+            settling_ratio: Some(1.0),
         }
     }
 
@@ -331,7 +356,18 @@ mod tests {
         // The first mode ringing above a low running speed.
         assert_eq!(class(49.0, 30.0), NsvClass::Other);
         assert_eq!(class(20.0, 200.0), NsvClass::Other);
+        // Falling by about 0.2 per stretch, twice: an exponential decay.
         let mut dying = peak(47.0, 200.0);
+        dying.decay_ratio = 0.2;
+        dying.settling_ratio = Some(0.25);
+        assert_eq!(name(200.0, &dying, None, &c).0, NsvClass::Transient);
+        // Steady, then falling: a beat, not a decay.
+        dying.settling_ratio = Some(0.9);
+        assert_eq!(name(200.0, &dying, None, &c).0, NsvClass::Whip);
+        // Without the settling stretch, only a fall below TRANSIENT_DECAY counts.
+        dying.settling_ratio = None;
+        dying.decay_ratio = 0.3;
+        assert_eq!(name(200.0, &dying, None, &c).0, NsvClass::Whip);
         dying.decay_ratio = 0.1;
         assert_eq!(name(200.0, &dying, None, &c).0, NsvClass::Transient);
     }

@@ -38,6 +38,10 @@ pub struct NsvPeak {
     /// half: about 1 for a steady vibration, well below 1 for free vibration still dying
     /// away.
     pub decay_ratio: f64,
+    /// Amplitude at this frequency in the record's first half over that in the equally
+    /// long stretch just before the record (the end of the settling time); `None` when the
+    /// settling time is shorter than half the record.
+    pub settling_ratio: Option<f64>,
 }
 
 /// The result at one speed, as stored in a checkpoint.
@@ -97,10 +101,12 @@ pub(super) fn compute(
         });
     }
     let (x, y) = settled_record(&result, r)?;
-    let chosen = match o.component {
-        Component::Ux => &x,
-        Component::Uy => &y,
+    let channel = match o.component {
+        Component::Ux => 0,
+        Component::Uy => 1,
     };
+    let chosen = [&x, &y][channel];
+    let tail = settling_tail(&result.channels[channel].values, result.settled_start(), r);
     let spectrum = one_sided(chosen, o.window, r)?;
     let full = two_sided(&x, &y, o.window, r)?;
     let peak =
@@ -112,6 +118,10 @@ pub(super) fn compute(
                 forward_m: full_reading(&full, r, p.frequency_hz),
                 backward_m: full_reading(&full, r, -p.frequency_hz),
                 decay_ratio: decay_ratio(chosen, p.frequency_hz, r.sample_rate_hz),
+                settling_ratio: tail.map(|tail| {
+                    let first_half = &chosen[..r.samples / 2];
+                    ratio(first_half, tail, p.frequency_hz, r.sample_rate_hz)
+                }),
             });
     let one_x_m = amplitude_at(&spectrum, speed_hz);
     let mut amplitude = spectrum.amplitude;
@@ -213,12 +223,24 @@ fn full_band(full: &[f64], r: &Resolved) -> Vec<f64> {
         .collect()
 }
 
-/// Amplitude at `frequency_hz` in the second half of `x` over that in the first (each
-/// Hann-windowed, mean removed, one DFT term). 1 when the first half shows nothing.
+/// The half record's worth of samples of `values` just before `start`, if there are
+/// that many.
+fn settling_tail<'a>(values: &'a [f64], start: usize, r: &Resolved) -> Option<&'a [f64]> {
+    let half = r.samples / 2;
+    start.checked_sub(half).map(|from| &values[from..start])
+}
+
+/// Amplitude at `frequency_hz` in the second half of `x` over that in the first.
 fn decay_ratio(x: &[f64], frequency_hz: f64, sample_rate_hz: f64) -> f64 {
     let half = x.len() / 2;
-    let first = component(&x[..half], frequency_hz, sample_rate_hz);
-    let second = component(&x[half..2 * half], frequency_hz, sample_rate_hz);
+    ratio(&x[half..2 * half], &x[..half], frequency_hz, sample_rate_hz)
+}
+
+/// Amplitude at `frequency_hz` in `later` over that in `earlier` (each Hann-windowed, mean
+/// removed, one DFT term). 1 when `earlier` shows nothing.
+fn ratio(later: &[f64], earlier: &[f64], frequency_hz: f64, sample_rate_hz: f64) -> f64 {
+    let first = component(earlier, frequency_hz, sample_rate_hz);
+    let second = component(later, frequency_hz, sample_rate_hz);
     if first > 0.0 {
         second / first
     } else {
