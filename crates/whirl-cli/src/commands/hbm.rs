@@ -339,6 +339,14 @@ fn summary(
         json!(branch.corners.iter().map(|c| hz(*c)).collect::<Vec<_>>()),
     );
     s.insert(
+        "jumps_hz".into(),
+        json!(branch
+            .jumps
+            .iter()
+            .map(|(a, b)| [hz(*a), hz(*b)])
+            .collect::<Vec<_>>()),
+    );
+    s.insert(
         "bifurcations".into(),
         branch
             .bifurcations
@@ -411,6 +419,14 @@ fn text_summary(model: &Model, result: &Sweep, comparisons: &[Comparison]) -> St
         result.bearings,
         end_reason(&branch.end)
     );
+    for (a, b) in &branch.jumps {
+        let _ = writeln!(
+            text,
+            "  the path stalled near {:.2} Hz and was restarted at {:.2} Hz (not followed between)",
+            hz(*a),
+            hz(*b)
+        );
+    }
     for b in &branch.bifurcations {
         let _ = writeln!(
             text,

@@ -212,8 +212,9 @@ pub struct Branch {
     /// failed at every step (Newton at fixed frequency just ahead).
     pub corners: Vec<f64>,
     /// Restarts (from, to) in rad/s where the path stalled (a non-smooth stretch wiggling
-    /// on the spot for `stall_points` points) or turned back out of the range: Newton at
-    /// fixed frequency ahead of the furthest point, from it. What lies between is not followed, as in a
+    /// on the spot for `stall_points` points), turned back out of the range, or where the
+    /// corrector failed even at the smallest step: Newton at fixed frequency ahead of the
+    /// furthest point. What lies between is not followed, as in a
     /// sweep experiment that jumps.
     pub jumps: Vec<(f64, f64)>,
     /// Changes of stability, in path order (empty without stability).
@@ -371,9 +372,21 @@ fn follow(
                         Some((next_tangent, s))
                     }
                     None => {
-                        break BranchEnd::StepTooSmall {
-                            frequency: last.frequency,
-                            message: e.to_string(),
+                        let guesses = [last, &points[0].solution];
+                        let ahead = (direction * furthest, to);
+                        match jump_ahead(hb, guesses, ahead, direction, &scaling) {
+                            Some((next_tangent, s)) => {
+                                jumps.push((last.frequency, s.frequency));
+                                boundaries.push(points.len() - 1);
+                                step = options.initial_step;
+                                Some((next_tangent, s))
+                            }
+                            None => {
+                                break BranchEnd::StepTooSmall {
+                                    frequency: last.frequency,
+                                    message: e.to_string(),
+                                }
+                            }
                         }
                     }
                 }
@@ -421,7 +434,8 @@ fn follow(
         if left || stalled {
             let base = &points[furthest_index].solution;
             let ahead = (direction * furthest, to);
-            let Some((t, s)) = jump_ahead(hb, base, ahead, direction, &scaling) else {
+            let guesses = [base, &points[0].solution];
+            let Some((t, s)) = jump_ahead(hb, guesses, ahead, direction, &scaling) else {
                 break BranchEnd::StepTooSmall {
                     frequency: base.frequency,
                     message: "the path turned back or stalled and could not be restarted ahead"
@@ -491,28 +505,33 @@ fn frequency_span(points: &[BranchPoint]) -> f64 {
     hi - lo
 }
 
-/// Newton at fixed frequency 1e-3, 1e-2 then 3e-2 of the range beyond `furthest` (rad/s)
-/// in `direction`, but not beyond `to`, from `last`; the new point's tangent points along
-/// the range.
+/// Newton at fixed frequency 1e-3, 1e-2, 3e-2 then 0.1 of the range beyond `furthest`
+/// (rad/s) in `direction`, but not beyond `to`, from each of `guesses` in turn (the
+/// furthest point, then the first point of the branch, a cold start that does not carry the
+/// resonance's large orbit past it); the new point's tangent points along the range.
 fn jump_ahead(
     hb: &mut impl Periodic,
-    last: &HbSolution,
+    guesses: [&HbSolution; 2],
     (furthest, to): (f64, f64),
     direction: f64,
     scaling: &Scaling,
 ) -> Option<(Vec<f64>, HbSolution)> {
-    let mut along = vec![0.0; last.coefficients.len() + 1];
-    along[last.coefficients.len()] = direction;
-    [1e-3, 1e-2, 3e-2].into_iter().find_map(|fraction| {
+    let size = guesses[0].coefficients.len();
+    let mut along = vec![0.0; size + 1];
+    along[size] = direction;
+    let fractions = [1e-3, 1e-2, 3e-2, 0.1];
+    fractions.into_iter().find_map(|fraction| {
         let ahead = furthest + direction * fraction * scaling.frequency;
         let frequency = if direction * (ahead - to) > 0.0 {
             to
         } else {
             ahead
         };
-        let s = hb.solve(frequency, &last.coefficients).ok()?;
-        let t = unit_tangent(hb, &s, scaling, &along).ok()?;
-        Some((t, s))
+        guesses.iter().find_map(|guess| {
+            let s = hb.solve(frequency, &guess.coefficients).ok()?;
+            let t = unit_tangent(hb, &s, scaling, &along).ok()?;
+            Some((t, s))
+        })
     })
 }
 
