@@ -119,8 +119,9 @@ fn bad_input_names_the_option() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("cascade");
     for (args, words) in [
-        (vec!["--speeds", "0:100Hz:3"], vec!["speeds", "positive"]),
-        (vec!["--node", "99"], vec!["node 99", "0 to 20"]),
+        (vec!["--speeds", "0:100Hz:3"], vec!["--speeds", "positive"]),
+        (vec!["--node", "99"], vec!["--node", "node 99", "0 to 20"]),
+        (vec!["--record", "0.1ms"], vec!["--record", "samples"]),
         (vec!["--tolerance", "-1"], vec!["--tolerance", "bins"]),
     ] {
         let output = whirl(&out, &args);

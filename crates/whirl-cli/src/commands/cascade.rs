@@ -170,7 +170,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     if display.is_some() {
         eprint!("\r{:40}\r", "");
     }
-    let result = result.map_err(|e| checkpoint_error(e, &checkpoint))?;
+    let result = result.map_err(|e| library_error(e, &checkpoint))?;
     let nsv = result.nsv_summary(args.threshold);
 
     let summary = summary(&loaded, args, &result, &nsv, &checkpoint);
@@ -251,20 +251,46 @@ fn checkpoint_dir(out: &Path) -> miette::Result<PathBuf> {
     Ok(out.with_file_name(format!("{name}.partial")))
 }
 
-/// The library's error; a checkpoint of another cascade gets the CLI's way out.
-fn checkpoint_error(e: whirl::Error, dir: &Path) -> miette::Report {
-    match &e {
-        whirl::Error::Input(input) if input.field.as_deref() == Some("checkpoint") => {
-            Diag::new(input.message.clone())
-                .help(format!(
-                    "run again with --restart to delete `{}` and compute every speed anew, or \
-                     give another --out",
-                    dir.display()
-                ))
-                .into()
-        }
-        _ => from_whirl(e, ""),
+/// The library's error as the command line knows it: an option by its flag, a checkpoint
+/// of another cascade with the way out.
+fn library_error(e: whirl::Error, dir: &Path) -> miette::Report {
+    let whirl::Error::Input(input) = &e else {
+        return from_whirl(e, "");
+    };
+    let field = input.field.as_deref().unwrap_or("");
+    if field == "checkpoint" {
+        return Diag::new(input.message.clone())
+            .help(format!(
+                "run again with --restart to delete `{}` and compute every speed anew, or \
+                 give another --out",
+                dir.display()
+            ))
+            .into();
     }
+    match flag(field) {
+        Some(flag) => {
+            let diag = Diag::option(flag, &input.message);
+            match &input.help {
+                Some(help) => diag.help(help.clone()).into(),
+                None => diag.into(),
+            }
+        }
+        None => from_whirl(e, ""),
+    }
+}
+
+/// The flag of a field of [`CascadeOptions`].
+fn flag(field: &str) -> Option<&'static str> {
+    Some(match field {
+        "speeds" => "--speeds",
+        "settle" => "--settle",
+        "record" => "--record",
+        "step" => "--step",
+        "node" => "--node",
+        "max_frequency" => "--max-frequency",
+        "tolerance" => "--tolerance",
+        _ => return None,
+    })
 }
 
 /// `cascade: 37/150 speeds`, redrawn at most four times a second, when stderr is a
