@@ -217,7 +217,15 @@ pub fn sweep(model: &Model, options: &SweepOptions) -> Result<Sweep> {
         options.to,
         &guess,
         &continuation_options,
-    )?;
+    )
+    .map_err(|e| match (options.contact, options.cage) {
+        (ContactLaw::Hertz, CageModel::Frozen) => Error::Numerical(format!(
+            "{e}. With the cage frozen, a single roller under the load leaves the journal free \
+             sideways inside the clearance: set the bearing's cage_angle half a roller pitch \
+             off, or use the passage average"
+        )),
+        _ => e,
+    })?;
     let coefficients = branch
         .points
         .iter()
