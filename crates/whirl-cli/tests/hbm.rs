@@ -41,6 +41,8 @@ fn branch_through_the_first_resonance_with_stability_and_time_comparison() {
             "2",
             "--compare-time",
             "60Hz",
+            "--harmonics-study",
+            "1..2",
             "--json",
         ],
     );
@@ -54,6 +56,8 @@ fn branch_through_the_first_resonance_with_stability_and_time_comparison() {
         "harmonics.png",
         "harmonics.svg",
         "stability.png",
+        "harmonics_study.csv",
+        "harmonics_study.png",
         "summary.json",
     ] {
         assert!(out.join(file).exists(), "{file} missing");
@@ -79,6 +83,10 @@ fn branch_through_the_first_resonance_with_stability_and_time_comparison() {
     let branch = std::fs::read_to_string(out.join("branch.csv")).unwrap();
     assert!(branch.starts_with("point,speed_hz,stable,max_real_exponent_per_s,iterations,"));
     assert!(branch.lines().count() > 20);
+    // The study repeats the sweep for H = 1 and 2 (thesis fig. 4.28).
+    let study = &summary["harmonics_study"];
+    assert_eq!(study[0]["harmonics"], 1);
+    assert_eq!(study[1]["harmonics"], 2);
 }
 
 #[test]
