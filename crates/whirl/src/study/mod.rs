@@ -110,7 +110,7 @@ impl Point {
             .iter()
             .map(|(p, v)| format!("{} = {}", short(p), v.trim_matches('"')))
             .collect::<Vec<_>>()
-            .join(", ")
+            .join("; ")
     }
 }
 
