@@ -3,15 +3,20 @@
 
 use whirl::study::results::{CascadeMap, SweepResult};
 use whirl::units::{parse_quantity, Dimension};
-use whirl_plot::{Annotation, Colour, Figure2d, HeatMap, HeatMapGrid, Marker, Series, Style};
+use whirl_plot::{
+    Annotation, Colour, Figure2d, HeatMap, HeatMapGrid, LegendPosition, Marker, Series, Style,
+};
 
 /// Decades of amplitude below the sweep's largest that the colour scale spans: enough to
 /// show an NSV a thousand times below the synchronous peak.
 const COLOUR_DECADES: f64 = 3.0;
 
-/// The cascades of one sweep in a row, one colour scale (logarithmic) for all, the 1X and
-/// 0.5X lines drawn over them.
-/// A failed point (`None`) leaves its panel blank.
+/// Most panels in a row of a sweep's cascades.
+const MAX_COLUMNS: usize = 4;
+
+/// The cascades of one sweep in rows of up to [`MAX_COLUMNS`], one colour scale
+/// (logarithmic) for all, the 1X and 0.5X lines drawn over them. A failed point (`None`)
+/// leaves its panel blank.
 pub fn cascade_grid(sweep: &SweepResult, maps: &[Option<&CascadeMap>]) -> HeatMapGrid {
     let top = maps
         .iter()
@@ -19,10 +24,13 @@ pub fn cascade_grid(sweep: &SweepResult, maps: &[Option<&CascadeMap>]) -> HeatMa
         .flat_map(|m| m.amplitude.iter().flatten().flatten())
         .fold(0.0f64, |a, &b| a.max(f64::from(b)));
     let range = (top > 0.0).then(|| (top * 10f64.powf(-COLOUR_DECADES), top));
+    // Rows of at most four panels, so that a long sweep stays readable.
+    let cols = maps.len().clamp(1, MAX_COLUMNS);
+    let rows = maps.len().div_ceil(cols).max(1);
     let mut grid = HeatMapGrid::new(
         format!("{}: cascades (amplitude of the response, m)", sweep.name),
-        1,
-        maps.len().max(1),
+        rows,
+        cols,
     );
     for (value, map) in sweep.values.iter().zip(maps) {
         let Some(map) = map else {
@@ -88,6 +96,8 @@ pub fn largest_nsv(sweep: &SweepResult) -> Figure2d {
         x_label,
         "Largest NSV [µm]",
     );
+    // The largest NSV grows with most parameters: the lower right corner is the free one.
+    fig.legend = LegendPosition::LowerRight;
     fig.series.push(
         Series::new(x.clone(), y.clone())
             .label("cascades")
