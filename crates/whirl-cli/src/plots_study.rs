@@ -16,7 +16,7 @@ const MAX_COLUMNS: usize = 4;
 
 /// The cascades of one sweep in rows of up to [`MAX_COLUMNS`], one colour scale
 /// (logarithmic) for all, the 1X and 0.5X lines drawn over them. A failed point (`None`)
-/// leaves its panel blank.
+/// gets empty axes titled as failed.
 pub fn cascade_grid(sweep: &SweepResult, maps: &[Option<&CascadeMap>]) -> HeatMapGrid {
     let top = maps
         .iter()
@@ -34,7 +34,10 @@ pub fn cascade_grid(sweep: &SweepResult, maps: &[Option<&CascadeMap>]) -> HeatMa
     );
     for (value, map) in sweep.values.iter().zip(maps) {
         let Some(map) = map else {
-            grid.panels.push(None);
+            // Empty axes that say so, rather than a gap that could be a drawing fault.
+            let title = format!("{value}: cascade failed (see points.csv)");
+            let empty = HeatMap::new(title, "Speed [Hz]", "Frequency [Hz]", "Amplitude [m]");
+            grid.panels.push(Some(empty));
             continue;
         };
         let mut panel = HeatMap::new(value, "Speed [Hz]", "Frequency [Hz]", "Amplitude [m]")

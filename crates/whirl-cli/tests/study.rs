@@ -58,6 +58,7 @@ fn a_small_study_runs_resumes_and_refuses_another_studys_points() {
         "sweeps.csv",
         "fits.csv",
         "ranking.csv",
+        "ranking_by_parameter.csv",
         "cascades_0.png",
         "largest_nsv_0.svg",
     ] {

@@ -9,7 +9,8 @@
 //!
 //! Writes `points.csv` (one row per distinct point: its changes and NSV summary),
 //! `sweeps.csv` (one row per sweep and value), `fits.csv` (eq. 5.1 coefficients and R^2),
-//! `ranking.csv` (sweeps by their effect on the largest NSV), the plots `cascades_<i>` (the
+//! `ranking.csv` (sweeps by their effect on the largest NSV), `ranking_by_parameter.csv`
+//! (each parameter by the largest effect among its sweeps), the plots `cascades_<i>` (the
 //! cascades of sweep i side by side, one colour scale), `largest_nsv_<i>` (largest NSV
 //! versus the parameter, with the fit when asked for, fig. 5.10), and `summary.json`.
 
@@ -18,6 +19,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use serde_json::{json, Value};
+use whirl::study::ranking::Effect;
 use whirl::study::results::{analyse, run_points, PointOutcome, PointResult, Source, StudyResults};
 use whirl::study::store::Store;
 use whirl::study::{point, Point, Study};
@@ -245,8 +247,18 @@ fn write_tables(
         ]),
         fits,
     )?;
+    write_ranking(out, "ranking.csv", &outcome.ranking)?;
+    write_ranking(
+        out,
+        "ranking_by_parameter.csv",
+        &outcome.ranking_by_parameter,
+    )
+}
+
+/// Effects on the largest NSV, largest first, as `name`.
+fn write_ranking(out: &mut Output, name: &str, effects: &[Effect]) -> miette::Result<()> {
     out.csv(
-        "ranking.csv",
+        name,
         &header(&[
             "rank",
             "sweep",
@@ -255,7 +267,7 @@ fn write_tables(
             "largest_largest_nsv_m",
             "relative_change",
         ]),
-        outcome.ranking.iter().enumerate().map(|(k, e)| {
+        effects.iter().enumerate().map(|(k, e)| {
             vec![
                 (k + 1).to_string(),
                 e.sweep.clone(),
@@ -297,6 +309,7 @@ fn summary(
         "points": points,
         "sweeps": outcome.sweeps,
         "ranking": outcome.ranking,
+        "ranking_by_parameter": outcome.ranking_by_parameter,
         "failed_points": results.iter().filter(|r| r.is_err()).count(),
         "cascade_time_s": done().map(|r| r.wall_time_s).sum::<f64>(),
         "wall_time_s": start.elapsed().as_secs_f64(),
@@ -340,12 +353,33 @@ fn text(study: &Study, outcome: &StudyResults, store: &Store) -> String {
         "effect on the largest NSV, (max - min) / min over each sweep:"
     );
     for (k, e) in outcome.ranking.iter().enumerate() {
-        let change = e
-            .relative_change
-            .map_or("unbounded (no NSV at some value)".into(), |c| {
-                format!("{c:.2}")
-            });
-        let _ = writeln!(t, "  {}. {} ({}): {change}", k + 1, e.sweep, e.parameter);
+        let _ = writeln!(
+            t,
+            "  {}. {} ({}): {}",
+            k + 1,
+            e.sweep,
+            e.parameter,
+            change(e)
+        );
+    }
+    let _ = writeln!(t, "by parameter (the largest effect among its sweeps):");
+    for (k, e) in outcome.ranking_by_parameter.iter().enumerate() {
+        let _ = writeln!(
+            t,
+            "  {}. {}: {} ({})",
+            k + 1,
+            e.parameter,
+            change(e),
+            e.sweep
+        );
     }
     t
+}
+
+/// A relative change for a person.
+fn change(e: &Effect) -> String {
+    e.relative_change
+        .map_or("unbounded (no NSV at some value)".into(), |c| {
+            format!("{c:.2}")
+        })
 }

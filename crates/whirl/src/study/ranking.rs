@@ -4,7 +4,7 @@
 //! values, (max - min) / min over its points: 0 when the parameter changes nothing, 9 when
 //! the largest NSV grows tenfold (thesis 5.1.1: "close to ten times"). A sweep whose
 //! smallest NSV is zero (no non-synchronous peak at all at some value) has an unbounded
-//! effect and ranks first.
+//! effect and ranks first. Per parameter, the largest effect among its sweeps stands for it.
 
 use serde::Serialize;
 
@@ -47,6 +47,19 @@ pub fn rank(mut effects: Vec<Effect>) -> Vec<Effect> {
     effects
 }
 
+/// One effect per parameter path: the largest among the sweeps of that parameter (a
+/// parameter swept at several settings of the others matters as much as it can), from the
+/// largest to the smallest.
+pub fn by_parameter(effects: &[Effect]) -> Vec<Effect> {
+    let mut best: Vec<Effect> = Vec::new();
+    for e in rank(effects.to_vec()) {
+        if !best.iter().any(|b| b.parameter == e.parameter) {
+            best.push(e);
+        }
+    }
+    best
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -65,6 +78,14 @@ mod tests {
         assert!((ranked[1].relative_change.unwrap() - 9.0).abs() < 1e-12);
         assert!((ranked[2].relative_change.unwrap() - 0.2e-5 / 2.8e-5).abs() < 1e-12);
         assert_eq!(ranked[0].relative_change, None);
+        // Per parameter, the larger of two sweeps of one parameter stands for it.
+        let per = by_parameter(&[
+            effect("rollers at 20 um", "rollers", &[3e-5, 2e-5]).unwrap(),
+            effect("clearance", "clearance", &[3e-5, 3e-4]).unwrap(),
+            effect("rollers at 120 um", "rollers", &[3e-4, 1e-4]).unwrap(),
+        ]);
+        let order: Vec<&str> = per.iter().map(|e| e.sweep.as_str()).collect();
+        assert_eq!(order, ["clearance", "rollers at 120 um"]);
         assert!(effect("none", "p", &[]).is_none());
         assert!(effect("one point", "p", &[1e-5]).is_none());
     }

@@ -8,7 +8,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::fit::{polynomial_fit, PolynomialFit};
-use super::ranking::{effect, rank, Effect};
+use super::ranking::{by_parameter, effect, rank, Effect};
 use super::store::Store;
 use super::{Point, Study};
 use crate::error::Result;
@@ -86,6 +86,8 @@ pub struct StudyResults {
     pub sweeps: Vec<SweepResult>,
     /// The sweeps from the largest effect on the largest NSV to the smallest.
     pub ranking: Vec<Effect>,
+    /// The parameters so ranked, each by the largest effect among its sweeps.
+    pub ranking_by_parameter: Vec<Effect>,
 }
 
 /// How a point came to be available.
@@ -174,8 +176,10 @@ pub fn analyse(study: &Study, results: &[PointOutcome]) -> StudyResults {
             fit_error,
         });
     }
+    let ranking = rank(effects);
     StudyResults {
         sweeps,
-        ranking: rank(effects),
+        ranking_by_parameter: by_parameter(&ranking),
+        ranking,
     }
 }
