@@ -295,18 +295,18 @@ fn flag(field: &str) -> Option<&'static str> {
 
 /// `cascade: 37/150 speeds`, redrawn at most four times a second, when stderr is a
 /// terminal (a log file or a pipe gets nothing).
-struct ProgressLine {
+pub(crate) struct ProgressLine {
     last: Mutex<Option<Instant>>,
 }
 
 impl ProgressLine {
-    fn new() -> Option<ProgressLine> {
+    pub(crate) fn new() -> Option<ProgressLine> {
         std::io::stderr().is_terminal().then(|| ProgressLine {
             last: Mutex::new(None),
         })
     }
 
-    fn draw(&self, p: CascadeProgress) {
+    pub(crate) fn draw(&self, p: CascadeProgress) {
         let Ok(mut last) = self.last.lock() else {
             return;
         };

@@ -15,15 +15,19 @@
 //! versus the parameter, with the fit when asked for, fig. 5.10), and `summary.json`.
 
 use std::fmt::Write;
+use std::io::IsTerminal;
+use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use serde_json::{json, Value};
+use whirl::nsv::CascadeProgress;
 use whirl::study::ranking::Effect;
 use whirl::study::results::{analyse, run_points, PointOutcome, PointResult, Source, StudyResults};
 use whirl::study::store::Store;
 use whirl::study::{point, Point, Study};
 
+use super::cascade::ProgressLine;
 use super::{finish_json, lib, Outcome};
 use crate::error::{from_whirl, Diag};
 use crate::output::{header, num, opt, Output};
@@ -118,7 +122,15 @@ fn load_study(path: &Path) -> miette::Result<Study> {
 /// One point's cascade, resuming from its own folder of finished speeds.
 fn compute_point(p: &Point, store: &Store) -> whirl::Result<PointResult> {
     let partial = store.dir().join("partial").join(&p.key);
-    let result = point::compute(p, Some(&partial), None)?;
+    // The speeds of the point running, on a terminal only (as `whirl cascade` shows them).
+    let line = ProgressLine::new();
+    let progress = |c: CascadeProgress| {
+        if let Some(l) = &line {
+            l.draw(c);
+        }
+        ControlFlow::Continue(())
+    };
+    let result = point::compute(p, Some(&partial), Some(&progress))?;
     // The point is saved whole by the caller; its speeds are no longer needed (nor their
     // folder, once no point is half done).
     let _ = std::fs::remove_dir_all(&partial);
@@ -142,7 +154,13 @@ fn tell(k: usize, total: usize, p: &Point, source: Source, outcome: &PointOutcom
         }
         (Err(e), _) => format!("FAILED, left out: {e}"),
     };
-    eprintln!("[{}/{total}] {}: {what}", k + 1, p.label());
+    // On a terminal, clear the progress line this replaces.
+    let clear = if std::io::stderr().is_terminal() {
+        "\r\x1b[2K"
+    } else {
+        ""
+    };
+    eprintln!("{clear}[{}/{total}] {}: {what}", k + 1, p.label());
 }
 
 fn write_tables(
