@@ -20,13 +20,16 @@
 
 use std::f64::consts::TAU;
 use std::fmt::Write;
+use std::io::IsTerminal;
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
 
 use clap::ValueEnum;
 use serde_json::{json, Value};
 use whirl::fe::{dof, Direction};
 use whirl::hbm::{
-    settled_response, sweep, BifurcationKind, BranchEnd, CageModel, MarchSettings, SettledResponse,
-    Sweep, SweepOptions, DEFAULT_STABILITY_MODES,
+    settled_response, sweep, sweep_with_progress, BifurcationKind, BranchEnd, CageModel,
+    MarchSettings, SettledResponse, Sweep, SweepOptions, DEFAULT_STABILITY_MODES,
 };
 use whirl::model::Model;
 use whirl::time::ContactLaw;
@@ -158,7 +161,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         nodes.sort_by_key(|n| !model.disks.iter().any(|d| d.station.node == *n));
     }
     let options = sweep_options(args, model, args.harmonics)?;
-    let result = lib(sweep(model, &options))?;
+    let result = lib(sweep_shown(model, &options))?;
     let comparisons = args
         .compare_time
         .iter()
@@ -171,7 +174,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
             .map(|&h| {
                 let mut o = sweep_options(args, model, h)?;
                 o.stability = false;
-                Ok((h, lib(sweep(model, &o))?))
+                Ok((h, lib(sweep_shown(model, &o))?))
             })
             .collect::<miette::Result<Vec<_>>>()?,
         None => Vec::new(),
@@ -197,6 +200,33 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         out.plot("harmonics_study", |p| figure.save(p))?;
     }
     finish(out, summary, text, &args.common)
+}
+
+/// The sweep with a progress line on a terminal: the speed the path has reached.
+fn sweep_shown(model: &Model, options: &SweepOptions) -> whirl::Result<Sweep> {
+    if !std::io::stderr().is_terminal() {
+        return sweep(model, options);
+    }
+    let last = Mutex::new(Instant::now());
+    let furthest = Mutex::new(options.from);
+    let h = options.harmonics;
+    let show = |w: f64| {
+        let (Ok(mut last), Ok(mut top)) = (last.lock(), furthest.lock()) else {
+            return;
+        };
+        *top = top.max(w).min(options.to);
+        if last.elapsed() >= Duration::from_millis(250) {
+            *last = Instant::now();
+            eprint!(
+                "\rhbm (H = {h}): {:.1} Hz of {:.1} Hz   ",
+                hz(*top),
+                hz(options.to)
+            );
+        }
+    };
+    let result = sweep_with_progress(model, options, &show);
+    eprint!("\r{:50}\r", "");
+    result
 }
 
 fn sweep_options(args: &Args, model: &Model, harmonics: usize) -> miette::Result<SweepOptions> {

@@ -46,7 +46,7 @@ pub use continuation::{
 };
 pub use fourier::aliasing_free_samples;
 pub use stability::{hill_stability, HillProblem, Stability};
-pub use sweep::{sweep, Sweep, SweepOptions};
+pub use sweep::{sweep, sweep_with_progress, Sweep, SweepOptions};
 
 use faer::Mat;
 

@@ -10,9 +10,10 @@ use serde::Serialize;
 
 use super::bearings::{caged_bearings, CageModel};
 use super::condensation::DEFAULT_STABILITY_MODES;
-use super::continuation::{continuation, Branch, ContinuationOptions};
+use super::continuation::{continuation, Branch, ContinuationOptions, Derivatives, Periodic};
 use super::fourier::{cos_slot, sin_slot};
-use super::{aliasing_free_samples, CondensedBalance, HbOptions, HbProblem};
+use super::stability::HillProblem;
+use super::{aliasing_free_samples, CondensedBalance, HbOptions, HbProblem, HbSolution};
 use crate::bearing::forcing_bearings;
 use crate::error::{Error, Result};
 use crate::fe::Bearings;
@@ -188,6 +189,19 @@ pub fn model_problem(
 /// As [`model_problem`], or when the first point does not converge; a branch that stops
 /// early is returned with why ([`super::BranchEnd`]).
 pub fn sweep(model: &Model, options: &SweepOptions) -> Result<Sweep> {
+    sweep_with_progress(model, options, &|_| {})
+}
+
+/// As [`sweep`], telling `progress` each frequency (rad/s) the path tries, for a display
+/// (Hill stability, solved after the path, is not reported).
+///
+/// # Errors
+/// As [`sweep`].
+pub fn sweep_with_progress(
+    model: &Model,
+    options: &SweepOptions,
+    progress: &dyn Fn(f64),
+) -> Result<Sweep> {
     check(options)?;
     let start = Instant::now();
     let (problem, equilibrium, reduction) = model_problem(
@@ -202,11 +216,14 @@ pub fn sweep(model: &Model, options: &SweepOptions) -> Result<Sweep> {
     hb_options.samples = options
         .samples
         .unwrap_or_else(|| default_samples(options.harmonics));
-    let mut hb =
-        CondensedBalance::new(problem, hb_options)?.with_stability_modes(options.stability_modes);
+    let mut hb = Reporting {
+        inner: CondensedBalance::new(problem, hb_options)?
+            .with_stability_modes(options.stability_modes),
+        progress,
+    };
     // Start at the static equilibrium: the unbalance force is small at the first speed.
-    let mut guess = vec![0.0; hb.unknowns()];
-    for (i, &d) in hb.kept().iter().enumerate() {
+    let mut guess = vec![0.0; hb.inner.unknowns()];
+    for (i, &d) in hb.inner.kept().iter().enumerate() {
         guess[i] = equilibrium[d];
     }
     let mut continuation_options = options.continuation;
@@ -229,7 +246,7 @@ pub fn sweep(model: &Model, options: &SweepOptions) -> Result<Sweep> {
     let coefficients = branch
         .points
         .iter()
-        .map(|p| hb.recover(&p.solution))
+        .map(|p| hb.inner.recover(&p.solution))
         .collect::<Result<Vec<_>>>()?;
     Ok(Sweep {
         branch,
@@ -239,6 +256,32 @@ pub fn sweep(model: &Model, options: &SweepOptions) -> Result<Sweep> {
         bearings: options.describe_bearings(),
         wall_time_s: start.elapsed().as_secs_f64(),
     })
+}
+
+/// A harmonic balance that tells a progress display where the path is.
+struct Reporting<'a> {
+    inner: CondensedBalance,
+    progress: &'a dyn Fn(f64),
+}
+
+impl Periodic for Reporting<'_> {
+    fn options(&self) -> &HbOptions {
+        self.inner.options()
+    }
+    fn solve(&mut self, frequency: f64, guess: &[f64]) -> Result<HbSolution> {
+        (self.progress)(frequency);
+        Periodic::solve(&mut self.inner, frequency, guess)
+    }
+    fn residual_at(&mut self, x: &[f64], frequency: f64) -> (Vec<f64>, f64) {
+        (self.progress)(frequency);
+        self.inner.residual_at(x, frequency)
+    }
+    fn derivatives(&mut self, x: &[f64], frequency: f64) -> Derivatives {
+        self.inner.derivatives(x, frequency)
+    }
+    fn hill_problem(&mut self, x: &[f64], frequency: f64) -> Result<HillProblem> {
+        self.inner.hill_problem(x, frequency)
+    }
 }
 
 fn check(options: &SweepOptions) -> Result<()> {
