@@ -97,22 +97,43 @@ impl BandedLu {
         &mut self.rows[index]
     }
 
-    /// Solves A x = b in place.
-    pub(crate) fn solve(&self, b: &mut [f64]) {
+    /// Solves A X = B in place for `k` right-hand sides stored row by row (row i of B at
+    /// `i * k .. (i + 1) * k`), so every elimination step updates contiguous rows.
+    pub(crate) fn solve_rows(&self, b: &mut [f64], k: usize) {
         let n = self.n;
-        for k in 0..n {
-            b.swap(k, self.pivots[k]);
-            let bk = b[k];
-            for i in k + 1..=(k + self.lower).min(n - 1) {
-                b[i] -= self.get(i, k) * bk;
+        for s in 0..n {
+            let p = self.pivots[s];
+            if p != s {
+                for j in 0..k {
+                    b.swap(s * k + j, p * k + j);
+                }
+            }
+            let (head, tail) = b.split_at_mut((s + 1) * k);
+            let pivot_row = &head[s * k..];
+            for i in s + 1..=(s + self.lower).min(n - 1) {
+                let l = self.get(i, s);
+                if l != 0.0 {
+                    let row = &mut tail[(i - s - 1) * k..(i - s) * k];
+                    for (r, q) in row.iter_mut().zip(pivot_row) {
+                        *r -= l * q;
+                    }
+                }
             }
         }
         for i in (0..n).rev() {
             let last = (i + self.upper).min(n - 1);
-            let start = self.index(i, i);
-            let row = &self.rows[start + 1..start + 1 + last - i];
-            let s: f64 = row.iter().zip(&b[i + 1..=last]).map(|(a, x)| a * x).sum();
-            b[i] = (b[i] - s) / self.rows[start];
+            let (head, tail) = b.split_at_mut((i + 1) * k);
+            let row = &mut head[i * k..];
+            for j in i + 1..=last {
+                let u = self.get(i, j);
+                if u != 0.0 {
+                    for (r, q) in row.iter_mut().zip(&tail[(j - i - 1) * k..(j - i) * k]) {
+                        *r -= u * q;
+                    }
+                }
+            }
+            let d = self.get(i, i);
+            row.iter_mut().for_each(|r| *r /= d);
         }
     }
 }
@@ -136,20 +157,23 @@ mod tests {
             }
         };
         let lu = BandedLu::new(n, kl, ku, entry).unwrap();
-        let b: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
+        // Two right-hand sides, row by row.
+        let k = 2;
+        let b: Vec<f64> = (0..n * k).map(|i| (i as f64).sin()).collect();
         let mut x = b.clone();
-        lu.solve(&mut x);
+        lu.solve_rows(&mut x, k);
         let a = Mat::from_fn(n, n, entry);
-        let mut dense = Mat::from_fn(n, 1, |i, _| b[i]);
+        let mut dense = Mat::from_fn(n, k, |i, j| b[i * k + j]);
         faer::linalg::solvers::Solve::solve_in_place(&a.partial_piv_lu(), dense.as_mut());
         for i in 0..n {
-            // Both are backward stable on a matrix of condition ~1e2.
-            assert!(
-                (x[i] - dense[(i, 0)]).abs() < 1e-11,
-                "{i}: {} vs {}",
-                x[i],
-                dense[(i, 0)]
-            );
+            for j in 0..k {
+                // Both are backward stable on a matrix of condition ~1e2.
+                let (ours, theirs) = (x[i * k + j], dense[(i, j)]);
+                assert!(
+                    (ours - theirs).abs() < 1e-11,
+                    "{i}, {j}: {ours} vs {theirs}"
+                );
+            }
         }
     }
 

@@ -369,47 +369,59 @@ impl CondensedBalance {
                 d_bb[i * width + k + band - i] = block.entry(b[i], b[k]);
             }
         }
-        let lu = BandedLu::new(b.len(), band, band, |i, k| d_bb[i * width + k + band - i].0);
-        let solve = |rhs: Mat<f64>| -> Result<Mat<f64>> {
-            let singular = || {
-                Error::Numerical(format!(
-                    "condensation at {frequency} rad/s: the linear part with the nonlinear \
-                     coordinates held is singular (a resonance of the condensed coordinates)"
-                ))
-            };
-            let lu = lu.as_ref().ok_or_else(singular)?;
-            let mut y = rhs;
-            let mut column = vec![0.0; y.nrows()];
-            for j in 0..y.ncols() {
-                column
-                    .iter_mut()
-                    .enumerate()
-                    .for_each(|(i, c)| *c = y[(i, j)]);
-                lu.solve(&mut column);
-                column.iter().enumerate().for_each(|(i, c)| y[(i, j)] = *c);
-            }
-            if y.col_iter().all(|c| c.iter().all(|v| v.is_finite())) {
-                Ok(y)
-            } else {
-                Err(singular())
-            }
+        let singular = || {
+            Error::Numerical(format!(
+                "condensation at {frequency} rad/s: the linear part with the nonlinear \
+                 coordinates held is singular (a resonance of the condensed coordinates)"
+            ))
         };
-        // dD_bb Y within the band.
-        let band_product = |y: &Mat<f64>| {
-            Mat::from_fn(b.len(), y.ncols(), |i, j| {
-                (i.saturating_sub(band)..(i + band + 1).min(b.len()))
-                    .map(|k| d_bb[i * width + k + band - i].1 * y[(k, j)])
-                    .sum::<f64>()
-            })
+        let lu = BandedLu::new(b.len(), band, band, |i, k| d_bb[i * width + k + band - i].0)
+            .ok_or_else(singular)?;
+        // [X | z] = D_bb^-1 [D_ba | f_b], row by row (one column per kept coordinate, then z).
+        let (nb, cols) = (b.len(), a.len() + 1);
+        let mut solution = vec![0.0; nb * cols];
+        for (i, row) in solution.chunks_mut(cols).enumerate() {
+            for (j, r) in row.iter_mut().take(a.len()).enumerate() {
+                *r = block.entry(b[i], a[j]).0;
+            }
+            row[a.len()] = f[b[i]];
+        }
+        lu.solve_rows(&mut solution, cols);
+        // [dX | dz] = D_bb^-1 ([dD_ba | df_b] - dD_bb [X | z]), dD_bb within the band.
+        let mut derivative_solution = vec![0.0; nb * cols];
+        for (i, row) in derivative_solution.chunks_mut(cols).enumerate() {
+            for (j, r) in row.iter_mut().take(a.len()).enumerate() {
+                *r = block.entry(b[i], a[j]).1;
+            }
+            row[a.len()] = df[b[i]];
+            for k in i.saturating_sub(band)..(i + band + 1).min(nb) {
+                let c = d_bb[i * width + k + band - i].1;
+                if c != 0.0 {
+                    for (r, y) in row.iter_mut().zip(&solution[k * cols..(k + 1) * cols]) {
+                        *r -= c * y;
+                    }
+                }
+            }
+        }
+        lu.solve_rows(&mut derivative_solution, cols);
+        if !solution
+            .iter()
+            .chain(&derivative_solution)
+            .all(|v| v.is_finite())
+        {
+            return Err(singular());
+        }
+        let split = |y: &[f64]| {
+            (
+                Mat::from_fn(nb, a.len(), |i, j| y[i * cols + j]),
+                Mat::from_fn(nb, 1, |i, _| y[i * cols + a.len()]),
+            )
         };
+        let (transfer, particular) = split(&solution);
+        let (d_transfer, d_particular) = split(&derivative_solution);
         let d_ab = value(&a, &b);
-        let transfer = solve(value(&b, &a))?;
-        let particular = solve(pick(f, &b))?;
         let schur = value(&a, &a) - &d_ab * &transfer;
         let force = pick(f, &a) - &d_ab * &particular;
-        // dX = D_bb^-1 (dD_ba - dD_bb X), dz = D_bb^-1 (df_b - dD_bb z).
-        let d_transfer = solve(derivative(&b, &a) - band_product(&transfer))?;
-        let d_particular = solve(pick(df, &b) - band_product(&particular))?;
         let dd_ab = derivative(&a, &b);
         let schur_derivative = derivative(&a, &a) - &dd_ab * &transfer - &d_ab * &d_transfer;
         let force_derivative = pick(df, &a) - &dd_ab * &particular - &d_ab * &d_particular;
