@@ -101,7 +101,8 @@ impl HarmonicBalance {
             .map(|f| {
                 f.dofs()
                     .iter()
-                    .map(|d| nl_dofs.binary_search(d).expect("collected above"))
+                    // `nl_dofs` holds every one of these, sorted: its position is where it sorts.
+                    .map(|d| nl_dofs.partition_point(|k| k < d))
                     .collect()
             })
             .collect();

@@ -135,7 +135,8 @@ impl CondensedBalance {
                 let dofs = force
                     .dofs()
                     .iter()
-                    .map(|d| kept.binary_search(d).expect("collected above"))
+                    // `kept` holds every one of these, sorted: its position is where it sorts.
+                    .map(|d| kept.partition_point(|k| k < d))
                     .collect();
                 Box::new(Renumbered { force, dofs }) as Box<dyn NonlinearForce>
             })
