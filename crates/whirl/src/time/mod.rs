@@ -14,6 +14,8 @@
 //! model and records named channels.
 
 mod central;
+#[cfg(test)]
+mod fixtures;
 mod forces;
 mod newmark;
 mod problem;

@@ -537,47 +537,8 @@ mod tests {
     use std::f64::consts::PI;
 
     use super::*;
-    use crate::fe::{assemble, gravity_force, unbalance_force, Bearings};
-    use crate::model::Model;
-    use crate::time::{CubicSpring, LinearSupport, SpeedProfile};
-
-    /// The reference rotor's full model (84 DOFs, half-bandwidth 7) with unbalance, and a
-    /// stiff cubic spring and a cross-coupled linear support on node 10 when `nonlinear`.
-    fn full_rotor(speed: SpeedProfile, nonlinear: bool) -> TimeProblem {
-        let model = Model::from_toml_str(crate::examples::REFERENCE_ROTOR, None).unwrap();
-        let full = assemble(&model, Bearings::Linearised);
-        let unbalance = unbalance_force(&model, full.dofs());
-        let mut problem = TimeProblem {
-            mass: full.mass.clone(),
-            stiffness: full.stiffness.clone(),
-            damping: full.damping.clone(),
-            gyroscopic: full.gyroscopic.clone(),
-            constant_force: gravity_force(&model, &full),
-            unbalance_re: unbalance.iter().map(|c| c.re).collect(),
-            unbalance_im: unbalance.iter().map(|c| c.im).collect(),
-            nonlinear: Vec::new(),
-            speed,
-        };
-        if nonlinear {
-            let (ux, uy) = (40, 41);
-            problem
-                .nonlinear
-                .push(Box::new(CubicSpring::new(uy, 1e6, 1e14, 1e-4)));
-            problem.nonlinear.push(Box::new(LinearSupport::new(
-                "cross-coupled",
-                [ux, uy],
-                [[1e6, 3e5], [-3e5, 1e6]],
-                [[100.0, 0.0], [0.0, 100.0]],
-            )));
-        }
-        problem
-    }
-
-    fn start(n: usize) -> (Vec<f64>, Vec<f64>) {
-        let q0 = (0..n).map(|i| 1e-5 * ((i as f64) * 0.7).sin()).collect();
-        let v0 = (0..n).map(|i| 1e-3 * ((i as f64) * 1.3).cos()).collect();
-        (q0, v0)
-    }
+    use crate::time::fixtures::{full_rotor, start};
+    use crate::time::SpeedProfile;
 
     fn coefficients(alpha: f64, h: f64) -> Coefficients {
         Coefficients {
