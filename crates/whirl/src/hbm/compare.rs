@@ -10,7 +10,7 @@ use crate::post::{
     amplitude_spectrum_with, largest_non_synchronous, order_component, SpectrumOptions, Window,
 };
 use crate::time::{
-    simulate_contacts, stable_step_for, ContactLaw, Initial, Method, SimulationOptions,
+    simulate_response, stable_step_for, ContactLaw, Initial, Method, SimulationOptions,
     SpeedProfile,
 };
 
@@ -59,7 +59,7 @@ pub struct SettledResponse {
 /// settled orders 1..=`harmonics` and the largest non-synchronous peak at `node`.
 ///
 /// # Errors
-/// As [`simulate_contacts`] (a diverged run is an error), or when the record is too short
+/// As [`simulate_response`] (a diverged run is an error), or when the record is too short
 /// for order tracking.
 pub fn settled_response(
     model: &Model,
@@ -85,7 +85,7 @@ pub fn settled_response(
     };
     // Recorded at about 20 kHz: well above the orders looked at, small to store.
     let every = ((5e-5 / step).floor() as usize).max(1);
-    let result = simulate_contacts(model, &options, settings.contact, every)?.completed()?;
+    let result = simulate_response(model, &options, settings.contact, every)?.completed()?;
     let start = result.settled_start();
     let angle: Vec<f64> = result.time[start..].iter().map(|t| speed * t).collect();
     let channel = |name: &str| {
