@@ -8,6 +8,11 @@ use std::fmt;
 
 use miette::{Diagnostic, LabeledSpan, NamedSource, SourceCode, SourceSpan};
 
+/// The longest line (in bytes) shown under a message. miette cannot draw a label past
+/// column 65,535 (it panics), and a line of thousands of characters shows nothing a person
+/// can read: the message's `file:line:column` locates such an error on its own.
+const MAX_SHOWN_LINE: usize = 1000;
+
 /// Sets up miette's report style: long lines are wrapped, but never inside a word (a path
 /// with its line and column must stay whole), and no terminal hyperlinks.
 pub fn install_hook() {
@@ -79,11 +84,17 @@ impl Diag {
             .map(|f| f.display().to_string())
             .unwrap_or_else(|| "model".into());
         // Clamp the span into the text: a diagnostic must render even if a span is off.
-        let span = e.span.as_ref().filter(|_| !text.is_empty()).map(|s| {
-            let start = s.start.min(text.len().saturating_sub(1));
-            let end = s.end.clamp(start, text.len());
-            SourceSpan::from(start..end)
-        });
+        let span = e
+            .span
+            .as_ref()
+            .filter(|_| !text.is_empty())
+            .map(|s| {
+                let start = s.start.min(text.len().saturating_sub(1));
+                let end = s.end.clamp(start, text.len());
+                start..end
+            })
+            .filter(|s| showable(text, s))
+            .map(SourceSpan::from);
         Diag {
             message: located.to_string(),
             help: e.help.clone(),
@@ -92,6 +103,20 @@ impl Diag {
             label: located.field.clone().unwrap_or_else(|| "here".into()),
         }
     }
+}
+
+/// True when every line the span touches is short enough to show (see [`MAX_SHOWN_LINE`]).
+fn showable(text: &str, span: &std::ops::Range<usize>) -> bool {
+    let bytes = text.as_bytes();
+    let start = bytes[..span.start]
+        .iter()
+        .rposition(|&b| b == b'\n')
+        .map_or(0, |i| i + 1);
+    let end = bytes[span.end..]
+        .iter()
+        .position(|&b| b == b'\n')
+        .map_or(text.len(), |i| span.end + i);
+    text[start..end].lines().all(|l| l.len() <= MAX_SHOWN_LINE)
 }
 
 /// The key of a `key = value` line when `offset` falls in its value, e.g. `elements`.

@@ -7,16 +7,21 @@
 //!
 //! Errors go to stderr as miette diagnostics that name the file, line and column, the
 //! field and the fix, with the offending line of the model file shown; the exit code is 1
-//! (2 for a malformed command line, as clap reports it).
+//! (2 for a malformed command line, as clap reports it; 130 when stopped by Ctrl-C).
+//!
+//! One run per output folder at a time: the folder's lock is taken before any work (see
+//! [`output::lock`]); Ctrl-C stops cleanly (see [`interrupt`]).
 
 mod commands;
 mod error;
+mod interrupt;
 mod output;
 mod plots;
 mod plots_stiffness;
 mod plots_study;
 
 use std::io::Write;
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
@@ -62,25 +67,50 @@ enum Command {
     Study(commands::study::Args),
 }
 
+impl Command {
+    /// The folder this run writes.
+    fn out_dir(&self) -> PathBuf {
+        match self {
+            Command::Check(a) => a.common.out_dir("check"),
+            Command::Modal(a) => a.common.out_dir("modal"),
+            Command::Campbell(a) => a.common.out_dir("campbell"),
+            Command::Convergence(a) => a.common.out_dir("convergence"),
+            Command::Unbalance(a) => a.common.out_dir("unbalance"),
+            Command::Reduce(a) => a.common.out_dir("reduce"),
+            Command::Simulate(a) => a.common.out_dir("simulate"),
+            Command::Stiffness(a) => a.common.out_dir("stiffness"),
+            Command::FitForcing(a) => a.common.out_dir("fit-forcing"),
+            Command::Hbm(a) => a.common.out_dir("hbm"),
+            Command::Cascade(a) => a.common.out_dir("cascade"),
+            Command::Study(a) => a.out_dir(),
+        }
+    }
+
+    fn run(&self) -> miette::Result<Outcome> {
+        match self {
+            Command::Check(a) => commands::check::run(a),
+            Command::Modal(a) => commands::modal::run(a),
+            Command::Campbell(a) => commands::campbell::run(a),
+            Command::Convergence(a) => commands::convergence::run(a),
+            Command::Unbalance(a) => commands::unbalance::run(a),
+            Command::Reduce(a) => commands::reduce::run(a),
+            Command::Simulate(a) => commands::simulate::run(a),
+            Command::Stiffness(a) => commands::stiffness::run(a),
+            Command::FitForcing(a) => commands::fit_forcing::run(a),
+            Command::Hbm(a) => commands::hbm::run(a),
+            Command::Cascade(a) => commands::cascade::run(a),
+            Command::Study(a) => commands::study::run(a),
+        }
+    }
+}
+
 fn main() -> ExitCode {
     // whirl parallelises across speeds with rayon; faer's own threads would only compete.
     faer::set_global_parallelism(faer::Par::Seq);
     error::install_hook();
+    interrupt::install();
     let cli = Cli::parse();
-    let result = match &cli.command {
-        Command::Check(a) => commands::check::run(a),
-        Command::Modal(a) => commands::modal::run(a),
-        Command::Campbell(a) => commands::campbell::run(a),
-        Command::Convergence(a) => commands::convergence::run(a),
-        Command::Unbalance(a) => commands::unbalance::run(a),
-        Command::Reduce(a) => commands::reduce::run(a),
-        Command::Simulate(a) => commands::simulate::run(a),
-        Command::Stiffness(a) => commands::stiffness::run(a),
-        Command::FitForcing(a) => commands::fit_forcing::run(a),
-        Command::Hbm(a) => commands::hbm::run(a),
-        Command::Cascade(a) => commands::cascade::run(a),
-        Command::Study(a) => commands::study::run(a),
-    };
+    let result = output::lock(&cli.command.out_dir()).and_then(|_lock| cli.command.run());
     match result {
         Ok(outcome) => {
             report(&outcome);
@@ -89,7 +119,11 @@ fn main() -> ExitCode {
         Err(e) => {
             // Writing to a closed stderr must not panic either.
             let _ = writeln!(std::io::stderr(), "{e:?}");
-            ExitCode::FAILURE
+            if interrupt::requested() {
+                ExitCode::from(interrupt::EXIT_INTERRUPTED)
+            } else {
+                ExitCode::FAILURE
+            }
         }
     }
 }

@@ -6,6 +6,10 @@
 //! as it was. An existing folder is only replaced when it is empty or holds a
 //! `summary.json` (an earlier whirl result): `--out` never deletes someone's documents.
 //!
+//! One run per output folder at a time: [`lock`] takes `.<name>.whirl-lock` beside the
+//! folder before any work (a second run is refused at once, naming the first one's
+//! process), and then removes the temporary folders that killed runs left beside it.
+//!
 //! CSV files have one header row; numbers are written in full precision (shortest text that
 //! reads back to the same f64), and a value that does not exist (a branch lost at a speed,
 //! a peak without a half-power band) is an empty cell.
@@ -22,7 +26,8 @@ use std::path::{Path, PathBuf};
 
 use serde_json::Value;
 
-use crate::error::Diag;
+use crate::error::{from_whirl, Diag};
+use crate::interrupt;
 
 /// A result folder being written.
 #[derive(Debug)]
@@ -37,21 +42,52 @@ fn io_error(action: &str, path: &Path, e: std::io::Error) -> Diag {
     Diag::new(format!("cannot {action} `{}`: {e}", path.display()))
 }
 
+/// The folder's absolute path and its name.
+fn folder_name(dir: &Path) -> miette::Result<(PathBuf, String)> {
+    let dir = std::path::absolute(dir).map_err(|e| io_error("resolve", dir, e))?;
+    let name = dir
+        .file_name()
+        .and_then(|n| n.to_str())
+        .ok_or_else(|| {
+            Diag::option(
+                "--out",
+                format!("`{}` does not name a folder", dir.display()),
+            )
+            .help("give a folder such as `out/modal`")
+        })?
+        .to_string();
+    Ok((dir, name))
+}
+
+/// Takes the lock of the output folder `dir` for this run (see the module doc) and
+/// removes what killed runs left beside it: their temporary and set-aside folders.
+pub fn lock(dir: &Path) -> miette::Result<whirl::lock::RunLock> {
+    let (dir, name) = folder_name(dir)?;
+    let parent = dir.parent().unwrap_or(Path::new("/")).to_path_buf();
+    fs::create_dir_all(&parent).map_err(|e| io_error("create the folder", &parent, e))?;
+    let path = parent.join(format!(".{name}.whirl-lock"));
+    let lock = whirl::lock::RunLock::acquire(&path, &dir).map_err(|e| from_whirl(e, ""))?;
+    interrupt::remove_on_quit(&path);
+    let leftover = |n: &str| {
+        [".whirl-tmp-", ".whirl-old-"]
+            .iter()
+            .any(|kind| n.starts_with(&format!(".{name}{kind}")))
+    };
+    for entry in fs::read_dir(&parent)
+        .map_err(|e| io_error("read", &parent, e))?
+        .flatten()
+    {
+        if entry.file_name().to_str().is_some_and(leftover) {
+            let _ = fs::remove_dir_all(entry.path());
+        }
+    }
+    Ok(lock)
+}
+
 impl Output {
     /// Starts writing a result folder that will end up at `dir`.
     pub fn begin(dir: &Path) -> miette::Result<Output> {
-        let dir = std::path::absolute(dir).map_err(|e| io_error("resolve", dir, e))?;
-        let name = dir
-            .file_name()
-            .and_then(|n| n.to_str())
-            .ok_or_else(|| {
-                Diag::option(
-                    "--out",
-                    format!("`{}` does not name a folder", dir.display()),
-                )
-                .help("give a folder such as `out/modal`")
-            })?
-            .to_string();
+        let (dir, name) = folder_name(dir)?;
         if dir.exists() {
             check_replaceable(&dir)?;
         }
@@ -63,6 +99,7 @@ impl Output {
             fs::remove_dir_all(&tmp).map_err(|e| io_error("remove", &tmp, e))?;
         }
         fs::create_dir(&tmp).map_err(|e| io_error("create the folder", &tmp, e))?;
+        interrupt::remove_on_quit(&tmp);
         Ok(Output {
             dir,
             tmp,
@@ -155,6 +192,7 @@ impl Output {
             .map_err(|e| Diag::new(format!("cannot encode the summary: {e}")))?;
         fs::write(&path, text + "\n").map_err(|e| io_error("write", &path, e))?;
         self.replace()?;
+        interrupt::forget(&self.tmp);
         self.finished = true;
         Ok((self.dir.clone(), self.files.len()))
     }
@@ -193,6 +231,7 @@ impl Drop for Output {
     fn drop(&mut self) {
         if !self.finished {
             let _ = fs::remove_dir_all(&self.tmp);
+            interrupt::forget(&self.tmp);
         }
     }
 }

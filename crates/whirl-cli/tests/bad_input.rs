@@ -343,3 +343,157 @@ fn out_folder_that_is_not_a_whirl_result_is_left_alone() {
     );
     assert_eq!(std::fs::read_dir(tmp.path()).unwrap().count(), 1);
 }
+
+// Issue 16: nothing crashes, nothing runs away, nothing impossible is accepted.
+
+#[test]
+fn an_error_past_column_65535_is_located_not_a_panic() {
+    // miette cannot draw a label past column 65,535; the message alone locates it.
+    let m = format!("name = \"{}\n", "a".repeat(70_000));
+    check_fails(&m, &["bad.toml:1:70009:", "invalid basic string"]);
+}
+
+#[test]
+fn huge_speed_counts_are_refused_before_any_allocation() {
+    // 1e10 speeds would be 80 GB before their cap was checked (SIGABRT).
+    let huge = "1:750Hz:10000000000";
+    for command in ["campbell", "unbalance", "cascade", "fit-forcing"] {
+        fails(
+            Some(&reference()),
+            &[command, "{model}", "--speeds", huge],
+            &["at most 100000 values"],
+        );
+    }
+    fails(
+        Some(&reference()),
+        &["hbm", "{model}", "--speeds", huge],
+        &["at most 100000 values"],
+    );
+    fails(
+        Some(&reference()),
+        &["hbm", "{model}", "--samples", "1000000000"],
+        &["--samples", "at most 65536"],
+    );
+}
+
+#[test]
+fn a_speed_that_overflows_in_rad_per_second_is_an_input_error() {
+    // 1e308 Hz is finite, 2 pi 1e308 rad/s is not: refused where it is read, not by the
+    // eigen-solver.
+    fails(
+        Some(&reference()),
+        &["modal", "{model}", "--speed", "1e308Hz"],
+        &["--speed", "1e308Hz", "not a finite number"],
+    );
+}
+
+#[test]
+fn a_clearance_larger_than_the_rollers_is_refused() {
+    let m = edited("clearance = \"20 um\"", "clearance = \"7 mm\"");
+    check_fails(
+        &m,
+        &[
+            "bad.toml:38:",
+            "roller_bearing[0].clearance",
+            "not smaller than the rollers",
+        ],
+    );
+}
+
+#[test]
+fn a_clearance_polynomial_negative_at_speed_is_refused() {
+    // 20 um at rest, falling 0.1 um per Hz: negative above 200 Hz, inside 1-750 Hz.
+    let m = edited(
+        "clearance = \"20 um\"",
+        "clearance = { coefficients = [20, -0.1], clearance_unit = \"um\", speed_unit = \"Hz\" }",
+    );
+    check_fails(
+        &m,
+        &[
+            "bad.toml:38:",
+            "roller_bearing[0].clearance",
+            "must not be negative",
+            "Hz",
+        ],
+    );
+}
+
+#[test]
+fn waviness_far_above_the_clearance_is_refused() {
+    let m = edited(
+        "linear_stiffness = 1e8              # N/m, for linear analyses",
+        "linear_stiffness = 1e8\nwaviness = [{ ring = \"outer\", order = 5, amplitude = \"5 mm\" }]",
+    );
+    check_fails(
+        &m,
+        &["roller_bearing[0].waviness[0].amplitude", "clearance scale"],
+    );
+}
+
+#[test]
+fn a_polar_inertia_above_twice_the_diametral_is_refused() {
+    let m = edited("polar_inertia = 0.05", "polar_inertia = 0.06");
+    check_fails(
+        &m,
+        &["bad.toml:26:", "disk[0].polar_inertia", "I_p <= 2 I_d"],
+    );
+}
+
+#[test]
+fn a_contact_exponent_far_from_one_to_two_is_refused() {
+    for exponent in ["1e-300", "0.5", "3"] {
+        let m = edited(
+            "contact_exponent = 1.1111111111111112   # 10/9",
+            &format!("contact_exponent = {exponent}   # 10/9"),
+        );
+        check_fails(
+            &m,
+            &["bad.toml:40:", "contact_exponent", "must lie in [1, 2]"],
+        );
+    }
+}
+
+#[test]
+fn a_forcing_law_negative_at_speed_is_refused() {
+    // a = 1e7 - 1e4 W turns negative at W = 1000 rad/s (159 Hz), inside 1-750 Hz.
+    let m = edited(
+        "linear_stiffness = 1e8              # N/m, for linear analyses",
+        "linear_stiffness = 1e8\nforcing_function = { a0 = 1e7, a1 = -1e4, b0 = 1.1, b1 = 0 }",
+    );
+    check_fails(
+        &m,
+        &[
+            "roller_bearing[0].forcing_function",
+            "must stay positive",
+            "750 Hz",
+        ],
+    );
+}
+
+#[test]
+fn a_rotor_on_one_bearing_or_none_is_refused() {
+    let one = edited("node = 20\nrollers", "node = 0\nrollers");
+    check_fails(&one, &["`bearing`", "one node only (0)", "free to tilt"]);
+    let text = reference();
+    let start = text.find("[[roller_bearing]]").unwrap();
+    let end = text.find("[damping]").unwrap();
+    let none = format!("{}{}", &text[..start], &text[end..]);
+    check_fails(&none, &["`bearing`", "no bearing"]);
+}
+
+#[test]
+fn a_structure_unstable_at_rest_says_so_instead_of_zero_hertz() {
+    // Euler buckling of the pinned 1.3 m shaft: pi^2 E I / L^2 = 5.9e5 N; 17 times that in
+    // compression makes the stiffness indefinite.
+    let m = edited("gyroscopic = true", "gyroscopic = true\naxial_load = -1e7");
+    check_fails(&m, &["unstable at rest", "axial_load"]);
+}
+
+#[test]
+fn a_load_no_bearing_can_carry_is_refused() {
+    fails(
+        Some(&reference()),
+        &["stiffness", "{model}", "--load", "1e30N"],
+        &["--load", "more than a tenth of its diameter"],
+    );
+}

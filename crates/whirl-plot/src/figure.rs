@@ -169,7 +169,7 @@ impl Figure2d {
             s.check(i)?;
         }
         let inside =
-            |v: f64, range: Option<(f64, f64)>| range.map_or(true, |(lo, hi)| v >= lo && v <= hi);
+            |v: f64, range: Option<(f64, f64)>| range.is_none_or(|(lo, hi)| v >= lo && v <= hi);
         let points: Vec<(f64, f64)> = self
             .series
             .iter()

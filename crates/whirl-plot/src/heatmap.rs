@@ -295,7 +295,7 @@ impl HeatMap {
         let column: Vec<(u8, u8, u8)> = (0..h)
             .map(|r| viridis(1.0 - (f64::from(r) + 0.5) / f64::from(h)))
             .collect();
-        let pixels = (0..h as usize).flat_map(|r| std::iter::repeat(column[r]).take(w as usize));
+        let pixels = (0..h as usize).flat_map(|r| std::iter::repeat_n(column[r], w as usize));
         blit(&strip, w, h, pixels)?;
         let bar_frame = Frame {
             x_label: "",

@@ -29,6 +29,7 @@ pub mod error;
 pub mod examples;
 pub mod fe;
 pub mod hbm;
+pub mod lock;
 pub mod modal;
 pub mod model;
 pub mod nsv;

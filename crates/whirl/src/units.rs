@@ -7,10 +7,18 @@
 //!
 //! Speed ranges on the command line are written `start:stop:count`, with the unit on
 //! any of the bounds (`0:800Hz:161`, `1:750Hz:150`, `0Hz:3000rpm:31`). A unit given on
-//! one bound applies to a bound that has none.
+//! one bound applies to a bound that has none. A range holds at most [`MAX_RANGE_COUNT`]
+//! values, checked before any is made.
 
 use std::f64::consts::PI;
 use std::fmt;
+
+/// The most values a `start:stop:count` range may hold. Each value is at least one
+/// analysis (a modal solve, a time simulation of a cascade speed: tens of milliseconds to
+/// seconds each), so 100,000 is already hours of work and far beyond what a plot or a
+/// table can show; the cap is checked before the list is made, so a mistyped count fails
+/// at once instead of exhausting the memory.
+pub const MAX_RANGE_COUNT: usize = 100_000;
 
 /// What a quantity measures; decides which unit names are accepted.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -180,7 +188,15 @@ fn parse_with_default_unit(
             accepted: dimension.accepted(),
         })?;
     // Multiply then divide, so that "20 um" is exactly 2e-5.
-    Ok(value * factor.0 / factor.1)
+    let si = value * factor.0 / factor.1;
+    if !si.is_finite() {
+        // 1e308 Hz is a finite number but not a finite speed in rad/s.
+        return Err(UnitError::BadNumber {
+            text: text.to_string(),
+            example: example(dimension),
+        });
+    }
+    Ok(si)
 }
 
 /// Reads `start:stop:count` into `count` equally spaced SI values (inclusive bounds).
@@ -201,6 +217,12 @@ pub fn parse_range(text: &str, dimension: Dimension) -> Result<Vec<f64>, UnitErr
     if count == 0 {
         return Err(bad("the count must be at least 1"));
     }
+    if count > MAX_RANGE_COUNT {
+        return Err(bad(&format!(
+            "at most {MAX_RANGE_COUNT} values (each one is an analysis: more would take \
+             hours and show nothing more)"
+        )));
+    }
     let unit_of = |s: &str| split_number_unit(s).1.to_string();
     let (u0, u1) = (unit_of(parts[0]), unit_of(parts[1]));
     let shared = if !u1.is_empty() {
@@ -220,6 +242,11 @@ pub fn parse_range(text: &str, dimension: Dimension) -> Result<Vec<f64>, UnitErr
         return Err(bad("stop must not be below start"));
     }
     let step = (stop - start) / (count - 1) as f64;
+    if !step.is_finite() {
+        return Err(bad(
+            "the span stop - start overflows; give bounds nearer each other",
+        ));
+    }
     Ok((0..count).map(|i| start + step * i as f64).collect())
 }
 
@@ -272,6 +299,9 @@ mod tests {
         assert!(parse_quantity("fast", Dimension::AngularSpeed).is_err());
         assert!(parse_quantity("inf Hz", Dimension::AngularSpeed).is_err());
         assert!(parse_quantity("NaN", Dimension::Length).is_err());
+        // Finite as written, infinite once converted to rad/s.
+        assert!(parse_quantity("1e308Hz", Dimension::AngularSpeed).is_err());
+        assert!(parse_quantity("1e308", Dimension::AngularSpeed).is_ok());
         // A speed unit is not a length unit.
         assert!(parse_quantity("3 rpm", Dimension::Length).is_err());
     }
@@ -289,7 +319,18 @@ mod tests {
 
     #[test]
     fn malformed_ranges_are_refused() {
-        for bad in ["0:800Hz", "0:800Hz:0", "800:0Hz:5", "a:b:c", "0:1:2.5"] {
+        for bad in [
+            "0:800Hz",
+            "0:800Hz:0",
+            "800:0Hz:5",
+            "a:b:c",
+            "0:1:2.5",
+            // Refused before 1e10 values (80 GB) are allocated.
+            "1:750Hz:10000000000",
+            "1:750Hz:100001",
+            "1e308Hz:1e308Hz:2",
+            "-1.7e308:1.7e308:3",
+        ] {
             assert!(parse_range(bad, Dimension::AngularSpeed).is_err(), "{bad}");
         }
     }

@@ -45,6 +45,7 @@ use super::{
 };
 use super::{Common, Loaded, Outcome, Speeds};
 use crate::error::{from_whirl, Diag};
+use crate::interrupt;
 use crate::output::{header, num, Output};
 use crate::plots;
 
@@ -159,18 +160,21 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         std::fs::remove_dir_all(&checkpoint)
             .map_err(|e| Diag::new(format!("cannot delete `{}`: {e}", checkpoint.display())))?;
     }
+    warn_if_long(&options);
+    interrupt::stoppable();
     let display = ProgressLine::new();
     let report = |p: CascadeProgress| {
-        if let Some(d) = &display {
-            d.draw(p);
+        display.draw(p);
+        if interrupt::requested() {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
         }
-        ControlFlow::Continue(())
     };
     let result = cascade(model, &options, Some(&checkpoint), Some(&report));
-    if display.is_some() {
-        eprint!("\r{:40}\r", "");
-    }
+    display.clear();
     let result = result.map_err(|e| library_error(e, &checkpoint))?;
+    check_divergence(&result)?;
     let nsv = result.nsv_summary(args.threshold);
 
     let summary = summary(&loaded, args, &result, &nsv, &checkpoint);
@@ -188,6 +192,66 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         out.plot("full_map", |stem| plots::full_map(&result).save(stem))?;
     }
     finish(out, summary, text, &args.common)
+}
+
+/// Computing time of one central-difference step of the reduced reference rotor on Hertz
+/// bearings (12 modes: 1 s of rotor time in about 28,000 steps and 36 ms on this project's
+/// 2-core test machine), s. Larger models take longer, so estimates from it are lower bounds.
+const SECONDS_PER_STEP: f64 = 1.3e-6;
+
+/// An estimated run time above which a cascade warns before it starts, s.
+const LONG_RUN_S: f64 = 1800.0;
+
+/// Warns before starting when the time step asked for makes the cascade hours long (a
+/// mistyped `--step 1e-8s` would otherwise run for hours in silence).
+fn warn_if_long(options: &CascadeOptions) {
+    let Some(step) = options.step else {
+        return;
+    };
+    let steps_per_speed = (options.settle + options.record) / step;
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let seconds = steps_per_speed * options.speeds.len() as f64 * SECONDS_PER_STEP / threads as f64;
+    if seconds > LONG_RUN_S {
+        eprintln!(
+            "warning: --step {step:e} s makes {steps_per_speed:.3e} time steps per speed, {} speeds: \
+             at least {} of computing on {threads} cores; leave --step out for 0.9 times the \
+             stable step, or press Ctrl-C to stop (finished speeds are kept)",
+            options.speeds.len(),
+            duration_text(seconds)
+        );
+    }
+}
+
+/// A cascade in which every speed diverged is a failure (nothing was measured: exit status
+/// 1, nothing written); some diverged speeds are listed on stderr (and in summary.json).
+fn check_divergence(c: &Cascade) -> miette::Result<()> {
+    let diverged: Vec<(f64, &str)> = c
+        .points
+        .iter()
+        .filter_map(|p| p.diverged.as_deref().map(|m| (p.speed_hz, m)))
+        .collect();
+    let Some((speed, first)) = diverged.first() else {
+        return Ok(());
+    };
+    if diverged.len() == c.points.len() {
+        return Err(Diag::new(format!(
+            "the simulation diverged at every one of the {} speeds; at {speed:.1} Hz: {first}",
+            c.points.len()
+        ))
+        .help(
+            "check the model (clearance, stiffness, damping) or lower --step; the finished \
+             speeds stay in the checkpoint, --restart discards them",
+        )
+        .into());
+    }
+    let listed: Vec<String> = diverged.iter().map(|(s, _)| format!("{s:.1}")).collect();
+    eprintln!(
+        "warning: the simulation diverged at {} of {} speeds ({} Hz); they have no NSV",
+        diverged.len(),
+        c.points.len(),
+        listed.join(", ")
+    );
+    Ok(())
 }
 
 /// The library's options from the command line.
@@ -293,17 +357,25 @@ fn flag(field: &str) -> Option<&'static str> {
     })
 }
 
-/// `cascade: 37/150 speeds`, redrawn at most four times a second, when stderr is a
-/// terminal (a log file or a pipe gets nothing).
+/// `cascade: 37/150 speeds, 12 s, about 35 s left`: redrawn in place at most four times a
+/// second on a terminal; a line every [`LOG_INTERVAL`] otherwise (a log file or a pipe
+/// still learns how far a long run has got).
 pub(crate) struct ProgressLine {
+    terminal: bool,
+    start: Instant,
     last: Mutex<Option<Instant>>,
 }
 
+/// How often a progress line is written when stderr is not a terminal.
+const LOG_INTERVAL: Duration = Duration::from_secs(5);
+
 impl ProgressLine {
-    pub(crate) fn new() -> Option<ProgressLine> {
-        std::io::stderr().is_terminal().then(|| ProgressLine {
+    pub(crate) fn new() -> ProgressLine {
+        ProgressLine {
+            terminal: std::io::stderr().is_terminal(),
+            start: Instant::now(),
             last: Mutex::new(None),
-        })
+        }
     }
 
     pub(crate) fn draw(&self, p: CascadeProgress) {
@@ -311,7 +383,20 @@ impl ProgressLine {
             return;
         };
         let finished = p.done == p.total;
-        if !finished && last.is_some_and(|t| t.elapsed() < Duration::from_millis(250)) {
+        let interval = if self.terminal {
+            Duration::from_millis(250)
+        } else {
+            LOG_INTERVAL
+        };
+        if finished && !self.terminal {
+            return;
+        }
+        if !finished && last.is_some_and(|t| t.elapsed() < interval) {
+            return;
+        }
+        if last.is_none() && !self.terminal && p.done == p.resumed {
+            // The first line of a log: nothing computed yet, nothing to estimate from.
+            *last = Some(Instant::now());
             return;
         }
         *last = Some(Instant::now());
@@ -320,7 +405,43 @@ impl ProgressLine {
         } else {
             String::new()
         };
-        eprint!("\rcascade: {}/{} speeds{resumed}", p.done, p.total);
+        let elapsed = self.start.elapsed().as_secs_f64();
+        let computed = p.done - p.resumed;
+        let left = if computed > 0 && !finished {
+            let seconds = elapsed / computed as f64 * (p.total - p.done) as f64;
+            format!(", about {} left", duration_text(seconds))
+        } else {
+            String::new()
+        };
+        let line = format!(
+            "cascade: {}/{} speeds{resumed}, {}{left}",
+            p.done,
+            p.total,
+            duration_text(elapsed)
+        );
+        if self.terminal {
+            eprint!("\r{line:70}");
+        } else {
+            eprintln!("{line}");
+        }
+    }
+
+    /// Blanks the line on a terminal.
+    pub(crate) fn clear(&self) {
+        if self.terminal {
+            eprint!("\r{:70}\r", "");
+        }
+    }
+}
+
+/// `42 s`, `12 min`, `3.2 h`.
+pub(crate) fn duration_text(seconds: f64) -> String {
+    if seconds < 100.0 {
+        format!("{seconds:.0} s")
+    } else if seconds < 6000.0 {
+        format!("{:.0} min", seconds / 60.0)
+    } else {
+        format!("{:.1} h", seconds / 3600.0)
     }
 }
 

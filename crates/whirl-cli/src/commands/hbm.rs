@@ -60,6 +60,10 @@ pub enum Cage {
     Frozen,
 }
 
+/// The most time samples per period of the alternating frequency-time transform: 20 times
+/// the default (16 H) at the largest H, and checked before any buffer is made.
+const MAX_SAMPLES: usize = 65_536;
+
 /// `whirl hbm`
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -254,6 +258,17 @@ fn sweep_options(args: &Args, model: &Model, harmonics: usize) -> miette::Result
         Cage::Frozen => CageModel::Frozen,
     };
     if let Some(samples) = args.samples {
+        if samples > MAX_SAMPLES {
+            return Err(Diag::option(
+                "--samples",
+                format!(
+                    "{samples} samples per period: at most {MAX_SAMPLES} (every Newton step \
+                     transforms each of them; the default 16 H already resolves the contacts)"
+                ),
+            )
+            .help("leave it out for the default (16 H, at least 64)")
+            .into());
+        }
         if samples <= 2 * harmonics {
             return Err(Diag::new(format!(
                 "--samples {samples}: the transform needs more than 2 H = {} samples per period",

@@ -176,6 +176,36 @@ fn pick_bearing(model: &Model, index: usize) -> miette::Result<&RollerBearing> {
     })
 }
 
+/// The largest roller approach, as a fraction of the roller diameter, a load may cause:
+/// Hertz contact theory holds for approaches of micrometres; a tenth of the roller would
+/// crush it (steel yields long before).
+const MAX_APPROACH_OVER_ROLLER: f64 = 0.1;
+
+/// Refuses a load that would press the rollers further into the rings than contact theory
+/// (or the steel) allows. Carried by N rollers of stiffness k and exponent n, a load F needs
+/// the most loaded roller's approach delta to satisfy F <= N k delta^n, so
+/// delta >= (F / (N k))^(1/n) whatever the clearance: a lower bound that the check uses.
+fn check_load_within_contact(bearing: &RollerBearing, load: [f64; 2]) -> miette::Result<()> {
+    let force = load[0].hypot(load[1]);
+    let per_roller = force / (bearing.rollers as f64 * bearing.contact_stiffness);
+    let approach = per_roller.powf(1.0 / bearing.contact_exponent);
+    let limit = MAX_APPROACH_OVER_ROLLER * bearing.roller_diameter;
+    if approach > limit {
+        return Err(Diag::option(
+            "--load",
+            format!(
+                "under {force:.4e} N the most loaded roller of `{}` would be pressed at least \
+                 {approach:.4e} m into its rings, more than a tenth of its diameter ({:.4e} m): \
+                 far beyond where Hertz contact, or the steel, holds",
+                bearing.name, bearing.roller_diameter
+            ),
+        )
+        .help("give a load the bearing can carry, e.g. --load 1kN")
+        .into());
+    }
+    Ok(())
+}
+
 /// The load vector and where it came from.
 fn bearing_load(args: &Args, model: &Model) -> miette::Result<([f64; 2], &'static str)> {
     if let Some(magnitude) = args.load {
@@ -544,6 +574,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let model = &loaded.model;
     let bearing = pick_bearing(model, args.bearing)?;
     let (load_vector, load_source) = bearing_load(args, model)?;
+    check_load_within_contact(bearing, load_vector)?;
     let study = lib(stiffness_versus_clearance(
         bearing,
         &StiffnessOptions {

@@ -30,6 +30,7 @@ use whirl::study::{point, Point, Study};
 use super::cascade::ProgressLine;
 use super::{finish_json, lib, Outcome};
 use crate::error::{from_whirl, Diag};
+use crate::interrupt;
 use crate::output::{header, num, opt, Output};
 use crate::plots_study;
 
@@ -54,13 +55,19 @@ pub struct Args {
     pub json: bool,
 }
 
+impl Args {
+    /// The output folder.
+    pub fn out_dir(&self) -> PathBuf {
+        self.out
+            .clone()
+            .unwrap_or_else(|| Path::new("out").join("study"))
+    }
+}
+
 /// Runs the study.
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let study = load_study(&args.study)?;
-    let out_dir = args
-        .out
-        .clone()
-        .unwrap_or_else(|| Path::new("out").join("study"));
+    let out_dir = args.out_dir();
     let checkpoint = args.checkpoint.clone().unwrap_or_else(|| {
         let mut name = out_dir.clone().into_os_string();
         name.push(".points");
@@ -75,6 +82,15 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         |p| compute_point(p, &store),
         |k, p, source, r| tell(k, study.points.len(), p, source, r),
     ))?;
+    if interrupt::requested() {
+        return Err(Diag::new(format!(
+            "the study was stopped; its finished points are kept in `{}`",
+            store.dir().display()
+        ))
+        .help("run the same command again to continue")
+        .into());
+    }
+    check_failures(&study, &results)?;
     let outcome = analyse(&study, &results);
     let mut out = Output::begin(&out_dir)?;
     write_tables(&mut out, &study, &results, &outcome)?;
@@ -94,6 +110,39 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let summary = summary(args, &study, &store, &results, &outcome, start);
     let text = text(&study, &outcome, &store);
     finish_json(out, summary, text, args.json)
+}
+
+/// A study in which every point failed is a failure (exit status 1, nothing written); some
+/// failed points are listed on stderr (and in summary.json).
+fn check_failures(study: &Study, results: &[PointOutcome]) -> miette::Result<()> {
+    let failed: Vec<(&Point, &String)> = study
+        .points
+        .iter()
+        .zip(results)
+        .filter_map(|(p, r)| r.as_ref().err().map(|e| (p, e)))
+        .collect();
+    let Some((point, first)) = failed.first() else {
+        return Ok(());
+    };
+    if failed.len() == results.len() {
+        return Err(Diag::new(format!(
+            "every one of the {} points failed; {}: {first}",
+            results.len(),
+            point.label()
+        ))
+        .into());
+    }
+    eprintln!(
+        "warning: {} of {} points failed and are left out of fits and ranking: {}",
+        failed.len(),
+        results.len(),
+        failed
+            .iter()
+            .map(|(p, _)| p.label())
+            .collect::<Vec<_>>()
+            .join("; ")
+    );
+    Ok(())
 }
 
 /// Reads and validates the study file; errors show the line of the file at fault.
@@ -122,15 +171,20 @@ fn load_study(path: &Path) -> miette::Result<Study> {
 /// One point's cascade, resuming from its own folder of finished speeds.
 fn compute_point(p: &Point, store: &Store) -> whirl::Result<PointResult> {
     let partial = store.dir().join("partial").join(&p.key);
-    // The speeds of the point running, on a terminal only (as `whirl cascade` shows them).
+    // The speeds of the point running (as `whirl cascade` shows them); Ctrl-C stops the
+    // point between speeds, its finished speeds kept.
     let line = ProgressLine::new();
     let progress = |c: CascadeProgress| {
-        if let Some(l) = &line {
-            l.draw(c);
+        line.draw(c);
+        if interrupt::requested() {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
         }
-        ControlFlow::Continue(())
     };
-    let result = point::compute(p, Some(&partial), Some(&progress))?;
+    let result = point::compute(p, Some(&partial), Some(&progress));
+    line.clear();
+    let result = result?;
     // The point is saved whole by the caller; its speeds are no longer needed (nor their
     // folder, once no point is half done).
     let _ = std::fs::remove_dir_all(&partial);

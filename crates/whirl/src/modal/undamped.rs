@@ -32,9 +32,34 @@ fn mass_cholesky(mass: &Mat<f64>) -> Result<faer::linalg::solvers::Llt<f64>> {
     })
 }
 
+/// The most negative w^2 taken as round-off of a rigid-body (0 Hz) mode, (rad/s)^2: a mode
+/// growing as exp(t sqrt(-w^2)) this slowly (0.1 Hz) is neutral for any practical purpose.
+const NEUTRAL_OMEGA_SQUARED: f64 =
+    -(2.0 * std::f64::consts::PI * 0.1) * (2.0 * std::f64::consts::PI * 0.1);
+
+/// Refuses a structure whose stiffness is not positive at rest: a negative w^2 is a static
+/// divergence (buckling), which a frequency of 0 Hz would hide.
+fn stable_at_rest(omega_squared: &[f64]) -> Result<()> {
+    match omega_squared.first() {
+        Some(&w2) if w2 < NEUTRAL_OMEGA_SQUARED => Err(Error::Numerical(format!(
+            "the rotor is unstable at rest: its stiffness is not positive (the lowest mode has \
+             w^2 = {w2:.4e} (rad/s)^2, a static divergence growing at {:.4} 1/s); a compressive \
+             axial load above the buckling load or a negative bearing stiffness does this: check \
+             elements.axial_load and the bearings' stiffnesses",
+            (-w2).sqrt()
+        ))),
+        _ => Ok(()),
+    }
+}
+
 /// The `count` lowest undamped modes (all when `count` exceeds the DOF count).
+///
+/// # Errors
+/// [`Error::Numerical`] when the mass is not positive definite, or the stiffness is not
+/// positive semi-definite (the rotor is unstable at rest).
 pub fn undamped_modes(system: &SystemMatrices, count: usize) -> Result<UndampedModes> {
     let (omega_squared, shapes) = symmetric_modes(&system.stiffness, &system.mass, count)?;
+    stable_at_rest(&omega_squared)?;
     let frequencies_hz = omega_squared
         .iter()
         .map(|w2| w2.max(0.0).sqrt() / (2.0 * std::f64::consts::PI))

@@ -329,6 +329,23 @@ impl Model {
         validate::validate(raw).map_err(|e| Error::from(e.locate(file, text)))
     }
 
+    /// Warnings about values that are valid but implausible (a clearance of a large part of
+    /// the bearing, a near-massless shaft), one sentence each naming the field. Models that
+    /// cannot exist are refused by [`Model::from_toml_str`] instead.
+    pub fn warnings(&self) -> Vec<String> {
+        validate::warnings(self)
+    }
+
+    /// Checks that the rotor stands: bearings at two nodes at least. A free or singly
+    /// supported shaft is a valid model (a free-free beam has its uses), but no rotor
+    /// analysis can use its rigid-body modes, so the command line refuses it.
+    ///
+    /// # Errors
+    /// [`Error::Input`] (field `bearing`) saying how the rotor is supported.
+    pub fn check_supports(&self) -> Result<()> {
+        validate::supports(self).map_err(Error::from)
+    }
+
     /// Total length of the shaft, m.
     pub fn length(&self) -> f64 {
         self.sections.iter().map(|s| s.length).sum()

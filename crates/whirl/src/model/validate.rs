@@ -210,8 +210,8 @@ pub(super) fn validate(raw: ModelFile) -> V<Model> {
         .map(|(i, u)| unbalance(u, &format!("unbalance[{i}]"), &nodes, &disks))
         .collect::<V<Vec<_>>>()?;
     let operating = raw.operating.as_ref().map(operating).transpose()?;
-    Ok(Model {
-        name: raw.name.unwrap_or_else(|| "rotor".into()),
+    let model = Model {
+        name: raw.name.clone().unwrap_or_else(|| "rotor".into()),
         gravity,
         sections,
         options,
@@ -221,7 +221,16 @@ pub(super) fn validate(raw: ModelFile) -> V<Model> {
         damping,
         unbalances,
         operating,
-    })
+    };
+    for (i, (b, file)) in model
+        .roller_bearings
+        .iter()
+        .zip(&raw.roller_bearing)
+        .enumerate()
+    {
+        roller_bearing_plausible(b, file, &format!("roller_bearing[{i}]"), model.operating)?;
+    }
+    Ok(model)
 }
 
 fn materials(raw: &[Spanned<MaterialFile>]) -> V<HashMap<String, Material>> {
@@ -397,6 +406,22 @@ fn disk(
                 &format!("{field}.diametral_inertia"),
                 "kg m^2",
             )?;
+            // Perpendicular axes: I_p = sum m (x^2 + y^2) = I_x + I_y - 2 sum m z^2, so
+            // I_p <= 2 I_d for any body symmetric about its axis (equal for a flat disk).
+            // The allowance is round-off of inertias computed elsewhere.
+            if ipv > 2.0 * idv * (1.0 + 1e-9) {
+                return Err(err(
+                    &format!("{field}.polar_inertia"),
+                    ip.span(),
+                    format!(
+                        "a polar inertia of {} kg m^2 is more than twice the diametral inertia \
+                         ({} kg m^2): no rigid body has that (I_p <= 2 I_d, equal for a flat disk)",
+                        Si(ipv),
+                        Si(idv)
+                    ),
+                )
+                .help("check that the two values are not swapped"));
+            }
             (mass, ipv, idv)
         }
         (false, true) => disk_from_geometry(d, field, raw.span(), materials)?,
@@ -551,6 +576,11 @@ fn linear_bearing(
     })
 }
 
+/// Bounds of a contact law's exponent n (F = k delta^n): Hertz theory gives 10/9 (line) and
+/// 3/2 (point); measured roller contacts lie between linear and quadratic.
+const MIN_CONTACT_EXPONENT: f64 = 1.0;
+const MAX_CONTACT_EXPONENT: f64 = 2.0;
+
 fn roller_bearing(
     raw: &Spanned<RollerBearingFile>,
     field: &str,
@@ -602,7 +632,7 @@ fn roller_bearing(
     let roller_tilt = b.roller_tilt.unwrap_or(false);
     let slices = roller_slices(b, skew, &f("slices"))?;
     let exponent = opt_f64(&b.contact_exponent, &f("contact_exponent"), 10.0 / 9.0)?;
-    if !(exponent > 0.0 && exponent <= 3.0) {
+    if !(MIN_CONTACT_EXPONENT..=MAX_CONTACT_EXPONENT).contains(&exponent) {
         let span = b
             .contact_exponent
             .as_ref()
@@ -611,7 +641,11 @@ fn roller_bearing(
         return Err(err(
             &f("contact_exponent"),
             span,
-            format!("must lie in (0, 3], got {exponent}"),
+            format!(
+                "must lie in [{MIN_CONTACT_EXPONENT}, {MAX_CONTACT_EXPONENT}], got {}: Hertz \
+                 theory gives 10/9 for line and 3/2 for point contact",
+                Si(exponent)
+            ),
         )
         .help("10/9 = 1.1111 for line contact, 3/2 for point contact"));
     }
@@ -942,6 +976,175 @@ fn operating(raw: &Spanned<OperatingFile>) -> V<(f64, f64)> {
     }
     Ok((lo, hi))
 }
+
+/// Refuses a rotor that cannot stand: bearings at fewer than two nodes leave it free to
+/// tilt (or, with none, to fall), a rigid-body mode at 0 Hz that no rotor analysis can use.
+pub(super) fn supports(model: &Model) -> V<()> {
+    let nodes = model.bearing_nodes();
+    if nodes.len() >= 2 {
+        return Ok(());
+    }
+    let why = match nodes.first() {
+        Some(n) => format!(
+            "the rotor rests on bearings at one node only ({n}): it is free to tilt about it"
+        ),
+        None => "the rotor has no bearing: it is free to fall and to tilt".to_string(),
+    };
+    Err(InputError::field("bearing", why)
+        .help("support it at two nodes at least, with [[bearing]] or [[roller_bearing]] tables"))
+}
+
+/// Speeds (rad/s) at which speed-dependent laws are checked: from rest to the top of the
+/// operating range, in [`LAW_CHECKS`] steps (only rest when the model states no range).
+fn checked_speeds(operating: Option<(f64, f64)>) -> Vec<f64> {
+    let top = operating.map_or(0.0, |(_, high)| high);
+    (0..=LAW_CHECKS)
+        .map(|k| top * k as f64 / LAW_CHECKS as f64)
+        .collect()
+}
+
+/// Steps of [`checked_speeds`]: a polynomial of the few degrees a clearance law has cannot
+/// dip below zero and back between 1 % steps of the range without its coefficients being
+/// far larger than any fitted law's.
+const LAW_CHECKS: usize = 100;
+
+/// A ring's waviness larger than this many times the clearance scale is refused: waviness is
+/// a form error of micrometres, below the clearance; ten times it would jam or free the
+/// rollers in turn, which is no longer a waviness but a broken ring.
+const MAX_WAVINESS_OVER_CLEARANCE: f64 = 10.0;
+
+/// The smallest clearance scale, as a fraction of the pitch diameter: radial clearances of
+/// roller bearings are about 1e-4 to 1e-3 of the diameter (ISO 5753 groups), so a
+/// zero-clearance (preloaded) bearing is judged against 1e-4 of it.
+const MIN_CLEARANCE_SCALE: f64 = 1e-4;
+
+/// Refuses a roller bearing that cannot exist: a clearance that goes negative or grows past
+/// the rollers within the operating speeds, a forcing law whose coefficients turn negative
+/// there, waviness far above the clearance.
+fn roller_bearing_plausible(
+    b: &RollerBearing,
+    file: &Spanned<RollerBearingFile>,
+    field: &str,
+    operating: Option<(f64, f64)>,
+) -> V<()> {
+    let f = file.get_ref();
+    let clearance_span = f.clearance.span();
+    let speeds = checked_speeds(operating);
+    let mut largest = 0.0_f64;
+    for &w in &speeds {
+        let c = b.clearance.at_speed(w);
+        if c.is_nan() || c < 0.0 {
+            return Err(err(
+                &format!("{field}.clearance"),
+                clearance_span,
+                format!(
+                    "the clearance is {} m at {} Hz, within the operating speeds: it must not be \
+                     negative",
+                    Si(c),
+                    Si(w / (2.0 * PI))
+                ),
+            )
+            .help("check the polynomial's coefficients and units"));
+        }
+        largest = largest.max(c);
+    }
+    if largest >= b.roller_diameter {
+        return Err(err(
+            &format!("{field}.clearance"),
+            clearance_span,
+            format!(
+                "a clearance of {} m is not smaller than the rollers ({} m in diameter): the \
+                 rings could not hold them",
+                Si(largest),
+                Si(b.roller_diameter)
+            ),
+        )
+        .help("radial clearances are micrometres: about 1e-4 to 1e-3 of the pitch diameter"));
+    }
+    let scale = largest.max(MIN_CLEARANCE_SCALE * b.pitch_diameter);
+    for (i, (w, wf)) in b.waviness.iter().zip(&f.waviness).enumerate() {
+        if w.amplitude > MAX_WAVINESS_OVER_CLEARANCE * scale {
+            return Err(err(
+                &format!("{field}.waviness[{i}].amplitude"),
+                wf.get_ref().amplitude.span(),
+                format!(
+                    "a waviness of {} m is more than {MAX_WAVINESS_OVER_CLEARANCE} times the \
+                     clearance scale ({} m): waviness is a form error below the clearance",
+                    Si(w.amplitude),
+                    Si(scale)
+                ),
+            )
+            .help("waviness amplitudes are micrometres, e.g. \"1 um\""));
+        }
+    }
+    if let (Some(law), Some(lf)) = (&b.forcing_function, &f.forcing_function) {
+        // a and b are linear in the speed: their signs over the range are those at its ends.
+        let ends = [speeds[0], speeds[speeds.len() - 1]];
+        if let Some(&w) = ends.iter().find(|&&w| {
+            let (a, e) = law.at_speed(w);
+            !(a > 0.0 && e > 0.0)
+        }) {
+            let (a, e) = law.at_speed(w);
+            return Err(err(
+                &format!("{field}.forcing_function"),
+                lf.span(),
+                format!(
+                    "at {} Hz, within the operating speeds, the law's stiffness a0 + a1 W = {} \
+                     and exponent b0 + b1 W = {}: both must stay positive",
+                    Si(w / (2.0 * PI)),
+                    Si(a),
+                    Si(e)
+                ),
+            )
+            .help("W is in rad/s; `whirl fit-forcing` fits a law over the speeds you give it"));
+        }
+    }
+    Ok(())
+}
+
+/// Warnings about a valid but implausible model: values no real rotor has, which usually
+/// mean a unit slipped. One sentence each, naming the field.
+pub(super) fn warnings(model: &Model) -> Vec<String> {
+    let mut out = Vec::new();
+    for (i, b) in model.roller_bearings.iter().enumerate() {
+        let largest = checked_speeds(model.operating)
+            .iter()
+            .map(|&w| b.clearance.at_speed(w))
+            .fold(0.0, f64::max);
+        if largest > MAX_PLAUSIBLE_CLEARANCE * b.pitch_diameter {
+            out.push(format!(
+                "roller_bearing[{i}].clearance: {} m is {:.1} % of the pitch diameter; radial \
+                 clearances are 0.01 to 0.1 % of it (a unit may be missing: \"20 um\")",
+                Si(largest),
+                100.0 * largest / b.pitch_diameter
+            ));
+        }
+    }
+    let shaft: f64 = model
+        .sections
+        .iter()
+        .map(|s| s.material.density * s.area() * s.length)
+        .sum();
+    let disks: f64 = model.disks.iter().map(|d| d.mass).sum();
+    if shaft < MIN_SHAFT_MASS_FRACTION * (shaft + disks) {
+        out.push(format!(
+            "shaft: its mass ({} kg) is below {} % of the rotor's ({} kg); a near-massless shaft \
+             gives modes of its own at very high frequencies and tiny stable time steps \
+             (check the material's density, kg/m^3)",
+            Si(shaft),
+            100.0 * MIN_SHAFT_MASS_FRACTION,
+            Si(shaft + disks)
+        ));
+    }
+    out
+}
+
+/// A clearance above this fraction of the pitch diameter draws a warning (ten times the
+/// largest clearance group of ISO 5753).
+const MAX_PLAUSIBLE_CLEARANCE: f64 = 0.01;
+
+/// A shaft lighter than this fraction of the rotor draws a warning.
+const MIN_SHAFT_MASS_FRACTION: f64 = 0.01;
 
 /// A number in a message, to six significant digits: `0.0061`, not `0.0060999999999999995`.
 struct Si(f64);

@@ -7,7 +7,9 @@
 //! resumed cascade is bit for bit the uninterrupted one. The manifest holds a hash of the
 //! validated model (so editing a comment in the file keeps the checkpoint, changing a
 //! number does not), the options and the derived step and band, and whirl's version; a
-//! folder whose manifest differs is refused, never mixed. One run at a time per folder.
+//! folder whose manifest differs is refused, never mixed. One run at a time per folder:
+//! the open checkpoint holds the folder's lock (`.lock`, see [`crate::lock`]), so a second
+//! run is refused, and temporary files are cleaned only by the run that holds it.
 //! The writes guard against an interrupted process, not a power cut (no fsync).
 
 use std::fs;
@@ -18,6 +20,7 @@ use serde_json::{json, Value};
 use super::options::{CascadeOptions, Resolved};
 use super::point::CascadePoint;
 use crate::error::{Error, InputError, Result};
+use crate::lock::RunLock;
 use crate::model::Model;
 
 /// Format of the folder; a change makes older folders be refused.
@@ -25,9 +28,14 @@ const FORMAT: u32 = 2;
 
 const MANIFEST: &str = "manifest.json";
 
-/// An open checkpoint folder whose manifest matches the cascade being computed.
+/// The lock file of a checkpoint folder, inside it.
+pub(crate) const LOCK: &str = ".lock";
+
+/// An open checkpoint folder whose manifest matches the cascade being computed; its lock
+/// is held until it is dropped.
 pub(super) struct Checkpoint {
     dir: PathBuf,
+    _lock: RunLock,
 }
 
 /// The manifest of a cascade of `model` with these options.
@@ -67,7 +75,8 @@ impl Checkpoint {
     ///
     /// # Errors
     /// [`Error::Input`] (field `checkpoint`) when the folder holds another cascade: other
-    /// model, options or whirl version; [`Error::Io`] when it cannot be read or written.
+    /// model, options or whirl version; (without a field) when another run is using it;
+    /// [`Error::Io`] when it cannot be read or written.
     pub(super) fn open(
         dir: &Path,
         model: &Model,
@@ -76,6 +85,8 @@ impl Checkpoint {
     ) -> Result<Checkpoint> {
         let wanted = manifest(model, options, resolved)?;
         fs::create_dir_all(dir).map_err(io("create the checkpoint folder", dir))?;
+        // Before anything in the folder is read or cleaned: a live run's files are its own.
+        let lock = RunLock::acquire(&dir.join(LOCK), dir)?;
         let path = dir.join(MANIFEST);
         if path.exists() {
             let text = fs::read_to_string(&path).map_err(io("read", &path))?;
@@ -91,6 +102,7 @@ impl Checkpoint {
         remove_leftovers(dir)?;
         Ok(Checkpoint {
             dir: dir.to_path_buf(),
+            _lock: lock,
         })
     }
 
@@ -130,7 +142,8 @@ pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     fs::rename(&tmp, path).map_err(io("rename into place", path))
 }
 
-/// Removes temporary files a killed run left behind.
+/// Removes temporary files a killed run left behind (called with the folder's lock held,
+/// so none of them belongs to a live run).
 fn remove_leftovers(dir: &Path) -> Result<()> {
     for entry in fs::read_dir(dir).map_err(io("read", dir))?.flatten() {
         let name = entry.file_name();

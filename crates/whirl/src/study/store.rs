@@ -7,7 +7,8 @@
 //! cascade settings, whirl version). A point file is written to a temporary name and renamed into place, so
 //! it is either whole or absent, whatever the moment of interruption. A folder started by a
 //! different study file or model is refused rather than mixed; a point file that cannot be
-//! read back (written by another whirl version) is computed again.
+//! read back (written by another whirl version) is computed again. The open store holds
+//! the folder's lock (`.lock`, see [`crate::lock`]): one study at a time per folder.
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -16,7 +17,8 @@ use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, InputError, Result};
-use crate::nsv::checkpoint::{fnv1a, io, write_atomically};
+use crate::lock::RunLock;
+use crate::nsv::checkpoint::{fnv1a, io, write_atomically, LOCK};
 
 /// The manifest of a checkpoint folder.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -27,10 +29,11 @@ struct Manifest {
     study_file: String,
 }
 
-/// An open checkpoint folder.
+/// An open checkpoint folder; its lock is held until it is dropped.
 #[derive(Debug)]
 pub struct Store {
     dir: PathBuf,
+    _lock: RunLock,
 }
 
 /// FNV-1a, 64 bits, of `parts` separated by a zero byte, as 16 hex digits: a fingerprint
@@ -46,11 +49,14 @@ pub fn fingerprint(parts: &[&str]) -> String {
 impl Store {
     /// Opens (or creates) the checkpoint folder `dir` for the study whose fingerprint is
     /// `fingerprint`. With `restart`, points of an earlier study are discarded; without it,
-    /// a folder of a different study is an error that says what to do.
+    /// a folder of a different study is an error that says what to do, and a folder that
+    /// another run is using is refused.
     pub fn open(dir: &Path, fingerprint: &str, study_file: &Path, restart: bool) -> Result<Store> {
+        fs::create_dir_all(dir).map_err(io("create the folder", dir))?;
         let manifest_path = dir.join("study.json");
         let store = Store {
             dir: dir.to_path_buf(),
+            _lock: RunLock::acquire(&dir.join(LOCK), dir)?,
         };
         if restart && dir.join("points").is_dir() {
             fs::remove_dir_all(dir.join("points")).map_err(io("remove", dir))?;
@@ -158,8 +164,15 @@ mod tests {
         assert_eq!(store.load::<Vec<f64>>("k1"), Some(vec![1.5, 2.5]));
         assert_eq!(store.load::<Vec<f64>>("k2"), None);
         // Reopened by the same study: the point is still there.
+        drop(store);
         let again = Store::open(&dir, "one", study, false).unwrap();
         assert_eq!(again.finished(), 1);
+        // While it is open, a second run on the folder is refused.
+        let busy = Store::open(&dir, "one", study, false)
+            .unwrap_err()
+            .to_string();
+        assert!(busy.contains("is writing"), "{busy}");
+        drop(again);
         // A different study is refused, naming the fix.
         let e = Store::open(&dir, "two", study, false)
             .unwrap_err()

@@ -78,10 +78,14 @@ pub struct BearingReport<'a> {
     pub settled_range: Range<usize>,
 }
 
-/// `bearing A` -> `bearing_a`.
+/// The longest slug, in characters: a name of any length must still make a file name
+/// (`contacts_<slug>_zone.png`) within the 255 bytes most file systems allow.
+const MAX_SLUG: usize = 64;
+
+/// `bearing A` -> `bearing_a`, cut to [`MAX_SLUG`] characters.
 fn slug(name: &str) -> String {
     let mut s = String::new();
-    for c in name.chars() {
+    for c in name.chars().take(MAX_SLUG) {
         if c.is_ascii_alphanumeric() {
             s.push(c.to_ascii_lowercase());
         } else if !s.ends_with('_') {
@@ -366,6 +370,12 @@ mod tests {
         assert_eq!(
             stems(&["bearing A", "Bearing-A", "", "x/y"]),
             ["bearing_a", "bearing_a_2", "bearing", "x_y"]
+        );
+        // A 300-character name (issue 16: "File name too long" after the computation).
+        let long = "b".repeat(300);
+        assert_eq!(
+            stems(&[&long, &long]),
+            [long[..64].to_string(), format!("{}_2", &long[..64])]
         );
     }
 }

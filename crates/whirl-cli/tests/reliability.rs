@@ -1,0 +1,242 @@
+//! Runs that meet each other, get interrupted or fail part-way (issue 16): one run per
+//! output folder, Ctrl-C keeps the checkpoint and leaves no temporary folder, the next run
+//! cleans what a killed one left, and the exit status says whether anything was computed.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+fn whirl() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_whirl"))
+}
+
+fn reference_path() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/reference_rotor.toml")
+}
+
+/// A cascade of 40 speeds: long enough (a few seconds) to be met or interrupted.
+fn cascade(out: &Path) -> Command {
+    let mut c = whirl();
+    c.arg("cascade")
+        .arg(reference_path())
+        .args(["--speeds", "1:750Hz:40", "--out"])
+        .arg(out);
+    c
+}
+
+/// Waits until `path` exists (the first run has started its work), at most 60 s.
+fn wait_for(path: &Path) {
+    let start = Instant::now();
+    while !path.exists() {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "{path:?} never appeared"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// Names in `dir` that start with a dot (temporary folders, locks).
+fn hidden(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().to_string())
+        .filter(|n| n.starts_with('.'))
+        .collect()
+}
+
+fn text(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).to_string()
+}
+
+#[test]
+fn a_second_run_on_the_same_folder_is_refused_and_the_first_is_unharmed() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("cascade");
+    let first = cascade(&out)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The checkpoint's manifest is written once the first run holds the folder.
+    wait_for(&tmp.path().join("cascade.partial").join("manifest.json"));
+    let second = cascade(&out).output().unwrap();
+    let refused = text(&second);
+    assert_eq!(second.status.code(), Some(1), "{refused}");
+    assert!(
+        refused.contains(&format!("another whirl run (process {})", first.id())),
+        "{refused}"
+    );
+    assert!(refused.contains("is writing"), "{refused}");
+    let first = first.wait_with_output().unwrap();
+    assert!(first.status.success(), "{}", text(&first));
+    // The first run's result is whole, and nothing is left beside it.
+    same_as_uninterrupted(&out, tmp.path());
+}
+
+/// Checks that the cascade in `out` is an uninterrupted run's, bit for bit, and that
+/// nothing hidden is left in `dir`.
+fn same_as_uninterrupted(out: &Path, dir: &Path) {
+    let reference = dir.join("uninterrupted");
+    let ok = cascade(&reference).output().unwrap();
+    assert!(ok.status.success(), "{}", text(&ok));
+    for file in ["cascade.csv", "nsv.csv"] {
+        assert_eq!(
+            std::fs::read(out.join(file)).unwrap(),
+            std::fs::read(reference.join(file)).unwrap(),
+            "{file}"
+        );
+    }
+    assert_eq!(hidden(dir), Vec::<String>::new(), "hidden files left");
+}
+
+#[test]
+fn ctrl_c_keeps_the_checkpoint_and_a_rerun_ends_with_the_same_bytes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("cascade");
+    let run = cascade(&out)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Interrupt once a few speeds are saved.
+    wait_for(&tmp.path().join("cascade.partial").join("point-00002.json"));
+    let sent = Command::new("kill")
+        .args(["-INT", &run.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(sent.success());
+    let stopped = run.wait_with_output().unwrap();
+    let message = text(&stopped);
+    assert_eq!(stopped.status.code(), Some(130), "{message}");
+    assert!(
+        message.contains("the cascade was stopped after"),
+        "{message}"
+    );
+    assert!(!out.exists(), "an interrupted run writes no result");
+    assert_eq!(
+        hidden(tmp.path()),
+        Vec::<String>::new(),
+        "temporary folders left"
+    );
+    // The rerun computes the rest; the result is the uninterrupted run's, bit for bit.
+    let resumed = cascade(&out).output().unwrap();
+    assert!(resumed.status.success(), "{}", text(&resumed));
+    same_as_uninterrupted(&out, tmp.path());
+}
+
+#[test]
+fn leftovers_of_a_killed_run_are_removed_by_the_next() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("modal");
+    // What `kill -9` leaves: a temporary folder, a set-aside old result, an unlocked lock.
+    for leftover in [".modal.whirl-tmp-999999", ".modal.whirl-old-999999"] {
+        std::fs::create_dir(tmp.path().join(leftover)).unwrap();
+        std::fs::write(tmp.path().join(leftover).join("summary.json"), "{}").unwrap();
+    }
+    std::fs::write(tmp.path().join(".modal.whirl-lock"), "999999\n").unwrap();
+    // A folder of another name is none of this run's business.
+    std::fs::create_dir(tmp.path().join(".other.whirl-tmp-1")).unwrap();
+    let run = whirl()
+        .arg("modal")
+        .arg(reference_path())
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", text(&run));
+    assert_eq!(hidden(tmp.path()), [".other.whirl-tmp-1"]);
+}
+
+#[test]
+fn a_cascade_that_diverged_at_every_speed_exits_nonzero() {
+    let tmp = tempfile::tempdir().unwrap();
+    // A 4 mm eccentricity throws the disk into the rings; with the step just under the
+    // limit of the contacts at rest, every speed diverges.
+    let model = std::fs::read_to_string(reference_path())
+        .unwrap()
+        .replace("eccentricity = \"40 um\"", "eccentricity = \"4 mm\"");
+    let file = tmp.path().join("thrown.toml");
+    std::fs::write(&file, model).unwrap();
+    let out = tmp.path().join("cascade");
+    let run = whirl()
+        .arg("cascade")
+        .arg(&file)
+        .args(["--speeds", "300:400Hz:2", "--step", "3.6e-5s", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let message = text(&run);
+    assert_eq!(run.status.code(), Some(1), "{message}");
+    assert!(
+        message.contains("diverged at every one of the 2 speeds"),
+        "{message}"
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn a_bearing_name_of_300_characters_does_not_fail_at_write_time() {
+    let tmp = tempfile::tempdir().unwrap();
+    let name = "b".repeat(300);
+    let model = std::fs::read_to_string(reference_path())
+        .unwrap()
+        .replace("name = \"bearing A\"", &format!("name = \"{name}\""));
+    let file = tmp.path().join("long_name.toml");
+    std::fs::write(&file, model).unwrap();
+    let run = whirl()
+        .arg("simulate")
+        .arg(&file)
+        .args([
+            "--speed",
+            "50Hz",
+            "--duration",
+            "0.05s",
+            "--reduce",
+            "12",
+            "--out",
+        ])
+        .arg(tmp.path().join("simulate"))
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", text(&run));
+}
+
+#[test]
+fn an_absurdly_long_cascade_warns_before_it_starts() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("cascade");
+    // 1e8 steps per speed, 40 speeds: 43 min at least (the estimate counts 1.3 us per step
+    // on 2 cores, as the test machine has). The warning comes first; Ctrl-C stops it.
+    let mut run = cascade(&out)
+        .args(["--step", "1e-8s"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    wait_for(&tmp.path().join("cascade.partial").join("manifest.json"));
+    let _ = Command::new("kill")
+        .args(["-INT", &run.id().to_string()])
+        .status();
+    // The speeds running finish before it stops: a second Ctrl-C quits at once.
+    std::thread::sleep(Duration::from_millis(500));
+    let _ = Command::new("kill")
+        .args(["-INT", &run.id().to_string()])
+        .status();
+    let status = run.wait().unwrap();
+    let mut message = String::new();
+    use std::io::Read;
+    run.stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut message)
+        .unwrap();
+    assert_eq!(status.code(), Some(130), "{message}");
+    assert!(
+        message.contains("warning: --step 1e-8 s makes 1.000e8 time steps"),
+        "{message}"
+    );
+    assert!(message.contains("43 min of computing"), "{message}");
+    assert_eq!(hidden(tmp.path()), Vec::<String>::new());
+}
