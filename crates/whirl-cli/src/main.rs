@@ -19,6 +19,7 @@ mod output;
 mod plots;
 mod plots_stiffness;
 mod plots_study;
+mod progress;
 
 use std::io::Write;
 use std::path::PathBuf;

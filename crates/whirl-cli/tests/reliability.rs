@@ -240,3 +240,28 @@ fn an_absurdly_long_cascade_warns_before_it_starts() {
     assert!(message.contains("43 min of computing"), "{message}");
     assert_eq!(hidden(tmp.path()), Vec::<String>::new());
 }
+
+#[test]
+fn long_work_says_how_far_it_is_also_into_a_pipe() {
+    // 200 harmonics take minutes: stderr (a pipe here, not a terminal) gets a line every
+    // few seconds.
+    let tmp = tempfile::tempdir().unwrap();
+    let mut run = whirl()
+        .arg("hbm")
+        .arg(reference_path())
+        .args(["--harmonics", "200", "--out"])
+        .arg(tmp.path().join("hbm"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut pipe = std::io::BufReader::new(run.stderr.take().unwrap());
+    let mut line = String::new();
+    use std::io::BufRead;
+    let read = pipe.read_line(&mut line);
+    let _ = run.kill();
+    let _ = run.wait();
+    assert!(read.is_ok_and(|n| n > 0), "no progress line");
+    assert!(line.starts_with("hbm (H = 200): "), "{line}");
+    assert!(line.contains("Hz of 900.0 Hz"), "{line}");
+}

@@ -24,11 +24,8 @@
 //! model or other options is refused with what differs, and `--restart` deletes it first.
 
 use std::fmt::Write;
-use std::io::IsTerminal;
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
-use std::time::{Duration, Instant};
 
 use serde_json::{json, Value};
 use whirl::model::Model;
@@ -48,6 +45,7 @@ use crate::error::{from_whirl, Diag};
 use crate::interrupt;
 use crate::output::{header, num, Output};
 use crate::plots;
+use crate::progress::{duration_text, Pace};
 
 /// Speeds of the default sweep over the model's operating range.
 const DEFAULT_SPEEDS: usize = 150;
@@ -357,91 +355,43 @@ fn flag(field: &str) -> Option<&'static str> {
     })
 }
 
-/// `cascade: 37/150 speeds, 12 s, about 35 s left`: redrawn in place at most four times a
-/// second on a terminal; a line every [`LOG_INTERVAL`] otherwise (a log file or a pipe
-/// still learns how far a long run has got).
+/// `cascade: 37/150 speeds, 12 s, about 35 s left`, paced by [`Pace`].
 pub(crate) struct ProgressLine {
-    terminal: bool,
-    start: Instant,
-    last: Mutex<Option<Instant>>,
+    pace: Pace,
 }
-
-/// How often a progress line is written when stderr is not a terminal.
-const LOG_INTERVAL: Duration = Duration::from_secs(5);
 
 impl ProgressLine {
     pub(crate) fn new() -> ProgressLine {
-        ProgressLine {
-            terminal: std::io::stderr().is_terminal(),
-            start: Instant::now(),
-            last: Mutex::new(None),
-        }
+        ProgressLine { pace: Pace::new() }
     }
 
     pub(crate) fn draw(&self, p: CascadeProgress) {
-        let Ok(mut last) = self.last.lock() else {
-            return;
-        };
-        let finished = p.done == p.total;
-        let interval = if self.terminal {
-            Duration::from_millis(250)
-        } else {
-            LOG_INTERVAL
-        };
-        if finished && !self.terminal {
-            return;
-        }
-        if !finished && last.is_some_and(|t| t.elapsed() < interval) {
-            return;
-        }
-        if last.is_none() && !self.terminal && p.done == p.resumed {
-            // The first line of a log: nothing computed yet, nothing to estimate from.
-            *last = Some(Instant::now());
-            return;
-        }
-        *last = Some(Instant::now());
-        let resumed = if p.resumed > 0 {
-            format!(" ({} from the checkpoint)", p.resumed)
-        } else {
-            String::new()
-        };
-        let elapsed = self.start.elapsed().as_secs_f64();
-        let computed = p.done - p.resumed;
-        let left = if computed > 0 && !finished {
-            let seconds = elapsed / computed as f64 * (p.total - p.done) as f64;
-            format!(", about {} left", duration_text(seconds))
-        } else {
-            String::new()
-        };
-        let line = format!(
-            "cascade: {}/{} speeds{resumed}, {}{left}",
-            p.done,
-            p.total,
-            duration_text(elapsed)
-        );
-        if self.terminal {
-            eprint!("\r{line:70}");
-        } else {
-            eprintln!("{line}");
-        }
+        self.pace.show(|| {
+            let resumed = if p.resumed > 0 {
+                format!(" ({} from the checkpoint)", p.resumed)
+            } else {
+                String::new()
+            };
+            let elapsed = self.pace.elapsed_s();
+            let computed = p.done - p.resumed;
+            let left = if computed > 0 && p.done < p.total {
+                let seconds = elapsed / computed as f64 * (p.total - p.done) as f64;
+                format!(", about {} left", duration_text(seconds))
+            } else {
+                String::new()
+            };
+            format!(
+                "cascade: {}/{} speeds{resumed}, {}{left}",
+                p.done,
+                p.total,
+                duration_text(elapsed)
+            )
+        });
     }
 
     /// Blanks the line on a terminal.
     pub(crate) fn clear(&self) {
-        if self.terminal {
-            eprint!("\r{:70}\r", "");
-        }
-    }
-}
-
-/// `42 s`, `12 min`, `3.2 h`.
-pub(crate) fn duration_text(seconds: f64) -> String {
-    if seconds < 100.0 {
-        format!("{seconds:.0} s")
-    } else if seconds < 6000.0 {
-        format!("{:.0} min", seconds / 60.0)
-    } else {
-        format!("{:.1} h", seconds / 3600.0)
+        self.pace.clear();
     }
 }
 

@@ -20,16 +20,14 @@
 
 use std::f64::consts::TAU;
 use std::fmt::Write;
-use std::io::IsTerminal;
 use std::sync::Mutex;
-use std::time::{Duration, Instant};
 
 use clap::ValueEnum;
 use serde_json::{json, Value};
 use whirl::fe::{dof, Direction};
 use whirl::hbm::{
-    settled_response, sweep, sweep_with_progress, BifurcationKind, BranchEnd, CageModel,
-    MarchSettings, SettledResponse, Sweep, SweepOptions, DEFAULT_STABILITY_MODES,
+    settled_response, sweep_with_progress, BifurcationKind, BranchEnd, CageModel, MarchSettings,
+    SettledResponse, Sweep, SweepOptions, DEFAULT_STABILITY_MODES,
 };
 use whirl::model::Model;
 use whirl::time::ContactLaw;
@@ -41,6 +39,7 @@ use super::{
 };
 use crate::error::Diag;
 use crate::output::{header, num, Output};
+use crate::progress::{duration_text, Pace};
 
 /// Contact laws harmonic balance can use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -206,30 +205,27 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     finish(out, summary, text, &args.common)
 }
 
-/// The sweep with a progress line on a terminal: the speed the path has reached.
+/// The sweep with a progress line (see [`Pace`]): the speed the path has reached.
 fn sweep_shown(model: &Model, options: &SweepOptions) -> whirl::Result<Sweep> {
-    if !std::io::stderr().is_terminal() {
-        return sweep(model, options);
-    }
-    let last = Mutex::new(Instant::now());
+    let pace = Pace::new();
     let furthest = Mutex::new(options.from);
     let h = options.harmonics;
     let show = |w: f64| {
-        let (Ok(mut last), Ok(mut top)) = (last.lock(), furthest.lock()) else {
+        let Ok(mut top) = furthest.lock() else {
             return;
         };
         *top = top.max(w).min(options.to);
-        if last.elapsed() >= Duration::from_millis(250) {
-            *last = Instant::now();
-            eprint!(
-                "\rhbm (H = {h}): {:.1} Hz of {:.1} Hz   ",
+        pace.show(|| {
+            format!(
+                "hbm (H = {h}): {:.1} Hz of {:.1} Hz, {}",
                 hz(*top),
-                hz(options.to)
-            );
-        }
+                hz(options.to),
+                duration_text(pace.elapsed_s())
+            )
+        });
     };
     let result = sweep_with_progress(model, options, &show);
-    eprint!("\r{:50}\r", "");
+    pace.clear();
     result
 }
 

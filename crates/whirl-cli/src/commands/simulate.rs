@@ -37,8 +37,6 @@ mod contacts;
 
 use std::fmt::Write;
 use std::io::IsTerminal;
-use std::sync::Mutex;
-use std::time::{Duration, Instant};
 
 use clap::ValueEnum;
 use serde_json::{json, Value};
@@ -60,6 +58,7 @@ use super::{
 use crate::error::Diag;
 use crate::output::{header, num, Output};
 use crate::plots;
+use crate::progress::{duration_text, Pace};
 
 /// The central difference runs at this fraction of its stability limit by default: close
 /// enough to be cheap, far enough that round-off in the limit does not matter.
@@ -245,9 +244,9 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         progress: progress_display(),
     };
     let result = simulate_contacts(model, &options, law, every);
-    if options.progress.is_some() {
+    if std::io::stderr().is_terminal() {
         // Blank out the progress line.
-        eprint!("\r{:20}\r", "");
+        eprint!("\r{:70}\r", "");
     }
     let result = lib(result)?;
     if let RunStatus::Diverged { message, .. } = &result.status {
@@ -363,22 +362,18 @@ fn speed_profile(args: &Args, settle: f64) -> miette::Result<SpeedProfile> {
     }
 }
 
-/// A percentage line on stderr, redrawn at most four times a second, when stderr is a
-/// terminal (a log file or a pipe gets nothing).
+/// A percentage line on stderr, paced by [`Pace`] (a line every few seconds when stderr is
+/// not a terminal).
 fn progress_display() -> Option<Progress> {
-    if !std::io::stderr().is_terminal() {
-        return None;
-    }
-    let last_drawn: Mutex<Option<Instant>> = Mutex::new(None);
+    let pace = Pace::new();
     Some(Progress::new(move |fraction| {
-        let Ok(mut last) = last_drawn.lock() else {
-            return;
-        };
-        if last.is_some_and(|t| t.elapsed() < Duration::from_millis(250)) {
-            return;
-        }
-        *last = Some(Instant::now());
-        eprint!("\rsimulating: {:3.0} %", 100.0 * fraction);
+        pace.show(|| {
+            format!(
+                "simulating: {:3.0} %, {}",
+                100.0 * fraction,
+                duration_text(pace.elapsed_s())
+            )
+        });
     }))
 }
 

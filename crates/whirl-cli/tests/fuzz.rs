@@ -1,0 +1,435 @@
+//! Fuzzing (issue 16): model files and command lines generated and mutated from the bundled
+//! examples, checking that nothing panics or aborts and that every rejection is located.
+//!
+//! Model files run in this process: read and validated, and when accepted, assembled and
+//! solved for their first modes (as `whirl check` does). A rejected model must name its
+//! field or its line and column. Every [`PROCESS_EVERY`]-th model file, and every command
+//! line, runs through the `whirl` binary, so the error printer is fuzzed too: its exit status
+//! must be 0, 1 or 2 (never a panic's 101 or a signal), a failure must say why on stderr,
+//! and a run still going after [`RUN_LIMIT`] (valid long work, e.g. 200 harmonics) must have
+//! said how far it is on stderr by then.
+//!
+//! The test suite runs it for a few seconds (`fuzz_briefly`). For hours:
+//!
+//! ```sh
+//! WHIRL_FUZZ_SECONDS=7200 nice -n 19 cargo test -p whirl-cli --test fuzz -- --ignored --nocapture
+//! ```
+//!
+//! prints the inputs run and the rate every minute; a failing input is written to
+//! `$TMPDIR/whirl-fuzz-failures/` to be replayed with `whirl check`. `WHIRL_FUZZ_SEED`
+//! picks another sequence of inputs (the default is fixed, so a failure reproduces).
+
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use whirl::fe::{assemble, Bearings};
+use whirl::modal::undamped_modes;
+use whirl::model::Model;
+
+/// One model file in this many also runs through `whirl check` (a process start costs
+/// about as much as a hundred in-process models).
+const PROCESS_EVERY: u64 = 50;
+
+/// How long a generated run may go on before it is stopped, in the long run; by then it must
+/// have printed its progress (a line every 5 s), or it counts as a run that went silent.
+const RUN_LIMIT: Duration = Duration::from_secs(60);
+
+/// [`RUN_LIMIT`] in the test suite's brief run: long enough for a progress line on a loaded
+/// machine, short enough that one valid long command (200 harmonics) does not hold the
+/// suite for a minute.
+const BRIEF_RUN_LIMIT: Duration = Duration::from_secs(15);
+
+/// Models larger than this many nodes are validated only: the cost of big models is the
+/// business of the scale benchmarks, not of a fuzzer that must run thousands per minute.
+const MAX_SOLVED_NODES: usize = 60;
+
+/// xorshift64*: a small, fixed, fast generator, so a seed gives the same inputs everywhere.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+    }
+
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n.max(1) as u64) as usize
+    }
+
+    fn pick<'a, T>(&mut self, items: &'a [T]) -> &'a T {
+        &items[self.below(items.len())]
+    }
+}
+
+/// Values that have broken parsers and solvers before: zero, signs, extremes, non-numbers,
+/// wrong units, huge counts, long text.
+const VALUES: &[&str] = &[
+    "0",
+    "-1",
+    "1",
+    "2.5",
+    "-0.0",
+    "1e308",
+    "-1e308",
+    "1e-300",
+    "1e30",
+    "10000000000",
+    "9223372036854775807",
+    "nan",
+    "inf",
+    "\"\"",
+    "\"1e308 Hz\"",
+    "\"-5 mm\"",
+    "\"20 furlongs\"",
+    "\"5 mm\"",
+    "\"0.1 um\"",
+    "\"nan m\"",
+    "[]",
+    "{}",
+    "true",
+    "\"palmgren\"",
+];
+
+/// Speeds, times, counts and lists for command lines, good and bad.
+const ARGS: &[&str] = &[
+    "1:750Hz:10000000000",
+    "1:750Hz:5",
+    "0:100Hz:3",
+    "100Hz:1Hz:3",
+    "1e308Hz",
+    "1e308Hz:1e308Hz:2",
+    "-5Hz",
+    "50Hz",
+    "3000rpm",
+    "nan",
+    "0",
+    "-1",
+    "1000000000",
+    "200",
+    "1e-300s",
+    "1e30N",
+    "abc",
+    "",
+    "10,0",
+    "99999",
+];
+
+/// A command with its flags that take a value (each gets a random [`ARGS`] entry).
+const COMMANDS: &[(&str, &[&str])] = &[
+    ("check", &[]),
+    ("modal", &["--speed", "--modes"]),
+    ("campbell", &["--speeds", "--modes"]),
+    ("unbalance", &["--speeds", "--nodes"]),
+    ("stiffness", &["--load", "--clearances", "--cage-steps"]),
+    ("cascade", &["--speeds", "--settle", "--record", "--step"]),
+    ("hbm", &["--speeds", "--samples", "--harmonics"]),
+    ("fit-forcing", &["--speeds"]),
+    ("simulate", &["--speed", "--duration", "--step"]),
+    ("convergence", &["--elements"]),
+];
+
+/// The model files mutations start from.
+fn seeds() -> Vec<String> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    [
+        "reference_rotor.toml",
+        "reference_rotor_soft.toml",
+        "reference_rotor_waviness.toml",
+    ]
+    .iter()
+    .map(|f| std::fs::read_to_string(dir.join(f)).expect("bundled example"))
+    .collect()
+}
+
+/// One to three random edits of `text`.
+fn mutate(rng: &mut Rng, text: &str) -> String {
+    let mut t = text.to_string();
+    for _ in 0..=rng.below(3) {
+        t = match rng.below(8) {
+            0 => replace_value(rng, &t),
+            1 => replace_value(rng, &t),
+            2 => edit_lines(rng, &t, |lines, i| {
+                lines.remove(i);
+            }),
+            3 => edit_lines(rng, &t, |lines, i| {
+                let line = lines[i].clone();
+                lines.insert(i, line);
+            }),
+            4 => {
+                // A byte replaced by a character TOML cares about.
+                let mut chars: Vec<char> = t.chars().collect();
+                if !chars.is_empty() {
+                    let i = rng.below(chars.len());
+                    chars[i] = *rng.pick(&['"', '=', '[', ']', '\n', '#', '{', ',', '.', 'é']);
+                }
+                chars.into_iter().collect()
+            }
+            5 => {
+                let cut = rng.below(t.len());
+                let cut = (0..=cut)
+                    .rev()
+                    .find(|&i| t.is_char_boundary(i))
+                    .unwrap_or(0);
+                t[..cut].to_string()
+            }
+            6 => {
+                // A very long run of text (the printer once panicked past column 65,535).
+                let at = t.find('\n').unwrap_or(0);
+                format!("{}{}{}", &t[..at], "a".repeat(70_000), &t[at..])
+            }
+            _ => {
+                let from = *rng.pick(&["um", "mm", "Hz", "kg", " m\""]);
+                let to = *rng.pick(&["furlongs", "Hz", "m", "um", "rpm", ""]);
+                t.replacen(from, to, 1)
+            }
+        };
+    }
+    t
+}
+
+/// Replaces the value of a random `key = value` line.
+fn replace_value(rng: &mut Rng, text: &str) -> String {
+    let value = *rng.pick(VALUES);
+    edit_lines(rng, text, |lines, i| {
+        if let Some((key, _)) = lines[i].split_once('=') {
+            lines[i] = format!("{key}= {value}");
+        }
+    })
+}
+
+fn edit_lines(rng: &mut Rng, text: &str, edit: impl FnOnce(&mut Vec<String>, usize)) -> String {
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    if !lines.is_empty() {
+        let i = rng.below(lines.len());
+        edit(&mut lines, i);
+    }
+    lines.join("\n") + "\n"
+}
+
+/// What went wrong with one input.
+#[derive(Debug)]
+struct Failure {
+    what: String,
+    input: String,
+}
+
+/// Counts of what the inputs did.
+#[derive(Debug, Default)]
+struct Tally {
+    models: u64,
+    accepted: u64,
+    processes: u64,
+    failures: Vec<Failure>,
+}
+
+/// Reads, validates and (when small) solves one model text in this process, as the command
+/// line does; a panic or an unlocated rejection is a failure.
+fn run_model(text: &str, tally: &mut Tally) {
+    tally.models += 1;
+    let outcome = catch_unwind(AssertUnwindSafe(|| -> Result<bool, String> {
+        let model = match Model::from_toml_str(text, Some(PathBuf::from("fuzz.toml"))) {
+            Ok(m) => m,
+            Err(whirl::Error::Input(e)) if e.line_column.is_some() || e.field.is_some() => {
+                return Ok(false)
+            }
+            Err(e) => return Err(format!("rejected without a place: {e}")),
+        };
+        let _ = model.warnings();
+        if model.check_supports().is_err() || model.node_count() > MAX_SOLVED_NODES {
+            return Ok(true);
+        }
+        let _ = undamped_modes(&assemble(&model, Bearings::Linearised), 4);
+        Ok(true)
+    }));
+    match outcome {
+        Ok(Ok(accepted)) => tally.accepted += u64::from(accepted),
+        Ok(Err(what)) => {
+            eprintln!("fuzz failure: {what}");
+            tally.failures.push(Failure {
+                what,
+                input: text.to_string(),
+            })
+        }
+        Err(_) => tally.failures.push(Failure {
+            what: "panic".into(),
+            input: text.to_string(),
+        }),
+    }
+}
+
+/// Runs `whirl` with `args` (model file `model`), checking how it ends.
+fn run_process(dir: &Path, model: &str, args: &[String], limit: Duration, tally: &mut Tally) {
+    tally.processes += 1;
+    let file = dir.join("fuzz.toml");
+    if std::fs::write(&file, model).is_err() {
+        return;
+    }
+    let out = dir.join(format!("out{}", tally.processes));
+    let mut child = match Command::new(env!("CARGO_BIN_EXE_whirl"))
+        .args(&args[..1])
+        .arg(&file)
+        .args(&args[1..])
+        .arg("--out")
+        .arg(&out)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+    {
+        Ok(c) => c,
+        Err(_) => return,
+    };
+    let start = Instant::now();
+    let mut stopped = false;
+    let status = loop {
+        match child.try_wait() {
+            Ok(Some(status)) => break Some(status),
+            Ok(None) if start.elapsed() > limit => {
+                let _ = child.kill();
+                let _ = child.wait();
+                stopped = true;
+                break None;
+            }
+            Ok(None) => std::thread::sleep(Duration::from_millis(2)),
+            Err(_) => break None,
+        }
+    };
+    let mut stderr = String::new();
+    if let Some(mut pipe) = child.stderr.take() {
+        use std::io::Read;
+        let _ = pipe.read_to_string(&mut stderr);
+    }
+    let _ = std::fs::remove_dir_all(&out);
+    let what = match status.and_then(|s| s.code()) {
+        None if stopped && !stderr.trim().is_empty() => None,
+        None if stopped => Some(format!("silent for {} s", limit.as_secs())),
+        None => Some("killed by a signal".to_string()),
+        Some(0) => None,
+        Some(1 | 2) if !stderr.trim().is_empty() => None,
+        Some(1 | 2) => Some("failed without a word".to_string()),
+        Some(code) => Some(format!("exit status {code}: {}", tail(&stderr))),
+    };
+    if let Some(what) = what {
+        eprintln!("fuzz failure: whirl {}: {what}", args.join(" "));
+        tally.failures.push(Failure {
+            what: format!("whirl {}: {what}", args.join(" ")),
+            input: model.to_string(),
+        });
+    }
+}
+
+fn tail(text: &str) -> String {
+    let start = text.len().saturating_sub(2000);
+    let start = (start..text.len())
+        .find(|&i| text.is_char_boundary(i))
+        .unwrap_or(0);
+    text[start..].to_string()
+}
+
+/// A random command line: a command and some of its flags with random values.
+fn command_line(rng: &mut Rng) -> Vec<String> {
+    let (command, flags) = *rng.pick(COMMANDS);
+    let mut args = vec![command.to_string()];
+    for flag in flags.iter() {
+        if rng.below(2) == 0 {
+            args.push(flag.to_string());
+            args.push(rng.pick(ARGS).to_string());
+        }
+    }
+    args
+}
+
+/// Fuzzes for `seconds`; returns the tally.
+fn fuzz(seconds: f64, seed: u64, limit: Duration) -> Tally {
+    let mut rng = Rng(seed.max(1));
+    let seeds = seeds();
+    let dir = tempfile::tempdir().expect("temporary folder");
+    let mut tally = Tally::default();
+    let start = Instant::now();
+    let mut last_report = Instant::now();
+    while start.elapsed().as_secs_f64() < seconds {
+        let base = rng.pick(&seeds).clone();
+        let text = mutate(&mut rng, &base);
+        run_model(&text, &mut tally);
+        if tally.models % PROCESS_EVERY == 0 {
+            // Alternately the mutated model through `whirl check` (the error printer) and a
+            // random command line on the unmutated reference (the options are fuzzed).
+            if tally.processes % 2 == 0 {
+                run_process(dir.path(), &text, &["check".to_string()], limit, &mut tally);
+            } else {
+                let args = command_line(&mut rng);
+                run_process(dir.path(), &seeds[0], &args, limit, &mut tally);
+            }
+        }
+        if last_report.elapsed() > Duration::from_secs(60) {
+            last_report = Instant::now();
+            report(&tally, start.elapsed());
+        }
+    }
+    report(&tally, start.elapsed());
+    tally
+}
+
+fn report(tally: &Tally, elapsed: Duration) {
+    let s = elapsed.as_secs_f64();
+    eprintln!(
+        "fuzz: {:.0} s: {} model files ({} accepted), {} whirl runs, {:.0} inputs/s, {} failures",
+        s,
+        tally.models,
+        tally.accepted,
+        tally.processes,
+        (tally.models + tally.processes) as f64 / s.max(1e-9),
+        tally.failures.len()
+    );
+}
+
+/// Writes the failing inputs where they can be replayed, and fails with the first few.
+fn assert_clean(tally: &Tally) {
+    if tally.failures.is_empty() {
+        return;
+    }
+    let dir = std::env::temp_dir().join("whirl-fuzz-failures");
+    let _ = std::fs::create_dir_all(&dir);
+    for (i, f) in tally.failures.iter().enumerate() {
+        let _ = std::fs::write(dir.join(format!("failure-{i}.toml")), &f.input);
+    }
+    let first: Vec<&str> = tally
+        .failures
+        .iter()
+        .take(5)
+        .map(|f| f.what.as_str())
+        .collect();
+    panic!(
+        "{} failures (inputs in {}); first: {first:#?}",
+        tally.failures.len(),
+        dir.display()
+    );
+}
+
+fn env_number(name: &str, default: f64) -> f64 {
+    std::env::var(name)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
+}
+
+#[test]
+fn fuzz_briefly() {
+    // A few seconds in the suite (and the whirl run under way when they are up): some
+    // thousands of model files and a few tens of whirl runs.
+    let tally = fuzz(4.0, 0x5eed, BRIEF_RUN_LIMIT);
+    assert!(tally.models > 100, "{tally:?}");
+    assert_clean(&tally);
+}
+
+#[test]
+#[ignore = "hours; run with WHIRL_FUZZ_SECONDS (see the module doc)"]
+fn fuzz_long() {
+    let seconds = env_number("WHIRL_FUZZ_SECONDS", 3600.0);
+    let seed = env_number("WHIRL_FUZZ_SEED", 7.0) as u64;
+    let tally = fuzz(seconds, seed, RUN_LIMIT);
+    assert_clean(&tally);
+}
