@@ -383,8 +383,16 @@ fn a_speed_that_overflows_in_rad_per_second_is_an_input_error() {
     fails(
         Some(&reference()),
         &["modal", "{model}", "--speed", "1e308Hz"],
-        &["--speed", "1e308Hz", "not a finite number"],
+        &["--speed", "1e308Hz", "is inf rad/s, beyond the 1e7 rad/s"],
     );
+    // Finite in rad/s, but far beyond any rotor: it made faer's Schur solver panic.
+    fails(
+        Some(&reference()),
+        &["modal", "{model}", "--speed", "1e308"],
+        &["--speed", "beyond the 1e7 rad/s (1.6 MHz) whirl accepts"],
+    );
+    let m = edited("max_speed = \"750 Hz\"", "max_speed = 1e300");
+    check_fails(&m, &["operating.max_speed", "beyond the 1e7 rad/s"]);
 }
 
 #[test]

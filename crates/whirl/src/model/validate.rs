@@ -12,7 +12,7 @@ use toml::Spanned;
 
 use super::schema::*;
 use super::*;
-use crate::units::{parse_quantity, Dimension};
+use crate::units::{check_speed, parse_quantity, Dimension};
 
 type V<T> = std::result::Result<T, InputError>;
 
@@ -23,7 +23,11 @@ fn err(field: &str, span: Range<usize>, message: impl Into<String>) -> InputErro
 /// A quantity in SI, finite.
 fn quantity(q: &Q, dim: Dimension, field: &str) -> V<f64> {
     let value = match q.get_ref() {
-        NumOrText::Number(x) => *x,
+        NumOrText::Number(x) => {
+            check_speed(*x, &x.to_string(), dim)
+                .map_err(|e| err(field, q.span(), e.to_string()))?;
+            *x
+        }
         NumOrText::Text(t) => {
             parse_quantity(t, dim).map_err(|e| err(field, q.span(), e.to_string()))?
         }
