@@ -371,3 +371,34 @@ fn a_downward_sweep_finds_the_same_folds() {
     let last = &down.points[down.points.len() - 1].solution;
     assert_eq!(last.frequency, FROM);
 }
+
+#[test]
+fn both_folds_are_passed_with_any_maximum_step() {
+    let reference = branch(1);
+    for max_step in [0.005, 0.01, 0.03, 0.1, 0.2, 0.5] {
+        let mut hb = duffing_hb(1);
+        let guess = vec![0.0; hb.unknowns()];
+        let options = ContinuationOptions {
+            max_step,
+            initial_step: 0.005f64.min(max_step),
+            stability: false,
+            ..ContinuationOptions::default()
+        };
+        let path = continuation(&mut hb, FROM, TO, &guess, &options).unwrap();
+        eprintln!(
+            "max step {max_step}: {} points, folds {:?}, jumps {:?}, {:?}",
+            path.points.len(),
+            path.folds.iter().map(|f| f.frequency).collect::<Vec<_>>(),
+            path.jumps,
+            path.end
+        );
+        assert!(matches!(path.end, BranchEnd::Reached), "{max_step}");
+        assert!(path.jumps.is_empty(), "{max_step}: {:?}", path.jumps);
+        assert_eq!(path.folds.len(), 2, "{max_step}");
+        // Both on the branch, to the corrector's tolerance, as with the default step.
+        for (f, r) in path.folds.iter().zip(&reference.folds) {
+            assert!(f.refined);
+            assert!((f.frequency - r.frequency).abs() < 1e-9 * r.frequency);
+        }
+    }
+}

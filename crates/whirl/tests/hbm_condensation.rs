@@ -266,7 +266,7 @@ const RING_CONTACT: f64 = 10.0;
 const RING_CLEARANCE: f64 = 1.0;
 const RING_UNBALANCE: f64 = 0.2;
 
-fn ring_rotor() -> HbProblem {
+fn ring_rotor(unbalance: f64) -> HbProblem {
     let diagonal = |v: f64| Mat::from_fn(2, 2, |i, j| if i == j { v } else { 0.0 });
     HbProblem {
         mass: diagonal(RING_MASS),
@@ -275,8 +275,8 @@ fn ring_rotor() -> HbProblem {
         gyroscopic: diagonal(0.0),
         constant_force: vec![0.0; 2],
         // m e w^2 (cos w t, sin w t) = Re(m e w^2 (1, -i) e^{i w t}).
-        unbalance_re: vec![RING_UNBALANCE, 0.0],
-        unbalance_im: vec![0.0, -RING_UNBALANCE],
+        unbalance_re: vec![unbalance, 0.0],
+        unbalance_im: vec![0.0, -unbalance],
         harmonic_re: vec![0.0; 2],
         harmonic_im: vec![0.0; 2],
         nonlinear: vec![Box::new(ClearanceRing {
@@ -305,27 +305,27 @@ fn ring_closed_form_defect(w: f64, r: f64) -> f64 {
 /// The closed form squared is a quadratic in u = w^2 for each radius r > gamma:
 /// (m^2 r^2 - (m e)^2) u^2 + (c^2 - 2 k_eff m) r^2 u + k_eff^2 r^2 = 0. Its coefficients
 /// (a, b, c).
-fn ring_quadratic(r: f64) -> (f64, f64, f64) {
+fn ring_quadratic(r: f64, unbalance: f64) -> (f64, f64, f64) {
     let k_eff = RING_SHAFT + RING_CONTACT * (1.0 - RING_CLEARANCE / r);
     (
-        RING_MASS * RING_MASS * r * r - RING_UNBALANCE * RING_UNBALANCE,
+        RING_MASS * RING_MASS * r * r - unbalance * unbalance,
         (RING_DAMPING * RING_DAMPING - 2.0 * k_eff * RING_MASS) * r * r,
         k_eff * k_eff * r * r,
     )
 }
 
 /// The frequency of the contact branch on its upper side at radius r (the larger root).
-fn ring_upper_frequency(r: f64) -> f64 {
-    let (a, b, c) = ring_quadratic(r);
+fn ring_upper_frequency(r: f64, unbalance: f64) -> f64 {
+    let (a, b, c) = ring_quadratic(r, unbalance);
     ((-b + (b * b - 4.0 * a * c).sqrt()) / (2.0 * a)).sqrt()
 }
 
 /// The fold of the contact branch: the largest w on it. Radii with a solution end where
 /// the discriminant vanishes (found by bisection); below that the largest w of the upper
 /// root is bracketed by a scan and refined by golden section.
-fn ring_closed_form_fold() -> f64 {
+fn ring_closed_form_fold(unbalance: f64) -> f64 {
     let discriminant = |r: f64| {
-        let (a, b, c) = ring_quadratic(r);
+        let (a, b, c) = ring_quadratic(r, unbalance);
         b * b - 4.0 * a * c
     };
     let (mut lo, mut hi) = (2.0 * RING_CLEARANCE, 100.0 * RING_CLEARANCE);
@@ -342,7 +342,7 @@ fn ring_closed_form_fold() -> f64 {
     let best = (1..=1000)
         .map(|i| from + width * i as f64)
         .fold(lo, |best, r| {
-            if ring_upper_frequency(r) > ring_upper_frequency(best) {
+            if ring_upper_frequency(r, unbalance) > ring_upper_frequency(best, unbalance) {
                 r
             } else {
                 best
@@ -352,13 +352,13 @@ fn ring_closed_form_fold() -> f64 {
     let golden = (5f64.sqrt() - 1.0) / 2.0;
     while b - a > 1e-10 * best {
         let (x1, x2) = (b - golden * (b - a), a + golden * (b - a));
-        if ring_upper_frequency(x1) > ring_upper_frequency(x2) {
+        if ring_upper_frequency(x1, unbalance) > ring_upper_frequency(x2, unbalance) {
             b = x2;
         } else {
             a = x1;
         }
     }
-    ring_upper_frequency(0.5 * (a + b))
+    ring_upper_frequency(0.5 * (a + b), unbalance)
 }
 
 /// Radius of the first harmonic of x, and the largest departure from a forward circular
@@ -381,7 +381,7 @@ fn clearance_ring_reproduces_the_exact_circular_orbit_through_the_overhang() {
     let options = HbOptions::new(HARMONICS);
     // Every coordinate carries the contact force: the condensation keeps both and
     // condenses nothing, and continuation runs on the condensed problem.
-    let mut hb = CondensedBalance::new(ring_rotor(), options).unwrap();
+    let mut hb = CondensedBalance::new(ring_rotor(RING_UNBALANCE), options).unwrap();
     let guess = vec![0.0; hb.unknowns()];
     let path = ContinuationOptions {
         stability: false,
@@ -419,7 +419,7 @@ fn clearance_ring_reproduces_the_exact_circular_orbit_through_the_overhang() {
         .filter(|p| p.frequency_slope < 0.0)
         .map(|p| p.solution.frequency)
         .fold(f64::INFINITY, f64::min);
-    let fold = ring_closed_form_fold();
+    let fold = ring_closed_form_fold(RING_UNBALANCE);
     let fold_error = (branch.folds[0].frequency - fold).abs() / fold;
     eprintln!("clearance ring: closed-form fold {fold:.12} rad/s, located to {fold_error:.2e}");
     eprintln!(
@@ -467,6 +467,45 @@ fn clearance_ring_reproduces_the_exact_circular_orbit_through_the_overhang() {
     // The fold is located on the branch as accurately as the corrector converges; the
     // frequency is flat there (dw/dr = 0), so it is better than the radius.
     assert!(fold_error < 1e-9, "fold {fold_error:e}");
+}
+
+/// The same ring with a smaller unbalance, m e = 0.15 (free resonance amplitude 3, still
+/// three clearances), followed with default options from w = 0.2, where the orbit is 200
+/// times smaller than at the fold: the arclength is scaled at each point, so the steps
+/// grow with the orbit and the fold is reached and located.
+#[test]
+fn clearance_ring_fold_is_reached_from_a_small_start_amplitude() {
+    let unbalance = 0.15;
+    let mut hb = CondensedBalance::new(ring_rotor(unbalance), HbOptions::new(HARMONICS)).unwrap();
+    let guess = vec![0.0; hb.unknowns()];
+    let branch = continuation(&mut hb, 0.2, 5.0, &guess, &ContinuationOptions::default()).unwrap();
+    let start = ring_orbit(&branch.points[0].solution.coefficients).0;
+    let widest = branch
+        .points
+        .iter()
+        .map(|p| ring_orbit(&p.solution.coefficients).0)
+        .fold(0.0f64, f64::max);
+    let fold = ring_closed_form_fold(unbalance);
+    eprintln!(
+        "clearance ring, m e = 0.15: {} points, start radius {start:.2e}, largest {widest:.3}, \
+         folds {:?} (closed form {fold:.10}), jumps {:?}, {:?}",
+        branch.points.len(),
+        branch.folds.iter().map(|f| f.frequency).collect::<Vec<_>>(),
+        branch.jumps,
+        branch.end
+    );
+    assert!(matches!(branch.end, whirl::hbm::BranchEnd::Reached));
+    assert!(branch.jumps.is_empty());
+    assert!(widest > 100.0 * start);
+    // The fold, then the corner where the path rejoins the free branch.
+    assert_eq!(branch.folds.len(), 2);
+    let error = (branch.folds[0].frequency - fold).abs() / fold;
+    // As with m e = 0.2: located on the branch to the corrector's tolerance.
+    assert!(
+        error < 1e-9,
+        "fold {} against {fold}: {error:e}",
+        branch.folds[0].frequency
+    );
 }
 
 /// Hill's method on the condensed path (a Craig-Bampton model of the linear part with the

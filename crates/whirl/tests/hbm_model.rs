@@ -71,3 +71,38 @@ fn reduced_and_full_models_give_the_same_branch_through_the_first_resonance() {
     assert!((a - b).abs() / a < 1e-2, "{a} vs {b}");
     assert!((fa - fb).abs() / fa < 1e-2, "{fa} vs {fb}");
 }
+
+/// The answer at a speed does not depend on where the sweep ends: the arclength is scaled
+/// at each point (not by the range), so the path up to 330 Hz is the same for every end,
+/// and the solution is solved at exactly 330 Hz on each crossing of the branch.
+#[test]
+fn the_solution_at_330_hz_does_not_depend_on_the_end_of_the_range() {
+    let model = reference("10 um");
+    let disk = dof(10, Direction::Uy);
+    let w = TAU * 330.0;
+    let mut answers = Vec::new();
+    for end in [330.0, 400.0, 750.0] {
+        let mut options = SweepOptions::new(TAU, TAU * end, 5);
+        options.stability = false;
+        options.exact_speeds = vec![w];
+        let result = sweep(&model, &options).unwrap();
+        let amplitudes: Vec<f64> = result
+            .at_speeds
+            .iter()
+            .map(|a| result.amplitude_of(&a.coefficients, disk, 1))
+            .collect();
+        eprintln!(
+            "1:{end}Hz: {} points, {:?}, jumps {:?}; disk 1X at 330 Hz {amplitudes:.6e} m",
+            result.branch.points.len(),
+            result.branch.end,
+            result.branch.jumps
+        );
+        assert!(!amplitudes.is_empty());
+        answers.push(amplitudes[0]);
+    }
+    for a in &answers[1..] {
+        // The same path to the same orbit: equal to the corrector's tolerance; the must is
+        // 0.1 %.
+        assert!((a - answers[0]).abs() < 1e-3 * answers[0], "{answers:?}");
+    }
+}

@@ -10,7 +10,9 @@
 //! (kind, speed, frequency of the crossing exponent: the non-synchronous frequency that
 //! appears at a Neimark-Sacker point), the plot `harmonics` (amplitude of each harmonic at
 //! the first node over speed, stable solid and unstable dashed, bifurcations marked) and
-//! `stability` (the largest real part over speed). `--compare-time` adds `compare_time.csv`
+//! `stability` (the largest real part over speed). `--compare-time` solves harmonic balance
+//! at exactly each of its speeds (every orbit where the branch crosses it, each marked
+//! stable or unstable) and adds `compare_time.csv`
 //! and the time-marching amplitudes as markers on `harmonics` (thesis fig. 4.27);
 //! `--harmonics-study` adds `harmonics_study.csv` and the plot `harmonics_study`
 //! (the first harmonic for each H, thesis fig. 4.28).
@@ -26,8 +28,8 @@ use clap::ValueEnum;
 use serde_json::{json, Value};
 use whirl::fe::{dof, Direction};
 use whirl::hbm::{
-    settled_response, sweep_with_progress, BifurcationKind, BranchEnd, CageModel, MarchSettings,
-    SettledResponse, Sweep, SweepOptions, DEFAULT_STABILITY_MODES,
+    settled_response, sweep_with_progress, AtSpeed, BifurcationKind, BranchEnd, CageModel,
+    MarchSettings, SettledResponse, Sweep, SweepOptions, DEFAULT_STABILITY_MODES,
 };
 use whirl::model::Model;
 use whirl::time::ContactLaw;
@@ -278,11 +280,12 @@ fn sweep_options(args: &Args, model: &Model, harmonics: usize) -> miette::Result
     options.stability = !args.no_stability;
     options.stability_modes = args.stability_modes;
     options.reduction = args.reduce;
+    options.exact_speeds = args.compare_time.clone();
     Ok(options)
 }
 
-/// A time-marching comparison: the settled response at one speed, read against the branch
-/// point nearest in speed.
+/// A time-marching comparison: the settled response at one speed, read against the
+/// harmonic-balance solutions at exactly that speed ([`Sweep::at_speeds`]).
 type Comparison = SettledResponse;
 
 fn compare_at(model: &Model, args: &Args, w: f64, node: usize) -> miette::Result<Comparison> {
@@ -298,19 +301,44 @@ fn compare_at(model: &Model, args: &Args, w: f64, node: usize) -> miette::Result
     lib(settled_response(model, w, node, args.harmonics, &settings))
 }
 
-/// The index of the branch point nearest in speed to `w`.
-fn nearest_point(result: &Sweep, w: f64) -> usize {
-    result
-        .branch
-        .points
+/// The harmonic-balance solutions at exactly the comparison's speed, in path order, and
+/// the one compared: the first stable one (time marching settles on a stable orbit), or
+/// the first when none is.
+fn hb_at(result: &Sweep, speed: f64) -> (Vec<&AtSpeed>, Option<&AtSpeed>) {
+    let all: Vec<&AtSpeed> = result
+        .at_speeds
         .iter()
-        .enumerate()
-        .min_by(|a, b| {
-            (a.1.solution.frequency - w)
-                .abs()
-                .total_cmp(&(b.1.solution.frequency - w).abs())
-        })
-        .map_or(0, |(i, _)| i)
+        .filter(|a| a.speed == speed)
+        .collect();
+    let compared = all
+        .iter()
+        .find(|a| a.stability.stable)
+        .or(all.first())
+        .copied();
+    (all, compared)
+}
+
+/// What the comparison means when the harmonic-balance solution is unstable: time
+/// marching leaves it, and the difference is the non-synchronous vibration it settles
+/// into.
+fn unstable_note(a: &AtSpeed, c: &Comparison) -> Option<String> {
+    if a.stability.stable {
+        return None;
+    }
+    let nsv = c.non_synchronous.map_or_else(
+        || "no non-synchronous peak was found in the time response".to_string(),
+        |(f, amp)| {
+            format!(
+                "time marching shows a non-synchronous component of {:.3} um at {f:.2} Hz",
+                1e6 * amp
+            )
+        },
+    );
+    Some(format!(
+        "the harmonic-balance solution is unstable (largest Floquet exponent {:.3e} 1/s): \
+         time marching leaves it, and the difference is the non-synchronous vibration; {nsv}",
+        a.stability.max_real
+    ))
 }
 
 fn end_reason(end: &BranchEnd) -> String {
@@ -331,6 +359,7 @@ fn end_reason(end: &BranchEnd) -> String {
 fn kind_name(kind: BifurcationKind) -> &'static str {
     match kind {
         BifurcationKind::Fold => "fold",
+        BifurcationKind::SymmetryBreaking => "symmetry breaking",
         BifurcationKind::PeriodDoubling => "period doubling",
         BifurcationKind::NeimarkSacker => "Neimark-Sacker",
     }
@@ -433,17 +462,33 @@ fn summary(
 }
 
 fn comparison_json(result: &Sweep, c: &Comparison) -> Value {
-    let i = nearest_point(result, c.speed);
-    let uy = dof(c.node, Direction::Uy);
-    let hb = result.amplitude(i, uy, 1);
+    let (ux, uy) = (dof(c.node, Direction::Ux), dof(c.node, Direction::Uy));
+    let (all, compared) = hb_at(result, c.speed);
+    let solutions: Vec<Value> = all
+        .iter()
+        .map(|a| {
+            let hb = result.amplitude_of(&a.coefficients, uy, 1);
+            json!({
+                "after_point": a.after,
+                "stable": a.stability.stable,
+                "max_real_exponent_per_s": a.stability.max_real,
+                "hb_1x_ux_m": result.amplitude_of(&a.coefficients, ux, 1),
+                "hb_1x_uy_m": hb,
+                "difference_pct": 100.0 * (hb - c.uy[0]) / c.uy[0],
+            })
+        })
+        .collect();
+    let hb = compared.map(|a| result.amplitude_of(&a.coefficients, uy, 1));
     json!({
         "speed_hz": hz(c.speed),
         "node": c.node,
-        "hb_speed_hz": hz(result.branch.points[i].solution.frequency),
+        "hb_solutions": solutions,
+        "hb_stable": compared.map(|a| a.stability.stable),
         "hb_1x_uy_m": hb,
         "time_1x_uy_m": c.uy[0],
-        "difference_pct": 100.0 * (hb - c.uy[0]) / c.uy[0],
+        "difference_pct": hb.map(|h| 100.0 * (h - c.uy[0]) / c.uy[0]),
         "time_non_synchronous": c.non_synchronous.map(|(f, a)| json!({"frequency_hz": f, "amplitude_m": a})),
+        "note": compared.and_then(|a| unstable_note(a, c)),
     })
 }
 
@@ -483,17 +528,33 @@ fn text_summary(model: &Model, result: &Sweep, comparisons: &[Comparison]) -> St
         );
     }
     for c in comparisons {
-        let i = nearest_point(result, c.speed);
-        let hb = result.amplitude(i, dof(c.node, Direction::Uy), 1);
-        let _ = writeln!(
-            text,
-            "  {:.1} Hz, node {}: 1X uy harmonic balance {:.4e} m, time marching {:.4e} m ({:+.2} %)",
-            hz(c.speed),
-            c.node,
-            hb,
-            c.uy[0],
-            100.0 * (hb - c.uy[0]) / c.uy[0]
-        );
+        let (all, _) = hb_at(result, c.speed);
+        if all.is_empty() {
+            let _ = writeln!(
+                text,
+                "  {:.1} Hz, node {}: the branch has no solution at this speed; time marching 1X uy {:.4e} m",
+                hz(c.speed),
+                c.node,
+                c.uy[0]
+            );
+        }
+        for a in &all {
+            let hb = result.amplitude_of(&a.coefficients, dof(c.node, Direction::Uy), 1);
+            let _ = writeln!(
+                text,
+                "  {:.1} Hz, node {}: 1X uy harmonic balance {:.4e} m ({}, after point {}), time marching {:.4e} m ({:+.2} %)",
+                hz(c.speed),
+                c.node,
+                hb,
+                if a.stability.stable { "stable" } else { "unstable" },
+                a.after,
+                c.uy[0],
+                100.0 * (hb - c.uy[0]) / c.uy[0]
+            );
+            if let Some(note) = unstable_note(a, c) {
+                let _ = writeln!(text, "    {note}");
+            }
+        }
     }
     text
 }
@@ -572,30 +633,39 @@ fn write_comparisons(
     result: &Sweep,
     comparisons: &[Comparison],
 ) -> miette::Result<()> {
-    let rows = comparisons.iter().map(|c| {
-        let i = nearest_point(result, c.speed);
+    let rows = comparisons.iter().flat_map(|c| {
         let (ux, uy) = (dof(c.node, Direction::Ux), dof(c.node, Direction::Uy));
-        let (hb_x, hb_y) = (result.amplitude(i, ux, 1), result.amplitude(i, uy, 1));
         let (nsv_f, nsv_a) = c
             .non_synchronous
             .map_or((String::new(), String::new()), |(f, a)| (num(f), num(a)));
-        vec![
-            num(hz(c.speed)),
-            c.node.to_string(),
-            num(hb_x),
-            num(c.ux[0]),
-            num(hb_y),
-            num(c.uy[0]),
-            num(100.0 * (hb_y - c.uy[0]) / c.uy[0]),
-            nsv_f,
-            nsv_a,
-        ]
+        let (all, _) = hb_at(result, c.speed);
+        all.into_iter()
+            .map(|a| {
+                let hb_x = result.amplitude_of(&a.coefficients, ux, 1);
+                let hb_y = result.amplitude_of(&a.coefficients, uy, 1);
+                vec![
+                    num(hz(c.speed)),
+                    c.node.to_string(),
+                    a.after.to_string(),
+                    a.stability.stable.to_string(),
+                    num(hb_x),
+                    num(c.ux[0]),
+                    num(hb_y),
+                    num(c.uy[0]),
+                    num(100.0 * (hb_y - c.uy[0]) / c.uy[0]),
+                    nsv_f.clone(),
+                    nsv_a.clone(),
+                ]
+            })
+            .collect::<Vec<_>>()
     });
     out.csv(
         "compare_time.csv",
         &header(&[
             "speed_hz",
             "node",
+            "hb_after_point",
+            "hb_stable",
             "hb_1x_ux_m",
             "time_1x_ux_m",
             "hb_1x_uy_m",
@@ -717,6 +787,7 @@ fn harmonics_plot(result: &Sweep, node: usize, comparisons: &[Comparison]) -> Fi
 fn kind_label(kind: BifurcationKind) -> &'static str {
     match kind {
         BifurcationKind::Fold => "F",
+        BifurcationKind::SymmetryBreaking => "SB",
         BifurcationKind::PeriodDoubling => "PD",
         BifurcationKind::NeimarkSacker => "NS",
     }

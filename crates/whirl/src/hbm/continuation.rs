@@ -1,8 +1,11 @@
 //! Pseudo-arclength continuation of periodic solutions in the excitation frequency.
 //!
-//! The path y(s) = (x, w) is followed in scaled variables (x by the largest coefficient of
-//! the first solution, w by the length of the requested range), so that one unit of
-//! arclength is comparable in both. From a converged point y_0 with unit tangent t_0:
+//! The path y(s) = (x, w) is followed in variables scaled at each point (x by the largest
+//! coefficient of that point, w by its frequency), so that one unit of arclength is a
+//! relative change of either, whatever the solution's size: a branch started at a small
+//! amplitude takes steps as long, relative to the orbit, when the orbit has grown a
+//! hundredfold, and the path up to a frequency does not depend on where the range ends.
+//! From a converged point y_0 with unit tangent t_0:
 //!
 //! - predictor: y = y_0 + h t_0;
 //! - corrector: Newton on R(x, w) = 0 together with t_0 . (y - y_0) = h (Keller 1977),
@@ -19,7 +22,7 @@
 //! extremum of the cubic Hermite interpolant of w(s) between the two points stands in.
 
 use super::balance::{norm, relative, solve_dense, HarmonicBalance, HbSolution, Residual};
-use super::bifurcation::{bifurcations, Bifurcation};
+use super::bifurcation::{locate_bifurcations, Bifurcation};
 use super::condensation::CondensedBalance;
 use super::stability::{hill_problem, HillProblem, Stability};
 use super::HbOptions;
@@ -110,8 +113,8 @@ impl Periodic for CondensedBalance {
     }
 }
 
-/// Step control of the continuation; lengths are in scaled arclength (the whole frequency
-/// range is one unit).
+/// Step control of the continuation; lengths are in scaled arclength (relative changes:
+/// a step of 0.1 moves the speed or the orbit's largest coefficient by up to 10 %).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct ContinuationOptions {
     /// First step.
@@ -126,14 +129,15 @@ pub struct ContinuationOptions {
     pub max_points: usize,
     /// Compute Hill stability at every point.
     pub stability: bool,
-    /// When this many successive points span less than 1e-3 of the range in frequency, or
+    /// When this many successive points advance by less than 1 % (a chord of 0.01 in
+    /// scaled arclength: the path wiggles or crawls on the spot), or
     /// the path turns back out of the range, it is restarted ahead of the furthest point
     /// ([`Branch::jumps`]); 0 never (the path then ends with [`BranchEnd::LeftRange`]).
     pub stall_points: usize,
 }
 
 impl Default for ContinuationOptions {
-    /// Steps from 1e-6 to 0.1 of the range (at least 10 points; folds are located on the
+    /// Steps from 1e-6 to 0.1 (up to 10 % of the speed a step; folds are located on the
     /// branch, not interpolated, so long steps cost no accuracy there), 0.15 rad of turn
     /// (which keeps the predictor near the branch round turning points), up to 5000
     /// points, with stability.
@@ -217,6 +221,9 @@ pub struct Branch {
     /// furthest point. What lies between is not followed, as in a
     /// sweep experiment that jumps.
     pub jumps: Vec<(f64, f64)>,
+    /// Indices of the points after which the path jumped ([`Branch::jumps`]): what lies
+    /// between such a point and the next was not followed.
+    pub jumped_after: Vec<usize>,
     /// Changes of stability, in path order (empty without stability).
     pub bifurcations: Vec<Bifurcation>,
     /// Why the branch ended.
@@ -225,12 +232,23 @@ pub struct Branch {
 
 /// Scales of the coefficients and of the frequency in the arclength.
 #[derive(Debug, Clone, Copy)]
-struct Scaling {
+pub(super) struct Scaling {
     coefficients: f64,
     frequency: f64,
 }
 
 impl Scaling {
+    /// The scales at `s`: its largest coefficient (1 for the zero solution) and its
+    /// frequency. Neither depends on the first point or on the range, so a step is the
+    /// same relative change of the orbit and of the speed anywhere on the branch.
+    fn at(s: &HbSolution) -> Scaling {
+        let largest = s.coefficients.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+        Scaling {
+            coefficients: if largest > 0.0 { largest } else { 1.0 },
+            frequency: s.frequency.abs(),
+        }
+    }
+
     fn scaled(&self, s: &HbSolution) -> Vec<f64> {
         let mut y: Vec<f64> = s
             .coefficients
@@ -312,15 +330,8 @@ fn follow(
     (from, to): (f64, f64),
     options: &ContinuationOptions,
 ) -> Result<Branch> {
-    let largest = first
-        .coefficients
-        .iter()
-        .fold(0.0f64, |m, c| m.max(c.abs()));
-    let scaling = Scaling {
-        coefficients: if largest > 0.0 { largest } else { 1.0 },
-        frequency: (to - from).abs(),
-    };
     let direction = (to - from).signum();
+    let mut scaling = Scaling::at(&first);
     let mut start_direction = vec![0.0; first.coefficients.len() + 1];
     start_direction[first.coefficients.len()] = orientation;
     let mut tangent = unit_tangent(hb, &first, &scaling, &start_direction)?;
@@ -422,16 +433,12 @@ fn follow(
             if direction * solution.frequency > furthest {
                 (furthest, furthest_index) = (direction * solution.frequency, points.len());
             }
-            points.push(branch_point(solution, &next_tangent, &scaling));
-            tangent = next_tangent;
+            (scaling, tangent) = rescaled(&scaling, &next_tangent, &solution);
+            points.push(branch_point(solution, &tangent, &scaling));
         }
-        let stalled = options.stall_points > 0
-            && points.len() > options.stall_points
-            && frequency_span(&points[points.len() - options.stall_points..])
-                < STALL_SPAN * scaling.frequency;
         // A path that turns back out of the range, or wiggles on the spot, is restarted
         // ahead of the furthest point, from it.
-        if left || stalled {
+        if left || stalled(&points, options.stall_points) {
             let base = &points[furthest_index].solution;
             let ahead = (direction * furthest, to);
             let guesses = [base, &points[0].solution];
@@ -447,8 +454,8 @@ fn follow(
             (furthest, furthest_index, step) =
                 (direction * s.frequency, points.len(), options.initial_step);
             let reached = s.frequency == to;
-            points.push(branch_point(s, &t, &scaling));
-            tangent = t;
+            (scaling, tangent) = rescaled(&scaling, &t, &s);
+            points.push(branch_point(s, &tangent, &scaling));
             if reached {
                 break BranchEnd::Reached;
             }
@@ -457,23 +464,111 @@ fn follow(
     if options.stability {
         add_stability(hb, &mut points)?;
     }
-    let folds = locate_folds(hb, &points, &scaling, &boundaries);
-    let mut bifurcations = bifurcations(&points);
-    bifurcations.retain(|b| !boundaries.contains(&b.after));
+    let folds = locate_folds(hb, &points, &boundaries);
+    let bifurcations = locate_bifurcations(hb, &points, &folds, &boundaries)?;
     Ok(Branch {
         options: *hb.options(),
         folds,
         corners,
         jumps,
+        jumped_after: boundaries,
         bifurcations,
         points,
         end,
     })
 }
 
+/// A periodic solution at one exact frequency, where the branch crosses it.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Crossing {
+    /// Index of the branch point before the crossing (the point itself when it lies
+    /// exactly on the frequency).
+    pub after: usize,
+    /// The solution, converged at exactly the frequency.
+    pub solution: HbSolution,
+    /// Its Hill stability.
+    pub stability: Stability,
+}
+
+/// Coexisting solutions closer than this, relative to the largest coefficient, are one:
+/// two crossings of a wiggling stretch that Newton brings to the same orbit. The corrector
+/// converges to a relative residual of 1e-10, so one orbit is found twice far closer.
+const SAME_ORBIT: f64 = 1e-6;
+
+/// Every solution of `branch` at exactly `frequency` (rad/s), in path order: Newton at
+/// that frequency from the linear interpolation of the two points that bracket it (a
+/// point lying on it is taken as it is), with Hill stability. Where the branch crosses the
+/// frequency several times (coexisting orbits: a fold's overhang, a loop) each distinct
+/// orbit is given, so the answer does not depend on which one a sweep ends on. Stretches
+/// the path jumped over are not crossings; a crossing where Newton fails is left out.
+///
+/// # Errors
+/// When Hill's eigenproblem cannot be built or solved.
+pub fn solutions_at(
+    hb: &mut impl Periodic,
+    branch: &Branch,
+    frequency: f64,
+) -> Result<Vec<Crossing>> {
+    let points = &branch.points;
+    let mut found: Vec<(usize, HbSolution)> = Vec::new();
+    for (i, p) in points.iter().enumerate() {
+        let s = &p.solution;
+        if s.frequency == frequency {
+            found.push((i, s.clone()));
+            continue;
+        }
+        let Some(next) = points.get(i + 1).map(|n| &n.solution) else {
+            continue;
+        };
+        let brackets = (s.frequency - frequency) * (next.frequency - frequency) < 0.0;
+        if brackets && !branch.jumped_after.contains(&i) {
+            if let Ok(solution) = land_on(hb, s, next, frequency) {
+                found.push((i, solution));
+            }
+        }
+    }
+    let mut distinct: Vec<(usize, HbSolution)> = Vec::new();
+    for (i, s) in found {
+        let largest = s.coefficients.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+        let seen = distinct.iter().any(|(_, d)| {
+            norm(&difference(&d.coefficients, &s.coefficients)) <= SAME_ORBIT * largest
+        });
+        if !seen {
+            distinct.push((i, s));
+        }
+    }
+    distinct
+        .into_iter()
+        .map(|(after, solution)| {
+            let stability = hb
+                .hill_problem(&solution.coefficients, solution.frequency)?
+                .solve()?;
+            Ok(Crossing {
+                after,
+                solution,
+                stability,
+            })
+        })
+        .collect()
+}
+
+/// The scaling at the newly accepted point `s`, and the tangent `t` (unit in `scaling`)
+/// expressed as a unit vector in it: the same direction in (x, w).
+fn rescaled(scaling: &Scaling, t: &[f64], s: &HbSolution) -> (Scaling, Vec<f64>) {
+    let next = Scaling::at(s);
+    let last = t.len() - 1;
+    let mut direction: Vec<f64> = t[..last]
+        .iter()
+        .map(|v| v * scaling.coefficients / next.coefficients)
+        .collect();
+    direction.push(t[last] * scaling.frequency / next.frequency);
+    let length = norm(&direction);
+    (next, direction.iter().map(|v| v / length).collect())
+}
+
 /// Past a point where the arclength corrector fails at every step (a non-smooth corner
 /// where Newton on the augmented system cycles): Newton at fixed frequency a little ahead
-/// in the direction of travel, 1e-5, 1e-4 then 1e-3 of the range, from `last`. The new point
+/// in the direction of travel, 1e-5, 1e-4 then 1e-3 of its frequency, from `last`. The new point
 /// is converged like any other; what lies between is not followed.
 fn step_over(
     hb: &mut impl Periodic,
@@ -490,22 +585,30 @@ fn step_over(
     })
 }
 
-/// A path whose last `stall_points` points span less than this fraction of the range in
-/// frequency has stalled: a branch followed through a turning point or down a middle
-/// branch moves on, a non-smooth stretch wiggling on the spot does not.
-const STALL_SPAN: f64 = 1e-3;
+/// Progress, in scaled arclength (a relative change of the orbit or of the speed), below
+/// which `stall_points` successive points have stalled: a non-smooth stretch wiggling on
+/// the spot or crawling with the smallest steps. A fold is not a stall, however slowly its
+/// frequency changes: the orbit changes there, and the chord across a turning point is at
+/// least 2 / pi of the arc (a half circle), steps of 1e-3 and more giving 100 points a
+/// chord far above this.
+const STALL_PROGRESS: f64 = 1e-2;
 
-/// The spread of the points' frequencies, rad/s.
-fn frequency_span(points: &[BranchPoint]) -> f64 {
-    let (lo, hi) = points
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-            (lo.min(p.solution.frequency), hi.max(p.solution.frequency))
-        });
-    hi - lo
+/// True when the last `count` points (0: never) advanced less than [`STALL_PROGRESS`]: the
+/// chord between the first and the last of them, scaled at the last.
+fn stalled(points: &[BranchPoint], count: usize) -> bool {
+    if count == 0 || points.len() <= count {
+        return false;
+    }
+    let last = &points[points.len() - 1].solution;
+    let scaling = Scaling::at(last);
+    let chord = difference(
+        &scaling.scaled(last),
+        &scaling.scaled(&points[points.len() - count].solution),
+    );
+    norm(&chord) < STALL_PROGRESS
 }
 
-/// Newton at fixed frequency 1e-3, 1e-2, 3e-2 then 0.1 of the range beyond `furthest`
+/// Newton at fixed frequency 1e-3, 1e-2, 3e-2, 0.1 then 0.3 of its frequency beyond `furthest`
 /// (rad/s) in `direction`, but not beyond `to`, from each of `guesses` in turn (the
 /// furthest point, then the first point of the branch, a cold start that does not carry the
 /// resonance's large orbit past it); the new point's tangent points along the range.
@@ -519,9 +622,9 @@ fn jump_ahead(
     let size = guesses[0].coefficients.len();
     let mut along = vec![0.0; size + 1];
     along[size] = direction;
-    let fractions = [1e-3, 1e-2, 3e-2, 0.1];
+    let fractions = [1e-3, 1e-2, 3e-2, 0.1, 0.3];
     fractions.into_iter().find_map(|fraction| {
-        let ahead = furthest + direction * fraction * scaling.frequency;
+        let ahead = furthest + direction * fraction * furthest.abs();
         let frequency = if direction * (ahead - to) > 0.0 {
             to
         } else {
@@ -610,7 +713,7 @@ fn unit_tangent(
 }
 
 /// Pseudo-arclength corrector from the predictor y_0 + h t_0.
-fn correct(
+pub(super) fn correct(
     hb: &mut impl Periodic,
     y0: &[f64],
     t0: &[f64],
@@ -681,25 +784,21 @@ fn land_on(
 }
 
 /// Folds between successive points whose frequency slopes differ in sign.
-fn locate_folds(
-    hb: &mut impl Periodic,
-    points: &[BranchPoint],
-    scaling: &Scaling,
-    boundaries: &[usize],
-) -> Vec<Fold> {
+fn locate_folds(hb: &mut impl Periodic, points: &[BranchPoint], boundaries: &[usize]) -> Vec<Fold> {
     let mut folds = Vec::new();
     for (i, p) in points.windows(2).enumerate() {
         if p[0].frequency_slope * p[1].frequency_slope >= 0.0 || boundaries.contains(&i) {
             continue;
         }
         let (before, after) = (&p[0].solution, &p[1].solution);
-        let fold = match refine_fold(hb, before, after, scaling) {
+        let fold = match refine_fold(hb, before, after) {
             Ok(frequency) => Fold {
                 frequency,
                 refined: true,
                 after: i,
             },
             Err(_) => {
+                let scaling = Scaling::at(before);
                 let chord = difference(&scaling.scaled(after), &scaling.scaled(before));
                 Fold {
                     frequency: hermite_extremum(
@@ -721,22 +820,14 @@ fn locate_folds(
 
 /// The fold between `before` and `after`: the root of the tangent's frequency component
 /// along the arclength from `before`, by the Illinois regula falsi.
-fn refine_fold(
-    hb: &mut impl Periodic,
-    before: &HbSolution,
-    after: &HbSolution,
-    scaling: &Scaling,
-) -> Result<f64> {
-    let y0 = scaling.scaled(before);
+fn refine_fold(hb: &mut impl Periodic, before: &HbSolution, after: &HbSolution) -> Result<f64> {
+    let (y0, t0, length, scaling) = arclength_frame(hb, before, after)?;
+    let scaling = &scaling;
     let chord = difference(&scaling.scaled(after), &y0);
-    // Both tangents are oriented along the chord, the direction of travel.
-    let t0 = unit_tangent(hb, before, scaling, &chord)?;
     let last = t0.len() - 1;
     let (mut a, mut ga) = (0.0, t0[last]);
-    let (mut b, mut gb) = (
-        dot(&t0, &chord),
-        unit_tangent(hb, after, scaling, &chord)?[last],
-    );
+    // Both tangents are oriented along the chord, the direction of travel.
+    let (mut b, mut gb) = (length, unit_tangent(hb, after, scaling, &chord)?[last]);
     let mut frequency = before.frequency;
     let mut kept_side = 0;
     for _ in 0..40 {
@@ -765,6 +856,23 @@ fn refine_fold(
         }
     }
     Ok(frequency)
+}
+
+/// What a search between two successive points `before` and `after` works in: the scaled
+/// `before` y_0, its unit tangent t_0 oriented along the chord to `after` (the direction
+/// of travel), the arclength of `after` along t_0, and the scaling (at `before`). Trial
+/// points at arclength sigma are `correct(hb, y_0, t_0, sigma, scaling)`.
+pub(super) fn arclength_frame(
+    hb: &mut impl Periodic,
+    before: &HbSolution,
+    after: &HbSolution,
+) -> Result<(Vec<f64>, Vec<f64>, f64, Scaling)> {
+    let scaling = Scaling::at(before);
+    let y0 = scaling.scaled(before);
+    let chord = difference(&scaling.scaled(after), &y0);
+    let t0 = unit_tangent(hb, before, &scaling, &chord)?;
+    let length = dot(&t0, &chord);
+    Ok((y0, t0, length, scaling))
 }
 
 fn difference(a: &[f64], b: &[f64]) -> Vec<f64> {

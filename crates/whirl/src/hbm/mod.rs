@@ -19,7 +19,8 @@
 //! - [`compare`]: time marching read in the same terms, to check harmonic balance against.
 //! - [`sweep`]: a model's periodic response over a speed range, as `whirl hbm` runs it.
 //! - [`stability`]: Hill's method for each periodic solution; [`bifurcation`]: where and
-//!   how it changes (fold, period doubling, Neimark-Sacker).
+//!   how it changes, named by the crossing Floquet multiplier (fold or symmetry breaking,
+//!   period doubling, Neimark-Sacker).
 //!
 //! Nonlinear forces are seen only through [`crate::time::NonlinearForce`], the interface the
 //! time integrators use, so every contact law works in both.
@@ -37,16 +38,16 @@ pub mod sweep;
 
 pub use balance::{HarmonicBalance, HbSolution, Linearisation};
 pub use bearings::{CageModel, CagedBearing};
-pub use bifurcation::{bifurcations, Bifurcation, BifurcationKind};
+pub use bifurcation::{Bifurcation, BifurcationKind};
 pub use compare::{settled_response, MarchSettings, SettledResponse};
 pub use condensation::{Condensed, CondensedBalance, DEFAULT_STABILITY_MODES};
 pub use continuation::{
-    continuation, resume, Branch, BranchEnd, BranchPoint, ContinuationOptions, Derivatives, Fold,
-    Periodic,
+    continuation, resume, solutions_at, Branch, BranchEnd, BranchPoint, ContinuationOptions,
+    Crossing, Derivatives, Fold, Periodic,
 };
 pub use fourier::aliasing_free_samples;
 pub use stability::{hill_stability, HillProblem, Stability};
-pub use sweep::{sweep, sweep_with_progress, Sweep, SweepOptions};
+pub use sweep::{sweep, sweep_with_progress, AtSpeed, Sweep, SweepOptions};
 
 use faer::Mat;
 

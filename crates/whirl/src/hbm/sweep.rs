@@ -10,9 +10,11 @@ use serde::Serialize;
 
 use super::bearings::{caged_bearings, CageModel};
 use super::condensation::DEFAULT_STABILITY_MODES;
-use super::continuation::{continuation, Branch, ContinuationOptions, Derivatives, Periodic};
+use super::continuation::{
+    continuation, solutions_at, Branch, ContinuationOptions, Derivatives, Periodic,
+};
 use super::fourier::{cos_slot, sin_slot};
-use super::stability::HillProblem;
+use super::stability::{HillProblem, Stability};
 use super::{aliasing_free_samples, CondensedBalance, HbOptions, HbProblem, HbSolution};
 use crate::bearing::forcing_bearings;
 use crate::error::{Error, Result};
@@ -47,6 +49,9 @@ pub struct SweepOptions {
     pub reduction: Option<usize>,
     /// Step control.
     pub continuation: ContinuationOptions,
+    /// Speeds (rad/s) at which to solve exactly on every crossing of the branch
+    /// ([`Sweep::at_speeds`]), e.g. to compare with time marching there.
+    pub exact_speeds: Vec<f64>,
 }
 
 impl SweepOptions {
@@ -70,6 +75,7 @@ impl SweepOptions {
                 max_turn: 0.5,
                 ..ContinuationOptions::default()
             },
+            exact_speeds: Vec::new(),
         }
     }
 
@@ -107,6 +113,8 @@ pub struct Sweep {
     /// The reduction the coefficients are in, if any.
     #[serde(skip)]
     pub reduction: Option<CraigBampton>,
+    /// The solutions at each of [`SweepOptions::exact_speeds`], in that order.
+    pub at_speeds: Vec<AtSpeed>,
     /// How the bearings were modelled.
     pub bearings: String,
     /// Wall-clock time of the continuation, stability and recovery, s.
@@ -122,22 +130,42 @@ impl Sweep {
     /// Amplitude (zero to peak) of harmonic `r` of DOF `dof` at branch point `point`; the
     /// constant term for r = 0.
     pub fn amplitude(&self, point: usize, dof: usize, r: usize) -> f64 {
-        let coefficient = |slot: usize| self.physical(point, dof, slot);
+        self.amplitude_of(&self.coefficients[point], dof, r)
+    }
+
+    /// As [`Sweep::amplitude`], for coefficients in the same layout (those of a branch
+    /// point, or of an [`AtSpeed`] solution).
+    pub fn amplitude_of(&self, coefficients: &[f64], dof: usize, r: usize) -> f64 {
+        let coefficient = |slot: usize| self.physical(coefficients, dof, slot);
         if r == 0 {
             return coefficient(0);
         }
         coefficient(cos_slot(r)).hypot(coefficient(sin_slot(r)))
     }
 
-    /// Fourier coefficient `slot` of physical DOF `dof` at branch point `point`.
-    fn physical(&self, point: usize, dof: usize, slot: usize) -> f64 {
+    /// Fourier coefficient `slot` of physical DOF `dof` in `coefficients`.
+    fn physical(&self, coefficients: &[f64], dof: usize, slot: usize) -> f64 {
         let n = self.dofs;
-        let x = &self.coefficients[point][slot * n..(slot + 1) * n];
+        let x = &coefficients[slot * n..(slot + 1) * n];
         match &self.reduction {
             None => x[dof],
             Some(cb) => (0..n).map(|j| cb.transform[(dof, j)] * x[j]).sum(),
         }
     }
+}
+
+/// One periodic solution at an exact speed where the branch crosses it.
+#[derive(Debug, Clone, Serialize)]
+pub struct AtSpeed {
+    /// Speed, rad/s.
+    pub speed: f64,
+    /// Index of the branch point before the crossing: solutions are in path order, and
+    /// more than one means the branch crosses the speed on coexisting orbits.
+    pub after: usize,
+    /// Coefficients in the layout of [`Sweep::coefficients`].
+    pub coefficients: Vec<f64>,
+    /// Hill stability (computed even when the sweep skips it).
+    pub stability: Stability,
 }
 
 /// The harmonic balance problem of `model` at speed `speed` (rad/s), and the static
@@ -249,9 +277,21 @@ pub fn sweep_with_progress(
         .iter()
         .map(|p| hb.inner.recover(&p.solution))
         .collect::<Result<Vec<_>>>()?;
+    let mut at_speeds = Vec::new();
+    for &speed in &options.exact_speeds {
+        for c in solutions_at(&mut hb.inner, &branch, speed)? {
+            at_speeds.push(AtSpeed {
+                speed,
+                after: c.after,
+                coefficients: hb.inner.recover(&c.solution)?,
+                stability: c.stability,
+            });
+        }
+    }
     Ok(Sweep {
         branch,
         coefficients,
+        at_speeds,
         dofs,
         reduction,
         bearings: options.describe_bearings(),

@@ -1,0 +1,247 @@
+//! Bifurcations named by the crossing Floquet multiplier and located on the branch, on two
+//! systems whose stability boundaries are known independently of harmonic balance:
+//!
+//! - a Jeffcott rotor with internal (rotating) damping, which loses stability through a
+//!   complex pair (Neimark-Sacker) at the closed-form threshold speed;
+//! - a damped Mathieu oscillator under a constant load, whose first parametric resonance
+//!   is bounded by period doublings, located against the monodromy matrix integrated over
+//!   one period.
+
+use std::f64::consts::TAU;
+
+use faer::Mat;
+use whirl::hbm::{
+    continuation, BifurcationKind, ContinuationOptions, HarmonicBalance, HbOptions, HbProblem,
+};
+use whirl::time::{Kinematics, NonlinearForce};
+
+fn diagonal(n: usize, v: f64) -> Mat<f64> {
+    Mat::from_fn(n, n, |i, j| if i == j { v } else { 0.0 })
+}
+
+/// Internal damping c_i acts on the velocity relative to the spinning shaft: in the fixed
+/// frame F = -c_i (v - w J q), J the quarter turn, (F_x, F_y) = -c_i (x' + w y, y' - w x).
+struct InternalDamping {
+    dofs: [usize; 2],
+    coefficient: f64,
+}
+
+impl NonlinearForce for InternalDamping {
+    fn name(&self) -> String {
+        "internal damping".into()
+    }
+    fn dofs(&self) -> &[usize] {
+        &self.dofs
+    }
+    fn force(&mut self, at: &Kinematics, q: &[f64], v: &[f64], out: &mut [f64]) {
+        let c = self.coefficient;
+        out[0] = -c * (v[0] + at.speed * q[1]);
+        out[1] = -c * (v[1] - at.speed * q[0]);
+    }
+    fn jacobian(
+        &mut self,
+        at: &Kinematics,
+        _: &[f64],
+        _: &[f64],
+        dfdq: &mut [f64],
+        dfdv: &mut [f64],
+    ) {
+        let c = self.coefficient;
+        dfdq.copy_from_slice(&[0.0, -c * at.speed, c * at.speed, 0.0]);
+        dfdv.copy_from_slice(&[-c, 0.0, 0.0, -c]);
+    }
+    fn stiffness_bound(&self) -> Vec<f64> {
+        vec![0.0; 4]
+    }
+}
+
+/// m = 1, k = 1 (natural frequency 1 rad/s), external damping 0.02, internal 0.04,
+/// unbalance m e = 0.01.
+const EXTERNAL: f64 = 0.02;
+const INTERNAL: f64 = 0.04;
+
+#[test]
+fn internal_damping_loses_stability_by_neimark_sacker_at_the_threshold_speed() {
+    let problem = HbProblem {
+        mass: diagonal(2, 1.0),
+        stiffness: diagonal(2, 1.0),
+        damping: diagonal(2, EXTERNAL),
+        gyroscopic: diagonal(2, 0.0),
+        constant_force: vec![0.0; 2],
+        unbalance_re: vec![0.01, 0.0],
+        unbalance_im: vec![0.0, -0.01],
+        harmonic_re: vec![0.0; 2],
+        harmonic_im: vec![0.0; 2],
+        nonlinear: vec![Box::new(InternalDamping {
+            dofs: [0, 1],
+            coefficient: INTERNAL,
+        })],
+    };
+    let mut hb = HarmonicBalance::new(problem, HbOptions::new(3)).unwrap();
+    let guess = vec![0.0; hb.unknowns()];
+    let branch = continuation(&mut hb, 0.5, 3.0, &guess, &ContinuationOptions::default()).unwrap();
+    // With z = x + i y: m z'' + (c_e + c_i) z' + (k - i c_i w) z = 0 has the root z = e^{i
+    // w_n t} when (c_e + c_i) w_n = c_i w: the threshold speed w_n (1 + c_e / c_i), where
+    // the forward whirl at w_n = 1 rad/s starts to grow (e.g. Genta, "Dynamics of Rotating
+    // Systems", 2005, section 7.2).
+    let threshold = 1.0 + EXTERNAL / INTERNAL;
+    eprintln!("internal damping: {:?}", branch.bifurcations);
+    assert_eq!(branch.bifurcations.len(), 1);
+    let b = branch.bifurcations[0];
+    assert_eq!(b.kind, BifurcationKind::NeimarkSacker);
+    assert!(b.loses_stability && b.located);
+    let error = (b.frequency - threshold).abs() / threshold;
+    // The orbit is linear in the unbalance and the exponents are the eigenvalues of the
+    // linear system, which Hill's method reproduces to round-off; the regula falsi stops
+    // at a bracket of 1e-9 relative.
+    assert!(
+        error < 1e-7,
+        "threshold {threshold}, located {}",
+        b.frequency
+    );
+    // The whirl at w_n = 1 rad/s, seen in the strip |Im| <= w / 2 as w - w_n = 0.5.
+    assert!((b.exponent_frequency - (threshold - 1.0)).abs() < 1e-6);
+    assert!((b.multiplier.0.hypot(b.multiplier.1) - 1.0).abs() < 1e-6);
+}
+
+/// The parametric stiffness -k e cos(w t) x of a Mathieu oscillator: a force that depends
+/// on the phase, the same at every w for a given orbit.
+struct Parametric {
+    dofs: [usize; 1],
+    amplitude: f64,
+}
+
+impl NonlinearForce for Parametric {
+    fn name(&self) -> String {
+        "parametric stiffness".into()
+    }
+    fn dofs(&self) -> &[usize] {
+        &self.dofs
+    }
+    fn force(&mut self, at: &Kinematics, q: &[f64], _: &[f64], out: &mut [f64]) {
+        out[0] = -self.amplitude * at.angle.cos() * q[0];
+    }
+    fn jacobian(
+        &mut self,
+        at: &Kinematics,
+        _: &[f64],
+        _: &[f64],
+        dfdq: &mut [f64],
+        dfdv: &mut [f64],
+    ) {
+        dfdq[0] = -self.amplitude * at.angle.cos();
+        dfdv[0] = 0.0;
+    }
+    fn stiffness_bound(&self) -> Vec<f64> {
+        vec![self.amplitude]
+    }
+}
+
+/// x'' + c x' + (1 + e cos w t) x = 1: a constant load on a damped Mathieu oscillator.
+const MATHIEU_DAMPING: f64 = 0.02;
+const MATHIEU_DEPTH: f64 = 0.2;
+
+/// The trace and determinant of the monodromy matrix of x'' + c x' + (1 + e cos w t) x = 0
+/// over one period, by classical Runge-Kutta with 4000 fixed steps (error of order
+/// (T / 4000)^4, below 1e-12 here).
+fn monodromy(w: f64) -> (f64, f64) {
+    let steps = 4000;
+    let h = TAU / w / steps as f64;
+    let field = |t: f64, y: [f64; 2]| {
+        [
+            y[1],
+            -MATHIEU_DAMPING * y[1] - (1.0 + MATHIEU_DEPTH * (w * t).cos()) * y[0],
+        ]
+    };
+    let mut columns = [[1.0, 0.0], [0.0, 1.0]];
+    for y in &mut columns {
+        for k in 0..steps {
+            let t = k as f64 * h;
+            let k1 = field(t, *y);
+            let k2 = field(
+                t + h / 2.0,
+                [y[0] + h / 2.0 * k1[0], y[1] + h / 2.0 * k1[1]],
+            );
+            let k3 = field(
+                t + h / 2.0,
+                [y[0] + h / 2.0 * k2[0], y[1] + h / 2.0 * k2[1]],
+            );
+            let k4 = field(t + h, [y[0] + h * k3[0], y[1] + h * k3[1]]);
+            for i in 0..2 {
+                y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+            }
+        }
+    }
+    let trace = columns[0][0] + columns[1][1];
+    let determinant = columns[0][0] * columns[1][1] - columns[1][0] * columns[0][1];
+    (trace, determinant)
+}
+
+/// A boundary of the first instability tongue: where a multiplier is -1, i.e. the
+/// characteristic polynomial mu^2 - tr mu + det vanishes at mu = -1. Bisection between
+/// `lo` and `hi`, which bracket it.
+fn period_doubling_boundary(mut lo: f64, mut hi: f64) -> f64 {
+    let f = |w: f64| {
+        let (trace, determinant) = monodromy(w);
+        1.0 + trace + determinant
+    };
+    let f_lo = f(lo);
+    assert!(f_lo * f(hi) < 0.0);
+    while hi - lo > 1e-12 {
+        let mid = 0.5 * (lo + hi);
+        if f(mid) * f_lo > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+#[test]
+fn mathieu_tongue_is_bounded_by_period_doublings_where_the_monodromy_matrix_says() {
+    let problem = HbProblem {
+        mass: diagonal(1, 1.0),
+        stiffness: diagonal(1, 1.0),
+        damping: diagonal(1, MATHIEU_DAMPING),
+        gyroscopic: diagonal(1, 0.0),
+        constant_force: vec![1.0],
+        unbalance_re: vec![0.0],
+        unbalance_im: vec![0.0],
+        harmonic_re: vec![0.0],
+        harmonic_im: vec![0.0],
+        nonlinear: vec![Box::new(Parametric {
+            dofs: [0],
+            amplitude: MATHIEU_DEPTH,
+        })],
+    };
+    let mut options = HbOptions::new(8);
+    options.samples = 64;
+    let mut hb = HarmonicBalance::new(problem, options).unwrap();
+    let guess = vec![0.0; hb.unknowns()];
+    let branch = continuation(&mut hb, 1.5, 2.5, &guess, &ContinuationOptions::default()).unwrap();
+    eprintln!("Mathieu: {:?}", branch.bifurcations);
+    // Undamped, to first order in e, the tongue is (w / 2)^2 = 1 +- e / 2: w = 1.897 and
+    // 2.098; damping narrows it.
+    let reference = [
+        period_doubling_boundary(1.85, 2.0),
+        period_doubling_boundary(2.0, 2.15),
+    ];
+    assert_eq!(branch.bifurcations.len(), 2);
+    for (b, exact) in branch.bifurcations.iter().zip(reference) {
+        let error = (b.frequency - exact).abs() / exact;
+        eprintln!(
+            "period doubling at {:.10} rad/s, monodromy {exact:.10}, relative {error:.1e}",
+            b.frequency
+        );
+        assert_eq!(b.kind, BifurcationKind::PeriodDoubling);
+        assert!(b.located);
+        // Hill's method with 8 harmonics of a coupling e / 2 = 0.1 between neighbours is
+        // exact far beyond this; the regula falsi brackets to 1e-9 and the monodromy is
+        // integrated to 1e-12. 1e-6 leaves room for the corrector's tolerance.
+        assert!(error < 1e-6, "{} against {exact}", b.frequency);
+        assert!((b.exponent_frequency - b.frequency / 2.0).abs() < 1e-6 * b.frequency);
+        assert!((b.multiplier.0 + 1.0).abs() < 1e-5 && b.multiplier.1.abs() < 1e-5);
+    }
+    assert!(branch.bifurcations[0].loses_stability && !branch.bifurcations[1].loses_stability);
+}
