@@ -92,7 +92,7 @@ fn the_solution_at_330_hz_does_not_depend_on_the_end_of_the_range() {
             .map(|a| result.amplitude_of(&a.coefficients, disk, 1))
             .collect();
         eprintln!(
-            "1:{end}Hz: {} points, {:?}, jumps {:?}; disk 1X at 330 Hz {amplitudes:.6e} m",
+            "1:{end}Hz: {} points, {:?}, jumps {:?}; disk 1X at 330 Hz {amplitudes:?} m",
             result.branch.points.len(),
             result.branch.end,
             result.branch.jumps
