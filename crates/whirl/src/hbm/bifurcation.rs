@@ -48,7 +48,8 @@ pub struct Bifurcation {
     pub frequency: f64,
     /// True when located on the branch by regula falsi (or at a located fold).
     pub located: bool,
-    /// The crossing multiplier exp(lambda T), (real, imaginary), at the located point.
+    /// The crossing multiplier exp(lambda T), (real, imaginary), at the located point (of a
+    /// complex pair, the one with positive imaginary part).
     pub multiplier: (f64, f64),
     /// |Im| of the crossing exponent, rad/s, in [0, w/2]: the frequency of the emerging
     /// component (0 at +1, w/2 at period doubling); at a Neimark-Sacker point it appears
@@ -204,10 +205,11 @@ fn classify(crossing: Located, after: usize, loses_stability: bool, at_fold: boo
         .max_by(|x, y| x.0.total_cmp(&y.0))
         .unwrap_or((0.0, 0.0));
     let period = std::f64::consts::TAU / w;
-    let angle = im * period;
+    // Of a conjugate pair, the member in the upper half plane.
+    let angle = im.abs() * period;
     let modulus = (re * period).exp();
     let multiplier = (modulus * angle.cos(), modulus * angle.sin());
-    let half_turns = angle.abs() / std::f64::consts::PI;
+    let half_turns = angle / std::f64::consts::PI;
     let has_partner = exponents.iter().any(|&(r, i)| {
         let opposite = (i + im) / w;
         (r - re).abs() <= PAIR_REAL * w
