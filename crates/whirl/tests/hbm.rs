@@ -3,6 +3,7 @@
 //! harmonics against long time integration, and Hill stability of the overhang.
 
 use std::f64::consts::TAU;
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 use faer::Mat;
@@ -172,6 +173,7 @@ fn time_integrated_amplitude(frequency: f64, coefficients: &[f64], harmonics: us
                 low = low.min(q[0]);
                 high = high.max(q[0]);
             }
+            ControlFlow::Continue(())
         },
     )
     .unwrap();

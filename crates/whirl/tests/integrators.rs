@@ -2,6 +2,7 @@
 //! unbalance response.
 
 use std::f64::consts::PI;
+use std::ops::ControlFlow;
 
 use faer::Mat;
 use whirl::fe::{assemble, Bearings};
@@ -83,6 +84,7 @@ fn steady_error(method: &str, h: f64) -> (f64, f64) {
             t.push(ti);
             x.push(q[0]);
         }
+        ControlFlow::Continue(())
     };
     let mut p = oscillator();
     match method {
@@ -177,8 +179,10 @@ fn undamped_free_vibration_conserves_energy() {
             speed: SpeedProfile::Constant(2.0 * PI * 100.0),
         };
         let mut worst = 0.0f64;
-        let mut observe =
-            |_: f64, q: &[f64], v: &[f64]| worst = worst.max((energy(q, v) - e0).abs() / e0);
+        let mut observe = |_: f64, q: &[f64], v: &[f64]| {
+            worst = worst.max((energy(q, v) - e0).abs() / e0);
+            ControlFlow::Continue(())
+        };
         let options = MarchOptions {
             step: h,
             steps: (0.2 / h) as usize,
@@ -332,6 +336,7 @@ fn integrators_agree_on_a_duffing_oscillator() {
             if (t - 0.5).abs() < 0.25 * h {
                 last = q[0];
             }
+            ControlFlow::Continue(())
         };
         match method {
             "cd" => central_difference(&mut p, &[0.0], &[0.0], &options, &mut observe).unwrap(),
@@ -384,7 +389,7 @@ fn divergence_is_reported_with_its_time() {
         &[0.0],
         NewmarkScheme::AverageAcceleration,
         &options,
-        &mut |_, _, _| {},
+        &mut |_, _, _| ControlFlow::Continue(()),
     )
     .unwrap_err();
     match e {

@@ -2,6 +2,7 @@
 //! round-off, compressive multipliers, and Hertz contacts approaching them as K_c grows.
 
 use std::f64::consts::PI;
+use std::ops::ControlFlow;
 
 use whirl::bearing::{contact_coordinates, hertz_bearings, LagrangeContacts};
 use whirl::fe::{assemble, gravity_force, unbalance_force, Bearings, Direction};
@@ -73,6 +74,7 @@ fn run(
             angle.push(w * t);
             uy.push(row.iter().zip(q).map(|(a, b)| a * b).sum());
         }
+        ControlFlow::Continue(())
     };
     let (q0, v0) = (vec![0.0; n], vec![0.0; n]);
     match contacts {

@@ -16,8 +16,9 @@
 //!
 //! # Checkpoint
 //!
-//! Every finished speed is saved at once in `<out>.partial/` (beside the output folder;
-//! `out/cascade.partial` by default), atomically, so a run that is interrupted (Ctrl-C, a
+//! Every finished speed is saved at once in `<out>.partial/<key>/` (beside the output
+//! folder; `out/cascade.partial/<key>` by default, the key a hash of the model and the
+//! options, so cascades with other options keep their own checkpoints), atomically, so a run that is interrupted (Ctrl-C, a
 //! kill, a crash) and started again with the same command computes only the missing
 //! speeds and ends with the same bytes as an uninterrupted run. The folder stays after a
 //! successful run (running the same command again only redraws); a folder holding another
@@ -30,13 +31,14 @@ use std::path::{Path, PathBuf};
 use serde_json::{json, Value};
 use whirl::model::Model;
 use whirl::nsv::{
-    cascade, Cascade, CascadeOptions, CascadeProgress, Component, NsvSummary, DEFAULT_MODES,
-    DEFAULT_THRESHOLD_M, DEFAULT_TOLERANCE_BINS,
+    cascade, checkpoint, Cascade, CascadeOptions, CascadeProgress, Component, NsvSummary,
+    DEFAULT_MAX_ADDED, DEFAULT_MODES, DEFAULT_THRESHOLD_M, DEFAULT_TOLERANCE_BINS,
 };
+use whirl::time::Initial;
 use whirl::post::Window;
 use whirl::units::{parse_quantity, parse_range, Dimension};
 
-use super::simulate::Contact;
+use super::simulate::{Contact, Start};
 use super::{
     finish, hz, load, mode_count, node_index, positive_length, speeds, summary_head, time,
 };
@@ -77,9 +79,27 @@ pub struct Args {
     /// [default: 150 speeds over the model's operating range].
     #[arg(long, value_name = "RANGE", value_parser = speeds)]
     pub speeds: Option<Speeds>,
-    /// Time simulated and discarded at each speed before the record.
+    /// Shortest time simulated and discarded at each speed before the record.
     #[arg(long, value_name = "TIME", default_value = "0.5s", value_parser = time, allow_hyphen_values = true)]
     pub settle: f64,
+    /// Longest settling time: each speed runs on (checked every half record) until its
+    /// start has died away, at most this long, else it is reported unsettled; give the
+    /// same as --settle for a fixed settling time.
+    #[arg(long, value_name = "TIME", default_value = "4s", value_parser = time, allow_hyphen_values = true)]
+    pub settle_max: f64,
+    /// Initial state of every run.
+    #[arg(long, value_enum, default_value = "static")]
+    pub start: Start,
+    /// Compute only the requested speeds: add none where the NSV changes sharply.
+    #[arg(long)]
+    pub no_refine: bool,
+    /// Most speeds the refinement adds.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_ADDED)]
+    pub refine_budget: usize,
+    /// Smallest spacing of an added speed from its neighbours: `0.5Hz`, or a plain number
+    /// in Hz.
+    #[arg(long, value_name = "FREQ", default_value = "0.5Hz", value_parser = frequency, allow_hyphen_values = true)]
+    pub refine_spacing: f64,
     /// Time recorded at each speed; its inverse is the bin spacing (0.5 s: 2 Hz).
     #[arg(long, value_name = "TIME", default_value = "0.5s", value_parser = time, allow_hyphen_values = true)]
     pub record: f64,
@@ -120,7 +140,8 @@ pub struct Args {
     /// frequency): full_cascade.csv and the plot full_map.
     #[arg(long)]
     pub full: bool,
-    /// Delete the checkpoint folder `<out>.partial` first and compute every speed again.
+    /// Delete this cascade's checkpoint folder `<out>.partial/<key>` first and compute
+    /// every speed again.
     #[arg(long)]
     pub restart: bool,
 }
@@ -153,7 +174,8 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let model = &loaded.model;
     let options = cascade_options(args, model)?;
     let out_dir = args.common.out_dir("cascade");
-    let checkpoint = checkpoint_dir(&out_dir)?;
+    let key = checkpoint::key(model, &options).map_err(|e| library_error(e, &out_dir))?;
+    let checkpoint = checkpoint_dir(&out_dir)?.join(key);
     if args.restart && checkpoint.exists() {
         std::fs::remove_dir_all(&checkpoint)
             .map_err(|e| Diag::new(format!("cannot delete `{}`: {e}", checkpoint.display())))?;
@@ -260,6 +282,14 @@ fn cascade_options(args: &Args, model: &Model) -> miette::Result<CascadeOptions>
     };
     let mut o = CascadeOptions::new(model, speeds);
     o.settle = args.settle;
+    o.settle_max = args.settle_max;
+    o.initial = match args.start {
+        Start::Static => Initial::StaticEquilibrium,
+        Start::Rest => Initial::Rest,
+    };
+    o.refine.enabled = !args.no_refine;
+    o.refine.max_added = args.refine_budget;
+    o.refine.min_spacing_hz = args.refine_spacing;
     o.record = args.record;
     if let Some(c) = args.contact {
         o.law = c.law();
@@ -346,6 +376,8 @@ fn flag(field: &str) -> Option<&'static str> {
     Some(match field {
         "speeds" => "--speeds",
         "settle" => "--settle",
+        "settle_max" => "--settle-max",
+        "refine_spacing" => "--refine-spacing",
         "record" => "--record",
         "step" => "--step",
         "node" => "--node",
@@ -412,6 +444,9 @@ fn summary(
     s.insert("node".into(), o.node.into());
     s.insert("component".into(), json!(o.component));
     s.insert("settle_s".into(), o.settle.into());
+    s.insert("settle_max_s".into(), o.settle_max.into());
+    s.insert("start".into(), json!(o.initial));
+    s.insert("refinement".into(), json!(o.refine));
     s.insert("record_s".into(), o.record.into());
     s.insert("step_s".into(), r.step.into());
     s.insert("sample_interval_s".into(), (1.0 / r.sample_rate_hz).into());
@@ -433,7 +468,9 @@ fn summary(
         json!([
             "amplitudes are zero-to-peak, m, of the analysed component with the window-weighted mean removed; peaks refined between bins",
             "nsv: the largest spectral peak in the band not within tolerance_bins of a multiple of the running speed; classes and their rules: whirl::nsv::classify",
-            "transient NSV (free vibration still dying away over the record) never make the onset, the largest or the dominant class",
+            "each speed settles until its largest non-synchronous peak stops dying away (or is negligible), from settle_s up to settle_max_s; an unsettled speed (still dying away at settle_max_s) has no NSV class and never makes the onset, the largest, the statistics or the dominant class",
+            "speeds are refined where the NSV changes sharply, around the largest NSV and below each onset level (nsv.csv: added = 1); largest.neighbours and largest.spacing_hz say how finely the largest NSV is resolved",
+            "statistics: each settled speed weighed by the stretch of speed it stands for, so they do not depend on how many speeds a region holds",
             "direction: forward when the full spectrum of x + i y is larger at +f than at -f",
         ]),
     );
@@ -453,16 +490,18 @@ fn text(model: &Model, c: &Cascade, nsv: &NsvSummary, checkpoint: &Path) -> Stri
     let (low, high) = speed_range(c);
     let _ = writeln!(
         t,
-        "{}: cascade of {} speeds {low:.1}-{high:.1} Hz ({} contact, {}), {} s settled + {} \
-         s recorded each, {:.2} Hz bins up to {:.0} Hz, in {:.1} s ({} speeds from the \
-         checkpoint {})",
+        "{}: cascade of {} speeds {low:.1}-{high:.1} Hz ({} added by refinement; {} contact, \
+         {}), settled {}-{} s + {} s recorded each, {:.2} Hz bins up to {:.0} Hz, in {:.1} s \
+         ({} speeds from the checkpoint {})",
         model.name,
         c.points.len(),
+        nsv.added_speeds,
         c.options.law.name(),
         c.options
             .reduction
             .map_or("full model".to_string(), |m| format!("reduced, {m} modes")),
         c.options.settle,
+        c.options.settle_max,
         c.options.record,
         c.resolved.resolution_hz,
         c.resolved.max_frequency_hz,
@@ -471,23 +510,48 @@ fn text(model: &Model, c: &Cascade, nsv: &NsvSummary, checkpoint: &Path) -> Stri
         checkpoint.display()
     );
     let threshold = format!("{:.2} um", 1e6 * nsv.threshold_m);
-    let _ = match nsv.onset_speed_hz {
-        Some(f) => writeln!(t, "NSV onset (>= {threshold}): {f:.1} Hz"),
-        None => writeln!(t, "no steady NSV reaches {threshold}"),
-    };
-    if let Some(l) = &nsv.largest {
+    for o in &nsv.onsets {
+        let below = o
+            .below_hz
+            .map_or(String::new(), |b| format!(" (below it {b:.1} Hz)"));
         let _ = writeln!(
             t,
-            "largest NSV: {:.2} um at {:.1} Hz ({:.3}X) when running at {:.1} Hz, {} whirl, {}",
+            "NSV onset (>= {:.2} um): {:.1} Hz{below}",
+            1e6 * o.level_m,
+            o.speed_hz
+        );
+    }
+    if nsv.onset_speed_hz.is_none() {
+        let _ = writeln!(t, "no steady NSV reaches {threshold}");
+    }
+    if let Some(l) = &nsv.largest {
+        let around: Vec<String> = l
+            .neighbours
+            .iter()
+            .map(|n| format!("{:.2} um at {:.1} Hz", 1e6 * n.amplitude_m, n.speed_hz))
+            .collect();
+        let _ = writeln!(
+            t,
+            "largest NSV: {:.2} um at {:.1} Hz ({:.3}X) when running at {:.1} Hz, {} whirl, {} \
+             (neighbours: {})",
             1e6 * l.amplitude_m,
             l.frequency_hz,
             l.order,
             l.speed_hz,
-            match l.direction {
-                whirl::nsv::WhirlDirection::Forward => "forward",
-                whirl::nsv::WhirlDirection::Backward => "backward",
-            },
-            l.class.name()
+            l.direction.name(),
+            l.class.name(),
+            around.join(", ")
+        );
+    }
+    if let Some(st) = &nsv.statistics {
+        let _ = writeln!(
+            t,
+            "NSV over {:.1}-{:.1} Hz: median {:.3} um, 90th percentile {:.3} um, mean {:.3} um",
+            st.range_hz.0,
+            st.range_hz.1,
+            1e6 * st.median_m,
+            1e6 * st.p90_m,
+            1e6 * st.mean_m
         );
     }
     if let Some(d) = nsv.dominant_class {
@@ -503,6 +567,20 @@ fn text(model: &Model, c: &Cascade, nsv: &NsvSummary, checkpoint: &Path) -> Stri
             counts.join(", ")
         );
     }
+    if !nsv.unsettled_speeds_hz.is_empty() {
+        let list: Vec<String> = nsv
+            .unsettled_speeds_hz
+            .iter()
+            .map(|f| format!("{f:.1}"))
+            .collect();
+        let _ = writeln!(
+            t,
+            "unsettled at {} speed(s) (still dying away after {} s; see nsv.csv): {} Hz",
+            list.len(),
+            c.options.settle_max,
+            list.join(", ")
+        );
+    }
     if !nsv.diverged_speeds_hz.is_empty() {
         let _ = writeln!(
             t,
@@ -514,21 +592,26 @@ fn text(model: &Model, c: &Cascade, nsv: &NsvSummary, checkpoint: &Path) -> Stri
     t
 }
 
+/// `1` or `0`, as numpy and spreadsheets read a flag.
+fn flag01(b: bool) -> String {
+    String::from(if b { "1" } else { "0" })
+}
+
 fn write_tables(out: &mut Output, c: &Cascade) -> miette::Result<()> {
     let rows = c.points.iter().flat_map(|p| {
         p.amplitude
             .iter()
             .zip(&c.frequency_hz)
-            .map(move |(a, f)| [num(p.speed_hz), num(*f), num(*a)])
+            .map(move |(a, f)| [num(p.speed_hz), num(*f), num(*a), flag01(p.added)])
     });
-    let h = header(&["speed_hz", "frequency_hz", "amplitude_m"]);
+    let h = header(&["speed_hz", "frequency_hz", "amplitude_m", "added"]);
     out.csv("cascade.csv", &h, rows)?;
     if c.options.full {
         let rows = c.points.iter().flat_map(|p| {
             p.full_amplitude
                 .iter()
                 .zip(&c.full_frequency_hz)
-                .map(move |(a, f)| [num(p.speed_hz), num(*f), num(*a)])
+                .map(move |(a, f)| [num(p.speed_hz), num(*f), num(*a), flag01(p.added)])
         });
         out.csv("full_cascade.csv", &h, rows)?;
     }
@@ -538,14 +621,16 @@ fn write_tables(out: &mut Output, c: &Cascade) -> miette::Result<()> {
             |f: fn(&whirl::nsv::NsvPeak) -> f64| peak.as_ref().map_or(String::new(), |p| num(f(p)));
         vec![
             num(p.speed_hz),
+            flag01(p.added),
+            flag01(p.settled),
+            num(p.settle_s),
             num(p.one_x_m),
             cell(|p| p.frequency_hz),
             cell(|p| p.amplitude_m),
             cell(|p| p.order),
             n.as_ref().map_or(String::new(), |n| n.class.name().into()),
-            n.as_ref().map_or(String::new(), |n| {
-                json!(n.direction).as_str().unwrap_or("").into()
-            }),
+            n.as_ref()
+                .map_or(String::new(), |n| n.direction.name().into()),
             cell(|p| p.forward_m),
             cell(|p| p.backward_m),
             cell(|p| p.decay_ratio),
@@ -557,6 +642,9 @@ fn write_tables(out: &mut Output, c: &Cascade) -> miette::Result<()> {
     });
     let h = header(&[
         "speed_hz",
+        "added",
+        "settled",
+        "settle_s",
         "one_x_m",
         "nsv_frequency_hz",
         "nsv_amplitude_m",

@@ -172,7 +172,7 @@ pub fn cascade_map(c: &Cascade, threshold: f64) -> HeatMap {
         .nsv
         .iter()
         .flatten()
-        .filter(|n| n.peak.amplitude_m >= threshold && n.class != NsvClass::Transient)
+        .filter(|n| n.peak.amplitude_m >= threshold && n.class.is_steady())
         .map(|n| (n.speed_hz, n.peak.frequency_hz))
         .unzip();
     m.overlays.push(
@@ -234,6 +234,20 @@ pub fn nsv_amplitude(c: &Cascade, threshold: f64) -> Figure2d {
                     .style(Style::markers(Colour::Palette(i), Marker::Circle).marker_size(4)),
             );
         }
+    }
+    let (x, y): (Vec<f64>, Vec<f64>) = c
+        .points
+        .iter()
+        .zip(&c.nsv)
+        .filter(|(p, _)| p.added)
+        .filter_map(|(p, n)| n.as_ref().map(|n| (p.speed_hz, 1e6 * n.peak.amplitude_m)))
+        .unzip();
+    if !x.is_empty() {
+        fig.series.push(
+            Series::new(x, y)
+                .label("added by refinement")
+                .style(Style::markers(Colour::BLACK, Marker::OpenCircle).marker_size(6)),
+        );
     }
     fig.log_y = true;
     fig.horizontal_lines

@@ -135,11 +135,20 @@ impl RollerGeometry {
         let gamma = self.clearance.at_speed(at.speed);
         let cage_phase = self.cage_ratio * at.angle;
         let cage_speed = self.cage_speed(at.speed);
+        // The rollers' sines and cosines by rotating the first roller's by the pitch, one
+        // roller after the other: two sin_cos per call instead of one per roller (they were
+        // a quarter of a cascade's time), equal to the direct ones within a few ulps.
+        let pitch_step = 2.0 * PI / self.rollers as f64;
+        let (step_sin, step_cos) = pitch_step.sin_cos();
+        let mut sin_cos = (self.cage_angle + cage_phase).sin_cos();
         for j in 0..self.rollers {
-            let pitch = 2.0 * PI * j as f64 / self.rollers as f64 + self.cage_angle;
+            let pitch = pitch_step * j as f64 + self.cage_angle;
             let (wavy, wavy_rate) = self.waviness_at(pitch, cage_phase, cage_speed, at);
             let angle = pitch + cage_phase;
-            let sin_cos = angle.sin_cos();
+            if j > 0 {
+                let (s, c) = sin_cos;
+                sin_cos = (s * step_cos + c * step_sin, c * step_cos - s * step_sin);
+            }
             for (k, &z) in self.slice_z.iter().enumerate() {
                 visit(&Slice {
                     roller: j,

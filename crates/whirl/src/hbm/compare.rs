@@ -85,7 +85,7 @@ pub fn settled_response(
     };
     // Recorded at about 20 kHz: well above the orders looked at, small to store.
     let every = ((5e-5 / step).floor() as usize).max(1);
-    let result = simulate_response(model, &options, settings.contact, every)?.completed()?;
+    let result = simulate_response(model, &options, settings.contact, every, None)?.completed()?;
     let start = result.settled_start();
     let angle: Vec<f64> = result.time[start..].iter().map(|t| speed * t).collect();
     let channel = |name: &str| {

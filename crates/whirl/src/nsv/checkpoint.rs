@@ -24,7 +24,7 @@ use crate::lock::RunLock;
 use crate::model::Model;
 
 /// Format of the folder; a change makes older folders be refused.
-const FORMAT: u32 = 2;
+const FORMAT: u32 = 3;
 
 const MANIFEST: &str = "manifest.json";
 
@@ -49,6 +49,19 @@ fn manifest(model: &Model, options: &CascadeOptions, resolved: &Resolved) -> Res
         "options": options,
         "resolved": resolved,
     }))
+}
+
+/// The name of the checkpoint folder of a cascade of `model` with `options`: 16 hex digits
+/// of the hash of its manifest. A tool that keeps one folder per cascade under one parent
+/// (the command line's `<out>.partial/<key>`) never has one cascade's checkpoint refuse
+/// another's run.
+///
+/// # Errors
+/// [`Error::Input`] for bad options, as [`super::cascade`].
+pub fn key(model: &Model, options: &CascadeOptions) -> Result<String> {
+    let resolved = super::options::resolve(model, options)?;
+    let manifest = manifest(model, options, &resolved)?;
+    Ok(format!("{:016x}", fnv1a(manifest.to_string().as_bytes())))
 }
 
 /// FNV-1a, 64 bits: a hash that stays the same across Rust versions and platforms.

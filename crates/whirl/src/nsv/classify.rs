@@ -1,52 +1,39 @@
 //! What the largest non-synchronous peak at each speed is (SPEC section 9; thesis 5.1).
 //!
-//! Checks in this order, the first that holds names the peak (`tol` is the cascade's
-//! tolerance, `tolerance_bins` times the bin spacing):
+//! The classes name the physics and, for the sub-synchronous ones, the whirl direction
+//! (from the full spectrum of x + i y: forward when the component at +f is the larger):
+//! whip is forward precession locked at a natural frequency, and a backward whirl locked
+//! the same way is `backward-whip`, never plain whip.
 //!
-//! 1. **transient**: free vibration from the start still dying away, not a steady NSV
-//!    (settle longer). Its amplitude is measured over three equal stretches, the end of
-//!    the settling time and the record's two halves: it is transient when it falls to
-//!    less than [`DECAY_PER_STRETCH`] from each stretch to the next, the second fall not
-//!    more than 2x gentler than the first, as an exponential decay does. Two components
-//!    closer than a bin (a mode's forward and backward whirl, split by a hertz) beat
-//!    instead: their envelope does not keep falling. When the settling time is shorter than
-//!    half the record only the record's halves are compared, against
-//!    [`TRANSIENT_DECAY`].
-//! 2. **sub-synchronous whirl**: within `tol` of 0.5X (the thesis' whirl "at twice the
-//!    first critical speed").
-//! 3. **whip**, frequency-locked: sub-synchronous, and a neighbouring speed's NSV lies
-//!    within [`lock_tolerance`] of it although a vibration proportional to speed would have
-//!    moved by more than twice that (the thesis' "frequency-locked phenomenon": the whip's
-//!    frequency does not follow the speed).
-//! 4. **varying compliance** `m N_b w_c` (`m` = 1..3, eq. 4.4; waviness frequencies
+//! A point whose run did not settle ([`super::point`]: its largest non-synchronous peak was
+//! still dying away at the longest settling time) is **unsettled**, whatever its frequency;
+//! it is never an NSV of any other class. Otherwise the checks run in this order, the first
+//! that holds names the peak (`tol` is the cascade's tolerance, `tolerance_bins` times the
+//! bin spacing):
+//!
+//! 1. **sub-synchronous whirl** (`forward-` or `backward-sub-synchronous-whirl`): within
+//!    `tol` of 0.5X (the thesis' whirl "at twice the first critical speed").
+//! 2. **whip** (`forward-whip`, `backward-whip`), frequency-locked: sub-synchronous, and
+//!    another settled speed within [`lock_window`] of this one has its NSV within
+//!    [`lock_tolerance`] of it, although a vibration proportional to speed would have moved
+//!    by more than twice that (the thesis' "frequency-locked phenomenon": the whip's
+//!    frequency does not follow the speed). The window is in hertz of speed, not in
+//!    neighbours, so a refined grid finds the same locks as a coarse one.
+//! 3. **varying compliance** `m N_b w_c` (`m` = 1..3, eq. 4.4; waviness frequencies
 //!    `(N_w - 1) w_c` likewise), and **combination** tones `|m f_c +- n Omega|` (`n` = 1..3),
 //!    within `tol`. Combinations are named only where the running speed exceeds 4 `tol`:
 //!    below that they pack so densely that any frequency would match one.
-//! 5. **whip**, near a natural frequency: sub-synchronous and within [`NATURAL_TOLERANCE`]
+//! 4. **whip**, near a natural frequency: sub-synchronous and within [`NATURAL_TOLERANCE`]
 //!    of a natural frequency of the rotor on linearised bearings at that speed (Campbell):
 //!    the contact stiffness of a bearing with clearance is not its linear stiffness, so the
 //!    match is loose.
-//! 6. **super-harmonic**: above 1X and not explained above (a peak above 1X within
+//! 5. **super-harmonic**: above 1X and not explained above (a peak above 1X within
 //!    [`NATURAL_TOLERANCE`] of a natural frequency is a mode ringing, named **other**).
-//! 7. **other**.
+//! 6. **other**.
 
-use serde::{Deserialize, Serialize};
+use serde::{Deserialize, Serialize, Serializer};
 
 use super::point::{CascadePoint, NsvPeak};
-
-/// Below this ratio of second-half to first-half amplitude a peak is transient when only
-/// the record's halves are compared. Free vibration at 2 % damping of a 50 Hz mode decays
-/// by exp(-0.02 * 2 pi * 50 * 0.25) = 0.21 over a quarter second (half the default record);
-/// a steady vibration keeps a ratio near 1, and on the reference rotor beats of the first
-/// mode's forward and backward whirl were seen down to 0.33 over 0.25 s, so the line is
-/// drawn below that.
-pub const TRANSIENT_DECAY: f64 = 0.25;
-
-/// With three stretches compared, a peak is transient when each stretch holds less than
-/// this fraction of the amplitude of the one before (the second fraction at most twice the
-/// first). The 50 Hz mode above gives 0.21 per quarter second, and 0.53 per tenth of
-/// a second (0.2 s records).
-pub const DECAY_PER_STRETCH: f64 = 0.6;
 
 /// A sub-synchronous peak within this fraction of a linearised natural frequency is whip.
 pub const NATURAL_TOLERANCE: f64 = 0.1;
@@ -58,60 +45,91 @@ const COMBINATION_SPACING: f64 = 4.0;
 const MAX_CONTACT_MULTIPLE: usize = 3;
 const MAX_SPEED_MULTIPLE: usize = 3;
 
-/// What kind of non-synchronous vibration a peak is.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum NsvClass {
-    /// Near half the running speed.
-    SubSynchronousWhirl,
-    /// Locked near a natural frequency while the speed changes.
-    Whip,
-    /// A multiple of a bearing's varying-compliance (or waviness) frequency.
-    VaryingCompliance,
-    /// A combination `|m f_c +- n Omega|` of a contact frequency and the running speed.
-    Combination,
-    /// Above 1X, at no multiple of it, not otherwise explained.
-    SuperHarmonic,
-    /// Free vibration still dying away over the record.
-    Transient,
-    /// None of the above.
-    Other,
-}
-
-impl NsvClass {
-    /// Every class, in the order of the module documentation's list.
-    pub const ALL: [NsvClass; 7] = [
-        NsvClass::Transient,
-        NsvClass::SubSynchronousWhirl,
-        NsvClass::Whip,
-        NsvClass::VaryingCompliance,
-        NsvClass::Combination,
-        NsvClass::SuperHarmonic,
-        NsvClass::Other,
-    ];
-
-    /// Name as in tables: `sub-synchronous-whirl`, `whip`, ...
-    pub fn name(self) -> &'static str {
-        match self {
-            NsvClass::SubSynchronousWhirl => "sub-synchronous-whirl",
-            NsvClass::Whip => "whip",
-            NsvClass::VaryingCompliance => "varying-compliance",
-            NsvClass::Combination => "combination",
-            NsvClass::SuperHarmonic => "super-harmonic",
-            NsvClass::Transient => "transient",
-            NsvClass::Other => "other",
-        }
-    }
-}
+/// The lock window's fraction of the running speed ...
+const LOCK_WINDOW_FRACTION: f64 = 0.1;
+/// ... and its least width, Hz: about two steps of the default 150-speed grid over
+/// 1-750 Hz, where whip locks were first seen.
+const LOCK_WINDOW_MIN_HZ: f64 = 12.0;
 
 /// Whirl direction of a peak, from the full spectrum.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum WhirlDirection {
     /// With the spin (its +frequency component is the larger).
     Forward,
     /// Against the spin.
     Backward,
+}
+
+impl WhirlDirection {
+    /// `forward` or `backward`.
+    pub fn name(self) -> &'static str {
+        match self {
+            WhirlDirection::Forward => "forward",
+            WhirlDirection::Backward => "backward",
+        }
+    }
+}
+
+/// What kind of non-synchronous vibration a peak is (rules in the module documentation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum NsvClass {
+    /// Near half the running speed, whirling this way.
+    SubSynchronousWhirl(WhirlDirection),
+    /// Locked near a natural frequency while the speed changes, whirling this way.
+    Whip(WhirlDirection),
+    /// A multiple of a bearing's varying-compliance (or waviness) frequency.
+    VaryingCompliance,
+    /// A combination `|m f_c +- n Omega|` of a contact frequency and the running speed.
+    Combination,
+    /// Above 1X, at no multiple of it, not otherwise explained.
+    SuperHarmonic,
+    /// None of the above.
+    Other,
+    /// The start had not died away at the longest settling time: no NSV.
+    Unsettled,
+}
+
+impl NsvClass {
+    /// Every class, in the order of the module documentation's list.
+    pub const ALL: [NsvClass; 9] = [
+        NsvClass::SubSynchronousWhirl(WhirlDirection::Forward),
+        NsvClass::SubSynchronousWhirl(WhirlDirection::Backward),
+        NsvClass::Whip(WhirlDirection::Forward),
+        NsvClass::Whip(WhirlDirection::Backward),
+        NsvClass::VaryingCompliance,
+        NsvClass::Combination,
+        NsvClass::SuperHarmonic,
+        NsvClass::Other,
+        NsvClass::Unsettled,
+    ];
+
+    /// Name as in tables: `forward-whip`, `backward-sub-synchronous-whirl`, ...
+    pub fn name(self) -> &'static str {
+        use WhirlDirection::{Backward, Forward};
+        match self {
+            NsvClass::SubSynchronousWhirl(Forward) => "forward-sub-synchronous-whirl",
+            NsvClass::SubSynchronousWhirl(Backward) => "backward-sub-synchronous-whirl",
+            NsvClass::Whip(Forward) => "forward-whip",
+            NsvClass::Whip(Backward) => "backward-whip",
+            NsvClass::VaryingCompliance => "varying-compliance",
+            NsvClass::Combination => "combination",
+            NsvClass::SuperHarmonic => "super-harmonic",
+            NsvClass::Other => "other",
+            NsvClass::Unsettled => "unsettled",
+        }
+    }
+
+    /// Whether this is a steady NSV (every class but unsettled).
+    pub fn is_steady(self) -> bool {
+        self != NsvClass::Unsettled
+    }
+}
+
+impl Serialize for NsvClass {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(self.name())
+    }
 }
 
 /// A frequency named for the classification: a contact frequency (`N_b w_c of bearing A`)
@@ -156,41 +174,66 @@ pub fn lock_tolerance(frequency_hz: f64, tolerance_hz: f64) -> f64 {
     tolerance_hz.max(0.02 * frequency_hz)
 }
 
-/// Classifies every point's peak; `neighbours[i]` are the indices of the points next to
-/// `i` in speed.
-pub(super) fn classify(
-    points: &[CascadePoint],
-    contexts: &[Context<'_>],
-    neighbours: &[Vec<usize>],
-) -> Vec<Option<Nsv>> {
+/// How far in speed (Hz) from `speed_hz` a lock partner is looked for: a tenth of the
+/// speed, at least [`LOCK_WINDOW_MIN_HZ`].
+pub fn lock_window(speed_hz: f64) -> f64 {
+    (LOCK_WINDOW_FRACTION * speed_hz).max(LOCK_WINDOW_MIN_HZ)
+}
+
+/// Classifies every point's peak.
+pub(super) fn classify(points: &[CascadePoint], contexts: &[Context<'_>]) -> Vec<Option<Nsv>> {
     points
         .iter()
         .enumerate()
         .map(|(i, p)| {
             let peak = p.peak?;
-            let locked = neighbours[i]
-                .iter()
-                .filter_map(|&j| points[j].peak.map(|q| (points[j].speed_hz, q)))
-                .find(|(speed_hz, q)| locked_with(p.speed_hz, &peak, *speed_hz, q, &contexts[i]));
-            let (class, explanation) = name(p.speed_hz, &peak, locked, &contexts[i]);
+            let direction = if peak.forward_m >= peak.backward_m {
+                WhirlDirection::Forward
+            } else {
+                WhirlDirection::Backward
+            };
+            let (class, explanation) = if p.settled {
+                let locked = lock_partner(points, i, &contexts[i]);
+                name(p.speed_hz, &peak, direction, locked, &contexts[i])
+            } else {
+                let why = format!(
+                    "still dying away after {:.2} s: {:.2} of its amplitude per half record",
+                    p.settle_s, peak.decay_ratio
+                );
+                (NsvClass::Unsettled, why)
+            };
             Some(Nsv {
                 speed_hz: p.speed_hz,
                 peak,
                 class,
                 explanation,
-                direction: if peak.forward_m >= peak.backward_m {
-                    WhirlDirection::Forward
-                } else {
-                    WhirlDirection::Backward
-                },
+                direction,
             })
         })
         .collect()
 }
 
+/// The nearest settled speed in the lock window whose peak is locked with point `i`'s.
+fn lock_partner(points: &[CascadePoint], i: usize, c: &Context<'_>) -> Option<(f64, NsvPeak)> {
+    let p = &points[i];
+    let peak = p.peak?;
+    let window = lock_window(p.speed_hz);
+    points
+        .iter()
+        .enumerate()
+        .filter(|&(j, q)| j != i && q.settled && (q.speed_hz - p.speed_hz).abs() <= window)
+        .filter_map(|(_, q)| q.peak.map(|other| (q.speed_hz, other)))
+        .filter(|(speed_hz, other)| locked_with(p.speed_hz, &peak, *speed_hz, other, c))
+        .min_by(|a, b| {
+            (a.0 - p.speed_hz)
+                .abs()
+                .total_cmp(&(b.0 - p.speed_hz).abs())
+        })
+}
+
 /// Whether `peak` at `speed_hz` and `other` at `other_speed_hz` are one frequency-locked
-/// vibration: both steady, within the lock tolerance, while a vibration proportional to
-/// speed would have moved by more than twice that.
+/// vibration: within the lock tolerance, while a vibration proportional to speed would
+/// have moved by more than twice that.
 fn locked_with(
     speed_hz: f64,
     peak: &NsvPeak,
@@ -199,31 +242,23 @@ fn locked_with(
     c: &Context<'_>,
 ) -> bool {
     let tolerance = lock_tolerance(peak.frequency_hz, c.tolerance_hz);
-    !transient(peak)
-        && !transient(other)
-        && (peak.frequency_hz - other.frequency_hz).abs() <= tolerance
+    (peak.frequency_hz - other.frequency_hz).abs() <= tolerance
         && peak.order * (speed_hz - other_speed_hz).abs() > 2.0 * tolerance
 }
 
-/// Class and explanation, by the checks of the module documentation.
+/// Class and explanation of a settled peak, by the checks of the module documentation.
 fn name(
     speed_hz: f64,
     peak: &NsvPeak,
+    direction: WhirlDirection,
     locked: Option<(f64, NsvPeak)>,
     c: &Context<'_>,
 ) -> (NsvClass, String) {
     let f = peak.frequency_hz;
     let tol = c.tolerance_hz;
     let sub = f < speed_hz;
-    if transient(peak) {
-        let why = format!(
-            "decays to {:.2} of its first-half amplitude over the record",
-            peak.decay_ratio
-        );
-        return (NsvClass::Transient, why);
-    }
     if (f - 0.5 * speed_hz).abs() <= tol {
-        return (NsvClass::SubSynchronousWhirl, "0.5X".into());
+        return (NsvClass::SubSynchronousWhirl(direction), "0.5X".into());
     }
     if let (true, Some((other_speed, other))) = (sub, locked) {
         let why = format!(
@@ -232,7 +267,7 @@ fn name(
             other_speed,
             nearest_natural(f, c).map_or(String::new(), |n| format!(", near {}", n.name))
         );
-        return (NsvClass::Whip, why);
+        return (NsvClass::Whip(direction), why);
     }
     if let Some(found) = contact_match(speed_hz, f, c) {
         return found;
@@ -243,27 +278,17 @@ fn name(
         let why = format!("near {} ({:.1} Hz)", n.name, n.frequency_hz);
         // Above the running speed a mode ringing at its own frequency is no whip, and no
         // super-harmonic of the speed either.
-        let class = if sub { NsvClass::Whip } else { NsvClass::Other };
+        let class = if sub {
+            NsvClass::Whip(direction)
+        } else {
+            NsvClass::Other
+        };
         return (class, why);
     }
     if f > speed_hz {
         return (NsvClass::SuperHarmonic, format!("{:.3}X", peak.order));
     }
     (NsvClass::Other, format!("{:.3}X", peak.order))
-}
-
-/// Whether `peak` is free vibration dying away (rule 1 of the module documentation).
-fn transient(peak: &NsvPeak) -> bool {
-    let later = peak.decay_ratio;
-    match peak.settling_ratio {
-        Some(earlier) => {
-            // Falling on, not rebounding: the later fall may be steeper (a decay that
-            // reaches the level of other components' leakage).
-            let falls_on = later <= 2.0 * earlier;
-            earlier < DECAY_PER_STRETCH && later < DECAY_PER_STRETCH && falls_on
-        }
-        None => later < TRANSIENT_DECAY,
-    }
 }
 
 /// The natural frequency nearest `f`.
@@ -343,33 +368,56 @@ mod tests {
 
     #[test]
     fn each_check_names_its_class() {
+        use WhirlDirection::{Backward, Forward};
         let contact = [named("N_b w_c", 365.0)];
         let natural = [named("mode 1F", 50.0)];
         let c = context(&contact, &natural);
-        let class = |f: f64, speed: f64| name(speed, &peak(f, speed), None, &c).0;
-        assert_eq!(class(50.5, 100.0), NsvClass::SubSynchronousWhirl);
+        let class = |f: f64, speed: f64| name(speed, &peak(f, speed), Forward, None, &c).0;
+        assert_eq!(class(50.5, 100.0), NsvClass::SubSynchronousWhirl(Forward));
         assert_eq!(class(365.0, 100.0), NsvClass::VaryingCompliance);
         assert_eq!(class(730.0, 100.0), NsvClass::VaryingCompliance);
         assert_eq!(class(265.0, 100.0), NsvClass::Combination);
-        assert_eq!(class(47.0, 200.0), NsvClass::Whip);
+        assert_eq!(class(47.0, 200.0), NsvClass::Whip(Forward));
         assert_eq!(class(150.0, 100.0), NsvClass::SuperHarmonic);
         // The first mode ringing above a low running speed.
         assert_eq!(class(49.0, 30.0), NsvClass::Other);
         assert_eq!(class(20.0, 200.0), NsvClass::Other);
-        // Falling by about 0.2 per stretch, twice: an exponential decay.
-        let mut dying = peak(47.0, 200.0);
-        dying.decay_ratio = 0.2;
-        dying.settling_ratio = Some(0.25);
-        assert_eq!(name(200.0, &dying, None, &c).0, NsvClass::Transient);
-        // Steady, then falling: a beat, not a decay.
-        dying.settling_ratio = Some(0.9);
-        assert_eq!(name(200.0, &dying, None, &c).0, NsvClass::Whip);
-        // Without the settling stretch, only a fall below TRANSIENT_DECAY counts.
-        dying.settling_ratio = None;
-        dying.decay_ratio = 0.3;
-        assert_eq!(name(200.0, &dying, None, &c).0, NsvClass::Whip);
-        dying.decay_ratio = 0.1;
-        assert_eq!(name(200.0, &dying, None, &c).0, NsvClass::Transient);
+        // A backward whirl near the natural frequency is never plain whip.
+        let backward = name(200.0, &peak(47.0, 200.0), Backward, None, &c).0;
+        assert_eq!(backward, NsvClass::Whip(Backward));
+        assert_eq!(backward.name(), "backward-whip");
+    }
+
+    #[test]
+    fn an_unsettled_point_has_no_other_class() {
+        let mut p = CascadePoint {
+            speed: 1256.6,
+            speed_hz: 200.0,
+            added: false,
+            settle_s: 4.0,
+            settled: false,
+            diverged: None,
+            amplitude: Vec::new(),
+            full_amplitude: Vec::new(),
+            one_x_m: 1e-5,
+            peak: Some(peak(50.0, 200.0)),
+        };
+        let (contact, natural) = ([], [named("mode 1F", 50.0)]);
+        let c = [context(&contact, &natural)];
+        let nsv = classify(std::slice::from_ref(&p), &c);
+        assert_eq!(nsv[0].as_ref().map(|n| n.class), Some(NsvClass::Unsettled));
+        p.settled = true;
+        let nsv = classify(std::slice::from_ref(&p), &c);
+        let class = nsv[0].as_ref().map(|n| n.class);
+        assert_eq!(class, Some(NsvClass::Whip(WhirlDirection::Forward)));
+    }
+
+    #[test]
+    fn every_name_is_distinct() {
+        let mut names: Vec<&str> = NsvClass::ALL.iter().map(|c| c.name()).collect();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), NsvClass::ALL.len());
     }
 
     #[test]

@@ -57,6 +57,7 @@ pub mod checkpoint;
 pub mod classify;
 mod options;
 mod point;
+mod refine;
 mod summary;
 
 use std::ops::ControlFlow;
@@ -69,11 +70,18 @@ use serde::Serialize;
 
 pub use classify::{NamedFrequency, Nsv, NsvClass, WhirlDirection};
 pub use options::{
-    CascadeOptions, Component, Resolved, DEFAULT_MODES, DEFAULT_TOLERANCE_BINS, SAMPLE_INTERVAL,
-    STABLE_FRACTION,
+    CascadeOptions, Component, Refinement, Resolved, DEFAULT_MAX_ADDED, DEFAULT_MIN_SPACING_HZ,
+    DEFAULT_MODES, DEFAULT_ONSET_LEVELS_M, DEFAULT_SETTLE, DEFAULT_SETTLE_MAX,
+    DEFAULT_TOLERANCE_BINS, SAMPLE_INTERVAL, STABLE_FRACTION,
 };
-pub use point::{CascadePoint, NsvPeak};
-pub use summary::{ClassCount, LargestNsv, NsvSummary, DEFAULT_THRESHOLD_M};
+pub use point::{
+    dies_away, negligible, CascadePoint, NsvPeak, DECAY_PER_STRETCH, NEGLIGIBLE_FRACTION,
+    NEGLIGIBLE_M, TRANSIENT_DECAY,
+};
+pub use refine::SHARP_RATIO;
+pub use summary::{
+    ClassCount, LargestNsv, NsvStatistics, NsvSummary, Onset, SpeedLevel, DEFAULT_THRESHOLD_M,
+};
 
 use crate::error::{Error, Result};
 use crate::fe::{assemble, Bearings};
@@ -86,16 +94,13 @@ use classify::Context;
 /// Natural frequencies (Campbell branches) compared with sub-synchronous peaks.
 const NATURAL_BRANCHES: usize = 6;
 
-/// Neighbours on each side in speed that a peak's frequency lock is looked for in: two, so
-/// that one speed where another vibration was the larger does not break the lock.
-const LOCK_NEIGHBOURS: usize = 2;
-
 /// How far a cascade has got, for a progress display.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct CascadeProgress {
     /// Speeds finished, those loaded from the checkpoint included.
     pub done: usize,
-    /// Speeds in the cascade.
+    /// Speeds in the cascade so far: the requested ones and those the refinement has added
+    /// (it grows after each round of refinement).
     pub total: usize,
     /// Speeds loaded from the checkpoint.
     pub resumed: usize,
@@ -116,7 +121,7 @@ pub struct Cascade {
     pub frequency_hz: Vec<f64>,
     /// Frequencies of the full-spectrum bins kept (empty unless `options.full`), Hz.
     pub full_frequency_hz: Vec<f64>,
-    /// One point per speed, in the order of `options.speeds`.
+    /// One point per speed, requested and added, in ascending speed.
     pub points: Vec<CascadePoint>,
     /// Contact frequencies at each speed (N_b w_c, waviness), Hz.
     pub contact_frequencies: Vec<Vec<NamedFrequency>>,
@@ -135,18 +140,22 @@ impl Cascade {
     /// The NSV in a few numbers, counting peaks at or above `threshold_m` (m, zero-to-peak;
     /// [`DEFAULT_THRESHOLD_M`] is a sensible start).
     pub fn nsv_summary(&self, threshold_m: f64) -> NsvSummary {
-        let diverged = self
-            .points
-            .iter()
-            .filter(|p| p.diverged.is_some())
-            .map(|p| p.speed_hz)
-            .collect();
-        summary::summarise(&self.nsv, diverged, threshold_m)
+        summary::summarise(
+            &self.points,
+            &self.nsv,
+            threshold_m,
+            &self.options.refine.onset_levels_m,
+        )
     }
 
     /// The speeds, Hz.
     pub fn speeds_hz(&self) -> Vec<f64> {
         self.points.iter().map(|p| p.speed_hz).collect()
+    }
+
+    /// The speeds, rad/s.
+    pub fn speeds(&self) -> Vec<f64> {
+        self.points.iter().map(|p| p.speed).collect()
     }
 }
 
@@ -170,52 +179,136 @@ pub fn cascade(
     let store = checkpoint
         .map(|dir| Checkpoint::open(dir, model, options, &resolved))
         .transpose()?;
-    let mut points: Vec<Option<CascadePoint>> = options
-        .speeds
-        .iter()
-        .enumerate()
-        .map(|(i, &w)| store.as_ref().and_then(|s| s.load(i, w)))
-        .collect();
-    let resumed = points.iter().flatten().count();
-    let total = points.len();
-    let tell = |done: usize| {
-        progress.map_or(ControlFlow::Continue(()), |report| {
-            report(CascadeProgress {
-                done,
-                total,
-                resumed,
-            })
-        })
+    let planners = point::Planners::new(options, &resolved)?;
+    let mut run = Run {
+        model,
+        options,
+        resolved: &resolved,
+        store: store.as_ref(),
+        planners: &planners,
+        progress,
+        speeds: options.speeds.clone(),
+        points: Vec::new(),
+        resumed: 0,
     };
-    let stop = AtomicBool::new(tell(resumed).is_break());
-    let done = AtomicUsize::new(resumed);
-    let missing: Vec<usize> = (0..total).filter(|&i| points[i].is_none()).collect();
-    let computed = missing
-        .par_iter()
-        .filter(|_| !stop.load(Ordering::Relaxed))
-        .map(|&i| {
-            let point = point::compute(model, options, &resolved, options.speeds[i])?;
-            if let Some(s) = &store {
-                s.save(i, &point)?;
-            }
-            let finished = done.fetch_add(1, Ordering::Relaxed) + 1;
-            if tell(finished).is_break() {
-                stop.store(true, Ordering::Relaxed);
-            }
-            Ok((i, point))
-        })
-        .collect::<Result<Vec<_>>>()?;
-    for (i, p) in computed {
-        points[i] = Some(p);
+    run.compute_missing()?;
+    let mut cascade = assemble_cascade(model, options, resolved, run.sorted_points())?;
+    if options.refine.enabled {
+        let seeds = refine::resonance_speeds(
+            &cascade.speeds(),
+            &cascade.contact_frequencies,
+            &cascade.natural_frequencies,
+            options.refine.min_spacing_hz,
+        );
+        let seeds: Vec<f64> = seeds.into_iter().take(options.refine.max_added).collect();
+        if !seeds.is_empty() {
+            run.speeds.extend(seeds);
+            run.compute_missing()?;
+            cascade = assemble_cascade(model, options, resolved, run.sorted_points())?;
+        }
     }
-    let points: Vec<CascadePoint> = points.into_iter().flatten().collect();
-    if points.len() < total {
-        return Err(interrupted(points.len(), total, store.as_ref()));
+    while options.refine.enabled {
+        let added = run.speeds.len() - options.speeds.len();
+        let room = options.refine.max_added.saturating_sub(added);
+        let tolerance_hz = options.tolerance_bins * resolved.resolution_hz;
+        let next = refine::next_speeds(
+            &cascade.points,
+            &cascade.nsv,
+            &options.refine,
+            tolerance_hz,
+            room,
+        );
+        if next.is_empty() {
+            break;
+        }
+        run.speeds.extend(next);
+        run.compute_missing()?;
+        cascade = assemble_cascade(model, options, resolved, run.sorted_points())?;
     }
-    let mut cascade = assemble_cascade(model, options, resolved, points)?;
-    cascade.resumed = resumed;
+    cascade.resumed = run.resumed;
     cascade.wall_time_s = start.elapsed().as_secs_f64();
     Ok(cascade)
+}
+
+/// The speeds of a cascade as they are computed, round after round of refinement.
+struct Run<'a> {
+    model: &'a Model,
+    options: &'a CascadeOptions,
+    resolved: &'a Resolved,
+    store: Option<&'a Checkpoint>,
+    planners: &'a point::Planners,
+    progress: Option<ProgressFn<'a>>,
+    /// Requested speeds, then the added ones in the order they were added (rad/s); a
+    /// speed's index here is its key in the checkpoint.
+    speeds: Vec<f64>,
+    /// The points computed or loaded so far, by index into `speeds`.
+    points: Vec<Option<CascadePoint>>,
+    /// Points loaded from the checkpoint.
+    resumed: usize,
+}
+
+impl Run<'_> {
+    /// Loads or computes every speed that has no point yet, in parallel.
+    fn compute_missing(&mut self) -> Result<()> {
+        let requested = self.options.speeds.len();
+        for i in self.points.len()..self.speeds.len() {
+            let loaded = self.store.and_then(|s| s.load(i, self.speeds[i]));
+            self.resumed += usize::from(loaded.is_some());
+            self.points.push(loaded);
+        }
+        let total = self.points.len();
+        let resumed = self.resumed;
+        let progress = self.progress;
+        let tell = |done: usize| {
+            progress.map_or(ControlFlow::Continue(()), |report| {
+                report(CascadeProgress {
+                    done,
+                    total,
+                    resumed,
+                })
+            })
+        };
+        let already = self.points.iter().flatten().count();
+        let stop = AtomicBool::new(tell(already).is_break());
+        let done = AtomicUsize::new(already);
+        let missing: Vec<usize> = (0..total).filter(|&i| self.points[i].is_none()).collect();
+        let (model, options, resolved, store) = (self.model, self.options, self.resolved, self.store);
+        let speeds = &self.speeds;
+        let computed = missing
+            .par_iter()
+            .filter(|_| !stop.load(Ordering::Relaxed))
+            .map_init(
+                || self.planners.clone(),
+                |planners, &i| {
+                    let mut point = point::compute(model, options, resolved, speeds[i], planners)?;
+                    point.added = i >= requested;
+                    if let Some(s) = store {
+                        s.save(i, &point)?;
+                    }
+                    let finished = done.fetch_add(1, Ordering::Relaxed) + 1;
+                    if tell(finished).is_break() {
+                        stop.store(true, Ordering::Relaxed);
+                    }
+                    Ok((i, point))
+                },
+            )
+            .collect::<Result<Vec<_>>>()?;
+        for (i, p) in computed {
+            self.points[i] = Some(p);
+        }
+        let finished = self.points.iter().flatten().count();
+        if finished < total {
+            return Err(interrupted(finished, total, self.store));
+        }
+        Ok(())
+    }
+
+    /// Every point, in ascending speed.
+    fn sorted_points(&self) -> Vec<CascadePoint> {
+        let mut points: Vec<CascadePoint> = self.points.iter().flatten().cloned().collect();
+        points.sort_by(|a, b| a.speed.total_cmp(&b.speed));
+        points
+    }
 }
 
 fn interrupted(done: usize, total: usize, store: Option<&Checkpoint>) -> Error {
@@ -241,12 +334,10 @@ fn assemble_cascade(
     } else {
         Vec::new()
     };
-    let contact: Vec<Vec<NamedFrequency>> = options
-        .speeds
-        .iter()
-        .map(|&w| contact_bases(model, w))
-        .collect();
-    let natural = natural_frequencies(model, &options.speeds)?;
+    let speeds: Vec<f64> = points.iter().map(|p| p.speed).collect();
+    let contact: Vec<Vec<NamedFrequency>> =
+        speeds.iter().map(|&w| contact_bases(model, w)).collect();
+    let natural = natural_frequencies(model, &speeds)?;
     let tolerance_hz = options.tolerance_bins * df;
     let contexts: Vec<Context<'_>> = contact
         .iter()
@@ -257,7 +348,7 @@ fn assemble_cascade(
             tolerance_hz,
         })
         .collect();
-    let nsv = classify::classify(&points, &contexts, &neighbours_in_speed(&options.speeds));
+    let nsv = classify::classify(&points, &contexts);
     Ok(Cascade {
         options: options.clone(),
         resolved,
@@ -277,21 +368,6 @@ fn ascending(speeds: &[f64]) -> Vec<usize> {
     let mut order: Vec<usize> = (0..speeds.len()).collect();
     order.sort_by(|&a, &b| speeds[a].total_cmp(&speeds[b]));
     order
-}
-
-/// For each speed, the indices of up to [`LOCK_NEIGHBOURS`] speeds on each side of it.
-fn neighbours_in_speed(speeds: &[f64]) -> Vec<Vec<usize>> {
-    let order = ascending(speeds);
-    let mut out = vec![Vec::new(); speeds.len()];
-    for (rank, &i) in order.iter().enumerate() {
-        let low = rank.saturating_sub(LOCK_NEIGHBOURS);
-        let high = (rank + LOCK_NEIGHBOURS).min(order.len() - 1);
-        out[i] = (low..=high)
-            .filter(|&r| r != rank)
-            .map(|r| order[r])
-            .collect();
-    }
-    out
 }
 
 /// The varying-compliance and waviness frequencies of every roller bearing at `speed`

@@ -7,7 +7,7 @@ use crate::error::{Error, InputError, Result};
 use crate::model::Model;
 use crate::post::spectrum::MIN_SAMPLES;
 use crate::post::Window;
-use crate::time::{contact_frequencies, stable_step_for, ContactLaw};
+use crate::time::{contact_frequencies, stable_step_for, ContactLaw, Initial};
 use crate::units::rad_s_to_hz;
 
 /// The central difference runs at this fraction of its stability limit by default (as
@@ -24,6 +24,24 @@ pub const SAMPLE_INTERVAL: f64 = 1e-5;
 /// reference rotor's frequencies below 1 kHz within 0.1 % and raise the stable step tenfold
 /// (`whirl reduce`).
 pub const DEFAULT_MODES: usize = 12;
+
+/// Default shortest settling time, s: the first record is taken after it.
+pub const DEFAULT_SETTLE: f64 = 0.5;
+
+/// Default longest settling time, s: a speed whose start has not died away by then is
+/// reported unsettled. The reference rotor's first mode (2 % damping, 50 Hz) loses a factor
+/// of 500 per second, so free vibration of tens of micrometres is gone well within it.
+pub const DEFAULT_SETTLE_MAX: f64 = 4.0;
+
+/// Default largest number of speeds the refinement adds.
+pub const DEFAULT_MAX_ADDED: usize = 60;
+
+/// Default smallest spacing the refinement makes between two speeds, Hz.
+pub const DEFAULT_MIN_SPACING_HZ: f64 = 0.5;
+
+/// Default NSV levels whose onset the refinement brackets, m: 1 um (the summary's default
+/// threshold) and 10 um.
+pub const DEFAULT_ONSET_LEVELS_M: [f64; 2] = [1e-6, 1e-5];
 
 /// Default tolerance of "at a multiple of the running speed", in bins: the Hann window's
 /// main lobe is +-2 bins, so a synchronous peak refined between bins lies well inside.
@@ -46,13 +64,49 @@ pub enum Component {
     Uy,
 }
 
+/// How the speed grid is refined after the requested speeds (see the module
+/// documentation of [`crate::nsv`]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Refinement {
+    /// Whether speeds are added at all.
+    pub enabled: bool,
+    /// At most this many speeds are added.
+    pub max_added: usize,
+    /// No speed is added closer than this to another, Hz.
+    pub min_spacing_hz: f64,
+    /// NSV levels (m, zero-to-peak) whose onset (the lowest speed reaching them) is
+    /// bracketed down to the smallest spacing; the smallest is also the level below which
+    /// sharp changes between neighbours are not refined.
+    pub onset_levels_m: Vec<f64>,
+}
+
+impl Default for Refinement {
+    fn default() -> Self {
+        Refinement {
+            enabled: true,
+            max_added: DEFAULT_MAX_ADDED,
+            min_spacing_hz: DEFAULT_MIN_SPACING_HZ,
+            onset_levels_m: DEFAULT_ONSET_LEVELS_M.to_vec(),
+        }
+    }
+}
+
 /// What a cascade computes. Build with [`CascadeOptions::new`] and change fields.
 #[derive(Debug, Clone, Serialize)]
 pub struct CascadeOptions {
-    /// Spin speeds, rad/s, each positive (the order of the list is kept in the results).
+    /// Requested spin speeds, rad/s, each positive (the results hold them and the added
+    /// speeds in ascending order).
     pub speeds: Vec<f64>,
-    /// Time simulated and discarded before the record at each speed, s.
+    /// Shortest time simulated and discarded before the record at each speed, s.
     pub settle: f64,
+    /// Longest settling time, s: the run at a speed goes on (checked every half record)
+    /// until its start has died away or this is reached. Equal to `settle` for a fixed
+    /// settling time.
+    pub settle_max: f64,
+    /// Where each run starts: the static equilibrium under gravity, or rest.
+    pub initial: Initial,
+    /// Speeds added where the NSV changes sharply.
+    pub refine: Refinement,
     /// Time recorded after settling, whose spectrum is taken, s. The bin spacing is its
     /// inverse.
     pub record: f64,
@@ -84,8 +138,9 @@ pub struct CascadeOptions {
 }
 
 impl CascadeOptions {
-    /// The defaults for `model` at `speeds` (rad/s): 0.5 s settling and 0.5 s recorded
-    /// (2 Hz bins), the model's default contact law (Hertz with roller bearings), the
+    /// The defaults for `model` at `speeds` (rad/s): settling from 0.5 s until the start
+    /// has died away (at most 4 s) from the static equilibrium, 0.5 s recorded (2 Hz
+    /// bins), the grid refined ([`Refinement::default`]), the model's default contact law (Hertz with roller bearings), the
     /// reduced model ([`DEFAULT_MODES`]), the first disk's node (else the middle node), its
     /// vertical displacement, Hann window, the default band, 2 bins tolerance.
     pub fn new(model: &Model, speeds: Vec<f64>) -> Self {
@@ -95,7 +150,10 @@ impl CascadeOptions {
             .map_or(model.node_count() / 2, |d| d.station.node);
         CascadeOptions {
             speeds,
-            settle: 0.5,
+            settle: DEFAULT_SETTLE,
+            settle_max: DEFAULT_SETTLE_MAX.max(DEFAULT_SETTLE),
+            initial: Initial::StaticEquilibrium,
+            refine: Refinement::default(),
             record: 0.5,
             law: ContactLaw::default_for(model),
             reduction: Some(DEFAULT_MODES),
@@ -212,6 +270,33 @@ fn check(model: &Model, o: &CascadeOptions) -> Result<()> {
             "settle",
             format!("the settling time must be 0 s or more, got {} s", o.settle),
             "e.g. 0.5 s",
+        ));
+    }
+    if !(o.settle_max.is_finite() && o.settle_max >= o.settle) {
+        return Err(bad(
+            "settle_max",
+            format!(
+                "the longest settling time must be at least the shortest ({} s), got {} s",
+                o.settle, o.settle_max
+            ),
+            "e.g. 4 s, or equal to the settling time for a fixed settling time",
+        ));
+    }
+    if !positive(o.refine.min_spacing_hz) {
+        return Err(bad(
+            "refine_spacing",
+            format!(
+                "the smallest spacing of added speeds must be positive, got {} Hz",
+                o.refine.min_spacing_hz
+            ),
+            "e.g. 0.5 Hz",
+        ));
+    }
+    if let Some(level) = o.refine.onset_levels_m.iter().find(|l| !positive(**l)) {
+        return Err(bad(
+            "refine_levels",
+            format!("every onset level must be positive, got {level} m"),
+            "e.g. 1 um and 10 um",
         ));
     }
     if !positive(o.record) {

@@ -1,9 +1,17 @@
-//! The NSV of a whole cascade in a few numbers: where it starts, how large it gets, and
-//! what kind dominates.
+//! The NSV of a whole cascade in a few numbers: where it starts, how large it gets, how
+//! large it is over the speed range, and what kind dominates.
+//!
+//! Only settled speeds count ([`NsvClass::Unsettled`] and diverged speeds are listed
+//! apart). The statistics over the speed range weigh each settled speed by the stretch of
+//! speed it stands for (half the distance to each neighbour), so they approximate the
+//! distribution of the NSV over the range itself: speeds added by the refinement where
+//! the NSV changes sharply do not pull them, and a finer grid converges to the same
+//! numbers instead of counting a narrow burst more often.
 
 use serde::Serialize;
 
 use super::classify::{Nsv, NsvClass, WhirlDirection};
+use super::point::CascadePoint;
 
 /// Default NSV threshold, m: 1 um zero-to-peak at the disk, about a thirtieth of the
 /// largest NSV the thesis reports for the reference rotor (3e-5 m at 20 um clearance,
@@ -12,8 +20,17 @@ use super::classify::{Nsv, NsvClass, WhirlDirection};
 /// vibration an engineer would look at.
 pub const DEFAULT_THRESHOLD_M: f64 = 1e-6;
 
-/// The largest NSV of a cascade.
+/// A speed and the NSV amplitude there.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SpeedLevel {
+    /// Spin speed, Hz.
+    pub speed_hz: f64,
+    /// NSV amplitude, m (0 where there is no non-synchronous peak).
+    pub amplitude_m: f64,
+}
+
+/// The largest NSV of a cascade, and how well the speed grid resolves it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct LargestNsv {
     /// Spin speed, Hz.
     pub speed_hz: f64,
@@ -27,6 +44,39 @@ pub struct LargestNsv {
     pub class: NsvClass,
     /// Its whirl direction.
     pub direction: WhirlDirection,
+    /// The nearest settled speeds below and above, with their NSV.
+    pub neighbours: Vec<SpeedLevel>,
+    /// Distance to the nearer neighbour, Hz: the grid's resolution at the largest NSV.
+    pub spacing_hz: Option<f64>,
+}
+
+/// The onset of NSV at a level, bracketed by the grid.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Onset {
+    /// The level, m.
+    pub level_m: f64,
+    /// The lowest settled speed whose NSV reaches the level, Hz.
+    pub speed_hz: f64,
+    /// The settled speed just below it (whose NSV stays under the level), Hz.
+    pub below_hz: Option<f64>,
+}
+
+/// How large the NSV is over the speed range (settled speeds, each weighed by the stretch
+/// of speed it stands for).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct NsvStatistics {
+    /// Settled speeds the statistics are taken over.
+    pub speeds: usize,
+    /// Lowest and highest of them, Hz.
+    pub range_hz: (f64, f64),
+    /// Median NSV over the range, m.
+    pub median_m: f64,
+    /// 90th percentile of the NSV over the range, m: exceeded over a tenth of it.
+    pub p90_m: f64,
+    /// Mean NSV over the range, m.
+    pub mean_m: f64,
+    /// The NSV integrated over speed (trapezoids), m Hz.
+    pub integrated_m_hz: f64,
 }
 
 /// How many speeds' NSV above the threshold fall in one class, and their largest.
@@ -42,17 +92,21 @@ pub struct ClassCount {
     pub total_m: f64,
 }
 
-/// The NSV of a cascade in a few numbers. Transient peaks (free vibration still dying
-/// away) are counted in `classes` but never make the onset, the largest or the dominant
-/// class.
+/// The NSV of a cascade in a few numbers. Unsettled peaks (free vibration still dying away
+/// at the longest settling time) are counted in `classes` but never make the onset, the
+/// largest, the statistics or the dominant class.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct NsvSummary {
     /// The threshold applied, m.
     pub threshold_m: f64,
     /// The lowest speed whose steady NSV reaches the threshold, Hz.
     pub onset_speed_hz: Option<f64>,
+    /// The onset at each level: the threshold, then the refinement's onset levels.
+    pub onsets: Vec<Onset>,
     /// The largest steady NSV, wherever it is (threshold or not).
     pub largest: Option<LargestNsv>,
+    /// The NSV over the speed range.
+    pub statistics: Option<NsvStatistics>,
     /// The class with the largest summed amplitude over the speeds at or above the
     /// threshold.
     pub dominant_class: Option<NsvClass>,
@@ -60,36 +114,61 @@ pub struct NsvSummary {
     pub speeds_above_threshold: usize,
     /// Per class, the speeds at or above the threshold (classes with none left out).
     pub classes: Vec<ClassCount>,
+    /// Speeds added by the refinement of the grid.
+    pub added_speeds: usize,
+    /// Speeds whose start had not died away at the longest settling time, Hz.
+    pub unsettled_speeds_hz: Vec<f64>,
     /// Speeds whose run diverged, Hz.
     pub diverged_speeds_hz: Vec<f64>,
 }
 
-/// Summarises the classified NSV of the speeds.
+/// The NSV level of a point: its steady NSV amplitude (0 without a non-synchronous peak),
+/// `None` where it diverged or did not settle.
+pub(super) fn level(point: &CascadePoint, nsv: Option<&Nsv>) -> Option<f64> {
+    if point.diverged.is_some() || !point.settled {
+        return None;
+    }
+    Some(nsv.map_or(0.0, |n| n.peak.amplitude_m))
+}
+
+/// Summarises the classified NSV of `points` (in ascending speed, `nsv` alongside),
+/// counting peaks at or above `threshold_m`, with the onsets at `levels_m` too.
 pub(super) fn summarise(
+    points: &[CascadePoint],
     nsv: &[Option<Nsv>],
-    diverged_speeds_hz: Vec<f64>,
     threshold_m: f64,
+    levels_m: &[f64],
 ) -> NsvSummary {
+    let settled: Vec<(usize, SpeedLevel)> = points
+        .iter()
+        .zip(nsv)
+        .enumerate()
+        .filter_map(|(i, (p, n))| {
+            level(p, n.as_ref()).map(|amplitude_m| {
+                let speed_hz = p.speed_hz;
+                (i, SpeedLevel {
+                    speed_hz,
+                    amplitude_m,
+                })
+            })
+        })
+        .collect();
     let steady = || {
         nsv.iter()
             .flatten()
-            .filter(|n| n.class != NsvClass::Transient)
+            .filter(|n| n.class.is_steady())
     };
     let above = |n: &&Nsv| n.peak.amplitude_m >= threshold_m;
-    let onset_speed_hz = steady()
-        .filter(above)
-        .map(|n| n.speed_hz)
-        .min_by(f64::total_cmp);
-    let largest = steady()
-        .max_by(|a, b| a.peak.amplitude_m.total_cmp(&b.peak.amplitude_m))
-        .map(|n| LargestNsv {
-            speed_hz: n.speed_hz,
-            frequency_hz: n.peak.frequency_hz,
-            amplitude_m: n.peak.amplitude_m,
-            order: n.peak.order,
-            class: n.class,
-            direction: n.direction,
-        });
+    let mut onsets = Vec::new();
+    for level in std::iter::once(threshold_m).chain(levels_m.iter().copied()) {
+        if onsets.iter().any(|o: &Onset| o.level_m == level) {
+            continue;
+        }
+        if let Some(onset) = onset_at(&settled, level) {
+            onsets.push(onset);
+        }
+    }
+    let largest = largest(&settled, nsv);
     let classes: Vec<ClassCount> = NsvClass::ALL
         .iter()
         .map(|&class| {
@@ -110,16 +189,176 @@ pub(super) fn summarise(
         .collect();
     let dominant_class = classes
         .iter()
-        .filter(|c| c.class != NsvClass::Transient)
+        .filter(|c| c.class.is_steady())
         .max_by(|a, b| a.total_m.total_cmp(&b.total_m))
         .map(|c| c.class);
+    let speeds_where = |keep: &dyn Fn(&CascadePoint) -> bool| {
+        points
+            .iter()
+            .filter(|p| keep(p))
+            .map(|p| p.speed_hz)
+            .collect()
+    };
     NsvSummary {
         threshold_m,
-        onset_speed_hz,
+        onset_speed_hz: onsets.first().filter(|o| o.level_m == threshold_m).map(|o| o.speed_hz),
+        onsets,
         largest,
+        statistics: statistics(&settled),
         dominant_class,
         speeds_above_threshold: steady().filter(above).count(),
         classes,
-        diverged_speeds_hz,
+        added_speeds: points.iter().filter(|p| p.added).count(),
+        unsettled_speeds_hz: speeds_where(&|p| p.diverged.is_none() && !p.settled),
+        diverged_speeds_hz: speeds_where(&|p| p.diverged.is_some()),
+    }
+}
+
+/// The lowest settled speed reaching `level_m`, with the one below it.
+fn onset_at(settled: &[(usize, SpeedLevel)], level_m: f64) -> Option<Onset> {
+    let k = settled.iter().position(|(_, s)| s.amplitude_m >= level_m)?;
+    Some(Onset {
+        level_m,
+        speed_hz: settled[k].1.speed_hz,
+        below_hz: k.checked_sub(1).map(|j| settled[j].1.speed_hz),
+    })
+}
+
+/// The largest settled NSV with its neighbours in speed.
+fn largest(settled: &[(usize, SpeedLevel)], nsv: &[Option<Nsv>]) -> Option<LargestNsv> {
+    let (k, _) = settled
+        .iter()
+        .enumerate()
+        .filter(|(_, (i, _))| nsv[*i].is_some())
+        .max_by(|a, b| a.1 .1.amplitude_m.total_cmp(&b.1 .1.amplitude_m))?;
+    let (i, here) = settled[k];
+    let n = nsv[i].as_ref()?;
+    let neighbours: Vec<SpeedLevel> = [k.checked_sub(1), Some(k + 1)]
+        .into_iter()
+        .flatten()
+        .filter_map(|j| settled.get(j).map(|(_, s)| *s))
+        .collect();
+    let spacing_hz = neighbours
+        .iter()
+        .map(|s| (s.speed_hz - here.speed_hz).abs())
+        .min_by(f64::total_cmp);
+    Some(LargestNsv {
+        speed_hz: n.speed_hz,
+        frequency_hz: n.peak.frequency_hz,
+        amplitude_m: n.peak.amplitude_m,
+        order: n.peak.order,
+        class: n.class,
+        direction: n.direction,
+        neighbours,
+        spacing_hz,
+    })
+}
+
+/// Weighted median, 90th percentile, mean and integral of the settled NSV over speed.
+fn statistics(settled: &[(usize, SpeedLevel)]) -> Option<NsvStatistics> {
+    let levels: Vec<SpeedLevel> = settled.iter().map(|(_, s)| *s).collect();
+    let weights = speed_weights(&levels);
+    let total: f64 = weights.iter().sum();
+    if levels.is_empty() || !(total > 0.0) {
+        return levels.first().map(|s| NsvStatistics {
+            speeds: levels.len(),
+            range_hz: (s.speed_hz, s.speed_hz),
+            median_m: s.amplitude_m,
+            p90_m: s.amplitude_m,
+            mean_m: s.amplitude_m,
+            integrated_m_hz: 0.0,
+        });
+    }
+    let integrated_m_hz: f64 = levels
+        .iter()
+        .zip(&weights)
+        .map(|(s, w)| s.amplitude_m * w)
+        .sum();
+    let mut sorted: Vec<(f64, f64)> = levels
+        .iter()
+        .zip(&weights)
+        .map(|(s, w)| (s.amplitude_m, *w))
+        .collect();
+    sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let quantile = |q: f64| {
+        let mut cumulative = 0.0;
+        for &(a, w) in &sorted {
+            cumulative += w;
+            if cumulative >= q * total * (1.0 - 1e-12) {
+                return a;
+            }
+        }
+        sorted.last().map_or(0.0, |s| s.0)
+    };
+    Some(NsvStatistics {
+        speeds: levels.len(),
+        range_hz: (levels[0].speed_hz, levels[levels.len() - 1].speed_hz),
+        median_m: quantile(0.5),
+        p90_m: quantile(0.9),
+        mean_m: integrated_m_hz / total,
+        integrated_m_hz,
+    })
+}
+
+/// The stretch of speed each of `levels` (ascending) stands for, Hz: half the distance to
+/// each neighbour (the trapezoid rule's weights).
+fn speed_weights(levels: &[SpeedLevel]) -> Vec<f64> {
+    (0..levels.len())
+        .map(|k| {
+            let left = k
+                .checked_sub(1)
+                .map_or(0.0, |j| levels[k].speed_hz - levels[j].speed_hz);
+            let right = levels
+                .get(k + 1)
+                .map_or(0.0, |s| s.speed_hz - levels[k].speed_hz);
+            0.5 * (left + right)
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(speed_hz: f64, amplitude_m: f64) -> SpeedLevel {
+        SpeedLevel {
+            speed_hz,
+            amplitude_m,
+        }
+    }
+
+    fn indexed(levels: &[SpeedLevel]) -> Vec<(usize, SpeedLevel)> {
+        levels.iter().copied().enumerate().collect()
+    }
+
+    #[test]
+    fn statistics_weigh_speeds_by_their_stretch() {
+        // A linear ramp 0..1 over 0..100 Hz: mean 0.5, median 0.5, p90 0.9, integral 50.
+        let ramp: Vec<SpeedLevel> = (0..=100).map(|k| at(k as f64, k as f64 / 100.0)).collect();
+        let s = statistics(&indexed(&ramp)).unwrap();
+        assert!((s.mean_m - 0.5).abs() < 1e-12);
+        assert!((s.integrated_m_hz - 50.0).abs() < 1e-9);
+        // The step quantile of 101 samples lands within one sample of the exact value.
+        assert!((s.median_m - 0.5).abs() <= 0.01 + 1e-12);
+        assert!((s.p90_m - 0.9).abs() <= 0.01 + 1e-12);
+        // Ten extra speeds crowded into one narrow burst barely move them: a grid that
+        // counted speeds instead of speed would put the median in the burst.
+        let mut refined = ramp.clone();
+        refined.retain(|s| s.speed_hz != 50.0);
+        for k in 0..10 {
+            refined.push(at(49.5 + 0.1 * k as f64, 10.0));
+        }
+        refined.sort_by(|a, b| a.speed_hz.total_cmp(&b.speed_hz));
+        let r = statistics(&indexed(&refined)).unwrap();
+        assert!((r.median_m - s.median_m).abs() <= 0.02);
+        assert!((r.p90_m - s.p90_m).abs() <= 0.02);
+    }
+
+    #[test]
+    fn the_onset_is_bracketed_by_the_speed_below() {
+        let levels = [at(10.0, 0.0), at(20.0, 2e-6), at(30.0, 2e-5)];
+        let o = onset_at(&indexed(&levels), 1e-5).unwrap();
+        assert_eq!((o.speed_hz, o.below_hz), (30.0, Some(20.0)));
+        assert!(onset_at(&indexed(&levels), 1e-4).is_none());
     }
 }

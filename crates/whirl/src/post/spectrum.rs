@@ -225,6 +225,7 @@ pub fn full_spectrum(
 ///     assert!((amplitude[k] - 1.0).abs() < 1e-12);
 /// }
 /// ```
+#[derive(Clone)]
 pub struct SpectrumPlanner {
     fft: Arc<dyn RealToComplex<f64>>,
     options: SpectrumOptions,
@@ -337,6 +338,7 @@ impl SpectrumPlanner {
 }
 
 /// Full spectra of orbits `x + i y` of one length, planned once.
+#[derive(Clone)]
 pub struct FullSpectrumPlanner {
     fft: Arc<dyn Fft<f64>>,
     options: SpectrumOptions,

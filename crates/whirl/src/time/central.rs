@@ -442,7 +442,9 @@ fn march(
         if step % 64 == 0 {
             check_state(t, q_cur, options.divergence_bound)?;
         }
-        observe(t, q_cur, &v_central);
+        if observe(t, q_cur, &v_central).is_break() {
+            return Ok(());
+        }
         history.copy_within(..n, n);
         history[..n].copy_from_slice(&q_next);
     }
@@ -503,6 +505,7 @@ mod tests {
         march(problem, layout, &q0, &v0, &options, None, &mut |_, q, v| {
             history.extend_from_slice(q);
             history.extend_from_slice(v);
+            std::ops::ControlFlow::Continue(())
         })
         .unwrap();
         history

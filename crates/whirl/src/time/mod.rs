@@ -38,8 +38,12 @@ pub use simulate::{
     simulate, simulate_with, stable_step, stable_step_with, Channel, ForceBuilder, Initial, Method,
     Progress, RunStatus, SimulationOptions, SimulationResult,
 };
-pub use simulate::{simulate_contacts, simulate_response, stable_step_for, DIVERGENCE_NET};
+pub use simulate::{
+    simulate_contacts, simulate_response, stable_step_for, Until, DIVERGENCE_NET,
+};
 pub use statics::static_equilibrium;
+
+use std::ops::ControlFlow;
 
 use crate::error::{Error, Result};
 
@@ -54,8 +58,9 @@ pub struct MarchOptions {
     pub divergence_bound: f64,
 }
 
-/// Called with (t, q, q') at every step.
-pub type Observer<'a> = &'a mut dyn FnMut(f64, &[f64], &[f64]);
+/// Called with (t, q, q') at every step; `ControlFlow::Break(())` ends the march there (the
+/// integrator returns as if the run were complete), e.g. once a caller has seen enough.
+pub type Observer<'a> = &'a mut dyn FnMut(f64, &[f64], &[f64]) -> ControlFlow<()>;
 
 /// Stops a run that has diverged: a non-finite coordinate or one beyond `bound`.
 pub(crate) fn check_state(t: f64, q: &[f64], bound: f64) -> Result<()> {

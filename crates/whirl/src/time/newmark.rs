@@ -450,7 +450,9 @@ fn march(
     vectorised(|| linear_force(&speed, &stiffness, &q, &v, &mut w.linear));
     let (alpha, h) = (c.alpha, c.h);
 
-    observe(0.0, &q, &v);
+    if observe(0.0, &q, &v).is_break() {
+        return Ok(());
+    }
     for step in 1..options.steps {
         let t1 = step as f64 * h;
         let at1 = problem.external_force(t1, &mut w.force);
@@ -504,7 +506,9 @@ fn march(
         if step % 64 == 0 {
             check_state(t1, &q, options.divergence_bound)?;
         }
-        observe(t1, &q, &v);
+        if observe(t1, &q, &v).is_break() {
+            return Ok(());
+        }
     }
     Ok(())
 }
@@ -561,6 +565,7 @@ mod tests {
         march(problem, layout, &q0, &v0, c, &options, &mut |_, q, v| {
             history.extend_from_slice(q);
             history.extend_from_slice(v);
+            std::ops::ControlFlow::Continue(())
         })
         .unwrap();
         history

@@ -175,7 +175,10 @@ pub fn runge_kutta(
         }
     };
 
-    observe(0.0, &y[..n], &y[n..]);
+    if observe(0.0, &y[..n], &y[n..]).is_break() {
+        stats.evaluations = rhs.evaluations;
+        return Ok(stats);
+    }
     for out in 1..options.steps {
         let t_out = out as f64 * options.step;
         while t < t_out {
@@ -237,7 +240,9 @@ pub fn runge_kutta(
         if out % 64 == 0 {
             check_state(t, &y[..n], options.divergence_bound)?;
         }
-        observe(t, &y[..n], &y[n..]);
+        if observe(t, &y[..n], &y[n..]).is_break() {
+            break;
+        }
     }
     stats.evaluations = rhs.evaluations;
     Ok(stats)

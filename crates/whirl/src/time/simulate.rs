@@ -37,6 +37,7 @@
 mod contacts;
 
 use std::fmt;
+use std::ops::ControlFlow;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -92,7 +93,8 @@ impl Method {
 }
 
 /// Where a run starts.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum Initial {
     /// Static equilibrium under gravity.
     StaticEquilibrium,
@@ -124,6 +126,17 @@ impl fmt::Debug for Progress {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str("Progress(..)")
     }
+}
+
+/// Ends a run early once what it has recorded is enough: every `every` recorded samples,
+/// `decide` sees the values of every channel so far (in the order of the result's
+/// channels) and returns `ControlFlow::Break(())` to stop. The run then ends as completed,
+/// with the samples recorded up to there.
+pub struct Until<'a> {
+    /// Recorded samples between two calls of `decide` (at least 1).
+    pub every: usize,
+    /// Decides from the channels' values so far.
+    pub decide: &'a mut dyn FnMut(&[Vec<f64>]) -> ControlFlow<()>,
 }
 
 /// What to simulate.
@@ -461,7 +474,7 @@ pub fn simulate_with(
     bearings: Bearings,
     forces: ForceBuilder<'_>,
 ) -> Result<SimulationResult> {
-    march_and_record(model, options, bearings, forces, None, 1, Records::Channels)
+    march_and_record(model, options, bearings, forces, None, 1, Records::Channels, None)
 }
 
 /// What a run records besides the channels of its nodes.
@@ -482,20 +495,21 @@ pub fn simulate_contacts(
     law: ContactLaw,
     record_every: usize,
 ) -> Result<SimulationResult> {
-    simulate_law(model, options, law, record_every, Records::Rollers)
+    simulate_law(model, options, law, record_every, Records::Rollers, None)
 }
 
 /// As [`simulate_contacts`], recording only the channels of `options.nodes`: no bearing
 /// nodes added, no [`RollerRecord`]s. For many runs that need one response each (a
 /// cascade), where evaluating and storing every roller at every sample would cost about as
-/// much as the march.
+/// much as the march. With `until`, the run ends as soon as it says so.
 pub fn simulate_response(
     model: &Model,
     options: &SimulationOptions,
     law: ContactLaw,
     record_every: usize,
+    until: Option<Until<'_>>,
 ) -> Result<SimulationResult> {
-    simulate_law(model, options, law, record_every, Records::Channels)
+    simulate_law(model, options, law, record_every, Records::Channels, until)
 }
 
 fn simulate_law(
@@ -504,6 +518,7 @@ fn simulate_law(
     law: ContactLaw,
     record_every: usize,
     records: Records,
+    until: Option<Until<'_>>,
 ) -> Result<SimulationResult> {
     match law {
         ContactLaw::Linear => march_and_record(
@@ -514,6 +529,7 @@ fn simulate_law(
             None,
             record_every,
             records,
+            until,
         ),
         ContactLaw::Hertz => march_and_record(
             model,
@@ -523,6 +539,7 @@ fn simulate_law(
             Some(law),
             record_every,
             records,
+            until,
         ),
         ContactLaw::Forcing => march_and_record(
             model,
@@ -532,6 +549,7 @@ fn simulate_law(
             Some(law),
             record_every,
             records,
+            until,
         ),
         ContactLaw::Lagrange => march_and_record(
             model,
@@ -541,6 +559,7 @@ fn simulate_law(
             Some(law),
             record_every,
             records,
+            until,
         ),
     }
 }
@@ -601,8 +620,14 @@ fn march_and_record(
     law: Option<ContactLaw>,
     record_every: usize,
     records: Records,
+    mut until: Option<Until<'_>>,
 ) -> Result<SimulationResult> {
     check_options(model, options)?;
+    if until.as_ref().is_some_and(|u| u.every == 0) {
+        return Err(Error::Numerical(
+            "a stop rule must look every 1 recorded sample or more, not 0".into(),
+        ));
+    }
     if record_every == 0 {
         return Err(Error::Numerical(
             "record every 1 step or more, not 0".into(),
@@ -659,9 +684,7 @@ fn march_and_record(
         duration: options.duration,
         next: 0.0,
     };
-    // Divergence at a recorded translation: (time, message). The integrators cannot be
-    // stopped from the observer, so after it nothing more is recorded and the march runs
-    // on until the safety net stops it or the time is up.
+    // Divergence at a recorded translation: (time, message); the march stops there.
     let mut diverged: Option<(f64, String)> = beyond(&channels, &q0, bound).map(|(name, x)| {
         (
             0.0,
@@ -676,12 +699,9 @@ fn march_and_record(
         ticker.tick(t);
         if skip > 0 {
             skip -= 1;
-            return;
+            return ControlFlow::Continue(());
         }
         skip = record_every - 1;
-        if diverged.is_some() {
-            return;
-        }
         time.push(t);
         for ((name, _, row), out) in channels.iter().zip(values.iter_mut()) {
             let x = row.dot(q);
@@ -690,11 +710,18 @@ fn march_and_record(
                 diverged = Some((t, divergence_message(t, name, format!("{x:.4e} m"), bound)));
             }
         }
+        if diverged.is_some() {
+            return ControlFlow::Break(());
+        }
         if !probes.is_empty() {
             let at = speed.at(t).0;
             for p in &mut probes {
                 p.record(&at, q, v);
             }
+        }
+        match until.as_mut() {
+            Some(u) if time.len() % u.every == 0 => (u.decide)(&values),
+            _ => ControlFlow::Continue(()),
         }
     };
     let march = MarchOptions {

@@ -1,0 +1,203 @@
+//! Where the speed grid of a cascade is refined: the midpoints of the stretches between
+//! neighbouring speeds across which the answer could change.
+//!
+//! After each round of speeds, the stretches between neighbours (ascending speed, settled
+//! points only) are ranked, most important first:
+//!
+//! 1. both sides of the largest NSV, then of every other local maximum reaching half of it
+//!    (a narrow lock-in burst that a coarse grid only grazes is found by bisecting towards
+//!    its top);
+//! 2. below the onset at each level of [`Refinement::onset_levels_m`] (the stretch from the
+//!    last speed under the level to the first above);
+//! 3. sharp changes between neighbours where either reaches the smallest onset level and
+//!    a tenth of the largest NSV: the NSV changes by more than [`SHARP_RATIO`] times, or
+//!    its class changes, or its frequency jumps by more than the lock tolerance; larger NSV
+//!    first. Only once nothing of ranks 1 and 2 is left, so the bisection towards the
+//!    largest NSV and the onsets is never starved by changes that do not move them.
+//!
+//! Before the first round, the speeds where an excitation meets a natural frequency of the
+//! rotor on linearised bearings are added ([`resonance_speeds`]): a varying-compliance or
+//! waviness frequency (and its multiples) or half the running speed crossing a Campbell
+//! branch. Such a resonance is a fraction of a hertz wide in speed (the half-power width
+//! 2 zeta f_n divided by the excitation's order): a grid finds it only by chance, and then
+//! its onset or its size depends on the grid.
+//!
+//! A stretch is halved only while its halves stay at least `min_spacing_hz` wide, and the
+//! rounds stop when nothing is left to halve or `max_added` speeds have been added.
+
+use super::classify::{lock_tolerance, NamedFrequency, Nsv};
+use super::options::Refinement;
+use super::point::CascadePoint;
+use super::summary::level;
+
+/// Neighbours whose NSV differ by more than this factor are a sharp change.
+pub const SHARP_RATIO: f64 = 2.0;
+
+/// Local maxima reaching this fraction of the largest NSV are bisected towards like it.
+const PEAK_FRACTION: f64 = 0.5;
+
+/// Sharp changes are refined where either side reaches this fraction of the largest NSV
+/// (below it they move neither the largest, nor the onsets, nor the upper statistics).
+const SHARP_FRACTION: f64 = 0.1;
+
+/// Multiples of a contact frequency whose crossings with natural frequencies are added.
+const RESONANCE_MULTIPLES: usize = 3;
+
+/// A stretch between two neighbouring settled points (indices into the points, ascending
+/// speed) and how urgently it is halved: lower rank first, then larger NSV.
+#[derive(Debug, Clone, Copy)]
+struct Stretch {
+    low: usize,
+    high: usize,
+    rank: u8,
+    level: f64,
+}
+
+/// The speeds (rad/s) to add next: midpoints of the most important stretches, at most
+/// `room` of them. `points` are in ascending speed with `nsv` alongside; `tolerance_hz`
+/// is the cascade's synchronous tolerance.
+pub(super) fn next_speeds(
+    points: &[CascadePoint],
+    nsv: &[Option<Nsv>],
+    refine: &Refinement,
+    tolerance_hz: f64,
+    room: usize,
+) -> Vec<f64> {
+    let settled: Vec<(usize, f64)> = points
+        .iter()
+        .zip(nsv)
+        .enumerate()
+        .filter_map(|(i, (p, n))| level(p, n.as_ref()).map(|l| (i, l)))
+        .collect();
+    let mut stretches: Vec<Stretch> = Vec::new();
+    let wide = |low: usize, high: usize| {
+        points[high].speed_hz - points[low].speed_hz >= 2.0 * refine.min_spacing_hz
+    };
+    let add = |stretches: &mut Vec<Stretch>, k: Option<usize>, rank: u8| {
+        let Some(k) = k.filter(|k| k + 1 < settled.len()) else {
+            return;
+        };
+        let (low, high) = (settled[k].0, settled[k + 1].0);
+        if wide(low, high) && !stretches.iter().any(|s| s.low == low) {
+            let level = settled[k].1.max(settled[k + 1].1);
+            stretches.push(Stretch {
+                low,
+                high,
+                rank,
+                level,
+            });
+        }
+    };
+    for k in peaks(&settled) {
+        add(&mut stretches, k.checked_sub(1), 0);
+        add(&mut stretches, Some(k), 0);
+    }
+    for &level in &refine.onset_levels_m {
+        if let Some(k) = settled.iter().position(|&(_, l)| l >= level) {
+            add(&mut stretches, k.checked_sub(1), 1);
+        }
+    }
+    if stretches.is_empty() {
+        let top = settled.iter().map(|s| s.1).fold(0.0, f64::max);
+        let floor = refine
+            .onset_levels_m
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min)
+            .max(SHARP_FRACTION * top);
+        for k in 0..settled.len().saturating_sub(1) {
+            let ((i, a), (j, b)) = (settled[k], settled[k + 1]);
+            if a.max(b) >= floor && sharp(&nsv[i], a, &nsv[j], b, tolerance_hz) {
+                add(&mut stretches, Some(k), 2);
+            }
+        }
+    }
+    stretches.sort_by(|x, y| x.rank.cmp(&y.rank).then(y.level.total_cmp(&x.level)));
+    stretches
+        .iter()
+        .take(room)
+        .map(|s| 0.5 * (points[s.low].speed + points[s.high].speed))
+        .collect()
+}
+
+/// Positions (in `settled`) of the largest level and of the other local maxima reaching
+/// [`PEAK_FRACTION`] of it, largest first.
+fn peaks(settled: &[(usize, f64)]) -> Vec<usize> {
+    let top = settled.iter().map(|s| s.1).fold(0.0, f64::max);
+    if top <= 0.0 {
+        return Vec::new();
+    }
+    let at = |k: Option<usize>| k.and_then(|k| settled.get(k)).map_or(0.0, |s| s.1);
+    let mut found: Vec<usize> = (0..settled.len())
+        .filter(|&k| {
+            let here = settled[k].1;
+            here >= PEAK_FRACTION * top
+                && here >= at(k.checked_sub(1))
+                && here >= at(Some(k + 1))
+        })
+        .collect();
+    found.sort_by(|&a, &b| settled[b].1.total_cmp(&settled[a].1));
+    found
+}
+
+/// Whether two neighbours' NSV differ sharply: in size, class or frequency.
+fn sharp(a: &Option<Nsv>, level_a: f64, b: &Option<Nsv>, level_b: f64, tolerance_hz: f64) -> bool {
+    let (low, high) = (level_a.min(level_b), level_a.max(level_b));
+    if high > SHARP_RATIO * low {
+        return true;
+    }
+    match (a, b) {
+        (Some(a), Some(b)) => {
+            let tolerance = lock_tolerance(a.peak.frequency_hz.max(b.peak.frequency_hz), tolerance_hz);
+            a.class != b.class || (a.peak.frequency_hz - b.peak.frequency_hz).abs() > tolerance
+        }
+        _ => false,
+    }
+}
+
+/// The speeds (rad/s) between neighbouring `speeds` (ascending, rad/s) where a contact
+/// frequency, one of its first multiples or half the running speed crosses a natural
+/// frequency, by linear interpolation between the neighbours; `contact[i]` and
+/// `natural[i]` are the frequencies at `speeds[i]` (the same names at every speed). None
+/// closer than `min_spacing_hz` to a speed of the grid or to another.
+pub(super) fn resonance_speeds(
+    speeds: &[f64],
+    contact: &[Vec<NamedFrequency>],
+    natural: &[Vec<NamedFrequency>],
+    min_spacing_hz: f64,
+) -> Vec<f64> {
+    let hz = crate::units::rad_s_to_hz;
+    let mut found: Vec<f64> = Vec::new();
+    for k in 0..speeds.len().saturating_sub(1) {
+        let (a, b) = (speeds[k], speeds[k + 1]);
+        let excitations = |i: usize| -> Vec<f64> {
+            let mut e: Vec<f64> = contact[i]
+                .iter()
+                .flat_map(|c| (1..=RESONANCE_MULTIPLES).map(move |m| m as f64 * c.frequency_hz))
+                .collect();
+            e.push(0.5 * hz(speeds[i]));
+            e
+        };
+        let (ea, eb) = (excitations(k), excitations(k + 1));
+        for (na, nb) in natural[k].iter().zip(&natural[k + 1]) {
+            if na.name != nb.name {
+                continue;
+            }
+            for (xa, xb) in ea.iter().zip(&eb) {
+                let (ga, gb) = (xa - na.frequency_hz, xb - nb.frequency_hz);
+                if ga * gb < 0.0 {
+                    found.push(a + (b - a) * ga / (ga - gb));
+                }
+            }
+        }
+    }
+    found.sort_by(f64::total_cmp);
+    let mut kept: Vec<f64> = Vec::new();
+    for w in found {
+        let clear = |other: f64| (hz(w) - hz(other)).abs() >= min_spacing_hz;
+        if speeds.iter().all(|&s| clear(s)) && kept.iter().all(|&s| clear(s)) {
+            kept.push(w);
+        }
+    }
+    kept
+}
