@@ -1,7 +1,7 @@
 //! Figures of `whirl study`: the cascades of a sweep side by side (thesis figs. 5.1-5.9) and
 //! the largest NSV versus the swept parameter with its fit (fig. 5.10).
 
-use whirl::study::results::{CascadeMap, SweepResult};
+use whirl::study::results::{CascadeMap, Metric, SweepResult};
 use whirl::units::{parse_quantity, Dimension};
 use whirl_plot::{
     Annotation, Colour, Figure2d, HeatMap, HeatMapGrid, LegendPosition, Marker, Series, Style,
@@ -64,9 +64,10 @@ pub fn cascade_grid(sweep: &SweepResult, maps: &[Option<&CascadeMap>]) -> HeatMa
     grid
 }
 
-/// Largest NSV versus the swept parameter, with the fitted polynomial. Lengths are drawn in
-/// µm; other numbers in SI; words (contact laws) at positions 1, 2, ... with their names.
-pub fn largest_nsv(sweep: &SweepResult) -> Figure2d {
+/// The study's NSV metric versus the swept parameter, with the fitted polynomial, and the
+/// largest NSV beside it. Lengths are drawn in µm; other numbers in SI; words (contact
+/// laws) at positions 1, 2, ... with their names.
+pub fn nsv_versus_parameter(sweep: &SweepResult, metric: Metric) -> Figure2d {
     // Quantities written with a length unit; a bare number could be anything.
     let lengths = sweep
         .values
@@ -89,23 +90,32 @@ pub fn largest_nsv(sweep: &SweepResult) -> Figure2d {
     } else {
         (1..=sweep.values.len()).map(|k| k as f64).collect()
     };
-    let y: Vec<f64> = sweep
-        .largest_nsv
-        .iter()
-        .map(|a| a.map_or(f64::NAN, |a| a * 1e6))
-        .collect();
+    let micrometres = |values: &[Option<f64>]| -> Vec<f64> {
+        values
+            .iter()
+            .map(|a| a.map_or(f64::NAN, |a| a * 1e6))
+            .collect()
+    };
+    let y = micrometres(&sweep.metric_nsv);
     let mut fig = Figure2d::new(
-        format!("{}: largest non-synchronous vibration", sweep.name),
+        format!("{}: {}", sweep.name, metric.describe()),
         x_label,
-        "Largest NSV [µm]",
+        "NSV [µm]",
     );
     // The largest NSV grows with most parameters: the lower right corner is the free one.
     fig.legend = LegendPosition::LowerRight;
     fig.series.push(
         Series::new(x.clone(), y.clone())
-            .label("cascades")
+            .label(metric.name())
             .style(Style::markers(Colour::Palette(0), Marker::Circle)),
     );
+    if metric != Metric::Largest {
+        fig.series.push(
+            Series::new(x.clone(), micrometres(&sweep.largest_nsv))
+                .label("largest")
+                .style(Style::markers(Colour::Palette(1), Marker::OpenCircle)),
+        );
+    }
     if let Some(fit) = &sweep.fit {
         let (lo, hi) = x
             .iter()

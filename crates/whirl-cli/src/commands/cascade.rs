@@ -34,8 +34,8 @@ use whirl::nsv::{
     cascade, checkpoint, Cascade, CascadeOptions, CascadeProgress, Component, NsvSummary,
     DEFAULT_MAX_ADDED, DEFAULT_MODES, DEFAULT_THRESHOLD_M, DEFAULT_TOLERANCE_BINS,
 };
-use whirl::time::Initial;
 use whirl::post::Window;
+use whirl::time::Initial;
 use whirl::units::{parse_quantity, parse_range, Dimension};
 
 use super::simulate::{Contact, Start};

@@ -103,8 +103,8 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         out.plot(&format!("cascades_{i}"), |stem| {
             plots_study::cascade_grid(sweep, &maps).save(stem)
         })?;
-        out.plot(&format!("largest_nsv_{i}"), |stem| {
-            plots_study::largest_nsv(sweep).save(stem)
+        out.plot(&format!("nsv_{i}"), |stem| {
+            plots_study::nsv_versus_parameter(sweep, study.metric).save(stem)
         })?;
     }
     let summary = summary(args, &study, &store, &results, &outcome, start);
@@ -233,6 +233,9 @@ fn write_tables(
             "largest_nsv_frequency_hz",
             "largest_nsv_class",
             "onset_speed_hz",
+            "median_nsv_m",
+            "p90_nsv_m",
+            "mean_nsv_m",
             "dominant_class",
             "largest_1x_m",
             "wall_time_s",
@@ -252,13 +255,16 @@ fn write_tables(
                         opt(r.nsv.largest_frequency_hz),
                         r.nsv.largest_class.clone().unwrap_or_default(),
                         opt(r.nsv.onset_speed_hz),
+                        num(r.nsv.median),
+                        num(r.nsv.p90),
+                        num(r.nsv.mean),
                         r.nsv.dominant_class.clone().unwrap_or_default(),
                         num(r.nsv.largest_synchronous),
                         num(r.wall_time_s),
                         String::new(),
                     ],
                     Err(e) => {
-                        let mut failed = vec![String::new(); 8];
+                        let mut failed = vec![String::new(); 11];
                         failed.push(e.clone());
                         failed
                     }
@@ -275,6 +281,7 @@ fn write_tables(
                 s.values[j].clone(),
                 opt(s.values_si[j]),
                 opt(s.largest_nsv[j]),
+                opt(s.metric_nsv[j]),
                 opt(s.onset_speed_hz[j]),
             ]
         })
@@ -288,6 +295,7 @@ fn write_tables(
             "value",
             "value_si",
             "largest_nsv_m",
+            "metric_nsv_m",
             "onset_speed_hz",
         ]),
         rows,
@@ -327,7 +335,7 @@ fn write_tables(
     )
 }
 
-/// Effects on the largest NSV, largest first, as `name`.
+/// Effects on the study's metric, largest first, as `name`.
 fn write_ranking(out: &mut Output, name: &str, effects: &[Effect]) -> miette::Result<()> {
     out.csv(
         name,
@@ -335,8 +343,8 @@ fn write_ranking(out: &mut Output, name: &str, effects: &[Effect]) -> miette::Re
             "rank",
             "sweep",
             "parameter",
-            "smallest_largest_nsv_m",
-            "largest_largest_nsv_m",
+            "smallest_metric_m",
+            "largest_metric_m",
             "relative_change",
         ]),
         effects.iter().enumerate().map(|(k, e)| {
@@ -377,6 +385,8 @@ fn summary(
         "study_file": args.study.display().to_string(),
         "model_file": study.model_file.display().to_string(),
         "title": study.title,
+        "metric": study.metric,
+        "metric_description": study.metric.describe(),
         "checkpoint": store.dir().display().to_string(),
         "points": points,
         "sweeps": outcome.sweeps,
@@ -402,9 +412,13 @@ fn text(study: &Study, outcome: &StudyResults, store: &Store) -> String {
         let _ = writeln!(t, "{}:", s.name);
         for (j, v) in s.values.iter().enumerate() {
             let onset = s.onset_speed_hz[j].map_or("none".into(), |f| format!("{f:.0} Hz"));
-            let _ = match s.largest_nsv[j] {
-                Some(a) => writeln!(t, "  {v:>12}  largest NSV {a:.3e} m, onset {onset}"),
-                None => writeln!(t, "  {v:>12}  FAILED (see points.csv)"),
+            let _ = match (s.metric_nsv[j], s.largest_nsv[j]) {
+                (Some(m), Some(a)) => writeln!(
+                    t,
+                    "  {v:>12}  {} {m:.3e} m, largest NSV {a:.3e} m, onset {onset}",
+                    study.metric.name()
+                ),
+                _ => writeln!(t, "  {v:>12}  FAILED (see points.csv)"),
             };
         }
         if let Some(e) = &s.fit_error {
@@ -422,7 +436,8 @@ fn text(study: &Study, outcome: &StudyResults, store: &Store) -> String {
     }
     let _ = writeln!(
         t,
-        "effect on the largest NSV, (max - min) / min over each sweep:"
+        "effect on the {}, (max - min) / min over each sweep:",
+        study.metric.describe()
     );
     for (k, e) in outcome.ranking.iter().enumerate() {
         let _ = writeln!(

@@ -18,7 +18,8 @@
 //!    [`lock_tolerance`] of it, although a vibration proportional to speed would have moved
 //!    by more than twice that (the thesis' "frequency-locked phenomenon": the whip's
 //!    frequency does not follow the speed). The window is in hertz of speed, not in
-//!    neighbours, so a refined grid finds the same locks as a coarse one.
+//!    neighbours, so a refined grid finds the same locks as a coarse one, and wide enough
+//!    for a low order to have moved by that much.
 //! 3. **varying compliance** `m N_b w_c` (`m` = 1..3, eq. 4.4; waviness frequencies
 //!    `(N_w - 1) w_c` likewise), and **combination** tones `|m f_c +- n Omega|` (`n` = 1..3),
 //!    within `tol`. Combinations are named only where the running speed exceeds 4 `tol`:
@@ -174,10 +175,19 @@ pub fn lock_tolerance(frequency_hz: f64, tolerance_hz: f64) -> f64 {
     tolerance_hz.max(0.02 * frequency_hz)
 }
 
-/// How far in speed (Hz) from `speed_hz` a lock partner is looked for: a tenth of the
-/// speed, at least [`LOCK_WINDOW_MIN_HZ`].
-pub fn lock_window(speed_hz: f64) -> f64 {
-    (LOCK_WINDOW_FRACTION * speed_hz).max(LOCK_WINDOW_MIN_HZ)
+/// How far in speed (Hz) from `speed_hz` a lock partner of a peak of `order` is looked
+/// for: a tenth of the speed, at least [`LOCK_WINDOW_MIN_HZ`], and at least 1.5 times the
+/// speed change over which a vibration of that order would move by twice the lock
+/// tolerance `lock_hz` (else a low order could never show its lock).
+pub fn lock_window(speed_hz: f64, order: f64, lock_hz: f64) -> f64 {
+    let reach = if order > 0.0 {
+        1.5 * 2.0 * lock_hz / order
+    } else {
+        0.0
+    };
+    (LOCK_WINDOW_FRACTION * speed_hz)
+        .max(LOCK_WINDOW_MIN_HZ)
+        .max(reach)
 }
 
 /// Classifies every point's peak.
@@ -217,7 +227,8 @@ pub(super) fn classify(points: &[CascadePoint], contexts: &[Context<'_>]) -> Vec
 fn lock_partner(points: &[CascadePoint], i: usize, c: &Context<'_>) -> Option<(f64, NsvPeak)> {
     let p = &points[i];
     let peak = p.peak?;
-    let window = lock_window(p.speed_hz);
+    let lock_hz = lock_tolerance(peak.frequency_hz, c.tolerance_hz);
+    let window = lock_window(p.speed_hz, peak.order, lock_hz);
     points
         .iter()
         .enumerate()

@@ -272,7 +272,8 @@ impl Run<'_> {
         let stop = AtomicBool::new(tell(already).is_break());
         let done = AtomicUsize::new(already);
         let missing: Vec<usize> = (0..total).filter(|&i| self.points[i].is_none()).collect();
-        let (model, options, resolved, store) = (self.model, self.options, self.resolved, self.store);
+        let (model, options, resolved, store) =
+            (self.model, self.options, self.resolved, self.store);
         let speeds = &self.speeds;
         let computed = missing
             .par_iter()

@@ -24,9 +24,7 @@ use crate::post::{
     amplitude_at, largest_non_synchronous_below, FullSpectrumPlanner, Spectrum, SpectrumOptions,
     SpectrumPlanner, Window,
 };
-use crate::time::{
-    simulate_response, Method, RunStatus, SimulationOptions, SpeedProfile, Until,
-};
+use crate::time::{simulate_response, Method, RunStatus, SimulationOptions, SpeedProfile, Until};
 use crate::units::rad_s_to_hz;
 
 /// With only the record's halves to compare (a settling time shorter than half the
@@ -149,8 +147,9 @@ struct Reading {
 
 impl Reading {
     fn settled(&self) -> bool {
-        self.peak
-            .map_or(true, |p| !dies_away(&p) || p.amplitude_m < negligible(self.one_x_m))
+        self.peak.map_or(true, |p| {
+            !dies_away(&p) || p.amplitude_m < negligible(self.one_x_m)
+        })
     }
 }
 
@@ -236,7 +235,14 @@ pub(super) fn compute(
     let start = settled_at.unwrap_or(last_start);
     let x = record(&result.channels[0].values, start, r)?;
     let y = record(&result.channels[1].values, start, r)?;
-    let reading = read(&result.channels[channel].values, start, speed_hz, o, r, planners)?;
+    let reading = read(
+        &result.channels[channel].values,
+        start,
+        speed_hz,
+        o,
+        r,
+        planners,
+    )?;
     let settled = reading.settled();
     let full = planners.two_sided(&x, &y)?;
     let peak = reading.peak.map(|p| NsvPeak {

@@ -131,9 +131,7 @@ fn peaks(settled: &[(usize, f64)]) -> Vec<usize> {
     let mut found: Vec<usize> = (0..settled.len())
         .filter(|&k| {
             let here = settled[k].1;
-            here >= PEAK_FRACTION * top
-                && here >= at(k.checked_sub(1))
-                && here >= at(Some(k + 1))
+            here >= PEAK_FRACTION * top && here >= at(k.checked_sub(1)) && here >= at(Some(k + 1))
         })
         .collect();
     found.sort_by(|&a, &b| settled[b].1.total_cmp(&settled[a].1));
@@ -148,7 +146,8 @@ fn sharp(a: &Option<Nsv>, level_a: f64, b: &Option<Nsv>, level_b: f64, tolerance
     }
     match (a, b) {
         (Some(a), Some(b)) => {
-            let tolerance = lock_tolerance(a.peak.frequency_hz.max(b.peak.frequency_hz), tolerance_hz);
+            let tolerance =
+                lock_tolerance(a.peak.frequency_hz.max(b.peak.frequency_hz), tolerance_hz);
             a.class != b.class || (a.peak.frequency_hz - b.peak.frequency_hz).abs() > tolerance
         }
         _ => false,

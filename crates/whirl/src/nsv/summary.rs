@@ -146,18 +146,17 @@ pub(super) fn summarise(
         .filter_map(|(i, (p, n))| {
             level(p, n.as_ref()).map(|amplitude_m| {
                 let speed_hz = p.speed_hz;
-                (i, SpeedLevel {
-                    speed_hz,
-                    amplitude_m,
-                })
+                (
+                    i,
+                    SpeedLevel {
+                        speed_hz,
+                        amplitude_m,
+                    },
+                )
             })
         })
         .collect();
-    let steady = || {
-        nsv.iter()
-            .flatten()
-            .filter(|n| n.class.is_steady())
-    };
+    let steady = || nsv.iter().flatten().filter(|n| n.class.is_steady());
     let above = |n: &&Nsv| n.peak.amplitude_m >= threshold_m;
     let mut onsets = Vec::new();
     for level in std::iter::once(threshold_m).chain(levels_m.iter().copied()) {
@@ -201,7 +200,10 @@ pub(super) fn summarise(
     };
     NsvSummary {
         threshold_m,
-        onset_speed_hz: onsets.first().filter(|o| o.level_m == threshold_m).map(|o| o.speed_hz),
+        onset_speed_hz: onsets
+            .first()
+            .filter(|o| o.level_m == threshold_m)
+            .map(|o| o.speed_hz),
         onsets,
         largest,
         statistics: statistics(&settled),

@@ -146,7 +146,9 @@ fn largest_non_synchronous_where(
             break;
         }
         let p = peak_at(spectrum, k, running_speed_hz);
-        if keep(&p) && !synchronous(p.frequency_hz) && best.map_or(true, |b| p.amplitude > b.amplitude)
+        if keep(&p)
+            && !synchronous(p.frequency_hz)
+            && best.map_or(true, |b| p.amplitude > b.amplitude)
         {
             best = Some(p);
         }

@@ -14,6 +14,9 @@ pub struct StudyFile {
     pub title: Option<String>,
     /// Cascade settings shared by every point (see `docs/study-file.md`).
     pub cascade: Option<Spanned<toml::Table>>,
+    /// The NSV statistic the fits and the ranking use: `"mean"` (default), `"median"`,
+    /// `"p90"` or `"largest"`.
+    pub metric: Option<Spanned<String>>,
     /// The sweeps.
     #[serde(default)]
     pub sweep: Vec<Spanned<SweepFile>>,
@@ -60,4 +63,10 @@ pub struct CascadeFile {
     pub max_frequency: Option<toml::Value>,
     /// NSV below this does not count for the onset speed, e.g. `"1 um"`.
     pub nsv_threshold: Option<toml::Value>,
+    /// Longest settling time, e.g. `"4 s"` (each speed settles until its start has died).
+    pub settle_max: Option<toml::Value>,
+    /// Initial state: `"static"` (default) or `"rest"`.
+    pub start: Option<String>,
+    /// Whether the speed grid is refined (default true).
+    pub refine: Option<bool>,
 }

@@ -39,6 +39,7 @@ use crate::model::Model;
 use crate::units::{parse_quantity, Dimension};
 use file::{StudyFile, SweepFile};
 use path::{ParameterPath, PATH_HELP};
+use results::Metric;
 use settings::{cascade_settings, CascadeSettings};
 
 /// The most points a study may have: each is a whole cascade.
@@ -57,6 +58,8 @@ pub struct Study {
     pub sweeps: Vec<Sweep>,
     /// The distinct points; sweeps refer to them by index.
     pub points: Vec<Point>,
+    /// The NSV statistic the fits and the ranking use.
+    pub metric: Metric,
 }
 
 /// One sweep of a study.
@@ -170,7 +173,11 @@ impl Study {
         }
         // What the study computes and concludes, not how its files are written: a comment
         // or a unit written differently changes nothing.
+        let metric = metric(&raw).map_err(located)?;
         let mut parts = vec![serde_json::to_string(&sweeps).unwrap_or_default()];
+        if metric != Metric::default() {
+            parts.push(metric.name().to_string());
+        }
         parts.extend(expander.points.iter().map(|p| p.key.clone()));
         let parts: Vec<&str> = parts.iter().map(String::as_str).collect();
         Ok(Study {
@@ -179,8 +186,27 @@ impl Study {
             model_file,
             sweeps,
             points: expander.points,
+            metric,
         })
     }
+}
+
+/// The study's `metric`, by its name.
+fn metric(raw: &StudyFile) -> std::result::Result<Metric, InputError> {
+    let Some(name) = &raw.metric else {
+        return Ok(Metric::default());
+    };
+    Metric::ALL
+        .into_iter()
+        .find(|m| m.name() == name.get_ref())
+        .ok_or_else(|| {
+            InputError::field(
+                "metric",
+                format!("`{}` is not a metric whirl knows", name.get_ref()),
+            )
+            .at(name.span())
+            .help("use \"mean\" (default), \"median\", \"p90\" or \"largest\"")
+        })
 }
 
 /// The base model and cascade settings as editable documents.

@@ -38,6 +38,15 @@ pub fn cascade_options(point: &Point) -> Result<CascadeOptions> {
     if let Some(t) = s.settle {
         o.settle = t;
     }
+    if let Some(t) = s.settle_max {
+        o.settle_max = t;
+    }
+    if let Some(start) = s.start {
+        o.initial = start;
+    }
+    if let Some(refine) = s.refine {
+        o.refine.enabled = refine;
+    }
     if let Some(t) = s.record {
         o.record = t;
     }
@@ -104,6 +113,9 @@ pub fn point_result(key: &str, c: &Cascade, threshold: f64) -> PointResult {
             largest_frequency_hz: largest.map(|l| l.frequency_hz),
             largest_class: largest.map(|l| l.class.name().to_string()),
             onset_speed_hz: summary.onset_speed_hz,
+            median: summary.statistics.map_or(0.0, |st| st.median_m),
+            p90: summary.statistics.map_or(0.0, |st| st.p90_m),
+            mean: summary.statistics.map_or(0.0, |st| st.mean_m),
             dominant_class: summary.dominant_class.map(|c| c.name().to_string()),
             largest_synchronous: c.points.iter().map(|p| p.one_x_m).fold(0.0, f64::max),
         },

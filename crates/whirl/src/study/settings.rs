@@ -7,7 +7,7 @@ use serde::Serialize;
 
 use super::file::CascadeFile;
 use crate::error::InputError;
-use crate::time::ContactLaw;
+use crate::time::{ContactLaw, Initial};
 use crate::units::{parse_quantity, parse_range, Dimension};
 
 /// Contact laws a study's cascade may use.
@@ -43,6 +43,15 @@ pub struct CascadeSettings {
     pub max_frequency_hz: Option<f64>,
     /// NSV smaller than this does not count for the onset speed, m.
     pub nsv_threshold: Option<f64>,
+    /// Longest settling time per speed, s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub settle_max: Option<f64>,
+    /// Initial state of every run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub start: Option<Initial>,
+    /// Whether the speed grid is refined.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub refine: Option<bool>,
 }
 
 /// Validates a `[cascade]` table; errors name the field as `cascade.<field>`.
@@ -52,8 +61,9 @@ pub fn cascade_settings(table: &toml::Table) -> Result<CascadeSettings, InputErr
             .try_into()
             .map_err(|e: toml::de::Error| {
                 InputError::field("cascade", e.message().to_string()).help(
-                    "the [cascade] fields are speeds, settle, record, step, contact, reduce, node, \
-                 component, max_frequency and nsv_threshold (docs/study-file.md)",
+                    "the [cascade] fields are speeds, settle, settle_max, record, step, contact, \
+                 reduce, node, component, max_frequency, nsv_threshold, start and refine \
+                 (docs/study-file.md)",
                 )
             })?;
     Ok(CascadeSettings {
@@ -73,7 +83,26 @@ pub fn cascade_settings(table: &toml::Table) -> Result<CascadeSettings, InputErr
         component: raw.component.map(component).transpose()?,
         max_frequency_hz: raw.max_frequency.as_ref().map(max_frequency).transpose()?,
         nsv_threshold: raw.nsv_threshold.as_ref().map(threshold).transpose()?,
+        settle_max: raw
+            .settle_max
+            .as_ref()
+            .map(|v| time(v, "settle_max"))
+            .transpose()?,
+        start: raw.start.map(start).transpose()?,
+        refine: raw.refine,
     })
+}
+
+fn start(name: String) -> Result<Initial, InputError> {
+    match name.as_str() {
+        "static" => Ok(Initial::StaticEquilibrium),
+        "rest" => Ok(Initial::Rest),
+        _ => Err(InputError::field(
+            "cascade.start",
+            format!("`{name}` is not an initial state whirl knows"),
+        )
+        .help("use \"static\" (the static equilibrium under gravity) or \"rest\"")),
+    }
 }
 
 fn speeds(text: &str) -> Result<Vec<f64>, InputError> {

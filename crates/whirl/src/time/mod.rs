@@ -38,9 +38,7 @@ pub use simulate::{
     simulate, simulate_with, stable_step, stable_step_with, Channel, ForceBuilder, Initial, Method,
     Progress, RunStatus, SimulationOptions, SimulationResult,
 };
-pub use simulate::{
-    simulate_contacts, simulate_response, stable_step_for, Until, DIVERGENCE_NET,
-};
+pub use simulate::{simulate_contacts, simulate_response, stable_step_for, Until, DIVERGENCE_NET};
 pub use statics::static_equilibrium;
 
 use std::ops::ControlFlow;

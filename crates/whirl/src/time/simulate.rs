@@ -474,7 +474,16 @@ pub fn simulate_with(
     bearings: Bearings,
     forces: ForceBuilder<'_>,
 ) -> Result<SimulationResult> {
-    march_and_record(model, options, bearings, forces, None, 1, Records::Channels, None)
+    march_and_record(
+        model,
+        options,
+        bearings,
+        forces,
+        None,
+        1,
+        Records::Channels,
+        None,
+    )
 }
 
 /// What a run records besides the channels of its nodes.
