@@ -31,15 +31,19 @@ fn study() -> Study {
     Study::from_toml_str(&text, Path::new("study.toml")).unwrap()
 }
 
-/// A stand-in for a cascade: the largest NSV is table 5.1 at the point's clearance, less
-/// one per cent per roller beyond 8.
+/// A stand-in for a cascade: the mean NSV over the speed range (the default metric) is
+/// table 5.1 at the point's clearance, less one per cent per roller beyond 8; the other
+/// statistics are fixed fractions of it, the largest three times it.
 fn fake_cascade(point: &Point) -> whirl::Result<PointResult> {
     let b = &point.model.roller_bearings[0];
-    let largest = table_5_1(b.clearance.at_speed(0.0)) * (1.0 - 0.01 * (b.rollers - 8) as f64);
+    let mean = table_5_1(b.clearance.at_speed(0.0)) * (1.0 - 0.01 * (b.rollers - 8) as f64);
     Ok(PointResult {
         key: point.key.clone(),
         nsv: NsvSummary {
-            largest,
+            largest: 3.0 * mean,
+            median: 0.5 * mean,
+            p90: 0.9 * mean,
+            mean,
             largest_speed_hz: Some(300.0),
             largest_frequency_hz: Some(50.0),
             largest_class: Some("whip".into()),
@@ -50,7 +54,7 @@ fn fake_cascade(point: &Point) -> whirl::Result<PointResult> {
         map: CascadeMap {
             speeds_hz: vec![100.0, 200.0],
             frequencies_hz: vec![0.0, 2.0],
-            amplitude: vec![vec![Some(0.0), None], vec![Some(largest as f32); 2]],
+            amplitude: vec![vec![Some(0.0), None], vec![Some(mean as f32); 2]],
         },
         wall_time_s: 0.0,
     })
@@ -80,6 +84,7 @@ fn a_failed_point_is_left_out_and_computed_again_by_the_next_run() {
     assert_eq!(store.finished(), 7);
     let partial = analyse(&s, &first);
     assert_eq!(partial.sweeps[0].largest_nsv[3], None);
+    assert_eq!(partial.sweeps[0].metric_nsv[3], None);
     // Five clearances left for a cubic: it is still fitted, from them.
     assert!(partial.sweeps[0].fit.is_some());
     // The second run computes only the failed point, and resumes the seven saved.
