@@ -1,7 +1,8 @@
 //! `whirl cascade` end to end: the files and the summary; a run that lost some finished
 //! speeds (as a killed run does) resumes from its checkpoint to the same bytes as an
-//! uninterrupted run, and so does a run on one thread; a checkpoint of other options is refused until `--restart`; bad
-//! input names the option.
+//! uninterrupted run, and so does a run on one thread; a cascade with other options keeps
+//! its own checkpoint beside the first's, and `--restart` computes anew; the refinement
+//! adds speeds marked as added; bad input names the option.
 
 use std::path::{Path, PathBuf};
 use std::process::Output;
@@ -11,14 +12,18 @@ use serde_json::Value;
 
 const MODEL: &str = "../../examples/reference_rotor.toml";
 
-/// Four speeds, 0.1 s settled and 0.1 s recorded: a quick cascade (10 Hz bins).
-const QUICK: [&str; 6] = [
+/// Four speeds, 0.1 s settled (fixed) and 0.1 s recorded, no refinement: a quick cascade
+/// (10 Hz bins).
+const QUICK: [&str; 9] = [
     "--speeds",
     "40Hz:400Hz:4",
     "--settle",
     "0.1s",
+    "--settle-max",
+    "0.1s",
     "--record",
     "0.1s",
+    "--no-refine",
 ];
 
 fn whirl(out: &Path, args: &[&str]) -> Output {
@@ -76,10 +81,21 @@ fn writes_the_cascade_and_resumes_to_the_same_bytes() {
     let nsv_csv = read(out.join("nsv.csv"));
     // Long format: a header and one row per speed and bin.
     let text = String::from_utf8(cascade_csv.clone()).unwrap();
-    assert!(text.starts_with("speed_hz,frequency_hz,amplitude_m\n"));
+    assert!(text.starts_with("speed_hz,frequency_hz,amplitude_m,added\n"));
 
     // A killed run keeps the speeds it finished and loses the rest: remove two.
-    let checkpoint = tmp.path().join("cascade.partial");
+    let checkpoints = |root: &Path| -> Vec<PathBuf> {
+        let mut dirs: Vec<PathBuf> = std::fs::read_dir(root)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .collect();
+        dirs.sort();
+        dirs
+    };
+    let root = tmp.path().join("cascade.partial");
+    let first_checkpoint = checkpoints(&root);
+    assert_eq!(first_checkpoint.len(), 1);
+    let checkpoint = &first_checkpoint[0];
     for index in [1, 3] {
         std::fs::remove_file(checkpoint.join(format!("point-{index:05}.json"))).unwrap();
     }
@@ -101,17 +117,42 @@ fn writes_the_cascade_and_resumes_to_the_same_bytes() {
     );
     assert!(read(serial.join("nsv.csv")) == nsv_csv, "1 thread differs");
 
-    // Other options on the same checkpoint: refused, saying how to start over.
+    // Other options into the same output folder: their own checkpoint beside the first's,
+    // which stays for the first cascade's next run.
     let mut longer = QUICK.to_vec();
-    longer[5] = "0.2s";
-    let refused = whirl(&out, &longer);
-    assert!(!refused.status.success());
-    let err = String::from_utf8_lossy(&refused.stderr);
-    assert!(err.contains("record") && err.contains("--restart"), "{err}");
+    longer[7] = "0.2s";
+    let other = whirl(&out, &longer);
+    assert!(other.status.success(), "{other:?}");
+    assert_eq!(summary(&out)["record_s"], 0.2);
+    assert_eq!(checkpoints(&root).len(), 2);
+    let back = whirl(&out, &QUICK);
+    assert!(back.status.success());
+    assert_eq!(summary(&out)["resumed_speeds"], 4);
     longer.push("--restart");
     let restarted = whirl(&out, &longer);
     assert!(restarted.status.success(), "{restarted:?}");
-    assert_eq!(summary(&out)["record_s"], 0.2);
+    assert_eq!(summary(&out)["resumed_speeds"], 0);
+}
+
+#[test]
+fn refinement_adds_speeds_marked_as_added() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("cascade");
+    let mut args = QUICK.to_vec();
+    args.pop();
+    args.extend(["--refine-budget", "3"]);
+    let run = whirl(&out, &args);
+    assert!(run.status.success(), "{run:?}");
+    let s = summary(&out);
+    assert_eq!(s["nsv"]["added_speeds"], 3, "{s}");
+    assert_eq!(s["speeds"], 7);
+    let nsv = String::from_utf8(read(out.join("nsv.csv"))).unwrap();
+    assert!(nsv.starts_with("speed_hz,added,settled,settle_s,"));
+    let added = nsv
+        .lines()
+        .skip(1)
+        .filter(|l| l.split(',').nth(1) == Some("1"));
+    assert_eq!(added.count(), 3);
 }
 
 #[test]

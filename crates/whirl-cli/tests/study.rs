@@ -60,7 +60,7 @@ fn a_small_study_runs_resumes_and_refuses_another_studys_points() {
         "ranking.csv",
         "ranking_by_parameter.csv",
         "cascades_0.png",
-        "largest_nsv_0.svg",
+        "nsv_0.svg",
     ] {
         assert!(out.join(f).is_file(), "{f} missing");
     }
