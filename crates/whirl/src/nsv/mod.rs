@@ -200,30 +200,31 @@ pub fn cascade(
             &cascade.natural_frequencies,
             options.refine.min_spacing_hz,
         );
-        let seeds: Vec<f64> = seeds.into_iter().take(options.refine.max_added).collect();
-        if !seeds.is_empty() {
-            run.speeds.extend(seeds);
+        let tolerance_hz = options.tolerance_bins * resolved.resolution_hz;
+        let mut next: Vec<f64> = seeds.into_iter().take(options.refine.max_added).collect();
+        if next.is_empty() {
+            next = refine::next_speeds(
+                &cascade.points,
+                &cascade.nsv,
+                &options.refine,
+                tolerance_hz,
+                options.refine.max_added,
+            );
+        }
+        while !next.is_empty() {
+            run.speeds.extend(next);
             run.compute_missing()?;
             cascade = assemble_cascade(model, options, resolved, run.sorted_points())?;
+            let added = run.speeds.len() - options.speeds.len();
+            let room = options.refine.max_added.saturating_sub(added);
+            next = refine::next_speeds(
+                &cascade.points,
+                &cascade.nsv,
+                &options.refine,
+                tolerance_hz,
+                room,
+            );
         }
-    }
-    while options.refine.enabled {
-        let added = run.speeds.len() - options.speeds.len();
-        let room = options.refine.max_added.saturating_sub(added);
-        let tolerance_hz = options.tolerance_bins * resolved.resolution_hz;
-        let next = refine::next_speeds(
-            &cascade.points,
-            &cascade.nsv,
-            &options.refine,
-            tolerance_hz,
-            room,
-        );
-        if next.is_empty() {
-            break;
-        }
-        run.speeds.extend(next);
-        run.compute_missing()?;
-        cascade = assemble_cascade(model, options, resolved, run.sorted_points())?;
     }
     cascade.resumed = run.resumed;
     cascade.wall_time_s = start.elapsed().as_secs_f64();

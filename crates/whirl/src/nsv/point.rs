@@ -147,9 +147,8 @@ struct Reading {
 
 impl Reading {
     fn settled(&self) -> bool {
-        self.peak.map_or(true, |p| {
-            !dies_away(&p) || p.amplitude_m < negligible(self.one_x_m)
-        })
+        self.peak
+            .is_none_or(|p| !dies_away(&p) || p.amplitude_m < negligible(self.one_x_m))
     }
 }
 
@@ -244,7 +243,7 @@ pub(super) fn compute(
         planners,
     )?;
     let settled = reading.settled();
-    let full = planners.two_sided(&x, &y)?;
+    let full = planners.two_sided(x, y)?;
     let peak = reading.peak.map(|p| NsvPeak {
         forward_m: full_reading(&full, r, p.frequency_hz),
         backward_m: full_reading(&full, r, -p.frequency_hz),

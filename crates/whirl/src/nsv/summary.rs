@@ -261,7 +261,7 @@ fn statistics(settled: &[(usize, SpeedLevel)]) -> Option<NsvStatistics> {
     let levels: Vec<SpeedLevel> = settled.iter().map(|(_, s)| *s).collect();
     let weights = speed_weights(&levels);
     let total: f64 = weights.iter().sum();
-    if levels.is_empty() || !(total > 0.0) {
+    if levels.is_empty() || total.is_nan() || total <= 0.0 {
         return levels.first().map(|s| NsvStatistics {
             speeds: levels.len(),
             range_hz: (s.speed_hz, s.speed_hz),

@@ -148,7 +148,7 @@ fn largest_non_synchronous_where(
         let p = peak_at(spectrum, k, running_speed_hz);
         if keep(&p)
             && !synchronous(p.frequency_hz)
-            && best.map_or(true, |b| p.amplitude > b.amplitude)
+            && best.is_none_or(|b| p.amplitude > b.amplitude)
         {
             best = Some(p);
         }

@@ -474,16 +474,19 @@ pub fn simulate_with(
     bearings: Bearings,
     forces: ForceBuilder<'_>,
 ) -> Result<SimulationResult> {
-    march_and_record(
-        model,
-        options,
-        bearings,
-        forces,
-        None,
-        1,
-        Records::Channels,
-        None,
-    )
+    let recording = Recording {
+        every: 1,
+        records: Records::Channels,
+        until: None,
+    };
+    march_and_record(model, options, bearings, forces, None, recording)
+}
+
+/// How a run records: every `every`-th step, what, and until when.
+struct Recording<'a> {
+    every: usize,
+    records: Records,
+    until: Option<Until<'a>>,
 }
 
 /// What a run records besides the channels of its nodes.
@@ -504,7 +507,12 @@ pub fn simulate_contacts(
     law: ContactLaw,
     record_every: usize,
 ) -> Result<SimulationResult> {
-    simulate_law(model, options, law, record_every, Records::Rollers, None)
+    let recording = Recording {
+        every: record_every,
+        records: Records::Rollers,
+        until: None,
+    };
+    simulate_law(model, options, law, recording)
 }
 
 /// As [`simulate_contacts`], recording only the channels of `options.nodes`: no bearing
@@ -518,16 +526,19 @@ pub fn simulate_response(
     record_every: usize,
     until: Option<Until<'_>>,
 ) -> Result<SimulationResult> {
-    simulate_law(model, options, law, record_every, Records::Channels, until)
+    let recording = Recording {
+        every: record_every,
+        records: Records::Channels,
+        until,
+    };
+    simulate_law(model, options, law, recording)
 }
 
 fn simulate_law(
     model: &Model,
     options: &SimulationOptions,
     law: ContactLaw,
-    record_every: usize,
-    records: Records,
-    until: Option<Until<'_>>,
+    recording: Recording<'_>,
 ) -> Result<SimulationResult> {
     match law {
         ContactLaw::Linear => march_and_record(
@@ -536,9 +547,7 @@ fn simulate_law(
             Bearings::Linearised,
             &no_forces,
             None,
-            record_every,
-            records,
-            until,
+            recording,
         ),
         ContactLaw::Hertz => march_and_record(
             model,
@@ -546,9 +555,7 @@ fn simulate_law(
             Bearings::NonlinearApart,
             &hertz_bearings,
             Some(law),
-            record_every,
-            records,
-            until,
+            recording,
         ),
         ContactLaw::Forcing => march_and_record(
             model,
@@ -556,9 +563,7 @@ fn simulate_law(
             Bearings::NonlinearApart,
             &forcing_bearings,
             Some(law),
-            record_every,
-            records,
-            until,
+            recording,
         ),
         ContactLaw::Lagrange => march_and_record(
             model,
@@ -566,9 +571,7 @@ fn simulate_law(
             Bearings::NonlinearApart,
             &no_forces,
             Some(law),
-            record_every,
-            records,
-            until,
+            recording,
         ),
     }
 }
@@ -627,10 +630,13 @@ fn march_and_record(
     bearings: Bearings,
     forces: ForceBuilder<'_>,
     law: Option<ContactLaw>,
-    record_every: usize,
-    records: Records,
-    mut until: Option<Until<'_>>,
+    recording: Recording<'_>,
 ) -> Result<SimulationResult> {
+    let Recording {
+        every: record_every,
+        records,
+        mut until,
+    } = recording;
     check_options(model, options)?;
     if until.as_ref().is_some_and(|u| u.every == 0) {
         return Err(Error::Numerical(
