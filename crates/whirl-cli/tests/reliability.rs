@@ -24,6 +24,24 @@ fn cascade(out: &Path) -> Command {
     c
 }
 
+/// Waits until the cascade's checkpoint under `dir` (`cascade.partial/<key>/`) holds `name`.
+fn wait_for_checkpoint(dir: &Path, name: &str) {
+    let root = dir.join("cascade.partial");
+    let start = Instant::now();
+    let found = || {
+        std::fs::read_dir(&root)
+            .map(|entries| entries.flatten().any(|e| e.path().join(name).exists()))
+            .unwrap_or(false)
+    };
+    while !found() {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "{name} never appeared under {root:?}"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
 /// Waits until `path` exists (the first run has started its work), at most 60 s.
 fn wait_for(path: &Path) {
     let start = Instant::now();
@@ -60,7 +78,7 @@ fn a_second_run_on_the_same_folder_is_refused_and_the_first_is_unharmed() {
         .spawn()
         .unwrap();
     // The checkpoint's manifest is written once the first run holds the folder.
-    wait_for(&tmp.path().join("cascade.partial").join("manifest.json"));
+    wait_for_checkpoint(tmp.path(), "manifest.json");
     let second = cascade(&out).output().unwrap();
     let refused = text(&second);
     assert_eq!(second.status.code(), Some(1), "{refused}");
@@ -101,7 +119,7 @@ fn ctrl_c_keeps_the_checkpoint_and_a_rerun_ends_with_the_same_bytes() {
         .spawn()
         .unwrap();
     // Interrupt once a few speeds are saved.
-    wait_for(&tmp.path().join("cascade.partial").join("point-00002.json"));
+    wait_for_checkpoint(tmp.path(), "point-00002.json");
     let sent = Command::new("kill")
         .args(["-INT", &run.id().to_string()])
         .status()
@@ -215,7 +233,7 @@ fn an_absurdly_long_cascade_warns_before_it_starts() {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    wait_for(&tmp.path().join("cascade.partial").join("manifest.json"));
+    wait_for_checkpoint(tmp.path(), "manifest.json");
     let _ = Command::new("kill")
         .args(["-INT", &run.id().to_string()])
         .status();
