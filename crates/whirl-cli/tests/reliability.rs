@@ -42,18 +42,6 @@ fn wait_for_checkpoint(dir: &Path, name: &str) {
     }
 }
 
-/// Waits until `path` exists (the first run has started its work), at most 60 s.
-fn wait_for(path: &Path) {
-    let start = Instant::now();
-    while !path.exists() {
-        assert!(
-            start.elapsed() < Duration::from_secs(60),
-            "{path:?} never appeared"
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    }
-}
-
 /// Names in `dir` that start with a dot (temporary folders, locks).
 fn hidden(dir: &Path) -> Vec<String> {
     std::fs::read_dir(dir)
