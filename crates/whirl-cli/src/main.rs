@@ -50,8 +50,14 @@ enum Command {
     Campbell(commands::campbell::Args),
     /// Mesh convergence: natural frequencies versus element count.
     Convergence(commands::convergence::Args),
+    /// Static deflection, bending moment, shear force and bearing reactions under gravity.
+    Static(commands::statics::Args),
     /// Steady unbalance response over speed: Bode, polar, orbit size, API 617 margins.
     Unbalance(commands::unbalance::Args),
+    /// Frequency response functions between two DOFs at a spin speed; harmonic forced response.
+    Frf(commands::frf::Args),
+    /// Undamped critical-speed map: critical speeds against bearing stiffness (API 684).
+    Ucs(commands::ucs::Args),
     /// Craig-Bampton reduction: frequency errors and stable time steps against the full model.
     Reduce(commands::reduce::Args),
     /// Time response at a speed: time histories, orbits, spectrum, settled 1X.
@@ -76,7 +82,10 @@ impl Command {
             Command::Modal(a) => a.common.out_dir("modal"),
             Command::Campbell(a) => a.common.out_dir("campbell"),
             Command::Convergence(a) => a.common.out_dir("convergence"),
+            Command::Static(a) => a.common.out_dir("static"),
             Command::Unbalance(a) => a.common.out_dir("unbalance"),
+            Command::Frf(a) => a.common.out_dir("frf"),
+            Command::Ucs(a) => a.common.out_dir("ucs"),
             Command::Reduce(a) => a.common.out_dir("reduce"),
             Command::Simulate(a) => a.common.out_dir("simulate"),
             Command::Stiffness(a) => a.common.out_dir("stiffness"),
@@ -93,7 +102,10 @@ impl Command {
             Command::Modal(a) => commands::modal::run(a),
             Command::Campbell(a) => commands::campbell::run(a),
             Command::Convergence(a) => commands::convergence::run(a),
+            Command::Static(a) => commands::statics::run(a),
             Command::Unbalance(a) => commands::unbalance::run(a),
+            Command::Frf(a) => commands::frf::run(a),
+            Command::Ucs(a) => commands::ucs::run(a),
             Command::Reduce(a) => commands::reduce::run(a),
             Command::Simulate(a) => commands::simulate::run(a),
             Command::Stiffness(a) => commands::stiffness::run(a),

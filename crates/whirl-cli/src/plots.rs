@@ -18,11 +18,15 @@ use whirl_plot::{
 use crate::commands::campbell::order_name;
 
 mod cascade;
+mod frf;
 mod reduce;
+mod statics;
 mod time;
 
 pub use cascade::{cascade_map, full_map, nsv_amplitude, waterfall};
+pub use frf::{critical_speed_map, frf};
 pub use reduce::{reduction_error, stable_steps};
+pub use statics::{roller_loads, static_response};
 pub use time::{contact_line, contact_zone};
 pub use time::{orbits, spectrum, time_history};
 

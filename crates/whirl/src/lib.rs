@@ -36,6 +36,7 @@ pub mod nsv;
 pub mod post;
 pub mod reduce;
 pub mod response;
+pub mod statics;
 pub mod study;
 pub mod time;
 pub mod units;

@@ -6,12 +6,15 @@ pub mod cascade;
 pub mod check;
 pub mod convergence;
 pub mod fit_forcing;
+pub mod frf;
 pub mod hbm;
 pub mod modal;
 pub mod reduce;
 pub mod simulate;
+pub mod statics;
 pub mod stiffness;
 pub mod study;
+pub mod ucs;
 pub mod unbalance;
 
 use std::path::{Path, PathBuf};

@@ -7,9 +7,10 @@
 
 use faer::{c64, Mat};
 
-use super::beam::{beam_matrices, BeamProperties, Mat8};
+use super::beam::{beam_matrices, BeamMatrices, BeamProperties, Mat8};
+use super::timoshenko::{shear_rigidity, timoshenko_matrices};
 use super::{dof, Direction};
-use crate::model::Model;
+use crate::model::{BeamTheory, Model, ShaftSection};
 
 /// How roller bearings enter the assembled matrices.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -59,14 +60,7 @@ pub fn assemble(model: &Model, bearings: Bearings) -> SystemMatrices {
 
     let mut element = 0;
     for section in &model.sections {
-        let p = BeamProperties {
-            length: section.length / section.elements as f64,
-            area: section.area(),
-            second_moment: section.second_moment(),
-            young_modulus: section.material.young_modulus,
-            density: section.material.density,
-        };
-        let e = beam_matrices(&p);
+        let e = element_matrices(section);
         let rotary = if opts.rotary_inertia { 1.0 } else { 0.0 };
         let gyro = if opts.gyroscopic { 1.0 } else { 0.0 };
         for _ in 0..section.elements {
@@ -126,6 +120,24 @@ pub fn assemble(model: &Model, bearings: Bearings) -> SystemMatrices {
         stiffness,
         gyroscopic,
         damping,
+    }
+}
+
+/// The matrices of one of a section's (equal) elements, by the section's beam theory.
+pub fn element_matrices(section: &ShaftSection) -> BeamMatrices {
+    let p = BeamProperties {
+        length: section.length / section.elements as f64,
+        area: section.area(),
+        second_moment: section.second_moment(),
+        young_modulus: section.material.young_modulus,
+        density: section.material.density,
+    };
+    match section.beam {
+        BeamTheory::EulerBernoulli => beam_matrices(&p),
+        BeamTheory::Timoshenko => {
+            let ks = shear_rigidity(&p, section.material.poisson_ratio, section.shear_factor);
+            timoshenko_matrices(&p, ks)
+        }
     }
 }
 

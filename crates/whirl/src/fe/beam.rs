@@ -116,8 +116,43 @@ const GAUSS4: [(f64, f64); 4] = [
     (0.861_136_311_594_052_6, 0.347_854_845_137_453_8),
 ];
 
-/// Integrates the element matrices.
+/// Interpolation of one plane at a point of the element: the deflection w and the section
+/// rotation beta in terms of the plane's nodal values (w1, theta1, w2, theta2), with their
+/// derivatives along the axis. Euler-Bernoulli elements have beta = w'; shear-deformable
+/// ones (see [`super::timoshenko`]) do not.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Interpolation {
+    /// w.
+    pub deflection: [f64; 4],
+    /// dw/ds.
+    pub slope: [f64; 4],
+    /// beta, the rotation of the cross-section.
+    pub rotation: [f64; 4],
+    /// d(beta)/ds, the bending curvature.
+    pub curvature: [f64; 4],
+}
+
+/// Integrates the element matrices of the Euler-Bernoulli element.
 pub fn beam_matrices(p: &BeamProperties) -> BeamMatrices {
+    integrate(p, 0.0, |s| {
+        let (n, d1, d2) = hermite(s, p.length);
+        Interpolation {
+            deflection: n,
+            slope: d1,
+            rotation: d1,
+            curvature: d2,
+        }
+    })
+}
+
+/// Integrates the element matrices for an interpolation; `shear_rigidity` kappa G A (N) adds
+/// the shear strain energy int kappa G A (w' - beta)^2 ds (zero for Euler-Bernoulli, where
+/// beta = w' makes the shear strain vanish anyway).
+pub(crate) fn integrate(
+    p: &BeamProperties,
+    shear_rigidity: f64,
+    shape: impl Fn(f64) -> Interpolation,
+) -> BeamMatrices {
     let z = [[0.0; 8]; 8];
     let mut out = BeamMatrices {
         mass_translational: z,
@@ -133,16 +168,24 @@ pub fn beam_matrices(p: &BeamProperties) -> BeamMatrices {
     for (xi, wg) in GAUSS4 {
         let s = 0.5 * l * (xi + 1.0);
         let w = 0.5 * l * wg;
-        let (n, d1, d2) = hermite(s, l);
-        let psi = displacement_rows(&n);
-        let phi = rotation_rows(&d1);
-        let slope = displacement_rows(&d1);
-        let curvature = displacement_rows(&d2);
+        let f = shape(s);
+        let psi = displacement_rows(&f.deflection);
+        let phi = rotation_rows(&f.rotation);
+        let slope = displacement_rows(&f.slope);
+        let curvature = displacement_rows(&f.curvature);
+        let section = displacement_rows(&f.rotation);
         for r in 0..2 {
             add_outer(&mut out.mass_translational, w * rho_a, &psi[r], &psi[r]);
             add_outer(&mut out.mass_rotary, w * rho_i, &phi[r], &phi[r]);
             add_outer(&mut out.stiffness, w * ei, &curvature[r], &curvature[r]);
             add_outer(&mut out.stiffness_axial, w, &slope[r], &slope[r]);
+            if shear_rigidity > 0.0 {
+                let mut gamma = slope[r];
+                for (g, b) in gamma.iter_mut().zip(&section[r]) {
+                    *g -= b;
+                }
+                add_outer(&mut out.stiffness, w * shear_rigidity, &gamma, &gamma);
+            }
         }
         // Polar inertia per length is rho * 2I for a circular section.
         let jp = 2.0 * rho_i;

@@ -1,5 +1,8 @@
 //! Finite-element model of the rotor: element matrices, DOF numbering and assembly.
 //!
+//! Shaft elements follow Euler-Bernoulli ([`beam`], the default) or Timoshenko
+//! ([`timoshenko`], shear deformation) beam theory, chosen per section.
+//!
 //! Equation of motion (thesis eq. 2.4, SPEC section 2):
 //! `M q'' + (Omega G + C) q' + K q = F_lin(t) + F_nl(q, q', t)`.
 //!
@@ -10,8 +13,11 @@
 
 mod assembly;
 pub mod beam;
+pub mod timoshenko;
 
-pub use assembly::{assemble, gravity_force, unbalance_force, Bearings, SystemMatrices};
+pub use assembly::{
+    assemble, element_matrices, gravity_force, unbalance_force, Bearings, SystemMatrices,
+};
 
 use serde::Serialize;
 

@@ -6,14 +6,17 @@
 //! - [`campbell`]: whirl frequencies over speed, tracked by mode-shape correlation, with
 //!   critical speeds where a branch crosses an excitation order.
 //! - [`convergence`]: frequencies versus element count (thesis fig. 2.8).
+//! - [`critical_speed_map`]: undamped critical speeds against bearing stiffness (API 684).
 
 mod campbell;
 mod complex;
 mod convergence;
+mod ucs;
 mod undamped;
 
 pub use campbell::{campbell, CampbellOptions, CampbellResult, CriticalSpeed, ModeBranch};
 pub use complex::{complex_modes, ComplexMode, ModalBasis, Whirl};
 pub use convergence::{convergence, ConvergenceResult};
 pub(crate) use undamped::symmetric_modes;
+pub use ucs::{critical_speed_map, BearingStiffness, CriticalSpeedMap};
 pub use undamped::{undamped_modes, UndampedModes};

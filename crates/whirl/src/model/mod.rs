@@ -42,6 +42,32 @@ pub struct ShaftSection {
     pub material: Material,
     /// Number of equal beam elements.
     pub elements: usize,
+    /// The beam theory of its elements.
+    pub beam: BeamTheory,
+    /// Shear factor kappa of the cross-section (used by Timoshenko elements).
+    pub shear_factor: f64,
+}
+
+/// Which beam theory the shaft elements follow.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum BeamTheory {
+    /// Plane sections stay normal to the axis (no shear deformation): the default.
+    #[default]
+    EulerBernoulli,
+    /// Shear deformation with the section's shear factor (Timoshenko): needed for short,
+    /// thick shafts, where Euler-Bernoulli overestimates the frequencies.
+    Timoshenko,
+}
+
+impl BeamTheory {
+    /// The name used in model files.
+    pub fn name(self) -> &'static str {
+        match self {
+            BeamTheory::EulerBernoulli => "euler-bernoulli",
+            BeamTheory::Timoshenko => "timoshenko",
+        }
+    }
 }
 
 impl ShaftSection {
@@ -56,6 +82,17 @@ impl ShaftSection {
     }
 }
 
+/// Shear factor kappa of a circular tube of diameters `outer` > `inner` >= 0 (Cowper 1966,
+/// "The shear coefficient in Timoshenko's beam theory", J. Appl. Mech. 33):
+/// kappa = 6 (1 + nu) (1 + m^2)^2 / ((7 + 6 nu) (1 + m^2)^2 + (20 + 12 nu) m^2), m = inner/outer;
+/// 6 (1 + nu) / (7 + 6 nu) for a solid section (0.886 for nu = 0.3).
+pub fn circular_shear_factor(outer: f64, inner: f64, poisson_ratio: f64) -> f64 {
+    let nu = poisson_ratio;
+    let m2 = (inner / outer).powi(2);
+    let a = (1.0 + m2).powi(2);
+    6.0 * (1.0 + nu) * a / ((7.0 + 6.0 * nu) * a + (20.0 + 12.0 * nu) * m2)
+}
+
 /// Options that apply to every beam element.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct ElementOptions {
@@ -65,6 +102,8 @@ pub struct ElementOptions {
     pub gyroscopic: bool,
     /// Axial force, N, tension positive (thesis eq. 2.3).
     pub axial_load: f64,
+    /// Beam theory of the sections that do not choose their own.
+    pub beam: BeamTheory,
 }
 
 impl Default for ElementOptions {
@@ -73,6 +112,7 @@ impl Default for ElementOptions {
             rotary_inertia: true,
             gyroscopic: true,
             axial_load: 0.0,
+            beam: BeamTheory::EulerBernoulli,
         }
     }
 }
@@ -427,6 +467,18 @@ pub(crate) fn node_positions(sections: &[ShaftSection]) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn cowper_factor_of_a_solid_and_a_thin_walled_section() {
+        // Cowper's values: solid 6(1 + nu)/(7 + 6 nu); thin tube (m -> 1) 2(1 + nu)/(4 + 3 nu).
+        let nu = 0.3;
+        let solid = circular_shear_factor(1.0, 0.0, nu);
+        // Exact algebra: round-off only.
+        assert!((solid - 6.0 * 1.3 / 8.8).abs() < 1e-15);
+        let thin = circular_shear_factor(1.0, 0.999_999, nu);
+        // m = 1 - 1e-6 instead of 1 moves kappa by a few 1e-7.
+        assert!((thin - 2.0 * 1.3 / 4.9).abs() < 1e-6);
+    }
 
     #[test]
     fn palmgren_stiffness_of_the_reference_roller() {

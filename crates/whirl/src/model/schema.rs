@@ -81,6 +81,10 @@ pub struct ShaftSectionFile {
     pub material: Spanned<String>,
     /// Number of equal beam elements in the section.
     pub elements: Count,
+    /// `"euler-bernoulli"` or `"timoshenko"` (default: `elements.beam`).
+    pub beam: Option<Spanned<String>>,
+    /// Shear factor kappa (default: Cowper's value for a circular tube).
+    pub shear_factor: Option<Spanned<f64>>,
 }
 
 /// `[elements]`
@@ -91,6 +95,8 @@ pub struct ElementOptionsFile {
     pub gyroscopic: Option<bool>,
     /// Axial force in N, tension positive.
     pub axial_load: Option<Spanned<f64>>,
+    /// `"euler-bernoulli"` (default) or `"timoshenko"`.
+    pub beam: Option<Spanned<String>>,
 }
 
 /// `[[disk]]`: inertias given directly, or computed from geometry and material.

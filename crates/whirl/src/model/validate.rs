@@ -176,8 +176,8 @@ pub(super) fn validate(raw: ModelFile) -> V<Model> {
         None => 9.81,
     };
     let materials = materials(&raw.material)?;
-    let sections = sections(&raw.shaft, &materials)?;
     let options = element_options(&raw.elements)?;
+    let sections = sections(&raw.shaft, &materials, options.beam)?;
     let z = node_positions(&sections);
     let nodes = Nodes {
         length: sections.iter().map(|s| s.length).sum(),
@@ -309,6 +309,7 @@ fn find_material(
 fn sections(
     raw: &[Spanned<ShaftSectionFile>],
     materials: &HashMap<String, Material>,
+    default_beam: BeamTheory,
 ) -> V<Vec<ShaftSection>> {
     if raw.is_empty() {
         return Err(InputError::field("shaft", "the model has no shaft").help(
@@ -346,12 +347,22 @@ fn sections(
             };
             let material = find_material(&s.material, materials, &format!("{f}.material"))?;
             let elements = count(&s.elements, &format!("{f}.elements"), 1, 10_000)?;
+            let beam = match &s.beam {
+                Some(b) => beam_theory(b, &format!("{f}.beam"))?,
+                None => default_beam,
+            };
+            let shear_factor = match &s.shear_factor {
+                Some(k) => positive(*k.get_ref(), k.span(), &format!("{f}.shear_factor"), "")?,
+                None => circular_shear_factor(od, id, material.poisson_ratio),
+            };
             Ok(ShaftSection {
                 length,
                 outer_diameter: od,
                 inner_diameter: id,
                 material,
                 elements,
+                beam,
+                shear_factor,
             })
         })
         .collect()
@@ -365,8 +376,25 @@ fn element_options(raw: &Option<ElementOptionsFile>) -> V<ElementOptions> {
             rotary_inertia: o.rotary_inertia.unwrap_or(d.rotary_inertia),
             gyroscopic: o.gyroscopic.unwrap_or(d.gyroscopic),
             axial_load: opt_f64(&o.axial_load, "elements.axial_load", 0.0)?,
+            beam: match &o.beam {
+                Some(b) => beam_theory(b, "elements.beam")?,
+                None => d.beam,
+            },
         },
     })
+}
+
+fn beam_theory(raw: &Spanned<String>, field: &str) -> V<BeamTheory> {
+    match raw.get_ref().trim().to_ascii_lowercase().as_str() {
+        "euler-bernoulli" => Ok(BeamTheory::EulerBernoulli),
+        "timoshenko" => Ok(BeamTheory::Timoshenko),
+        other => Err(err(
+            field,
+            raw.span(),
+            format!("unknown beam theory `{other}`"),
+        )
+        .help("use \"euler-bernoulli\" (the default) or \"timoshenko\" (shear deformation)")),
+    }
 }
 
 fn disk(

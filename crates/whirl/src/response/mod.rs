@@ -1,10 +1,14 @@
 //! Forced responses of the linear model.
 //!
+//! - [`frf`]: receptance, mobility and accelerance between any two DOFs at a spin speed,
+//!   and [`harmonic_response`] to harmonic forces of any frequency.
 //! - [`unbalance_response`]: the steady synchronous response to unbalance over a speed
 //!   range, with peaks, amplification factors and API 617 separation margins.
 
+mod frf;
 mod peaks;
 mod unbalance;
 
+pub use frf::{frf, harmonic_response, FrfChannel, FrfKind, FrfResult};
 pub use peaks::{separation_margin, ResponsePeak};
 pub use unbalance::{unbalance_response, NodeResponse, UnbalanceResult};

@@ -12,10 +12,11 @@
 //! circular parts have radii |Q_x + i Q_y|/2 and |Q_x - i Q_y|/2, its semi-axes are their
 //! sum and difference, and it whirls forward when the forward part is larger.
 
-use faer::{c64, Mat};
+use faer::c64;
 use rayon::prelude::*;
 use serde::Serialize;
 
+use super::frf::harmonic_response;
 use super::peaks::{find_peaks, ResponsePeak};
 use crate::error::{Error, Result};
 use crate::fe::{dof, unbalance_force, Direction, SystemMatrices};
@@ -58,27 +59,10 @@ pub struct UnbalanceResult {
     pub operating_hz: Option<(f64, f64)>,
 }
 
-/// Complex response vector at one speed.
+/// Complex response vector at one speed: the harmonic response to Omega^2 f at w = Omega.
 pub fn unbalance_phasor(system: &SystemMatrices, force: &[c64], omega: f64) -> Result<Vec<c64>> {
-    let n = system.dofs();
-    let z = Mat::<c64>::from_fn(n, n, |i, j| {
-        c64::new(
-            system.stiffness[(i, j)] - omega * omega * system.mass[(i, j)],
-            omega * (system.damping[(i, j)] + omega * system.gyroscopic[(i, j)]),
-        )
-    });
-    let mut rhs = Mat::<c64>::from_fn(n, 1, |i, _| force[i] * (omega * omega));
-    let lu = z.partial_piv_lu();
-    faer::linalg::solvers::Solve::solve_in_place(&lu, rhs.as_mut());
-    let q: Vec<c64> = (0..n).map(|i| rhs[(i, 0)]).collect();
-    if q.iter().any(|v| !v.re.is_finite() || !v.im.is_finite()) {
-        return Err(Error::Numerical(format!(
-            "the dynamic stiffness is singular at {:.3} Hz: the rotor has an undamped \
-             mode at this speed, or is not supported (add bearings or damping)",
-            omega / (2.0 * std::f64::consts::PI)
-        )));
-    }
-    Ok(q)
+    let scaled: Vec<c64> = force.iter().map(|f| f * (omega * omega)).collect();
+    harmonic_response(system, omega, omega, &scaled)
 }
 
 /// Unbalance response at `nodes` over `speeds` (rad/s).

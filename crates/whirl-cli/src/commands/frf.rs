@@ -1,0 +1,236 @@
+//! `whirl frf model.toml --input 10:ux [--output 10:ux,0:uy] [--speed 3000rpm]
+//! [--frequencies 0:500Hz:1001] [--force 100]`: frequency response functions.
+//!
+//! A harmonic force at the input DOF, the rotor spinning at `--speed` (gyroscopic moments at
+//! that speed; roller bearings by their linear stiffness, as the other linear analyses).
+//! Writes `frf.csv` (per output DOF the receptance, mobility and accelerance as real part,
+//! imaginary part, magnitude and phase, and the response amplitude to a force of `--force`
+//! newtons), `peaks.csv` (resonance peaks of each receptance with half-power bands) and the
+//! plots `receptance`, `mobility` and `accelerance` (magnitude, phase, real and imaginary
+//! parts over frequency).
+
+use std::fmt::Write;
+
+use serde_json::{json, Value};
+use whirl::fe::{assemble, dof, Bearings, Direction};
+use whirl::model::Model;
+use whirl::modal::undamped_modes;
+use whirl::response::{frf, FrfKind};
+use whirl::units::{parse_quantity, Dimension};
+
+use super::{finish, hz, lib, load, speed, speeds, summary_head, Common, Outcome, Speeds};
+use crate::error::Diag;
+use crate::output::{header, num, opt, Output};
+use crate::plots;
+
+/// `whirl frf`
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    pub common: Common,
+    /// Where the force acts: `NODE:DIR` with DIR one of ux, uy, tx, ty (e.g. `10:uy`).
+    #[arg(long, value_name = "NODE:DIR", value_parser = dof_spec)]
+    pub input: DofSpec,
+    /// Where the response is read, comma-separated `NODE:DIR` [default: the input DOF].
+    #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = dof_spec)]
+    pub output: Vec<DofSpec>,
+    /// Spin speed, e.g. `3000rpm`, `50Hz`; a plain number is rad/s [default: 0].
+    #[arg(long, value_name = "SPEED", value_parser = speed, default_value = "0")]
+    pub speed: f64,
+    /// Excitation frequencies `start:stop:count`, e.g. `0:500Hz:1001`; plain numbers are
+    /// rad/s [default: 1001 from 0 to 1.5 x the sixth undamped natural frequency].
+    #[arg(long, value_name = "RANGE", value_parser = speeds)]
+    pub frequencies: Option<Speeds>,
+    /// Amplitude of the harmonic force, N (`100`, `2kN`), for the response columns [default: 1].
+    #[arg(long, value_name = "FORCE", value_parser = force, default_value = "1")]
+    pub force: f64,
+}
+
+/// A DOF as `NODE:DIR`.
+#[derive(Debug, Clone, Copy)]
+pub struct DofSpec {
+    /// Node index.
+    pub node: usize,
+    /// Direction.
+    pub direction: Direction,
+}
+
+/// Clap parser of `NODE:DIR`.
+fn dof_spec(text: &str) -> Result<DofSpec, String> {
+    let (node, dir) = text
+        .split_once(':')
+        .ok_or_else(|| format!("`{text}`: expected NODE:DIR, e.g. 10:uy"))?;
+    let node = node
+        .trim()
+        .parse::<usize>()
+        .map_err(|_| format!("`{text}`: `{node}` is not a node number (0, 1, 2, ...)"))?;
+    let direction = Direction::ALL
+        .into_iter()
+        .find(|d| d.name() == dir.trim())
+        .ok_or_else(|| format!("`{text}`: the direction `{dir}` is not one of ux, uy, tx, ty"))?;
+    Ok(DofSpec { node, direction })
+}
+
+/// Clap parser of a force: `100`, `2kN`; a plain number is N.
+fn force(text: &str) -> Result<f64, String> {
+    let f = parse_quantity(text, Dimension::Force).map_err(|e| e.to_string())?;
+    if f <= 0.0 {
+        return Err(format!("`{text}`: the force amplitude must be positive"));
+    }
+    Ok(f)
+}
+
+/// The frequencies asked for, or 1001 from 0 to 1.5 x the sixth undamped natural frequency
+/// at rest (three forward-backward pairs of an isotropic rotor).
+fn frequencies(args: &Args, model: &Model) -> miette::Result<Vec<f64>> {
+    if let Some(f) = &args.frequencies {
+        return Ok(f.0.clone());
+    }
+    let modes = lib(undamped_modes(&assemble(model, Bearings::Linearised), 6))?;
+    let top = 1.5 * 2.0 * std::f64::consts::PI * modes.frequencies_hz.last().copied().unwrap_or(100.0);
+    Ok((0..1001).map(|i| top * i as f64 / 1000.0).collect())
+}
+
+fn global(model: &Model, option: &str, d: DofSpec) -> miette::Result<usize> {
+    super::check_nodes(model, option, &[d.node])?;
+    Ok(dof(d.node, d.direction))
+}
+
+pub fn run(args: &Args) -> miette::Result<Outcome> {
+    let loaded = load(&args.common.model)?;
+    let model = &loaded.model;
+    let input = global(model, "--input", args.input)?;
+    let outputs = if args.output.is_empty() {
+        vec![input]
+    } else {
+        args.output
+            .iter()
+            .map(|&d| global(model, "--output", d))
+            .collect::<miette::Result<Vec<_>>>()?
+    };
+    let w = frequencies(args, model)?;
+    if w.is_empty() {
+        return Err(Diag::option("--frequencies", "no frequencies to compute").into());
+    }
+    let system = assemble(model, Bearings::Linearised);
+    let result = lib(frf(&system, args.speed, input, &outputs, &w))?;
+    let (f0, f1) = (result.frequencies_hz[0], result.frequencies_hz[w.len() - 1]);
+
+    let mut s = summary_head("frf", &loaded);
+    s.insert("speed_hz".into(), hz(args.speed).into());
+    s.insert("speed_rpm".into(), (60.0 * hz(args.speed)).into());
+    s.insert("input".into(), result.input.1.clone().into());
+    s.insert("force_n".into(), args.force.into());
+    s.insert("frequency_range_hz".into(), json!([f0, f1]));
+    s.insert("frequency_count".into(), w.len().into());
+    s.insert(
+        "outputs".into(),
+        result
+            .outputs
+            .iter()
+            .map(|o| {
+                json!({
+                    "output": o.name,
+                    "peaks": o.peaks.iter().map(|p| json!({
+                        "frequency_hz": p.speed_hz,
+                        "receptance_m_per_n": p.amplitude,
+                        "response_m": p.amplitude * args.force,
+                        "half_power_hz": p.half_power_hz.map(|(a, b)| [a, b]),
+                        "amplification_factor": p.amplification_factor,
+                    })).collect::<Vec<_>>(),
+                })
+            })
+            .collect::<Vec<_>>()
+            .into(),
+    );
+
+    let mut text = String::new();
+    let _ = writeln!(
+        text,
+        "{}: FRF from {} at spin speed {:.3} Hz ({:.0} rpm), {} frequencies from {:.3} to {:.3} Hz",
+        model.name,
+        result.input.1,
+        hz(args.speed),
+        60.0 * hz(args.speed),
+        w.len(),
+        f0,
+        f1
+    );
+    for o in &result.outputs {
+        for p in &o.peaks {
+            let af = p
+                .amplification_factor
+                .map_or("-".into(), |a| format!("{a:.1}"));
+            let _ = writeln!(
+                text,
+                "  {}: peak {:.4e} m/N at {:.3} Hz (Q {af}), {:.4e} m under {} N",
+                o.name,
+                p.amplitude,
+                p.speed_hz,
+                p.amplitude * args.force,
+                args.force
+            );
+        }
+    }
+
+    let mut out = Output::begin(&args.common.out_dir("frf"))?;
+    let mut h = header(&["frequency_hz"]);
+    for o in &result.outputs {
+        for kind in FrfKind::ALL {
+            for part in ["re", "im", "magnitude", "phase_deg"] {
+                h.push(format!("{}_{}_{part}", o.name, kind.name()));
+            }
+        }
+        h.push(format!("{}_response_amplitude", o.name));
+    }
+    let rows: Vec<Vec<String>> = (0..w.len())
+        .map(|k| {
+            let mut row = vec![num(result.frequencies_hz[k])];
+            for (j, o) in result.outputs.iter().enumerate() {
+                for kind in FrfKind::ALL {
+                    let v = result.value(kind, j, k);
+                    row.extend([
+                        num(v.re),
+                        num(v.im),
+                        num(v.norm()),
+                        num(v.arg().to_degrees()),
+                    ]);
+                }
+                row.push(num(o.receptance[k].norm() * args.force));
+            }
+            row
+        })
+        .collect();
+    out.csv("frf.csv", &h, &rows)?;
+    let h = header(&[
+        "output",
+        "frequency_hz",
+        "receptance_magnitude",
+        "half_power_low_hz",
+        "half_power_high_hz",
+        "amplification_factor",
+    ]);
+    let rows: Vec<Vec<String>> = result
+        .outputs
+        .iter()
+        .flat_map(|o| {
+            o.peaks.iter().map(|p| {
+                vec![
+                    o.name.clone(),
+                    num(p.speed_hz),
+                    num(p.amplitude),
+                    opt(p.half_power_hz.map(|b| b.0)),
+                    opt(p.half_power_hz.map(|b| b.1)),
+                    opt(p.amplification_factor),
+                ]
+            })
+        })
+        .collect();
+    out.csv("peaks.csv", &h, &rows)?;
+    for kind in FrfKind::ALL {
+        out.plot(kind.name(), |stem| {
+            plots::frf(model, &result, kind).save(stem)
+        })?;
+    }
+    finish(out, Value::Object(s), text, &args.common)
+}

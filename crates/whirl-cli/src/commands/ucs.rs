@@ -1,0 +1,189 @@
+//! `whirl ucs model.toml [--stiffness 1e5:1e10:51] [--modes 4] [--at-rest]`: the undamped
+//! critical-speed map (API 684).
+//!
+//! Every bearing (linear and roller) is given the same isotropic stiffness, swept
+//! logarithmically, and the lowest critical speeds are found at each (synchronous forward
+//! whirl with the gyroscopic moments of the spin; `--at-rest` leaves them out). Writes
+//! `ucs.csv` (critical speeds per stiffness), `bearings.csv` (each bearing's own stiffness
+//! and the critical speeds where it cuts the curves) and the plot `ucs`.
+
+use std::fmt::Write;
+
+use serde_json::{json, Value};
+use whirl::modal::critical_speed_map;
+use whirl::model::Model;
+
+use super::{finish, lib, load, mode_count, summary_head, Common, Outcome};
+use crate::output::{header, num, opt, Output};
+use crate::plots;
+
+/// `whirl ucs`
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    pub common: Common,
+    /// Bearing stiffnesses `start:stop:count` in N/m, spaced logarithmically, e.g.
+    /// `1e5:1e10:51` [default: 61 values from 1/100 of the softest bearing's stiffness to
+    /// 100 times the stiffest's, widened to whole decades].
+    #[arg(long, value_name = "RANGE", value_parser = stiffness_range)]
+    pub stiffness: Option<StiffnessRange>,
+    /// Number of critical speeds (curves) [default: 4].
+    #[arg(long, value_name = "N", value_parser = mode_count, default_value = "4")]
+    pub modes: usize,
+    /// Natural frequencies at rest instead of synchronous critical speeds (no gyroscopic
+    /// moments), as some codes draw the map.
+    #[arg(long)]
+    pub at_rest: bool,
+}
+
+/// Stiffnesses in N/m, ascending.
+#[derive(Debug, Clone)]
+pub struct StiffnessRange(pub Vec<f64>);
+
+/// Clap parser of `start:stop:count` stiffnesses (N/m), logarithmically spaced.
+fn stiffness_range(text: &str) -> Result<StiffnessRange, String> {
+    let parts: Vec<&str> = text.split(':').collect();
+    let [a, b, n] = parts[..] else {
+        return Err(format!(
+            "`{text}`: expected start:stop:count in N/m, e.g. 1e5:1e10:51"
+        ));
+    };
+    let bound = |s: &str, name: &str| -> Result<f64, String> {
+        let v: f64 = s
+            .trim()
+            .trim_end_matches("N/m")
+            .trim()
+            .parse()
+            .map_err(|_| format!("`{text}`: the {name} `{s}` is not a number of N/m"))?;
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(format!("`{text}`: the {name} `{s}` must be a positive stiffness"))
+        }
+    };
+    let (lo, hi) = (bound(a, "start")?, bound(b, "stop")?);
+    let count: usize = n
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{text}`: the count `{n}` is not a whole number"))?;
+    if !(2..=10_000).contains(&count) || hi <= lo {
+        return Err(format!(
+            "`{text}`: give stop above start and a count from 2 to 10000"
+        ));
+    }
+    Ok(StiffnessRange(log_space(lo, hi, count)))
+}
+
+fn log_space(lo: f64, hi: f64, count: usize) -> Vec<f64> {
+    let (a, b) = (lo.log10(), hi.log10());
+    (0..count)
+        .map(|i| 10f64.powf(a + (b - a) * i as f64 / (count - 1) as f64))
+        .collect()
+}
+
+/// Two decades either side of the bearings' stiffnesses, in whole decades.
+fn default_range(model: &Model) -> Vec<f64> {
+    let ks: Vec<f64> = model
+        .bearings
+        .iter()
+        .flat_map(|b| [b.stiffness[0][0], b.stiffness[1][1]])
+        .chain(model.roller_bearings.iter().map(|b| b.linear_stiffness))
+        .filter(|k| *k > 0.0)
+        .collect();
+    let lo = ks.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = ks.iter().copied().fold(0.0, f64::max);
+    let (lo, hi) = if lo.is_finite() && hi > 0.0 {
+        ((lo / 100.0).log10().floor(), (hi * 100.0).log10().ceil())
+    } else {
+        (5.0, 10.0)
+    };
+    log_space(10f64.powf(lo), 10f64.powf(hi), 61)
+}
+
+pub fn run(args: &Args) -> miette::Result<Outcome> {
+    let loaded = load(&args.common.model)?;
+    let model = &loaded.model;
+    let stiffness = match &args.stiffness {
+        Some(s) => s.0.clone(),
+        None => default_range(model),
+    };
+    let map = lib(critical_speed_map(model, &stiffness, args.modes, !args.at_rest))?;
+    let (k0, k1) = (stiffness[0], stiffness[stiffness.len() - 1]);
+
+    let mut s = summary_head("ucs", &loaded);
+    s.insert("synchronous".into(), map.synchronous.into());
+    s.insert("stiffness_range_n_per_m".into(), json!([k0, k1]));
+    s.insert("stiffness_count".into(), stiffness.len().into());
+    s.insert("modes".into(), args.modes.into());
+    s.insert(
+        "bearings".into(),
+        map.bearings
+            .iter()
+            .map(|b| {
+                json!({
+                    "bearing": b.label, "stiffness_n_per_m": b.stiffness,
+                    "critical_speeds_hz": b.critical_speeds_hz,
+                })
+            })
+            .collect::<Vec<_>>()
+            .into(),
+    );
+
+    let mut text = String::new();
+    let _ = writeln!(
+        text,
+        "{}: undamped critical-speed map, {} stiffnesses from {:.3e} to {:.3e} N/m, {} modes ({})",
+        model.name,
+        stiffness.len(),
+        k0,
+        k1,
+        args.modes,
+        if map.synchronous {
+            "synchronous forward whirl"
+        } else {
+            "at rest"
+        }
+    );
+    for b in &map.bearings {
+        let speeds: Vec<String> = b
+            .critical_speeds_hz
+            .iter()
+            .map(|c| c.map_or("-".into(), |v| format!("{v:.1}")))
+            .collect();
+        let _ = writeln!(
+            text,
+            "  {} ({:.3e} N/m): critical speeds {} Hz",
+            b.label,
+            b.stiffness,
+            speeds.join(", ")
+        );
+    }
+
+    let mut out = Output::begin(&args.common.out_dir("ucs"))?;
+    let mut h = header(&["stiffness_n_per_m"]);
+    h.extend((1..=args.modes).map(|m| format!("mode{m}_hz")));
+    let rows: Vec<Vec<String>> = stiffness
+        .iter()
+        .enumerate()
+        .map(|(i, k)| {
+            let mut row = vec![num(*k)];
+            row.extend(map.critical_speeds_hz.iter().map(|c| num(c[i])));
+            row
+        })
+        .collect();
+    out.csv("ucs.csv", &h, &rows)?;
+    let mut h = header(&["bearing", "stiffness_n_per_m"]);
+    h.extend((1..=args.modes).map(|m| format!("mode{m}_hz")));
+    let rows: Vec<Vec<String>> = map
+        .bearings
+        .iter()
+        .map(|b| {
+            let mut row = vec![b.label.clone(), num(b.stiffness)];
+            row.extend(b.critical_speeds_hz.iter().map(|c| opt(*c)));
+            row
+        })
+        .collect();
+    out.csv("bearings.csv", &h, &rows)?;
+    out.plot("ucs", |stem| plots::critical_speed_map(model, &map).save(stem))?;
+    finish(out, Value::Object(s), text, &args.common)
+}

@@ -1,0 +1,165 @@
+//! Undamped critical-speed map (API 684): the lowest critical speeds against a bearing
+//! stiffness that every bearing shares, swept over decades, and where the bearings' own
+//! stiffness cuts the curves.
+//!
+//! With every bearing isotropic (k in x and y, no cross-coupling, no damping) the x and y
+//! planes are alike, so one plane, the DOFs (ux, ty) of every node, carries the problem. A
+//! critical speed is a spin speed equal to a forward whirl frequency. In forward circular
+//! whirl at w the other plane follows as uy = -i ux, tx = i ty, and the gyroscopic moments
+//! of spin Omega enter the plane as w Omega G_p with G_p[a, ux_j] = G[a, uy_j],
+//! G_p[a, ty_j] = -G[a, tx_j] (a disk's I_p on its ty). At Omega = w:
+//!
+//! ```text
+//! K_p v = w^2 (M_p - G_p) v        (synchronous; a disk's I_d becomes I_d - I_p)
+//! K_p v = w^2 M_p v                (at rest, without gyroscopic moments)
+//! ```
+//!
+//! M_p - G_p need not be positive definite (a thin disk has I_p > I_d, and its rocking mode
+//! has no forward critical speed), but K_p is once every bearing has k > 0, so the pencil is
+//! solved as M_eff v = mu K_p v with w = 1 / sqrt(mu) for each mu > 0.
+
+use serde::Serialize;
+
+use super::symmetric_modes;
+use crate::error::{Error, Result};
+use crate::fe::{assemble, dof, Bearings, Direction};
+use crate::model::Model;
+
+/// A bearing's actual stiffness, drawn over the map.
+#[derive(Debug, Clone, Serialize)]
+pub struct BearingStiffness {
+    /// Bearing name and direction, e.g. `bearing A kxx`.
+    pub label: String,
+    /// Stiffness, N/m.
+    pub stiffness: f64,
+    /// The critical speeds where this stiffness cuts the curves (log-log interpolation),
+    /// Hz, one per mode; `None` where it lies outside the sweep or a curve is missing.
+    pub critical_speeds_hz: Vec<Option<f64>>,
+}
+
+/// The critical-speed map.
+#[derive(Debug, Clone, Serialize)]
+pub struct CriticalSpeedMap {
+    /// Bearing stiffnesses swept, N/m, ascending.
+    pub stiffness: Vec<f64>,
+    /// Critical speeds, Hz: `critical_speeds_hz[mode][k]`, NaN where a mode has none.
+    pub critical_speeds_hz: Vec<Vec<f64>>,
+    /// Whether the gyroscopic moments of synchronous spin were included.
+    pub synchronous: bool,
+    /// The model's bearings' own stiffnesses.
+    pub bearings: Vec<BearingStiffness>,
+}
+
+/// The map over `stiffness` (N/m, positive), `modes` curves.
+///
+/// # Errors
+/// [`Error::Numerical`] for a stiffness that is not positive, a model without bearings or
+/// an eigen-solver failure.
+pub fn critical_speed_map(
+    model: &Model,
+    stiffness: &[f64],
+    modes: usize,
+    synchronous: bool,
+) -> Result<CriticalSpeedMap> {
+    if model.bearings.is_empty() && model.roller_bearings.is_empty() {
+        return Err(Error::Numerical(
+            "the critical-speed map needs bearings: the model has none".into(),
+        ));
+    }
+    if let Some(k) = stiffness.iter().find(|k| !(k.is_finite() && **k > 0.0)) {
+        return Err(Error::Numerical(format!(
+            "bearing stiffness {k} N/m: the map needs positive stiffnesses"
+        )));
+    }
+    let mut curves = vec![Vec::with_capacity(stiffness.len()); modes];
+    for &k in stiffness {
+        let speeds = critical_speeds(model, k, modes, synchronous)?;
+        for (m, curve) in curves.iter_mut().enumerate() {
+            curve.push(speeds.get(m).copied().unwrap_or(f64::NAN));
+        }
+    }
+    let mut bearings = Vec::new();
+    for b in &model.bearings {
+        for (dir, k) in [("kxx", b.stiffness[0][0]), ("kyy", b.stiffness[1][1])] {
+            bearings.push((format!("{} {dir}", b.name), k));
+        }
+    }
+    for b in &model.roller_bearings {
+        bearings.push((format!("{} linear", b.name), b.linear_stiffness));
+    }
+    let bearings = bearings
+        .into_iter()
+        .map(|(label, k)| BearingStiffness {
+            label,
+            stiffness: k,
+            critical_speeds_hz: curves
+                .iter()
+                .map(|c| log_interpolate(stiffness, c, k))
+                .collect(),
+        })
+        .collect();
+    Ok(CriticalSpeedMap {
+        stiffness: stiffness.to_vec(),
+        critical_speeds_hz: curves,
+        synchronous,
+        bearings,
+    })
+}
+
+/// The lowest `modes` critical speeds (Hz) with every bearing of stiffness `k`.
+fn critical_speeds(model: &Model, k: f64, modes: usize, synchronous: bool) -> Result<Vec<f64>> {
+    let mut m = model.clone();
+    for b in &mut m.bearings {
+        b.stiffness = [[k, 0.0], [0.0, k]];
+        b.damping = [[0.0; 2]; 2];
+    }
+    for b in &mut m.roller_bearings {
+        b.linear_stiffness = k;
+        b.linear_damping = 0.0;
+    }
+    let s = assemble(&m, Bearings::Linearised);
+    let nodes = m.node_count();
+    let plane: Vec<usize> = (0..nodes)
+        .flat_map(|n| [dof(n, Direction::Ux), dof(n, Direction::Ty)])
+        .collect();
+    // The partner of each plane DOF in the other plane, and the sign of i it carries.
+    let partner: Vec<(usize, f64)> = (0..nodes)
+        .flat_map(|n| [(dof(n, Direction::Uy), 1.0), (dof(n, Direction::Tx), -1.0)])
+        .collect();
+    let p = plane.len();
+    let kp = faer::Mat::<f64>::from_fn(p, p, |a, b| s.stiffness[(plane[a], plane[b])]);
+    let meff = faer::Mat::<f64>::from_fn(p, p, |a, b| {
+        let gyro = if synchronous {
+            partner[b].1 * s.gyroscopic[(plane[a], partner[b].0)]
+        } else {
+            0.0
+        };
+        s.mass[(plane[a], plane[b])] - gyro
+    });
+    // M_eff v = mu K_p v: mu ascending, so the lowest speeds are the largest mu.
+    let (mu, _) = symmetric_modes(&meff, &kp, p).map_err(|_| {
+        Error::Numerical(format!(
+            "with every bearing at {k:.3e} N/m the stiffness is not positive definite: the \
+             rotor needs bearings at two nodes at least"
+        ))
+    })?;
+    Ok(mu
+        .iter()
+        .rev()
+        .filter(|&&m| m > 0.0)
+        .map(|m| 1.0 / m.sqrt() / (2.0 * std::f64::consts::PI))
+        .take(modes)
+        .collect())
+}
+
+/// `y` at `x` by linear interpolation of log y over log x; `None` outside `xs` or where `y`
+/// is missing.
+fn log_interpolate(xs: &[f64], ys: &[f64], x: f64) -> Option<f64> {
+    let j = xs.windows(2).position(|w| w[0] <= x && x <= w[1])?;
+    let (x0, x1, y0, y1) = (xs[j], xs[j + 1], ys[j], ys[j + 1]);
+    if !(y0 > 0.0 && y1 > 0.0) {
+        return None;
+    }
+    let t = (x / x0).ln() / (x1 / x0).ln();
+    Some((y0.ln() + t * (y1 / y0).ln()).exp())
+}

@@ -1,0 +1,132 @@
+//! Static response under gravity: deflection, slope, bending moment and shear force along
+//! the shaft, bearing reactions and the loads of the rollers.
+//!
+//! The displacements solve K q = F_g (linear bearings, and roller bearings by their
+//! `linear_stiffness`), or the nonlinear equilibrium K q - F_g - F_c(q) = 0 with each
+//! roller bearing's Hertz contacts ([`crate::time::static_equilibrium`]). The internal
+//! forces come from each element's end forces
+//!
+//! ```text
+//! f_e = K_e u_e - f_g,e        (f_g,e: the element's own consistent gravity load)
+//! ```
+//!
+//! which are exact at the nodes for the uniform load of the shaft's weight (the element
+//! solves the static beam equations; disks and bearings load the nodes). With the bending
+//! moment M = E I d(beta)/dz (beta the section rotation, w' for Euler-Bernoulli; positive
+//! when the shaft sags, i.e. concave up) and the shear force V = dM/dz, the principle of
+//! virtual work on an element [a, b] gives, per plane with nodal values (w, beta),
+//!
+//! ```text
+//! f_w(a) = V(a),   f_beta(a) = -M(a),   f_w(b) = -V(b),   f_beta(b) = M(b)
+//! ```
+//!
+//! In whirl's DOFs the x plane is (ux, ty) = (w, beta) and the y plane (uy, tx) = (w, -beta).
+//! Every interior node is reported twice, as the end of the element on its left and the
+//! start of the one on its right, so the shear force's jumps at disks and bearings show.
+
+mod sections;
+mod supports;
+
+pub use sections::{station_forces, Station};
+pub use supports::{BearingReaction, RollerLoad};
+
+use serde::Serialize;
+
+use crate::bearing::hertz_bearings;
+use crate::error::{Error, Result};
+use crate::fe::{dof, Bearings, Direction};
+use crate::model::Model;
+use crate::time::{model_problem, static_equilibrium, ForceBuilder};
+
+/// How roller bearings carry the load.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RollerSupport {
+    /// Hertz line contact per roller, with the clearance: the rotor drops through its
+    /// clearance onto the rollers below.
+    Hertz,
+    /// The bearing's `linear_stiffness`, as in the linear analyses.
+    Linear,
+}
+
+/// The largest deflection along the shaft.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct MaxDeflection {
+    /// Radial deflection sqrt(ux^2 + uy^2), m.
+    pub value: f64,
+    /// Node where it occurs.
+    pub node: usize,
+    /// Its axial position, m.
+    pub z: f64,
+}
+
+/// The static response of a model under gravity.
+#[derive(Debug, Clone, Serialize)]
+pub struct StaticResult {
+    /// Stations along the shaft, by z; interior nodes twice (left and right element).
+    pub stations: Vec<Station>,
+    /// One reaction per bearing, linear bearings first, then roller bearings.
+    pub reactions: Vec<BearingReaction>,
+    /// Weight of the rotor (shaft and disks), N.
+    pub weight: f64,
+    /// The largest deflection.
+    pub max_deflection: MaxDeflection,
+    /// How roller bearings carried the load.
+    pub roller_support: RollerSupport,
+    /// Every DOF's displacement, m or rad (global numbering, see [`crate::fe`]).
+    pub displacements: Vec<f64>,
+}
+
+impl StaticResult {
+    /// Sum of the bearings' forces on the shaft, [x, y], N: [0, weight] in equilibrium.
+    pub fn total_reaction(&self) -> [f64; 2] {
+        self.reactions.iter().fold([0.0, 0.0], |s, r| {
+            [s[0] + r.force[0], s[1] + r.force[1]]
+        })
+    }
+}
+
+/// Static response of `model` under its gravity, roller bearings carried as `rollers` says.
+///
+/// # Errors
+/// [`Error::Numerical`] when the equilibrium cannot be found (a rotor not held by its
+/// bearings).
+pub fn static_response(model: &Model, rollers: RollerSupport) -> Result<StaticResult> {
+    let (bearings, forces): (Bearings, ForceBuilder<'_>) = match rollers {
+        RollerSupport::Hertz => (Bearings::NonlinearApart, &hertz_bearings),
+        RollerSupport::Linear => (Bearings::Linearised, &|_, _| Ok(Vec::new())),
+    };
+    let (mut problem, _) = model_problem(model, None, 0.0, bearings, forces)?;
+    let n = problem.size();
+    let q = static_equilibrium(&mut problem, &vec![0.0; n])?;
+    if q.iter().any(|v| !v.is_finite()) {
+        return Err(Error::Numerical(
+            "the static deflection is not finite: check that the bearings hold the rotor".into(),
+        ));
+    }
+    let weight = -(0..model.node_count())
+        .map(|node| problem.constant_force[dof(node, Direction::Uy)])
+        .sum::<f64>();
+    let stations = station_forces(model, &q);
+    let reactions = supports::reactions(model, &q, rollers)?;
+    let z = model.node_positions();
+    let max_deflection = (0..z.len())
+        .map(|node| MaxDeflection {
+            value: q[dof(node, Direction::Ux)].hypot(q[dof(node, Direction::Uy)]),
+            node,
+            z: z[node],
+        })
+        .fold(None, |best: Option<MaxDeflection>, m| match best {
+            Some(b) if b.value >= m.value => Some(b),
+            _ => Some(m),
+        })
+        .ok_or_else(|| Error::Numerical("the shaft has no nodes".into()))?;
+    Ok(StaticResult {
+        stations,
+        reactions,
+        weight,
+        max_deflection,
+        roller_support: rollers,
+        displacements: q,
+    })
+}

@@ -1,0 +1,128 @@
+//! Bearing reactions of a static solution, and the load of each roller.
+
+use serde::Serialize;
+
+use super::RollerSupport;
+use crate::bearing::HertzBearing;
+use crate::error::Result;
+use crate::fe::{dof, Direction};
+use crate::model::{Model, RollerBearing};
+use crate::time::{Kinematics, NonlinearForce};
+
+/// One roller of a roller bearing at the static equilibrium.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct RollerLoad {
+    /// Roller angle, degrees from +x towards +y (270 is the bottom).
+    pub angle_deg: f64,
+    /// Approach (positive = compressed), m.
+    pub approach: f64,
+    /// Contact load, N.
+    pub force: f64,
+}
+
+/// What a bearing does to the shaft at the static equilibrium.
+#[derive(Debug, Clone, Serialize)]
+pub struct BearingReaction {
+    /// The bearing's name.
+    pub name: String,
+    /// Its node.
+    pub node: usize,
+    /// Its axial position, m.
+    pub z: f64,
+    /// `linear`, `roller (linear)` or `roller (hertz)`.
+    pub kind: &'static str,
+    /// The shaft's displacement there [ux, uy], m.
+    pub displacement: [f64; 2],
+    /// The bearing's force on the shaft [Fx, Fy], N (Fy > 0 holds the rotor up).
+    pub force: [f64; 2],
+    /// Each roller's load (roller bearings with Hertz contacts; empty otherwise).
+    pub rollers: Vec<RollerLoad>,
+}
+
+/// Reactions of every bearing for the displacements `q`.
+pub(super) fn reactions(
+    model: &Model,
+    q: &[f64],
+    rollers: RollerSupport,
+) -> Result<Vec<BearingReaction>> {
+    let at_node = |node: usize| [q[dof(node, Direction::Ux)], q[dof(node, Direction::Uy)]];
+    let linear = |u: [f64; 2], k: &[[f64; 2]; 2]| {
+        [
+            -(k[0][0] * u[0] + k[0][1] * u[1]),
+            -(k[1][0] * u[0] + k[1][1] * u[1]),
+        ]
+    };
+    let mut out: Vec<BearingReaction> = model
+        .bearings
+        .iter()
+        .map(|b| {
+            let u = at_node(b.station.node);
+            BearingReaction {
+                name: b.name.clone(),
+                node: b.station.node,
+                z: b.station.z,
+                kind: "linear",
+                displacement: u,
+                force: linear(u, &b.stiffness),
+                rollers: Vec::new(),
+            }
+        })
+        .collect();
+    for b in &model.roller_bearings {
+        let u = at_node(b.station.node);
+        let reaction = match rollers {
+            RollerSupport::Linear => {
+                let k = b.linear_stiffness;
+                BearingReaction {
+                    name: b.name.clone(),
+                    node: b.station.node,
+                    z: b.station.z,
+                    kind: "roller (linear)",
+                    displacement: u,
+                    force: linear(u, &[[k, 0.0], [0.0, k]]),
+                    rollers: Vec::new(),
+                }
+            }
+            RollerSupport::Hertz => hertz_reaction(b, q, u)?,
+        };
+        out.push(reaction);
+    }
+    Ok(out)
+}
+
+/// A Hertz roller bearing's force and roller loads at rest (spin angle 0).
+fn hertz_reaction(b: &RollerBearing, q: &[f64], u: [f64; 2]) -> Result<BearingReaction> {
+    let node = b.station.node;
+    let mut directions = vec![Direction::Ux, Direction::Uy];
+    if b.roller_tilt {
+        directions.extend([Direction::Tx, Direction::Ty]);
+    }
+    let local: Vec<f64> = directions.iter().map(|&d| q[dof(node, d)]).collect();
+    let mut contact = HertzBearing::new(b, (0..local.len()).collect())?;
+    let rest = Kinematics {
+        time: 0.0,
+        speed: 0.0,
+        angle: 0.0,
+    };
+    let still = vec![0.0; local.len()];
+    let mut force = vec![0.0; local.len()];
+    contact.force(&rest, &local, &still, &mut force);
+    let rollers = contact
+        .rollers(&rest, &local, &still)
+        .iter()
+        .map(|r| RollerLoad {
+            angle_deg: r.angle.to_degrees().rem_euclid(360.0),
+            approach: r.approach,
+            force: r.force,
+        })
+        .collect();
+    Ok(BearingReaction {
+        name: b.name.clone(),
+        node,
+        z: b.station.z,
+        kind: "roller (hertz)",
+        displacement: u,
+        force: [force[0], force[1]],
+        rollers,
+    })
+}

@@ -1,0 +1,234 @@
+//! Static response under gravity against closed forms of beam theory: a shaft on two
+//! supports with a disk at mid-span, an overhung shaft (a cantilever on an elastic root),
+//! and the reference rotor hanging in its roller bearings.
+
+use std::f64::consts::PI;
+
+use whirl::model::Model;
+use whirl::statics::{static_response, RollerSupport, StaticResult};
+
+const E: f64 = 2.1e11;
+const RHO: f64 = 7800.0;
+const NU: f64 = 0.3;
+const D: f64 = 0.05;
+const G: f64 = 9.81;
+/// Support stiffness, N/m: stiff, and included in the closed forms exactly.
+const K: f64 = 1e10;
+
+fn model(sections: &str, extra: &str, beam: &str) -> Model {
+    let text = format!(
+        r#"
+        gravity = {G}
+        [[material]]
+        name = "steel"
+        young_modulus = {E}
+        density = {RHO}
+        poisson_ratio = {NU}
+        {sections}
+        [elements]
+        beam = "{beam}"
+        {extra}
+        "#
+    );
+    Model::from_toml_str(&text, None).expect("test model is valid")
+}
+
+fn section(length: f64, elements: usize) -> String {
+    format!(
+        "[[shaft]]\nlength = {length}\nouter_diameter = {D}\nmaterial = \"steel\"\nelements = {elements}\n"
+    )
+}
+
+fn bearing(node: usize) -> String {
+    format!("[[bearing]]\nnode = {node}\nkxx = {K}\nkyy = {K}\n")
+}
+
+fn disk(node: usize, mass: f64) -> String {
+    format!(
+        "[[disk]]\nnode = {node}\nmass = {mass}\npolar_inertia = 0.01\ndiametral_inertia = 0.005\n"
+    )
+}
+
+fn area() -> f64 {
+    PI * D * D / 4.0
+}
+
+fn ei() -> f64 {
+    E * PI * D.powi(4) / 64.0
+}
+
+fn uy(r: &StaticResult, node: usize) -> f64 {
+    r.displacements[4 * node + 1]
+}
+
+/// Weight per length of the shaft, N/m.
+fn p() -> f64 {
+    RHO * area() * G
+}
+
+/// Mid-span deflection (down positive) of a shaft of length `l` on supports of stiffness K
+/// at its ends, under its weight and a disk of weight `w` at mid-span, with shear
+/// deformation when `kga` is finite:
+/// 5 p l^4 / (384 EI) + w l^3 / (48 EI)      (bending)
+/// + p l^2 / (8 kGA) + w l / (4 kGA)          (shear: the shear force integrated over l/2)
+/// + (p l + w) / (2 K)                        (each support gives half the load).
+fn two_supports_mid_deflection(l: f64, w: f64, kga: f64) -> f64 {
+    let p = p();
+    5.0 * p * l.powi(4) / (384.0 * ei())
+        + w * l.powi(3) / (48.0 * ei())
+        + p * l * l / (8.0 * kga)
+        + w * l / (4.0 * kga)
+        + (p * l + w) / (2.0 * K)
+}
+
+#[test]
+fn shaft_on_two_supports_with_a_disk() {
+    let (l, m) = (1.0, 5.0);
+    let text = section(l, 20);
+    let extra = format!("{}{}{}", bearing(0), bearing(20), disk(10, m));
+    let r = static_response(
+        &model(&text, &extra, "euler-bernoulli"),
+        RollerSupport::Linear,
+    )
+    .unwrap();
+    let w = m * G;
+    let exact = two_supports_mid_deflection(l, w, f64::INFINITY);
+    let got = -uy(&r, 10);
+    println!("two supports: mid-span deflection {got:.6e} m, closed form {exact:.6e} m");
+    // Hermite elements with consistent loads give exact nodal deflections for a uniform
+    // load and point loads at nodes: only round-off (stiff supports, cond ~ 1e6) remains.
+    assert!((got / exact - 1.0).abs() < 1e-9, "{got} vs {exact}");
+    assert_eq!(r.max_deflection.node, 10);
+
+    // Reactions: each support carries half the weight; their sum is the weight.
+    let weight = p() * l + w;
+    assert!((r.weight / weight - 1.0).abs() < 1e-12, "{} vs {weight}", r.weight);
+    let total = r.total_reaction();
+    println!("reactions sum {:.6} N, weight {:.6} N", total[1], r.weight);
+    // The equilibrium is solved to 1e-10 of the load (static_equilibrium's tolerance).
+    assert!((total[1] / weight - 1.0).abs() < 1e-9);
+    assert!(total[0].abs() < 1e-9 * weight);
+    for b in &r.reactions {
+        assert!((b.force[1] / (weight / 2.0) - 1.0).abs() < 1e-9);
+    }
+
+    // Bending moment at mid-span p l^2 / 8 + w l / 4 (sagging, positive), equal on both
+    // sides of the disk; shear force R = weight / 2 at the left support, and a jump of the
+    // disk's weight across it.
+    let mid: Vec<_> = r.stations.iter().filter(|s| s.node == 10).collect();
+    assert_eq!(mid.len(), 2);
+    let moment = p() * l * l / 8.0 + w * l / 4.0;
+    for s in &mid {
+        // Element end forces are exact at nodes for these loads: round-off only.
+        assert!((s.moment[1] / moment - 1.0).abs() < 1e-8, "{}", s.moment[1]);
+    }
+    assert!(((mid[0].shear[1] - mid[1].shear[1]) / w - 1.0).abs() < 1e-8);
+    let first = &r.stations[0];
+    assert!((first.shear[1] / (weight / 2.0) - 1.0).abs() < 1e-8);
+    // Pinned ends carry no moment.
+    assert!(first.moment[1].abs() < 1e-8 * moment);
+}
+
+#[test]
+fn timoshenko_adds_the_shear_deflection() {
+    let (l, m) = (0.3, 5.0);
+    let text = section(l, 10);
+    let extra = format!("{}{}{}", bearing(0), bearing(10), disk(5, m));
+    let r = static_response(&model(&text, &extra, "timoshenko"), RollerSupport::Linear).unwrap();
+    let kappa = whirl::model::circular_shear_factor(D, 0.0, NU);
+    let kga = kappa * E / (2.0 * (1.0 + NU)) * area();
+    let exact = two_supports_mid_deflection(l, m * G, kga);
+    let bending_only = two_supports_mid_deflection(l, m * G, f64::INFINITY);
+    let got = -uy(&r, 5);
+    println!(
+        "Timoshenko, l/d = 6: {got:.6e} m, closed form {exact:.6e} m, without shear {bending_only:.6e} m"
+    );
+    // The interdependent interpolation solves the static Timoshenko equations exactly, so
+    // nodal deflections are exact: round-off only.
+    assert!((got / exact - 1.0).abs() < 1e-9, "{got} vs {exact}");
+    // The shear part is not negligible at l/d = 6 (a few percent), so the test can tell.
+    assert!(exact / bending_only - 1.0 > 0.01);
+}
+
+#[test]
+fn overhung_shaft_is_a_cantilever_on_an_elastic_root() {
+    // Supports at z = 0 (A) and z = a (B), the shaft overhanging by c beyond B with a disk
+    // of weight w at its tip. Down positive:
+    //   R_B = (p (a + c)^2 / 2 + w (a + c)) / a,  R_A = p (a + c) + w - R_B
+    //   tip = p c^4 / (8 EI) + w c^3 / (3 EI)                 (cantilever on B's tangent)
+    //       + c (M_B a / (3 EI) - p a^3 / (24 EI))            (rotation of the span at B,
+    //                                                          M_B = p c^2 / 2 + w c)
+    //       + d_B + (d_B - d_A) c / a,  d = R / K             (the supports' give)
+    let (a, c, m) = (0.6, 0.4, 3.0);
+    let text = format!("{}{}", section(a, 12), section(c, 8));
+    let extra = format!("{}{}{}", bearing(0), bearing(12), disk(20, m));
+    let r = static_response(
+        &model(&text, &extra, "euler-bernoulli"),
+        RollerSupport::Linear,
+    )
+    .unwrap();
+    let (p, w, ei) = (p(), m * G, ei());
+    let rb = (p * (a + c).powi(2) / 2.0 + w * (a + c)) / a;
+    let ra = p * (a + c) + w - rb;
+    let mb = p * c * c / 2.0 + w * c;
+    let (da, db) = (ra / K, rb / K);
+    let tip = p * c.powi(4) / (8.0 * ei)
+        + w * c.powi(3) / (3.0 * ei)
+        + c * (mb * a / (3.0 * ei) - p * a.powi(3) / (24.0 * ei))
+        + db
+        + (db - da) * c / a;
+    let got = -uy(&r, 20);
+    println!("overhung tip deflection {got:.6e} m, closed form {tip:.6e} m; R_A {ra:.4} N, R_B {rb:.4} N");
+    // Nodal exactness as above: round-off only.
+    assert!((got / tip - 1.0).abs() < 1e-9, "{got} vs {tip}");
+    assert_eq!(r.max_deflection.node, 20);
+    // R_A is negative here: the overhang lifts the shaft off A, which must pull it down.
+    assert!((r.reactions[0].force[1] / ra - 1.0).abs() < 1e-8);
+    assert!((r.reactions[1].force[1] / rb - 1.0).abs() < 1e-8);
+    // The hogging moment over B is -M_B; the free end carries neither moment nor shear.
+    let over_b: Vec<_> = r.stations.iter().filter(|s| s.node == 12).collect();
+    for s in over_b {
+        assert!((s.moment[1] / -mb - 1.0).abs() < 1e-8, "{}", s.moment[1]);
+    }
+    let end = r.stations.last().unwrap();
+    // The tip's shear is the disk's weight (the disk hangs at the last node): V = dM/dz
+    // with M = -(w x + p x^2 / 2), x measured back from the tip, is +w there.
+    assert!((end.shear[1] / w - 1.0).abs() < 1e-8, "{}", end.shear[1]);
+    assert!(end.moment[1].abs() < 1e-8 * mb);
+}
+
+#[test]
+fn reference_rotor_hangs_in_its_roller_bearings() {
+    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let r = static_response(&model, RollerSupport::Hertz).unwrap();
+    let total = r.total_reaction();
+    println!(
+        "reference rotor on Hertz rollers: weight {:.4} N, reactions {:?}",
+        r.weight, total
+    );
+    // static_equilibrium converges to 1e-10 of the load.
+    assert!((total[1] / r.weight - 1.0).abs() < 1e-8);
+    for b in &r.reactions {
+        // Each bearing drops through its 20 um clearance onto the bottom roller.
+        assert!(b.displacement[1] < -20e-6, "{:?}", b.displacement);
+        assert_eq!(b.rollers.len(), 8);
+        // The rollers' loads add up to the bearing's force (vertical components).
+        let lifted: f64 = b
+            .rollers
+            .iter()
+            .map(|q| -q.force * q.angle_deg.to_radians().sin())
+            .sum();
+        assert!((lifted / b.force[1] - 1.0).abs() < 1e-9);
+        let bottom = b
+            .rollers
+            .iter()
+            .max_by(|x, y| x.force.total_cmp(&y.force))
+            .unwrap();
+        assert!((bottom.angle_deg - 270.0).abs() < 1e-6, "{bottom:?}");
+    }
+    // With linear springs of 1e8 N/m the journal sits at -R / k instead.
+    let lin = static_response(&model, RollerSupport::Linear).unwrap();
+    for b in &lin.reactions {
+        assert!((b.displacement[1] + b.force[1] / 1e8).abs() < 1e-9 * b.displacement[1].abs());
+    }
+}
