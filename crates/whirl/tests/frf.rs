@@ -114,7 +114,11 @@ fn frf_reproduces_the_unbalance_response_at_the_same_speed_and_force() {
     let node = model.unbalances[0].station.node;
     for speed_hz in [30.0, 49.8, 120.0, 400.0] {
         let w = 2.0 * PI * speed_hz;
-        let outputs = [dof(node, Direction::Ux), dof(node, Direction::Uy), dof(0, Direction::Ux)];
+        let outputs = [
+            dof(node, Direction::Ux),
+            dof(node, Direction::Uy),
+            dof(0, Direction::Ux),
+        ];
         let hx = frf(&system, w, dof(node, Direction::Ux), &outputs, &[w]).unwrap();
         let hy = frf(&system, w, dof(node, Direction::Uy), &outputs, &[w]).unwrap();
         let q: Vec<c64> = (0..3)
@@ -125,9 +129,21 @@ fn frf_reproduces_the_unbalance_response_at_the_same_speed_and_force() {
             .collect();
         let ub = unbalance_response(&model, &system, &[w], &[node, 0]).unwrap();
         let checks = [
-            (q[0], ub.nodes[0].ux_amplitude[0], ub.nodes[0].ux_phase_deg[0]),
-            (q[1], ub.nodes[0].uy_amplitude[0], ub.nodes[0].uy_phase_deg[0]),
-            (q[2], ub.nodes[1].ux_amplitude[0], ub.nodes[1].ux_phase_deg[0]),
+            (
+                q[0],
+                ub.nodes[0].ux_amplitude[0],
+                ub.nodes[0].ux_phase_deg[0],
+            ),
+            (
+                q[1],
+                ub.nodes[0].uy_amplitude[0],
+                ub.nodes[0].uy_phase_deg[0],
+            ),
+            (
+                q[2],
+                ub.nodes[1].ux_amplitude[0],
+                ub.nodes[1].ux_phase_deg[0],
+            ),
         ];
         for (got, amp, phase) in checks {
             println!(
@@ -147,7 +163,9 @@ fn frf_reproduces_the_unbalance_response_at_the_same_speed_and_force() {
 fn critical_speed_map_meets_its_rigid_and_pinned_limits() {
     // A uniform shaft with a disk at mid-span on two bearings at its ends.
     let (md, ip, id) = (4.0, 0.02, 0.012);
-    let disk = format!("[[disk]]\nnode = 10\nmass = {md}\npolar_inertia = {ip}\ndiametral_inertia = {id}\n");
+    let disk = format!(
+        "[[disk]]\nnode = 10\nmass = {md}\npolar_inertia = {ip}\ndiametral_inertia = {id}\n"
+    );
     let model = shaft(20, &format!("{}{disk}", pins(20, 1e6)), true);
     let a = PI * D * D / 4.0;
     let i = PI * D.powi(4) / 64.0;

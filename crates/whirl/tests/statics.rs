@@ -102,7 +102,11 @@ fn shaft_on_two_supports_with_a_disk() {
 
     // Reactions: each support carries half the weight; their sum is the weight.
     let weight = p() * l + w;
-    assert!((r.weight / weight - 1.0).abs() < 1e-12, "{} vs {weight}", r.weight);
+    assert!(
+        (r.weight / weight - 1.0).abs() < 1e-12,
+        "{} vs {weight}",
+        r.weight
+    );
     let total = r.total_reaction();
     println!("reactions sum {:.6} N, weight {:.6} N", total[1], r.weight);
     // The equilibrium is solved to 1e-10 of the load (static_equilibrium's tolerance).

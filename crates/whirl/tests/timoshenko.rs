@@ -40,7 +40,8 @@ fn beam(theory: &str, elements: usize) -> Model {
 /// springs would add an error of their own on so stiff a beam.
 fn constrained(s: &SystemMatrices, fixed: &[usize]) -> SystemMatrices {
     let keep: Vec<usize> = (0..s.dofs()).filter(|i| !fixed.contains(i)).collect();
-    let pick = |m: &Mat<f64>| Mat::<f64>::from_fn(keep.len(), keep.len(), |i, j| m[(keep[i], keep[j])]);
+    let pick =
+        |m: &Mat<f64>| Mat::<f64>::from_fn(keep.len(), keep.len(), |i, j| m[(keep[i], keep[j])]);
     SystemMatrices {
         mass: pick(&s.mass),
         stiffness: pick(&s.stiffness),
@@ -172,7 +173,8 @@ fn a_section_can_choose_its_own_theory_and_shear_factor() {
 
 #[test]
 fn an_unknown_beam_theory_is_refused_by_name() {
-    let text = whirl::examples::REFERENCE_ROTOR.replace("[elements]\n", "[elements]\nbeam = \"rayleigh\"\n");
+    let text = whirl::examples::REFERENCE_ROTOR
+        .replace("[elements]\n", "[elements]\nbeam = \"rayleigh\"\n");
     let e = Model::from_toml_str(&text, None).unwrap_err().to_string();
     assert!(e.contains("rayleigh") || e.contains("elements.beam"), "{e}");
 }

@@ -13,8 +13,8 @@ use std::fmt::Write;
 
 use serde_json::{json, Value};
 use whirl::fe::{assemble, dof, Bearings, Direction};
-use whirl::model::Model;
 use whirl::modal::undamped_modes;
+use whirl::model::Model;
 use whirl::response::{frf, FrfKind};
 use whirl::units::{parse_quantity, Dimension};
 
@@ -87,7 +87,8 @@ fn frequencies(args: &Args, model: &Model) -> miette::Result<Vec<f64>> {
         return Ok(f.0.clone());
     }
     let modes = lib(undamped_modes(&assemble(model, Bearings::Linearised), 6))?;
-    let top = 1.5 * 2.0 * std::f64::consts::PI * modes.frequencies_hz.last().copied().unwrap_or(100.0);
+    let top =
+        1.5 * 2.0 * std::f64::consts::PI * modes.frequencies_hz.last().copied().unwrap_or(100.0);
     Ok((0..1001).map(|i| top * i as f64 / 1000.0).collect())
 }
 

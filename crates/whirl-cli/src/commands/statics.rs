@@ -124,7 +124,9 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         plots::static_response(model, &result).save(stem)
     })?;
     if result.reactions.iter().any(|r| !r.rollers.is_empty()) {
-        out.plot("roller_loads", |stem| plots::roller_loads(model, &result).save(stem))?;
+        out.plot("roller_loads", |stem| {
+            plots::roller_loads(model, &result).save(stem)
+        })?;
     }
     finish(out, Value::Object(s), text, &args.common)
 }
@@ -136,7 +138,10 @@ fn extreme(result: &StaticResult, f: impl Fn(&whirl::statics::Station) -> f64) -
         .iter()
         .map(f)
         .enumerate()
-        .fold((0, f64::NEG_INFINITY), |a, (i, v)| if v > a.1 { (i, v) } else { a })
+        .fold(
+            (0, f64::NEG_INFINITY),
+            |a, (i, v)| if v > a.1 { (i, v) } else { a },
+        )
 }
 
 fn write_tables(out: &mut Output, result: &StaticResult) -> miette::Result<()> {

@@ -58,7 +58,9 @@ fn stiffness_range(text: &str) -> Result<StiffnessRange, String> {
         if v.is_finite() && v > 0.0 {
             Ok(v)
         } else {
-            Err(format!("`{text}`: the {name} `{s}` must be a positive stiffness"))
+            Err(format!(
+                "`{text}`: the {name} `{s}` must be a positive stiffness"
+            ))
         }
     };
     let (lo, hi) = (bound(a, "start")?, bound(b, "stop")?);
@@ -107,7 +109,12 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         Some(s) => s.0.clone(),
         None => default_range(model),
     };
-    let map = lib(critical_speed_map(model, &stiffness, args.modes, !args.at_rest))?;
+    let map = lib(critical_speed_map(
+        model,
+        &stiffness,
+        args.modes,
+        !args.at_rest,
+    ))?;
     let (k0, k1) = (stiffness[0], stiffness[stiffness.len() - 1]);
 
     let mut s = summary_head("ucs", &loaded);
@@ -184,6 +191,8 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         })
         .collect();
     out.csv("bearings.csv", &h, &rows)?;
-    out.plot("ucs", |stem| plots::critical_speed_map(model, &map).save(stem))?;
+    out.plot("ucs", |stem| {
+        plots::critical_speed_map(model, &map).save(stem)
+    })?;
     finish(out, Value::Object(s), text, &args.common)
 }

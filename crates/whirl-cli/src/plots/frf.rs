@@ -3,9 +3,11 @@
 use whirl::modal::CriticalSpeedMap;
 use whirl::model::Model;
 use whirl::response::{FrfKind, FrfResult};
-use whirl_plot::{Annotation, Colour, Figure2d, Grid, LegendPosition, Marker, RefLine, Series, Style};
+use whirl_plot::{
+    Annotation, Colour, Figure2d, Grid, LegendPosition, Marker, RefLine, Series, Style,
+};
 
-use super::unwrap_deg;
+use super::{nearest, unwrap_deg};
 
 /// One FRF kind of every output: magnitude (log) and phase above real and imaginary parts.
 pub fn frf(model: &Model, result: &FrfResult, kind: FrfKind) -> Grid {
@@ -25,13 +27,19 @@ pub fn frf(model: &Model, result: &FrfResult, kind: FrfKind) -> Grid {
             .push(series(values.iter().map(|v| v.norm()).collect()).label(out.name.clone()));
         let deg: Vec<f64> = values.iter().map(|v| v.arg().to_degrees()).collect();
         phase.series.push(series(unwrap_deg(&deg)));
-        real.series.push(series(values.iter().map(|v| v.re).collect()));
-        imag.series.push(series(values.iter().map(|v| v.im).collect()));
+        real.series
+            .push(series(values.iter().map(|v| v.re).collect()));
+        imag.series
+            .push(series(values.iter().map(|v| v.im).collect()));
         for p in &out.peaks {
-            let k = f.iter().position(|&x| x == p.speed_hz).unwrap_or(0);
+            let k = nearest(f, p.speed_hz).unwrap_or(0);
             magnitude.annotations.push(
-                Annotation::new(p.speed_hz, values[k].norm(), format!("{:.1} Hz", p.speed_hz))
-                    .marked(),
+                Annotation::new(
+                    p.speed_hz,
+                    values[k].norm(),
+                    format!("{:.1} Hz", p.speed_hz),
+                )
+                .marked(),
             );
         }
     }
@@ -98,9 +106,12 @@ pub fn critical_speed_map(model: &Model, map: &CriticalSpeedMap) -> Figure2d {
             .filter(|o| (o.stiffness - b.stiffness).abs() <= 1e-9 * b.stiffness)
             .map(|o| o.label.as_str())
             .collect();
-        fig.vertical_lines.push(
-            RefLine::new(b.stiffness).label(format!("{} {:.2e} N/m", same.join(", "), b.stiffness)),
-        );
+        fig.vertical_lines
+            .push(RefLine::new(b.stiffness).label(format!(
+                "{} {:.2e} N/m",
+                same.join(", "),
+                b.stiffness
+            )));
         let (x, y): (Vec<f64>, Vec<f64>) = b
             .critical_speeds_hz
             .iter()
@@ -112,7 +123,8 @@ pub fn critical_speed_map(model: &Model, map: &CriticalSpeedMap) -> Figure2d {
                 .push(Annotation::new(b.stiffness, s, format!("{s:.1} Hz")));
         }
         fig.series.push(
-            Series::new(x, y).style(Style::markers(Colour::BLACK, Marker::OpenCircle).marker_size(6)),
+            Series::new(x, y)
+                .style(Style::markers(Colour::BLACK, Marker::OpenCircle).marker_size(6)),
         );
     }
     if let Some((lo, hi)) = model.operating {

@@ -172,13 +172,21 @@ mod tests {
             for j in 0..8 {
                 // phi ~ 1e-20 here: differences are round-off of the largest entries.
                 let close = |a: f64, b: f64, scale: f64| (a - b).abs() < 1e-9 * scale;
-                assert!(close(t.stiffness[i][j], e.stiffness[i][j], e.stiffness[0][0]));
+                assert!(close(
+                    t.stiffness[i][j],
+                    e.stiffness[i][j],
+                    e.stiffness[0][0]
+                ));
                 assert!(close(
                     t.mass_translational[i][j],
                     e.mass_translational[i][j],
                     e.mass_translational[0][0]
                 ));
-                assert!(close(t.gyroscopic[i][j], e.gyroscopic[i][j], e.mass_rotary[0][0]));
+                assert!(close(
+                    t.gyroscopic[i][j],
+                    e.gyroscopic[i][j],
+                    e.mass_rotary[0][0]
+                ));
             }
         }
     }

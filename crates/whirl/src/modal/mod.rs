@@ -17,6 +17,6 @@ mod undamped;
 pub use campbell::{campbell, CampbellOptions, CampbellResult, CriticalSpeed, ModeBranch};
 pub use complex::{complex_modes, ComplexMode, ModalBasis, Whirl};
 pub use convergence::{convergence, ConvergenceResult};
-pub(crate) use undamped::symmetric_modes;
 pub use ucs::{critical_speed_map, BearingStiffness, CriticalSpeedMap};
+pub(crate) use undamped::symmetric_modes;
 pub use undamped::{undamped_modes, UndampedModes};

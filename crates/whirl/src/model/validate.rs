@@ -388,12 +388,11 @@ fn beam_theory(raw: &Spanned<String>, field: &str) -> V<BeamTheory> {
     match raw.get_ref().trim().to_ascii_lowercase().as_str() {
         "euler-bernoulli" => Ok(BeamTheory::EulerBernoulli),
         "timoshenko" => Ok(BeamTheory::Timoshenko),
-        other => Err(err(
-            field,
-            raw.span(),
-            format!("unknown beam theory `{other}`"),
-        )
-        .help("use \"euler-bernoulli\" (the default) or \"timoshenko\" (shear deformation)")),
+        other => Err(
+            err(field, raw.span(), format!("unknown beam theory `{other}`")).help(
+                "use \"euler-bernoulli\" (the default) or \"timoshenko\" (shear deformation)",
+            ),
+        ),
     }
 }
 

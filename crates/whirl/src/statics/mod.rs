@@ -80,9 +80,9 @@ pub struct StaticResult {
 impl StaticResult {
     /// Sum of the bearings' forces on the shaft, [x, y], N: [0, weight] in equilibrium.
     pub fn total_reaction(&self) -> [f64; 2] {
-        self.reactions.iter().fold([0.0, 0.0], |s, r| {
-            [s[0] + r.force[0], s[1] + r.force[1]]
-        })
+        self.reactions
+            .iter()
+            .fold([0.0, 0.0], |s, r| [s[0] + r.force[0], s[1] + r.force[1]])
     }
 }
 
