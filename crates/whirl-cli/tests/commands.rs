@@ -212,6 +212,78 @@ fn unbalance_peaks_at_the_first_critical_speed() {
 }
 
 #[test]
+fn static_reactions_carry_the_weight() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("static");
+    let s = run(&dir, &["static"]);
+    assert_files(
+        &dir,
+        &[
+            "stations.csv",
+            "reactions.csv",
+            "rollers.csv",
+            "static_response.png",
+            "static_response.svg",
+            "roller_loads.png",
+            "roller_loads.svg",
+        ],
+    );
+    // The Newton solve stops at 1e-10 of the load.
+    assert!(
+        (f(&s["reaction_sum_over_weight"]) - 1.0).abs() < 1e-8,
+        "{s}"
+    );
+    // The disk (node 10) sags most.
+    assert_eq!(s["max_deflection"]["node"], 10);
+    assert!(header(&dir, "stations.csv").starts_with("z_m,node,element,ux_m,uy_m,"));
+}
+
+#[test]
+fn frf_peaks_at_the_first_natural_frequency() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("frf");
+    let s = run(
+        &dir,
+        &[
+            "frf",
+            "--input",
+            "10:ux",
+            "--output",
+            "10:ux,0:uy",
+            "--frequencies",
+            "1:100Hz:199",
+        ],
+    );
+    assert_files(
+        &dir,
+        &[
+            "frf.csv",
+            "peaks.csv",
+            "receptance.png",
+            "mobility.svg",
+            "accelerance.png",
+        ],
+    );
+    let peak = &s["outputs"][0]["peaks"][0];
+    assert!(FIRST.contains(&f(&peak["frequency_hz"])), "{peak}");
+    assert!(header(&dir, "frf.csv").starts_with("frequency_hz,n10.ux_receptance_re,"));
+}
+
+#[test]
+fn ucs_cuts_the_bearing_stiffness_at_the_first_critical() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("ucs");
+    let s = run(&dir, &["ucs", "--stiffness", "1e6:1e10:41", "--modes", "2"]);
+    assert_files(&dir, &["ucs.csv", "bearings.csv", "ucs.png", "ucs.svg"]);
+    let first = f(&s["bearings"][0]["critical_speeds_hz"][0]);
+    assert!(FIRST.contains(&first), "{s}");
+    assert_eq!(
+        header(&dir, "ucs.csv"),
+        "stiffness_n_per_m,mode1_hz,mode2_hz"
+    );
+}
+
+#[test]
 fn reduce_compares_the_reduced_and_full_models() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().join("reduce");

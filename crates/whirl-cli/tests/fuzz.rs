@@ -132,6 +132,12 @@ const COMMANDS: &[(&str, &[&str])] = &[
     ("fit-forcing", &["--speeds"]),
     ("simulate", &["--speed", "--duration", "--step"]),
     ("convergence", &["--elements"]),
+    ("static", &[]),
+    (
+        "frf",
+        &["--input", "--output", "--speed", "--frequencies", "--force"],
+    ),
+    ("ucs", &["--stiffness", "--modes"]),
 ];
 
 /// The model files mutations start from.

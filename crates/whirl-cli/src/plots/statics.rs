@@ -76,8 +76,10 @@ pub fn static_response(model: &Model, result: &StaticResult) -> Grid {
             // Room below the curves for the legend, which explains every panel.
             let lo = y.iter().chain(&x).fold(0.0f64, |m, &v| m.min(v));
             let hi = y.iter().chain(&x).fold(0.0f64, |m, &v| m.max(v));
-            let h = (hi - lo).max(f64::MIN_POSITIVE);
-            fig.y_range = Some((lo - 0.6 * h, hi + 0.15 * h));
+            let h = hi - lo;
+            if h > 0.0 {
+                fig.y_range = Some((lo - 0.6 * h, hi + 0.15 * h));
+            }
             fig.legend = LegendPosition::LowerRight;
         } else {
             fig.legend = LegendPosition::Hidden;
