@@ -31,8 +31,10 @@ use commands::Outcome;
 
 /// Rotordynamics of rotors on roller bearings.
 ///
-/// Plain numbers are SI: lengths in m, speeds in rad/s. Give a unit to say otherwise:
-/// `--speed 3000rpm`, `--speeds 0:800Hz:161`.
+/// Plain numbers are SI everywhere: lengths in m, speeds and frequencies in rad/s
+/// (`--speeds`, `--frequencies`, `--max-frequency` alike). Give a unit to say otherwise:
+/// `--speed 3000rpm`, `--speeds 0:800Hz:161`. Every command says on stderr how it read
+/// each speed or range, in Hz and rpm.
 #[derive(Debug, Parser)]
 #[command(name = "whirl", version, about, long_about)]
 struct Cli {

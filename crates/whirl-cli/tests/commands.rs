@@ -355,3 +355,34 @@ fn json_prints_the_summary_and_a_rerun_replaces_the_folder() {
         .collect();
     assert!(leftovers.is_empty(), "{leftovers:?}");
 }
+
+#[test]
+fn every_speed_is_announced_in_hz_and_a_misspelt_unit_named_where_written() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = Command::cargo_bin("whirl")
+        .unwrap()
+        .args(["campbell", "--speeds", "0:800:11"])
+        .arg(reference())
+        .arg("--out")
+        .arg(tmp.path().join("c"))
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    // 800 rad/s is 127.324 Hz: the plain number is rad/s, and the command says so.
+    assert!(
+        stderr.contains("has no unit, so it is rad/s") && stderr.contains("127.3240 Hz"),
+        "{stderr}"
+    );
+    let out = Command::cargo_bin("whirl")
+        .unwrap()
+        .args(["campbell", "--speeds", "0:800Hx:161"])
+        .arg(reference())
+        .arg("--out")
+        .arg(tmp.path().join("d"))
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("`800Hx`"), "{stderr}");
+}

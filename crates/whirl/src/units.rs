@@ -251,8 +251,15 @@ pub fn parse_range(text: &str, dimension: Dimension) -> Result<Vec<f64>, UnitErr
     } else {
         u0.clone()
     };
-    let start = parse_with_default_unit(parts[0], dimension, Some(&shared))?;
-    let stop = parse_with_default_unit(parts[1], dimension, Some(&shared))?;
+    // The bound that carries the shared unit is read first, so that a misspelt unit is
+    // reported where it was written (`800Hx`), not on the bound that borrowed it.
+    let read = |s: &str| parse_with_default_unit(s, dimension, Some(&shared));
+    let (start, stop) = if u1.is_empty() {
+        (read(parts[0])?, read(parts[1])?)
+    } else {
+        let stop = read(parts[1])?;
+        (read(parts[0])?, stop)
+    };
     if count == 1 {
         if start != stop {
             return Err(bad("a count of 1 needs start equal to stop"));
@@ -284,6 +291,18 @@ pub fn hz_to_rad_s(f: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_misspelt_unit_is_reported_on_the_bound_that_carries_it() {
+        let e = parse_range("0:800Hx:161", Dimension::AngularSpeed)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("`800Hx`"), "{e}");
+        let e = parse_range("0Hx:800:161", Dimension::AngularSpeed)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("`0Hx`"), "{e}");
+    }
 
     #[test]
     fn speeds_convert_to_rad_per_second() {

@@ -125,7 +125,7 @@ pub struct Args {
     /// Data window of the spectra.
     #[arg(long, value_enum, default_value = "hann")]
     pub window: WindowArg,
-    /// Top of the frequency band kept and searched: `3000Hz`, or a plain number in Hz
+    /// Top of the frequency band kept and searched: `3000Hz`, or a plain number in rad/s
     /// [default: 2.5 x the top speed or 1.25 x the highest contact frequency there].
     #[arg(long, value_name = "FREQ", value_parser = frequency, allow_hyphen_values = true)]
     pub max_frequency: Option<f64>,
@@ -146,12 +146,10 @@ pub struct Args {
     pub restart: bool,
 }
 
-/// Clap parser of a frequency: `3000Hz`, `180000rpm`, or a plain number in Hz.
+/// Clap parser of a frequency: `3000Hz`, `180000rpm`, or a plain number in rad/s (the
+/// one rule for plain numbers on the command line); returned in Hz.
 fn frequency(text: &str) -> Result<f64, String> {
-    let f = match text.trim().parse::<f64>() {
-        Ok(f) => f,
-        Err(_) => hz(parse_quantity(text, Dimension::AngularSpeed).map_err(|e| e.to_string())?),
-    };
+    let f = hz(parse_quantity(text, Dimension::AngularSpeed).map_err(|e| e.to_string())?);
     if f.is_finite() && f > 0.0 {
         Ok(f)
     } else {
@@ -278,7 +276,11 @@ fn check_divergence(c: &Cascade) -> miette::Result<()> {
 fn cascade_options(args: &Args, model: &Model) -> miette::Result<CascadeOptions> {
     let speeds = match &args.speeds {
         Some(s) => s.0.clone(),
-        None => default_speeds(model)?,
+        None => {
+            let w = default_speeds(model)?;
+            super::announce(None, "speeds", &w);
+            w
+        }
     };
     let mut o = CascadeOptions::new(model, speeds);
     o.settle = args.settle;

@@ -89,7 +89,9 @@ fn frequencies(args: &Args, model: &Model) -> miette::Result<Vec<f64>> {
     let modes = lib(undamped_modes(&assemble(model, Bearings::Linearised), 6))?;
     let top =
         1.5 * 2.0 * std::f64::consts::PI * modes.frequencies_hz.last().copied().unwrap_or(100.0);
-    Ok((0..1001).map(|i| top * i as f64 / 1000.0).collect())
+    let w: Vec<f64> = (0..1001).map(|i| top * i as f64 / 1000.0).collect();
+    super::announce(None, "frequencies", &w);
+    Ok(w)
 }
 
 fn global(model: &Model, option: &str, d: DofSpec) -> miette::Result<usize> {

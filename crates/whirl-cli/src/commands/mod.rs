@@ -144,13 +144,52 @@ pub fn summary_head(command: &str, loaded: &Loaded) -> serde_json::Map<String, V
     m
 }
 
-/// Clap parser of one speed: `3000rpm`, `50Hz`, or a plain number in rad/s.
+/// Clap parser of one speed: `3000rpm`, `50Hz`, or a plain number in rad/s (the one rule
+/// for plain numbers on the command line, as in the model file: SI). Says on stderr how
+/// it was read.
 pub fn speed(text: &str) -> Result<f64, String> {
     let w = parse_quantity(text, Dimension::AngularSpeed).map_err(|e| e.to_string())?;
     if w < 0.0 {
         return Err(format!("`{text}`: the speed must not be negative"));
     }
+    announce(Some(text), "speed", &[w]);
     Ok(w)
+}
+
+/// Tells on stderr how a speed or frequency (range) was resolved, in Hz and rpm, so that a
+/// plain number, which is rad/s, never passes unnoticed as something else. `text` is what
+/// was given (None for a default, then named `what`).
+pub fn announce(text: Option<&str>, what: &str, w: &[f64]) {
+    let (Some(&first), Some(&last)) = (w.first(), w.last()) else {
+        return;
+    };
+    let span = |a: f64, b: f64| {
+        if a == b {
+            format!("{:.4} Hz ({:.1} rpm)", hz(a), 60.0 * hz(a))
+        } else {
+            format!(
+                "{} values from {:.4} to {:.4} Hz ({:.1} to {:.1} rpm)",
+                w.len(),
+                hz(a),
+                hz(b),
+                60.0 * hz(a),
+                60.0 * hz(b)
+            )
+        }
+    };
+    let plain = last != 0.0
+        && text.is_some_and(|t| {
+            !t.chars()
+                .any(|c| c.is_ascii_alphabetic() && c != 'e' && c != 'E')
+        });
+    match text {
+        Some(t) if plain => eprintln!(
+            "speed `{t}` has no unit, so it is rad/s: {} (write `Hz` or `rpm` for those units)",
+            span(first, last)
+        ),
+        Some(t) => eprintln!("speed `{t}`: {}", span(first, last)),
+        None => eprintln!("{what} (default): {}", span(first, last)),
+    }
 }
 
 /// Clap parser of a time: `0.5s`, `200ms`, or a plain number in s; not negative.
@@ -233,6 +272,7 @@ impl Speeds {
     /// The given range, or `count` speeds from `start` (rad/s) to 1.2 times the model's
     /// highest operating speed (API 617 asks for margins up to there), or to 800 Hz when
     /// the model states no operating range.
+    /// A default is announced on stderr (a given range was, when it was parsed).
     pub fn or_default(given: &Option<Speeds>, model: &Model, start: f64, count: usize) -> Vec<f64> {
         if let Some(s) = given {
             return s.0.clone();
@@ -240,18 +280,22 @@ impl Speeds {
         let top = model
             .operating
             .map_or(2.0 * std::f64::consts::PI * 800.0, |(_, max)| 1.2 * max);
-        (0..count)
+        let w: Vec<f64> = (0..count)
             .map(|i| start + (top - start) * i as f64 / (count - 1) as f64)
-            .collect()
+            .collect();
+        announce(None, "speeds", &w);
+        w
     }
 }
 
 /// Clap parser of a speed range `start:stop:count` (`0:800Hz:161`); plain numbers are rad/s.
+/// Says on stderr how it was read.
 pub fn speeds(text: &str) -> Result<Speeds, String> {
     let w = parse_range(text, Dimension::AngularSpeed).map_err(|e| e.to_string())?;
     if w.first().is_some_and(|&w0| w0 < 0.0) {
         return Err(format!("`{text}`: speeds must not be negative"));
     }
+    announce(Some(text), "speeds", &w);
     Ok(Speeds(w))
 }
 
