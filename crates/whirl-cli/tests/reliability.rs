@@ -264,7 +264,12 @@ fn long_work_says_how_far_it_is_also_into_a_pipe() {
     let mut pipe = std::io::BufReader::new(run.stderr.take().unwrap());
     let mut line = String::new();
     use std::io::BufRead;
-    let read = pipe.read_line(&mut line);
+    // The first line says how the default speeds were read; progress follows.
+    let mut read = pipe.read_line(&mut line);
+    if line.starts_with("speeds (default)") {
+        line.clear();
+        read = pipe.read_line(&mut line);
+    }
     let _ = run.kill();
     let _ = run.wait();
     assert!(read.is_ok_and(|n| n > 0), "no progress line");
