@@ -1,5 +1,5 @@
 //! `whirl simulate model.toml --speed 50Hz [--duration 1s] [--method cd|newmark|rk]
-//! [--step S] [--reduce N] [--settle T] [--nodes 10,0] [--contact hertz|lagrange|forcing|linear]
+//! [--hht-alpha A] [--step S] [--reduce N] [--settle T] [--nodes 10,0] [--contact hertz|lagrange|forcing|linear]
 //! [--record-every N] [--ramp-to SPEED] [--start static|rest] [--divergence-bound X]`: time
 //! response (SPEC section 7).
 //!
@@ -153,6 +153,10 @@ pub struct Args {
     /// Time integrator.
     #[arg(long, value_enum, default_value = "cd")]
     pub method: Integrator,
+    /// HHT-alpha of --method newmark, in [-1/3, 0]: below 0 damps the highest
+    /// frequencies (Hilber-Hughes-Taylor) [default: 0, the average-acceleration rule].
+    #[arg(long, value_name = "ALPHA", allow_hyphen_values = true)]
+    pub hht_alpha: Option<f64>,
     /// Time step (output interval for rk) [default: 0.9 x the stability limit for cd,
     /// 1e-5 s otherwise].
     #[arg(long, value_name = "TIME", value_parser = time, allow_hyphen_values = true)]
@@ -232,7 +236,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         speed,
         duration: args.duration,
         step,
-        method: integrator(args.method),
+        method: integrator(args)?,
         reduction: args.reduce,
         settle,
         nodes: nodes.clone(),
@@ -293,11 +297,22 @@ fn default_record_every(step: f64) -> usize {
         .max(1.0) as usize
 }
 
-fn integrator(choice: Integrator) -> Method {
-    match choice {
-        Integrator::Cd => Method::CentralDifference,
-        Integrator::Newmark => Method::Newmark(NewmarkScheme::AverageAcceleration),
-        Integrator::Rk => Method::RungeKutta(RkTolerances::default()),
+fn integrator(args: &Args) -> miette::Result<Method> {
+    match (args.method, args.hht_alpha) {
+        (Integrator::Newmark, Some(alpha)) if !(-1.0 / 3.0..=0.0).contains(&alpha) => Err(
+            Diag::option("--hht-alpha", format!("{alpha} is outside [-1/3, 0]"))
+                .help("e.g. --hht-alpha -0.05; 0 is the average-acceleration rule")
+                .into(),
+        ),
+        (Integrator::Newmark, Some(alpha)) => Ok(Method::Newmark(NewmarkScheme::Hht(alpha))),
+        (Integrator::Newmark, None) => Ok(Method::Newmark(NewmarkScheme::AverageAcceleration)),
+        (_, Some(_)) => Err(
+            Diag::option("--hht-alpha", "applies to --method newmark only")
+                .help("add --method newmark, or leave --hht-alpha out")
+                .into(),
+        ),
+        (Integrator::Cd, None) => Ok(Method::CentralDifference),
+        (Integrator::Rk, None) => Ok(Method::RungeKutta(RkTolerances::default())),
     }
 }
 
@@ -485,6 +500,7 @@ fn summary(
     s.insert("reduction_modes".into(), json!(args.reduce));
     s.insert("coordinates".into(), result.coordinates.into());
     s.insert("start".into(), value_name(args.start).into());
+    s.insert("start_fallback".into(), json!(result.start_fallback));
     s.insert("samples".into(), result.time.len().into());
     s.insert("record_every".into(), result.record_every.into());
     s.insert("sample_interval_s".into(), result.sample_interval().into());
@@ -556,6 +572,9 @@ fn text(
         result.time.len(),
         result.wall_time_s
     );
+    if let Some(why) = &result.start_fallback {
+        let _ = writeln!(t, "note: {why}");
+    }
     let _ = writeln!(t, "settled part (from {} s):", result.settle);
     for r in reports {
         let one_x = r.one_x.map_or("-".into(), |c| {

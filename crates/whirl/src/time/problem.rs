@@ -642,6 +642,67 @@ impl BandLu {
     }
 }
 
+/// A square matrix factorised for repeated solves: a band LU without row swaps when a band
+/// is given and that is safe, else the dense inverse from a pivoting LU.
+pub(crate) enum Factors {
+    Banded {
+        lu: BandLu,
+        /// The right-hand side with the zeros around it that the solve needs.
+        padded: Vec<f64>,
+    },
+    Inverse(Columns),
+}
+
+impl Factors {
+    /// Banded with bandwidths `band` when given and the matrix's symmetric part is positive
+    /// definite, which makes the factorisation without row swaps safe (see [`BandLu`]);
+    /// otherwise the dense inverse. `None` when the matrix is singular.
+    pub fn new(band: Option<(usize, usize)>, a: &Mat<f64>) -> Option<Factors> {
+        if let Some(lu) = band.and_then(|widths| banded_lu(a, widths)) {
+            let (before, after) = lu.padding();
+            let padded = vec![0.0; before + a.nrows() + after];
+            return Some(Factors::Banded { lu, padded });
+        }
+        let n = a.nrows();
+        let mut inverse = Mat::<f64>::identity(n, n);
+        faer::linalg::solvers::Solve::solve_in_place(&a.partial_piv_lu(), inverse.as_mut());
+        if inverse.col_iter().any(|c| c.iter().any(|v| !v.is_finite())) {
+            return None;
+        }
+        Some(Factors::Inverse(Columns::from_fn(n, n, |i, j| {
+            inverse[(i, j)]
+        })))
+    }
+
+    /// out = A^-1 rhs.
+    #[inline(always)]
+    pub fn solve(&mut self, rhs: &[f64], out: &mut [f64]) {
+        match self {
+            Factors::Banded { lu, padded } => {
+                let start = lu.padding().0;
+                padded[start..start + rhs.len()].copy_from_slice(rhs);
+                lu.solve_padded(padded);
+                out.copy_from_slice(&padded[start..start + rhs.len()]);
+            }
+            Factors::Inverse(inverse) => {
+                out.iter_mut().for_each(|x| *x = 0.0);
+                inverse.mul_add(rhs, out);
+            }
+        }
+    }
+}
+
+/// The band LU of `a` when its symmetric part has positive pivots, else `None`.
+fn banded_lu(a: &Mat<f64>, widths: (usize, usize)) -> Option<BandLu> {
+    let n = a.nrows();
+    let w = widths.0.max(widths.1);
+    let symmetric = Band::from_fn(n, (w, w), |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
+    if !BandLu::new(&symmetric)?.pivots_positive() {
+        return None;
+    }
+    BandLu::new(&Band::from_fn(n, widths, |i, j| a[(i, j)]))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

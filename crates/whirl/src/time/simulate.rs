@@ -219,6 +219,10 @@ pub struct SimulationResult {
     /// What the rollers of each roller bearing did, at the recorded times (empty for
     /// linear bearings and for [`simulate_with`]).
     pub rollers: Vec<RollerRecord>,
+    /// Why the run started from rest although the static equilibrium was asked for
+    /// (none was found, e.g. with many rollers and contact damping at speed); `None` when
+    /// it started where asked.
+    pub start_fallback: Option<String>,
 }
 
 impl SimulationResult {
@@ -659,11 +663,7 @@ fn march_and_record(
     let (coords, mut problem) =
         integrated(model, options.reduction, options.speed, bearings, forces)?;
     let n = problem.size();
-    let q0 = match options.initial {
-        Initial::Rest => vec![0.0; n],
-        Initial::StaticEquilibrium if lagrange => rigid_static_equilibrium(model, options)?,
-        Initial::StaticEquilibrium => static_equilibrium(&mut problem, &vec![0.0; n])?,
-    };
+    let (q0, start_fallback) = starting_point(model, options, &mut problem, lagrange)?;
     let mut contacts = if lagrange {
         Some(lagrange_contacts(model, &coords)?)
     } else {
@@ -808,7 +808,34 @@ fn march_and_record(
         status,
         record_every,
         rollers,
+        start_fallback,
     })
+}
+
+/// The starting displacement: rest, or the static equilibrium when asked for and found.
+/// When it is not found the run starts from rest, and the second value says why.
+fn starting_point(
+    model: &Model,
+    options: &SimulationOptions,
+    problem: &mut TimeProblem,
+    lagrange: bool,
+) -> Result<(Vec<f64>, Option<String>)> {
+    let rest = vec![0.0; problem.size()];
+    let found = match options.initial {
+        Initial::Rest => return Ok((rest, None)),
+        Initial::StaticEquilibrium if lagrange => rigid_static_equilibrium(model, options),
+        Initial::StaticEquilibrium => static_equilibrium(problem, &rest),
+    };
+    match found {
+        Ok(q) => Ok((q, None)),
+        Err(Error::Numerical(why)) => Ok((
+            rest,
+            Some(format!(
+                "no static equilibrium was found, so the run started from rest: {why}"
+            )),
+        )),
+        Err(e) => Err(e),
+    }
 }
 
 #[cfg(test)]

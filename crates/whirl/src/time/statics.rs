@@ -1,17 +1,36 @@
 //! Static equilibrium under the constant load (gravity): K q - F_0 - F_nl(q, 0) = 0.
 //!
-//! Newton's method with the nonlinear forces' tangent stiffness, made robust for contacts
-//! with clearance in the Levenberg-Marquardt way: the step solves (K_t + mu diag(M)) dq = -r.
-//! With mu = 0 it is Newton; when K_t is singular (a rotor hanging free inside its
-//! clearances, before any roller touches) or a step does not lower the residual, mu is
-//! raised, which turns the step into a damped fall along the load towards contact. Once in
-//! contact mu returns to zero and convergence is quadratic. Directions with neither
+//! The nonlinear forces act on few coordinates u (a bearing node's, k of n); the rest, w,
+//! are balanced linearly, K_ww w = F_w - K_wu u, so they follow from u exactly and the
+//! balance condenses onto u (static condensation):
+//!
+//! ```text
+//! R(u) = S u - g - F_nl(u) = 0,   S = K_uu - K_uw K_ww^-1 K_wu,   g = F_u - K_uw K_ww^-1 F_w
+//! ```
+//!
+//! K_ww is factorised once (banded for a beam mesh, so its cost grows with n, not n^3)
+//! and every iteration works on k x k matrices: the mesh size leaves the iteration alone.
+//!
+//! R is solved by Newton's method with the nonlinear forces' tangent stiffness, made
+//! robust for contacts with clearance in the Levenberg-Marquardt way: the step solves
+//! (S + K_t + mu M_c) du = -R, M_c the mass condensed with the same static modes (Guyan's
+//! reduction, exact for rigid-body motion). With mu = 0 it is Newton; when S + K_t is
+//! singular (a rotor
+//! hanging free inside its clearances, before any roller touches) or a step fails its line
+//! search, mu is raised, which turns the step into a damped fall along the load towards
+//! contact. Once in contact mu returns to zero and convergence is quadratic. A step is
+//! taken whole when it lowers |R| enough (Armijo) or the residual still points along it;
+//! otherwise it stops where the residual turns against it. Directions with neither
 //! stiffness nor load (u_x with one roller at the bottom) keep their starting value: from
 //! u = 0 the horizontal position stays 0 (SPEC section 7).
+//!
+//! A spinning bearing's damping acts on the cage's motion over the rollers even at rest,
+//! a force that is not the gradient of any energy: with many rollers at speed there may be
+//! no equilibrium at all. The error then says so, and [`super::simulate`] starts from rest.
 
 use faer::Mat;
 
-use super::problem::{NlScratch, TimeProblem};
+use super::problem::{bandwidths, solve_small, Factors, NlScratch, TimeProblem};
 use super::Kinematics;
 use crate::error::{Error, Result};
 
@@ -20,33 +39,36 @@ use crate::error::{Error, Result};
 /// line search finds the contact on the way.
 const FIRST_MU: f64 = 4e3;
 
-/// Static equilibrium of `problem` at its initial speed, starting from `guess`.
+/// Levenberg-Marquardt steps before giving up. A rotor that starts free takes about 20
+/// (mu falls by 10 per accepted step from its largest), contact Newton a few more.
+const ITERATIONS: usize = 400;
+
+/// Armijo's sufficient decrease of |R|^2 for a whole step (see the Newmark module).
+const ARMIJO: f64 = 1e-4;
+
+/// Static equilibrium of `problem` at its initial speed, starting from `guess` (only its
+/// entries on the nonlinear forces' coordinates matter: the rest follow from them).
 pub fn static_equilibrium(problem: &mut TimeProblem, guess: &[f64]) -> Result<Vec<f64>> {
     problem.check()?;
-    let n = problem.size();
     let (start, _) = problem.speed.at(0.0);
     let at = Kinematics {
         time: 0.0,
         speed: start.speed,
         angle: 0.0,
     };
-    let mut scratch = problem.scratch();
+    let mut condensed = Condensed::new(problem)?;
     let scale = norm(&problem.constant_force).max(1e-12);
-    let mass_diag: Vec<f64> = (0..n).map(|i| problem.mass[(i, i)]).collect();
-    let mut q = guess.to_vec();
-    let mut r = residual(problem, &at, &q, &mut scratch);
+    let mut u: Vec<f64> = condensed.dofs.iter().map(|&d| guess[d]).collect();
+    let mut r = condensed.residual(problem, &at, &u);
     let mut mu = 0.0;
-    for _ in 0..400 {
+    for _ in 0..ITERATIONS {
         if norm(&r) <= 1e-10 * scale {
-            return Ok(q);
+            return Ok(condensed.expand(&u));
         }
-        let mut kt = problem.stiffness.clone();
-        let mut ct = Mat::<f64>::zeros(n, n);
-        let zero = vec![0.0; n];
-        problem.add_nonlinear_tangent(&at, &q, &zero, &mut kt, &mut ct, &mut scratch);
-        match descend(problem, &at, &kt, &mass_diag, mu, &q, &r, &mut scratch) {
+        let tangent = condensed.tangent(problem, &at, &u);
+        match descend(&mut condensed, problem, &at, &tangent, mu, &u, &r) {
             Some((trial, rt)) => {
-                q = trial;
+                u = trial;
                 r = rt;
                 mu = if mu < FIRST_MU * 1e-8 { 0.0 } else { mu / 10.0 };
             }
@@ -63,53 +85,206 @@ pub fn static_equilibrium(problem: &mut TimeProblem, guess: &[f64]) -> Result<Ve
         }
     }
     if norm(&r) <= 1e-8 * scale {
-        return Ok(q);
+        return Ok(condensed.expand(&u));
     }
     Err(Error::Numerical(format!(
-        "the static equilibrium did not converge (residual {:.3e} N against a load of {scale:.3e} N); \
+        "the static equilibrium did not converge (residual {:.3e} N against a load of \
+         {scale:.3e} N); with a spinning bearing's contact damping there may be none: \
          check that every bearing can carry the load, or start from rest",
         norm(&r)
     )))
 }
 
-/// One regularised Newton step, its length chosen where the residual's component along
-/// the step changes sign (the line minimum of the potential energy when the forces are
-/// conservative). Norm-decrease would stall while the rotor falls through its clearance,
-/// where the residual does not change at all. `None` when the step is not a descent
+/// The balance condensed onto the nonlinear forces' coordinates (module documentation).
+struct Condensed {
+    /// u: the coordinates the nonlinear forces act on.
+    dofs: Vec<usize>,
+    /// w: the others.
+    others: Vec<usize>,
+    /// S, row-major k x k.
+    s: Vec<f64>,
+    /// g.
+    g: Vec<f64>,
+    /// M_c = T^T M T, T the static modes (u, -K_ww^-1 K_wu u), row-major k x k.
+    mass: Vec<f64>,
+    /// K_ww^-1 F_w.
+    w0: Vec<f64>,
+    /// Column a is K_ww^-1 K_w,dofs[a], at a * (n - k).
+    columns: Vec<f64>,
+    /// Full-size q, v and force for the nonlinear forces; only entries at `dofs` are used.
+    q: Vec<f64>,
+    zero: Vec<f64>,
+    force: Vec<f64>,
+    /// Full-size tangents for [`TimeProblem::add_nonlinear_tangent`]; only the block on
+    /// `dofs` is ever nonzero.
+    kt: Mat<f64>,
+    ct: Mat<f64>,
+    scratch: NlScratch,
+}
+
+impl Condensed {
+    fn new(problem: &TimeProblem) -> Result<Condensed> {
+        let n = problem.size();
+        let k_full = &problem.stiffness;
+        let dofs = problem.nonlinear_dofs();
+        let others: Vec<usize> = (0..n).filter(|i| dofs.binary_search(i).is_err()).collect();
+        let m = others.len();
+        let k_ww = Mat::<f64>::from_fn(m, m, |i, j| k_full[(others[i], others[j])]);
+        let (lower, upper) = bandwidths(&k_ww);
+        let band = (lower + upper + 1 < m / 2).then_some((lower, upper));
+        let mut factors = Factors::new(band, &k_ww).ok_or_else(|| {
+            Error::Numerical(
+                "the static equilibrium needs the structure held when the nonlinear forces' \
+                 coordinates are fixed, and part of it is free (its stiffness without them \
+                 is singular); add a support, or start from rest"
+                    .into(),
+            )
+        })?;
+        let f_w: Vec<f64> = others.iter().map(|&i| problem.constant_force[i]).collect();
+        let mut w0 = vec![0.0; m];
+        factors.solve(&f_w, &mut w0);
+        let mut columns = vec![0.0; m * dofs.len()];
+        for (&d, column) in dofs.iter().zip(columns.chunks_exact_mut(m.max(1))) {
+            let k_wd: Vec<f64> = others.iter().map(|&i| k_full[(i, d)]).collect();
+            factors.solve(&k_wd, column);
+        }
+        let k = dofs.len();
+        // K_u,w times a vector on w.
+        let coupled = |a: usize, x: &[f64]| -> f64 {
+            others
+                .iter()
+                .zip(x)
+                .map(|(&j, xj)| k_full[(dofs[a], j)] * xj)
+                .sum()
+        };
+        let mut s = vec![0.0; k * k];
+        let mut g = vec![0.0; k];
+        for a in 0..k {
+            for b in 0..k {
+                let column = &columns[b * m..(b + 1) * m];
+                s[a * k + b] = k_full[(dofs[a], dofs[b])] - coupled(a, column);
+            }
+            g[a] = problem.constant_force[dofs[a]] - coupled(a, &w0);
+        }
+        let mass = condensed_mass(&problem.mass, &dofs, &others, &columns);
+        Ok(Condensed {
+            dofs,
+            others,
+            s,
+            g,
+            mass,
+            w0,
+            columns,
+            q: vec![0.0; n],
+            zero: vec![0.0; n],
+            force: vec![0.0; n],
+            kt: Mat::zeros(n, n),
+            ct: Mat::zeros(n, n),
+            scratch: problem.scratch(),
+        })
+    }
+
+    /// R(u) = S u - g - F_nl(u).
+    fn residual(&mut self, problem: &mut TimeProblem, at: &Kinematics, u: &[f64]) -> Vec<f64> {
+        let k = u.len();
+        for (&d, &x) in self.dofs.iter().zip(u) {
+            self.q[d] = x;
+            self.force[d] = 0.0;
+        }
+        problem.add_nonlinear(at, &self.q, &self.zero, &mut self.force, &mut self.scratch);
+        (0..k)
+            .map(|a| {
+                let su: f64 = (0..k).map(|b| self.s[a * k + b] * u[b]).sum();
+                su - self.g[a] - self.force[self.dofs[a]]
+            })
+            .collect()
+    }
+
+    /// dR/du = S + K_t, row-major.
+    fn tangent(&mut self, problem: &mut TimeProblem, at: &Kinematics, u: &[f64]) -> Vec<f64> {
+        for (&d, &x) in self.dofs.iter().zip(u) {
+            self.q[d] = x;
+            for &e in &self.dofs {
+                self.kt[(d, e)] = 0.0;
+                self.ct[(d, e)] = 0.0;
+            }
+        }
+        problem.add_nonlinear_tangent(
+            at,
+            &self.q,
+            &self.zero,
+            &mut self.kt,
+            &mut self.ct,
+            &mut self.scratch,
+        );
+        let k = u.len();
+        let mut t = self.s.clone();
+        for (a, &d) in self.dofs.iter().enumerate() {
+            for (b, &e) in self.dofs.iter().enumerate() {
+                t[a * k + b] += self.kt[(d, e)];
+            }
+        }
+        t
+    }
+
+    /// The full q of u: w = K_ww^-1 (F_w - K_wu u).
+    fn expand(&self, u: &[f64]) -> Vec<f64> {
+        let m = self.others.len();
+        let mut q = vec![0.0; self.dofs.len() + m];
+        for (&d, &x) in self.dofs.iter().zip(u) {
+            q[d] = x;
+        }
+        for (i, &w) in self.others.iter().enumerate() {
+            let coupled: f64 = u
+                .iter()
+                .enumerate()
+                .map(|(a, x)| self.columns[a * m + i] * x)
+                .sum();
+            q[w] = self.w0[i] - coupled;
+        }
+        q
+    }
+}
+
+/// One regularised Newton step du = -(T + mu M_c)^-1 R, taken whole when it lowers
+/// |R| by Armijo's test or R still points along it at its end; otherwise shortened to where
+/// R's component along it changes sign (the line minimum of the potential energy when the
+/// forces are conservative: a norm test alone would stall while the rotor falls through
+/// its clearance, where R does not change at all). `None` when the step is not a descent
 /// direction or not finite.
-#[allow(clippy::too_many_arguments)]
 fn descend(
+    condensed: &mut Condensed,
     problem: &mut TimeProblem,
     at: &Kinematics,
-    kt: &Mat<f64>,
-    mass_diag: &[f64],
+    tangent: &[f64],
     mu: f64,
-    q: &[f64],
+    u: &[f64],
     r: &[f64],
-    scratch: &mut NlScratch,
 ) -> Option<(Vec<f64>, Vec<f64>)> {
-    let n = q.len();
-    let a = Mat::<f64>::from_fn(n, n, |i, j| {
-        kt[(i, j)] + if i == j { mu * mass_diag[i] } else { 0.0 }
-    });
-    let mut step = Mat::<f64>::from_fn(n, 1, |i, _| -r[i]);
-    faer::linalg::solvers::Solve::solve_in_place(&a.partial_piv_lu(), step.as_mut());
-    let dq: Vec<f64> = (0..n).map(|i| step[(i, 0)]).collect();
-    if dq.iter().any(|v| !v.is_finite()) {
+    let k = u.len();
+    let mut a: Vec<f64> = tangent
+        .iter()
+        .zip(&condensed.mass)
+        .map(|(t, m)| t + mu * m)
+        .collect();
+    let mut du: Vec<f64> = r.iter().map(|x| -x).collect();
+    solve_small(&mut a, &mut du);
+    if du.iter().any(|v| !v.is_finite()) {
         return None;
     }
-    let slope0 = dot(r, &dq);
+    let slope0 = dot(r, &du);
     if slope0 >= 0.0 {
         return None;
     }
-    let at_t = |t: f64, p: &mut TimeProblem, s: &mut NlScratch| {
-        let trial: Vec<f64> = (0..n).map(|i| q[i] + t * dq[i]).collect();
-        let rt = residual(p, at, &trial, s);
-        let slope = dot(&rt, &dq);
+    let mut at_t = |t: f64| {
+        let trial: Vec<f64> = (0..k).map(|i| u[i] + t * du[i]).collect();
+        let rt = condensed.residual(problem, at, &trial);
+        let slope = dot(&rt, &du);
         (trial, rt, slope)
     };
-    let full = at_t(1.0, problem, scratch);
-    if full.2 <= 0.0 {
+    let full = at_t(1.0);
+    let decrease = dot(&full.1, &full.1) <= (1.0 - 2.0 * ARMIJO) * dot(r, r);
+    if decrease || full.2 <= 0.0 {
         return Some((full.0, full.1));
     }
     // Bisection for the sign change of the slope on (0, 1).
@@ -117,7 +292,7 @@ fn descend(
     let mut best = full;
     for _ in 0..60 {
         let mid = 0.5 * (lo + hi);
-        let trial = at_t(mid, problem, scratch);
+        let trial = at_t(mid);
         if trial.2 <= 0.0 {
             lo = mid;
         } else {
@@ -132,22 +307,41 @@ fn descend(
     (best.1.iter().all(|x| x.is_finite())).then_some((best.0, best.1))
 }
 
+/// M_c = T^T M T, T's column a the static mode of coordinate dofs[a]: 1 there, minus
+/// `columns`' column a on `others`.
+fn condensed_mass(mass: &Mat<f64>, dofs: &[usize], others: &[usize], columns: &[f64]) -> Vec<f64> {
+    let (n, k, m) = (mass.nrows(), dofs.len(), others.len());
+    let modes: Vec<Vec<f64>> = (0..k)
+        .map(|a| {
+            let mut t = vec![0.0; n];
+            t[dofs[a]] = 1.0;
+            for (i, &w) in others.iter().enumerate() {
+                t[w] = -columns[a * m + i];
+            }
+            t
+        })
+        .collect();
+    let products: Vec<Vec<f64>> = modes
+        .iter()
+        .map(|t| {
+            (0..n)
+                .map(|i| (0..n).map(|j| mass[(i, j)] * t[j]).sum())
+                .collect()
+        })
+        .collect();
+    let mut out = vec![0.0; k * k];
+    for a in 0..k {
+        for b in 0..k {
+            out[a * k + b] = dot(&modes[a], &products[b]);
+        }
+    }
+    out
+}
+
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
-/// K q - F_0 - F_nl(q, 0).
-fn residual(p: &mut TimeProblem, at: &Kinematics, q: &[f64], s: &mut NlScratch) -> Vec<f64> {
-    let n = q.len();
-    let mut r: Vec<f64> = (0..n)
-        .map(|i| -p.constant_force[i] + (0..n).map(|j| p.stiffness[(i, j)] * q[j]).sum::<f64>())
-        .collect();
-    let mut f = vec![0.0; n];
-    p.add_nonlinear(at, q, &vec![0.0; n], &mut f, s);
-    r.iter_mut().zip(&f).for_each(|(ri, fi)| *ri -= fi);
-    r
-}
-
 fn norm(r: &[f64]) -> f64 {
-    r.iter().map(|x| x * x).sum::<f64>().sqrt()
+    dot(r, r).sqrt()
 }
