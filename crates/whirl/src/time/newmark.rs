@@ -370,8 +370,6 @@ const BACKTRACKS: usize = 8;
 /// (a 4096-fold cut) only fail when the forces themselves are broken.
 const MAX_HALVINGS: u32 = 12;
 
-pub static DBG_CUTS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-pub static DBG_DEPTH: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
 /// How an attempt at a step ended.
 enum Attempt {
     Converged,
@@ -435,20 +433,28 @@ impl Stepper<'_> {
         match self.attempt(t1, depth)? {
             Attempt::Converged => Ok(()),
             Attempt::Failed(_) if depth < MAX_HALVINGS => {
-                DBG_CUTS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                DBG_DEPTH.fetch_max(depth as usize + 1, std::sync::atomic::Ordering::Relaxed);
                 let middle = 0.5 * (t0 + t1);
                 self.advance(t0, middle, depth + 1)?;
                 self.advance(middle, t1, depth + 1)
             }
-            Attempt::Failed(residual) => Err(Error::Numerical(format!(
-                "Newmark's Newton iterations did not converge at t = {t1:.6} s even with the \
-                 step cut {} times to {:.3e} s (residual {residual:.3e} N); the forces jump \
-                 there faster than any step resolves: check the contact parameters, or use \
-                 the central difference (--method cd)",
-                1u32 << depth,
-                self.levels.coefficients(depth).h
-            ))),
+            Attempt::Failed(residual) => {
+                let why = if residual.is_finite() {
+                    format!(
+                        "residual {residual:.3e} N; the forces jump there more than any step \
+                         resolves"
+                    )
+                } else {
+                    "the forces are not finite there".to_string()
+                };
+                Err(Error::Numerical(format!(
+                    "Newmark's Newton iterations did not converge at t = {t1:.6} s even with \
+                     the step cut {} times to {:.3e} s ({why}): check the model's nonlinear \
+                     forces (contact parameters), or use the central difference \
+                     (--method cd)",
+                    1u32 << depth,
+                    self.levels.coefficients(depth).h
+                )))
+            }
         }
     }
 
@@ -663,13 +669,6 @@ fn march(
         if observe(t1, &stepper.q, &stepper.v).is_break() {
             return Ok(());
         }
-    }
-    if std::env::var("DBG_NEWMARK").is_ok() {
-        eprintln!(
-            "DBG cuts {} max depth {}",
-            DBG_CUTS.load(std::sync::atomic::Ordering::Relaxed),
-            DBG_DEPTH.load(std::sync::atomic::Ordering::Relaxed)
-        );
     }
     Ok(())
 }
