@@ -2,10 +2,12 @@
 //!
 //! - [`central_difference`]: explicit, conditionally stable; refuses an unstable step.
 //! - [`newmark`]: implicit Newmark (average acceleration, or HHT-alpha) with Newton
-//!   iterations on the nonlinear forces; unconditionally stable for the linear part.
+//!   iterations on the nonlinear forces, a line search, and steps halved where the forces
+//!   jump; unconditionally stable for the linear part.
 //! - [`runge_kutta`]: adaptive Dormand-Prince 5(4) on the first-order form, the accuracy
 //!   reference (thesis table 4.1).
-//! - [`static_equilibrium`]: Newton on the nonlinear forces under gravity.
+//! - [`static_equilibrium`]: Newton on the nonlinear forces under gravity, condensed onto
+//!   the coordinates they act on.
 //!
 //! Every integrator works on a [`TimeProblem`] (matrices in the integrator's coordinates,
 //! full or Craig-Bampton reduced) and sees nonlinear forces only through

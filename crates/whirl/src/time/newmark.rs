@@ -23,6 +23,14 @@
 //! converges in the same iterations to the same tolerance, without an n x n factorisation
 //! per iteration. Without nonlinear forces the step is linear and J0 its exact matrix: one
 //! iteration solves it. At constant speed a linear step allocates nothing.
+//!
+//! Forces that jump defeat plain Newton: a damped contact that closes adds C times the
+//! approach rate at once, and for some predictors the balance then has no root, so the
+//! iteration cycles. Each Newton step is therefore shortened by a backtracking line search
+//! until |r|^2 falls enough (Armijo), and a step whose iteration still fails is done in two
+//! halves, each halved again as needed (the jump's rootless interval shrinks as the step
+//! squared), down to h / 4096; the next step starts from h again, and the observer sees
+//! the times k h only. J0 is kept per halving depth.
 
 use faer::Mat;
 
