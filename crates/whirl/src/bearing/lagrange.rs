@@ -565,17 +565,13 @@ mod tests {
 
     /// One bearing (a plane) held by `n` rollers around it, pushed far into the bottom so
     /// that many rollers penetrate: W = J S J^T has rank two, the case an active-set loop
-    /// cannot solve. Returns (directions, S, predicted approach, offsets).
-    fn crowded_bearing(n: usize, s: [f64; 4]) -> (Vec<(f64, f64)>, [f64; 4], Vec<f64>, Vec<f64>) {
-        pushed_bearing(n, s, (0.4, -3.0))
+    /// cannot solve. Returns the roller directions and their predicted approach.
+    fn crowded_bearing(n: usize) -> (Vec<(f64, f64)>, Vec<f64>) {
+        pushed_bearing(n, (0.4, -3.0))
     }
 
     /// `n` rollers around a bearing predicted at `push` (the clearance is 1).
-    fn pushed_bearing(
-        n: usize,
-        s: [f64; 4],
-        push: (f64, f64),
-    ) -> (Vec<(f64, f64)>, [f64; 4], Vec<f64>, Vec<f64>) {
+    fn pushed_bearing(n: usize, push: (f64, f64)) -> (Vec<(f64, f64)>, Vec<f64>) {
         let gap = 1.0;
         let dirs: Vec<(f64, f64)> = (0..n)
             .map(|j| {
@@ -587,7 +583,7 @@ mod tests {
             .iter()
             .map(|(c, s)| c * push.0 + s * push.1 - gap)
             .collect();
-        (dirs, s, predicted, vec![-gap; n])
+        (dirs, predicted)
     }
 
     fn w_matrix(dirs: &[(f64, f64)], s: [f64; 4]) -> Vec<f64> {
@@ -654,7 +650,7 @@ mod tests {
             // A skew part as the gyroscopic matrix gives S at speed.
             (32, [1.5, 0.25, -0.15, 1.2]),
         ] {
-            let (dirs, s, predicted, _) = crowded_bearing(n, s);
+            let (dirs, predicted) = crowded_bearing(n);
             let penetrating = predicted.iter().filter(|&&d| d > 0.0).count();
             assert!(penetrating >= 3, "{penetrating} rollers penetrate");
             let wm = w_matrix(&dirs, s);
@@ -704,7 +700,7 @@ mod tests {
             [1.0, -0.99, -0.99, 1.0],
         ] {
             for &push in &pushes {
-                let (dirs, s, predicted, _) = pushed_bearing(n, s, push);
+                let (dirs, predicted) = pushed_bearing(n, push);
                 let mut work = Work::sized(n);
                 for (j, &(c, sn)) in dirs.iter().enumerate() {
                     work.rows[j] = (c, sn, 0);
