@@ -173,6 +173,38 @@ fn cage_speed_and_passage_frequency() {
 }
 
 #[test]
+fn a_measured_cage_speed_ratio_sets_every_cage_frequency() {
+    // The thesis' 330 Hz spectra put N_b w_c at 1103 Hz: a ratio of 1103 / (8 x 330).
+    let text = whirl::examples::REFERENCE_ROTOR.replacen(
+        "[[roller_bearing]]\n",
+        "[[roller_bearing]]\ncage_speed_ratio = 0.4178\n",
+        1,
+    );
+    let model = Model::from_toml_str(&text, None).unwrap();
+    let g = RollerGeometry::new(&model.roller_bearings[0]);
+    let omega = 2.0 * PI * 330.0;
+    let hz = g.varying_compliance_frequency(omega) / (2.0 * PI);
+    // 4 significant digits given: 1103 Hz to the ratio's rounding.
+    assert!((hz - 1103.0).abs() < 0.2, "{hz} Hz");
+    // The other bearing keeps the kinematic ratio.
+    let other = RollerGeometry::new(&model.roller_bearings[1]);
+    let expected = (1.0 - 6.1 / 69.6) * omega / 2.0;
+    assert!((other.cage_speed(omega) - expected).abs() < 1e-12 * expected);
+    for bad in ["0", "1", "-0.2", "1.5"] {
+        let text = whirl::examples::REFERENCE_ROTOR.replacen(
+            "[[roller_bearing]]\n",
+            &format!("[[roller_bearing]]\ncage_speed_ratio = {bad}\n"),
+            1,
+        );
+        let message = Model::from_toml_str(&text, None).unwrap_err().to_string();
+        assert!(
+            message.contains("roller_bearing[0].cage_speed_ratio") && message.contains("0.4562"),
+            "{bad}: {message}"
+        );
+    }
+}
+
+#[test]
 fn static_equilibrium_on_roller_bearings_carries_the_weight() {
     // 8 rollers: one roller at the bottom carries each bearing's load. 16 rollers: the
     // bottom roller's neighbours (22.5 degrees away) touch too, just past their contact

@@ -141,3 +141,77 @@ fn lagrange_contacts_never_penetrate_and_never_pull() {
     // Measured: 1.05 % (reference K_c, mostly the static sag) and 0.16 % (100 K_c).
     assert!(distance[1] < 0.005, "{distance:?}");
 }
+
+/// The reference rotor with `rollers` rollers in each bearing.
+fn with_rollers(rollers: usize) -> Model {
+    let text =
+        whirl::examples::REFERENCE_ROTOR.replace("rollers = 8", &format!("rollers = {rollers}"));
+    let model = Model::from_toml_str(&text, None).unwrap();
+    assert!(model.roller_bearings.iter().all(|b| b.rollers == rollers));
+    model
+}
+
+#[test]
+fn crowded_bearings_settle_at_the_default_step() {
+    // With 16 and 32 rollers three or more rollers of a bearing touch at once under the
+    // rotor's weight and unbalance: the constraint matrix is then singular on any active
+    // set of three, the case the complementarity solve must handle.
+    for rollers in [16, 32] {
+        let model = with_rollers(rollers);
+        let (mut p, cb) = problem(&model, None);
+        let map = |d: usize| cb.reduced_index(d).unwrap_or(usize::MAX);
+        let coordinates: Vec<usize> = model
+            .roller_bearings
+            .iter()
+            .flat_map(|b| contact_coordinates(b, &map).unwrap())
+            .collect();
+        let mut contacts = LagrangeContacts::new(&model.roller_bearings, coordinates).unwrap();
+        let h = 0.9 * central_difference_limit(&p).unwrap();
+        let (angle, uy) = run(&mut p, &cb, h, Some(&mut contacts));
+        // Round-off of the corrected approach, as for 8 rollers.
+        assert!(
+            contacts.largest_penetration() < 1e-13,
+            "{rollers} rollers: penetration {:e} m",
+            contacts.largest_penetration()
+        );
+        let history = contacts.history();
+        assert!(history.iter().all(|&l| l >= 0.0), "{rollers} rollers pull");
+        let per_instant = history.chunks(contacts.rollers());
+        let most_touching = per_instant
+            .map(|lambda| lambda.iter().filter(|&&l| l > 0.0).count())
+            .max()
+            .unwrap();
+        assert!(
+            most_touching >= 3,
+            "{rollers} rollers: at most {most_touching} touch at once"
+        );
+        let settled = order_component(&angle, &uy, 1.0).unwrap();
+        // The weight sags the disk by tens of micrometres whatever the roller count.
+        assert!(settled.mean < -20e-6, "{rollers} rollers: {settled:?}");
+    }
+}
+
+#[test]
+fn tilt_and_skew_are_refused_by_rigid_rollers() {
+    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    for (field, edit) in [
+        ("roller_tilt", "roller_tilt = true\nslices = 5\n"),
+        ("skew_angle", "skew_angle = 1.0\nslices = 5\n"),
+    ] {
+        let text = whirl::examples::REFERENCE_ROTOR.replacen(
+            "[[roller_bearing]]\n",
+            &format!("[[roller_bearing]]\n{edit}"),
+            1,
+        );
+        let tilted = Model::from_toml_str(&text, None).unwrap();
+        let coordinates = vec![0; 4];
+        let message = LagrangeContacts::new(&tilted.roller_bearings, coordinates)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.contains(&format!("roller_bearing[0].{field}")) && message.contains("hertz"),
+            "{message}"
+        );
+        assert!(LagrangeContacts::new(&model.roller_bearings, vec![0; 4]).is_ok());
+    }
+}

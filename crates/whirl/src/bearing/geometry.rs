@@ -91,7 +91,7 @@ impl RollerGeometry {
             .collect();
         RollerGeometry {
             rollers: bearing.rollers,
-            cage_ratio: 0.5 * (1.0 - bearing.roller_diameter / bearing.pitch_diameter),
+            cage_ratio: bearing.cage_speed_ratio,
             cage_angle: bearing.cage_angle,
             clearance: bearing.clearance.clone(),
             tilt: bearing.roller_tilt,

@@ -199,6 +199,9 @@ pub struct RollerBearing {
     pub contact_damping: f64,
     /// Angle of the first roller at t = 0, rad from +x towards +y.
     pub cage_angle: f64,
+    /// Cage speed over shaft speed w_c / W: given in the file (a measured cage frequency)
+    /// or, by default, the rolling kinematics of a fixed outer ring, (1 - D_b / D_p) / 2.
+    pub cage_speed_ratio: f64,
     /// Linearised radial stiffness used by linear analyses (modal, unbalance), N/m.
     pub linear_stiffness: f64,
     /// Linearised radial damping used by linear analyses, N s/m.

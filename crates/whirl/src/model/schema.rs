@@ -180,6 +180,8 @@ pub struct RollerBearingFile {
     pub contact_damping: Option<Spanned<f64>>,
     /// Angle of the first roller at t = 0, degrees from +x towards +y.
     pub cage_angle: Option<Spanned<f64>>,
+    /// Cage speed over shaft speed; from the geometry when absent.
+    pub cage_speed_ratio: Option<Spanned<f64>>,
     /// Linearised radial stiffness for modal analysis, N/m.
     pub linear_stiffness: Spanned<f64>,
     /// Linearised radial damping for modal analysis, N s/m.

@@ -612,6 +612,32 @@ fn linear_bearing(
 const MIN_CONTACT_EXPONENT: f64 = 1.0;
 const MAX_CONTACT_EXPONENT: f64 = 2.0;
 
+/// The cage speed ratio: as given, which must lie strictly between 0 (a cage that stands
+/// still) and 1 (a cage turning with the shaft), or from the rolling kinematics of a fixed
+/// outer ring, (1 - D_b / D_p) / 2, with `diameter_ratio` = D_b / D_p.
+fn cage_speed_ratio(given: &Option<Spanned<f64>>, diameter_ratio: f64, field: &str) -> V<f64> {
+    let Some(given) = given else {
+        return Ok(0.5 * (1.0 - diameter_ratio));
+    };
+    let ratio = finite(*given.get_ref(), given.span(), field)?;
+    if ratio > 0.0 && ratio < 1.0 {
+        Ok(ratio)
+    } else {
+        Err(err(
+            field,
+            given.span(),
+            format!(
+                "the cage turns slower than the shaft and in the same sense: expected 0 < ratio \
+                 < 1, got {ratio}"
+            ),
+        )
+        .help(format!(
+            "the cage frequency over the shaft frequency; this bearing's geometry gives {:.4}",
+            0.5 * (1.0 - diameter_ratio)
+        )))
+    }
+}
+
 fn roller_bearing(
     raw: &Spanned<RollerBearingFile>,
     field: &str,
@@ -721,6 +747,7 @@ fn roller_bearing(
         contact_exponent: exponent,
         contact_damping: opt_non_negative(&b.contact_damping, &f("contact_damping"), "N s/m")?,
         cage_angle: opt_f64(&b.cage_angle, &f("cage_angle"), 0.0)?.to_radians(),
+        cage_speed_ratio: cage_speed_ratio(&b.cage_speed_ratio, db / dp, &f("cage_speed_ratio"))?,
         linear_stiffness: non_negative(
             *b.linear_stiffness.get_ref(),
             b.linear_stiffness.span(),

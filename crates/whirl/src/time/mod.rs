@@ -29,7 +29,6 @@ mod statics;
 pub use central::{central_difference, central_difference_constrained, central_difference_limit};
 pub use forces::{CubicSpring, Kinematics, LinearSupport, NonlinearForce};
 pub use newmark::{newmark, NewmarkScheme};
-pub(crate) use problem::solve_small;
 pub use problem::{NlScratch, SpeedProfile, TimeProblem};
 pub use rk::{runge_kutta, RkStats, RkTolerances};
 pub use rollers::{
