@@ -93,7 +93,8 @@ fn internal_damping_loses_stability_by_neimark_sacker_at_the_threshold_speed() {
     let error = (b.frequency - threshold).abs() / threshold;
     // The orbit is linear in the unbalance and the exponents are the eigenvalues of the
     // linear system, which Hill's method reproduces to round-off; the regula falsi stops
-    // at a bracket of 1e-9 relative.
+    // at a bracket of 1e-7 relative and interpolates linearly across it, exact for a real
+    // part linear in the speed.
     assert!(
         error < 1e-7,
         "threshold {threshold}, located {}",
@@ -237,8 +238,9 @@ fn mathieu_tongue_is_bounded_by_period_doublings_where_the_monodromy_matrix_says
         assert_eq!(b.kind, BifurcationKind::PeriodDoubling);
         assert!(b.located);
         // Hill's method with 8 harmonics of a coupling e / 2 = 0.1 between neighbours is
-        // exact far beyond this; the regula falsi brackets to 1e-9 and the monodromy is
-        // integrated to 1e-12. 1e-6 leaves room for the corrector's tolerance.
+        // exact far beyond this; the regula falsi brackets to 1e-7 and interpolates across
+        // the bracket, and the monodromy is integrated to 1e-12. 1e-6 leaves room for the
+        // corrector's tolerance.
         assert!(error < 1e-6, "{} against {exact}", b.frequency);
         assert!((b.exponent_frequency - b.frequency / 2.0).abs() < 1e-6 * b.frequency);
         assert!((b.multiplier.0 + 1.0).abs() < 1e-5 && b.multiplier.1.abs() < 1e-5);

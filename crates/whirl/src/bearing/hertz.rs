@@ -90,6 +90,55 @@ impl HertzBearing {
         (force, k, self.damping)
     }
 
+    /// Adds the force of one slice at cage speed `cage_speed` to `out`: what
+    /// [`NonlinearForce::force`] sums over the slices of [`RollerGeometry::for_each_slice`],
+    /// for callers that keep the slices of fixed roller positions.
+    pub fn add_slice_force(
+        &self,
+        slice: &Slice,
+        cage_speed: f64,
+        q: &[f64],
+        v: &[f64],
+        out: &mut [f64],
+    ) {
+        let (delta, rate) = self.approach(slice, cage_speed, q, v);
+        let (force, _, _) = self.slice_force(delta, rate);
+        if force > 0.0 {
+            let g = slice.direction();
+            for (o, ga) in out.iter_mut().zip(g) {
+                *o -= force * ga;
+            }
+        }
+    }
+
+    /// Adds the tangent of one slice to `dfdq` and `dfdv` (row-major, m x m for the m
+    /// coordinates), as [`Self::add_slice_force`] adds its force.
+    pub fn add_slice_jacobian(
+        &self,
+        slice: &Slice,
+        cage_speed: f64,
+        q: &[f64],
+        v: &[f64],
+        dfdq: &mut [f64],
+        dfdv: &mut [f64],
+    ) {
+        let m = q.len();
+        let (delta, rate) = self.approach(slice, cage_speed, q, v);
+        let (force, k, c) = self.slice_force(delta, rate);
+        if force <= 0.0 {
+            return;
+        }
+        let g = slice.direction();
+        let gt = slice.direction_turn();
+        // F = -Q g with dQ/du = k g + c w_c g_theta and dQ/dv = c g.
+        for a in 0..m {
+            for b in 0..m {
+                dfdq[a * m + b] -= g[a] * (k * g[b] + c * cage_speed * gt[b]);
+                dfdv[a * m + b] -= g[a] * c * g[b];
+            }
+        }
+    }
+
     /// Angle, largest approach and force of every roller.
     pub fn rollers(&self, at: &Kinematics, q: &[f64], v: &[f64]) -> Vec<RollerState> {
         let cage_speed = self.geometry.cage_speed(at.speed);
@@ -125,14 +174,7 @@ impl NonlinearForce for HertzBearing {
         out.iter_mut().for_each(|f| *f = 0.0);
         let cage_speed = self.geometry.cage_speed(at.speed);
         self.geometry.for_each_slice(at, |slice| {
-            let (delta, rate) = self.approach(slice, cage_speed, q, v);
-            let (force, _, _) = self.slice_force(delta, rate);
-            if force > 0.0 {
-                let g = slice.direction();
-                for (o, ga) in out.iter_mut().zip(g) {
-                    *o -= force * ga;
-                }
-            }
+            self.add_slice_force(slice, cage_speed, q, v, out);
         });
     }
 
@@ -144,25 +186,11 @@ impl NonlinearForce for HertzBearing {
         dfdq: &mut [f64],
         dfdv: &mut [f64],
     ) {
-        let m = q.len();
         dfdq.iter_mut().for_each(|x| *x = 0.0);
         dfdv.iter_mut().for_each(|x| *x = 0.0);
         let cage_speed = self.geometry.cage_speed(at.speed);
         self.geometry.for_each_slice(at, |slice| {
-            let (delta, rate) = self.approach(slice, cage_speed, q, v);
-            let (force, k, c) = self.slice_force(delta, rate);
-            if force <= 0.0 {
-                return;
-            }
-            let g = slice.direction();
-            let gt = slice.direction_turn();
-            // F = -Q g with dQ/du = k g + c w_c g_theta and dQ/dv = c g.
-            for a in 0..m {
-                for b in 0..m {
-                    dfdq[a * m + b] -= g[a] * (k * g[b] + c * cage_speed * gt[b]);
-                    dfdv[a * m + b] -= g[a] * c * g[b];
-                }
-            }
+            self.add_slice_jacobian(slice, cage_speed, q, v, dfdq, dfdv);
         });
     }
 

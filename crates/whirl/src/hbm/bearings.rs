@@ -20,6 +20,7 @@ use std::f64::consts::TAU;
 
 use serde::Serialize;
 
+use crate::bearing::geometry::Slice;
 use crate::bearing::{contact_coordinates, HertzBearing};
 use crate::error::{Error, Result};
 use crate::model::Model;
@@ -64,6 +65,13 @@ pub struct CagedBearing {
     inner: HertzBearing,
     /// Spin angles that place the cage at each averaged position.
     angles: Vec<f64>,
+    /// The contact slices of every cage position at [`Self::slices_speed`], position by
+    /// position: with the cage fixed they depend on the speed alone (through the clearance
+    /// and the cage speed), not on the time or the motion, so the rollers' angles, sines
+    /// and cosines are made once per speed instead of at every time sample of the AFT.
+    slices: Vec<Vec<Slice>>,
+    /// The speed the slices were made at (NaN before the first call).
+    slices_speed: f64,
     buffer: Vec<f64>,
     buffer_v: Vec<f64>,
 }
@@ -99,18 +107,32 @@ impl CagedBearing {
         let m = inner.dofs().len();
         Ok(CagedBearing {
             inner,
+            slices: vec![Vec::new(); angles.len()],
+            slices_speed: f64::NAN,
             angles,
             buffer: vec![0.0; m * m],
             buffer_v: vec![0.0; m * m],
         })
     }
 
-    fn at(&self, at: &Kinematics, k: usize) -> Kinematics {
-        Kinematics {
-            time: at.time,
-            speed: at.speed,
-            angle: self.angles[k],
+    /// Makes the slices of every cage position at `speed` unless they are made already.
+    fn place_rollers(&mut self, speed: f64) {
+        if self.slices_speed == speed {
+            return;
         }
+        for (slices, &angle) in self.slices.iter_mut().zip(&self.angles) {
+            // Without waviness the slices do not depend on the time.
+            let position = Kinematics {
+                time: 0.0,
+                speed,
+                angle,
+            };
+            slices.clear();
+            self.inner
+                .geometry()
+                .for_each_slice(&position, |slice| slices.push(*slice));
+        }
+        self.slices_speed = speed;
     }
 
     fn weight(&self) -> f64 {
@@ -129,12 +151,17 @@ impl NonlinearForce for CagedBearing {
 
     fn force(&mut self, at: &Kinematics, q: &[f64], v: &[f64], out: &mut [f64]) {
         out.iter_mut().for_each(|f| *f = 0.0);
+        self.place_rollers(at.speed);
         let w = self.weight();
         let m = out.len();
-        for k in 0..self.angles.len() {
-            let position = self.at(at, k);
-            self.inner.force(&position, q, v, &mut self.buffer[..m]);
-            for (o, f) in out.iter_mut().zip(&self.buffer[..m]) {
+        let cage_speed = self.inner.geometry().cage_speed(at.speed);
+        for slices in &self.slices {
+            let buffer = &mut self.buffer[..m];
+            buffer.fill(0.0);
+            for slice in slices {
+                self.inner.add_slice_force(slice, cage_speed, q, v, buffer);
+            }
+            for (o, f) in out.iter_mut().zip(buffer.iter()) {
                 *o += w * f;
             }
         }
@@ -150,11 +177,22 @@ impl NonlinearForce for CagedBearing {
     ) {
         dfdq.iter_mut().for_each(|f| *f = 0.0);
         dfdv.iter_mut().for_each(|f| *f = 0.0);
+        self.place_rollers(at.speed);
         let w = self.weight();
-        for k in 0..self.angles.len() {
-            let position = self.at(at, k);
-            self.inner
-                .jacobian(&position, q, v, &mut self.buffer, &mut self.buffer_v);
+        let cage_speed = self.inner.geometry().cage_speed(at.speed);
+        for slices in &self.slices {
+            self.buffer.fill(0.0);
+            self.buffer_v.fill(0.0);
+            for slice in slices {
+                self.inner.add_slice_jacobian(
+                    slice,
+                    cage_speed,
+                    q,
+                    v,
+                    &mut self.buffer,
+                    &mut self.buffer_v,
+                );
+            }
             for (o, f) in dfdq.iter_mut().zip(&self.buffer) {
                 *o += w * f;
             }

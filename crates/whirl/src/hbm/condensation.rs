@@ -349,12 +349,19 @@ impl CondensedBalance {
         let frequency = block.frequency;
         let copies = f.len() / self.linear.size();
         let (a, b) = self.partition(copies);
-        let value = |rows: &[usize], cols: &[usize]| {
+        // (copy, coordinate) of every row and column, split once: the entries are read
+        // many times over.
+        let n = self.linear.size();
+        let positions = |indices: &[usize]| -> Vec<(usize, usize)> {
+            indices.iter().map(|&i| (i / n, i % n)).collect()
+        };
+        let (a_at, b_at) = (positions(&a), positions(&b));
+        let value = |rows: &[(usize, usize)], cols: &[(usize, usize)]| {
             Mat::from_fn(rows.len(), cols.len(), |i, j| {
                 block.entry(rows[i], cols[j]).0
             })
         };
-        let derivative = |rows: &[usize], cols: &[usize]| {
+        let derivative = |rows: &[(usize, usize)], cols: &[(usize, usize)]| {
             Mat::from_fn(rows.len(), cols.len(), |i, j| {
                 block.entry(rows[i], cols[j]).1
             })
@@ -367,7 +374,7 @@ impl CondensedBalance {
         let mut d_bb = vec![(0.0, 0.0); b.len() * width];
         for i in 0..b.len() {
             for k in i.saturating_sub(band)..(i + band + 1).min(b.len()) {
-                d_bb[i * width + k + band - i] = block.entry(b[i], b[k]);
+                d_bb[i * width + k + band - i] = block.entry(b_at[i], b_at[k]);
             }
         }
         let singular = || {
@@ -383,7 +390,7 @@ impl CondensedBalance {
         let mut solution = vec![0.0; nb * cols];
         for (i, row) in solution.chunks_mut(cols).enumerate() {
             for (j, r) in row.iter_mut().take(a.len()).enumerate() {
-                *r = block.entry(b[i], a[j]).0;
+                *r = block.entry(b_at[i], a_at[j]).0;
             }
             row[a.len()] = f[b[i]];
         }
@@ -392,7 +399,7 @@ impl CondensedBalance {
         let mut derivative_solution = vec![0.0; nb * cols];
         for (i, row) in derivative_solution.chunks_mut(cols).enumerate() {
             for (j, r) in row.iter_mut().take(a.len()).enumerate() {
-                *r = block.entry(b[i], a[j]).1;
+                *r = block.entry(b_at[i], a_at[j]).1;
             }
             row[a.len()] = df[b[i]];
             for k in i.saturating_sub(band)..(i + band + 1).min(nb) {
@@ -420,11 +427,11 @@ impl CondensedBalance {
         };
         let (transfer, particular) = split(&solution);
         let (d_transfer, d_particular) = split(&derivative_solution);
-        let d_ab = value(&a, &b);
-        let schur = value(&a, &a) - &d_ab * &transfer;
+        let d_ab = value(&a_at, &b_at);
+        let schur = value(&a_at, &a_at) - &d_ab * &transfer;
         let force = pick(f, &a) - &d_ab * &particular;
-        let dd_ab = derivative(&a, &b);
-        let schur_derivative = derivative(&a, &a) - &dd_ab * &transfer - &d_ab * &d_transfer;
+        let dd_ab = derivative(&a_at, &b_at);
+        let schur_derivative = derivative(&a_at, &a_at) - &dd_ab * &transfer - &d_ab * &d_transfer;
         let force_derivative = pick(df, &a) - &dd_ab * &particular - &d_ab * &d_particular;
         let column = |m: Mat<f64>| (0..m.nrows()).map(|i| m[(i, 0)]).collect::<Vec<_>>();
         Ok(Block {
@@ -571,7 +578,7 @@ impl CondensedBalance {
 
 /// The dynamic stiffness of one harmonic r at w: the constant term's K for r = 0, else the
 /// real form D_r(w) on (cos r, sin r) of the module documentation; entries are made on
-/// demand, indices c n + dof for copy c (cos 0, sin 1).
+/// demand for rows and columns given as (copy, coordinate), copy 0 for cos and 1 for sin.
 struct HarmonicBlock<'a> {
     matrices: &'a PlainMatrices,
     r: usize,
@@ -579,18 +586,17 @@ struct HarmonicBlock<'a> {
 }
 
 impl HarmonicBlock<'_> {
-    /// Entry (row, col) of D_r and of dD_r/dw.
-    fn entry(&self, row: usize, col: usize) -> (f64, f64) {
+    /// Entry of D_r and of dD_r/dw at the row of copy `row.0`, coordinate `row.1`, and the
+    /// column `col` likewise.
+    fn entry(&self, row: (usize, usize), col: (usize, usize)) -> (f64, f64) {
         let p = self.matrices;
-        let n = p.n;
-        let (i, j) = (row % n, col % n);
-        let at = i * n + j;
+        let at = row.1 * p.n + col.1;
         if self.r == 0 {
             return (p.stiffness[at], 0.0);
         }
         let (rf, w) = (self.r as f64, self.frequency);
         let rw = rf * w;
-        match (row / n, col / n) {
+        match (row.0, col.0) {
             (0, 0) | (1, 1) => (
                 p.stiffness[at] - rw * rw * p.mass[at],
                 -2.0 * rf * rw * p.mass[at],

@@ -28,7 +28,7 @@ use super::stability::{hill_problem, HillProblem, Stability};
 use super::HbOptions;
 use crate::error::{Error, Result};
 use faer::Mat;
-use rayon::prelude::*;
+use std::sync::{mpsc, Mutex, PoisonError};
 
 /// What continuation asks of a harmonic balance, so that the full ([`HarmonicBalance`]) and
 /// the condensed ([`CondensedBalance`]) problem are followed by the same path code.
@@ -321,15 +321,121 @@ fn check_range(from: f64, to: f64) -> Result<()> {
     }
 }
 
+/// The branch from the converged point `first` (see [`trace`]), with its folds and
+/// bifurcations.
+fn follow<H: Periodic>(
+    hb: &mut H,
+    first: HbSolution,
+    orientation: f64,
+    range: (f64, f64),
+    options: &ContinuationOptions,
+) -> Result<Branch> {
+    let path = if options.stability {
+        trace_with_stability(hb, first, orientation, range, options)?
+    } else {
+        trace(
+            hb,
+            first,
+            orientation,
+            range,
+            options,
+            &mut |_, _, _| Ok(()),
+        )?
+    };
+    let folds = locate_folds(hb, &path.points, &path.boundaries);
+    let bifurcations = locate_bifurcations(hb, &path.points, &folds, &path.boundaries)?;
+    Ok(Branch {
+        options: *hb.options(),
+        folds,
+        corners: path.corners,
+        jumps: path.jumps,
+        jumped_after: path.boundaries,
+        bifurcations,
+        points: path.points,
+        end: path.end,
+    })
+}
+
+/// A followed path before its folds and bifurcations are located.
+struct Path {
+    points: Vec<BranchPoint>,
+    corners: Vec<f64>,
+    jumps: Vec<(f64, f64)>,
+    /// Indices of the points after which the path jumped.
+    boundaries: Vec<usize>,
+    end: BranchEnd,
+}
+
+/// Hill eigenproblems queued for the second thread at most: each holds a (2 n (2H + 1))^2
+/// matrix, and the path's thread blocks when it is this far ahead.
+const HILL_QUEUE: usize = 16;
+
+/// [`trace`] with Hill stability at every point. Building a point's eigenproblem needs the
+/// harmonic balance and so the path's thread; solving it does not, and takes about as long
+/// as a continuation step, so the solves run on a second thread while the path goes on,
+/// and the path's thread joins them once the path has ended. Every verdict is the one a
+/// solve after the path would give.
+fn trace_with_stability<H: Periodic>(
+    hb: &mut H,
+    first: HbSolution,
+    orientation: f64,
+    range: (f64, f64),
+    options: &ContinuationOptions,
+) -> Result<Path> {
+    let (sender, receiver) = mpsc::sync_channel::<(usize, HillProblem)>(HILL_QUEUE);
+    let jobs = Mutex::new(receiver);
+    let verdicts = Mutex::new(Vec::new());
+    let solve_queued = || loop {
+        // The lock is held only to take the next job; a poisoned lock (a panicking solve)
+        // still hands out jobs.
+        let job = jobs.lock().unwrap_or_else(PoisonError::into_inner).recv();
+        let Ok((index, problem)) = job else { break };
+        let verdict = problem.solve();
+        verdicts
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .push((index, verdict));
+    };
+    let path = std::thread::scope(|scope| {
+        scope.spawn(solve_queued);
+        let mut submit = |hb: &mut H, index: usize, point: &BranchPoint| {
+            let s = &point.solution;
+            let problem = hb.hill_problem(&s.coefficients, s.frequency)?;
+            sender.send((index, problem)).map_err(|_| {
+                Error::Numerical("the thread solving Hill's eigenproblems stopped".into())
+            })
+        };
+        let path = trace(hb, first, orientation, range, options, &mut submit);
+        drop(sender);
+        solve_queued();
+        path
+    });
+    let mut path = path?;
+    let verdicts = verdicts
+        .into_inner()
+        .unwrap_or_else(PoisonError::into_inner);
+    if verdicts.len() != path.points.len() {
+        return Err(Error::Numerical(
+            "the thread solving Hill's eigenproblems stopped before the last point".into(),
+        ));
+    }
+    for (index, verdict) in verdicts {
+        path.points[index].stability = Some(verdict?);
+    }
+    Ok(path)
+}
+
 /// The continuation loop from the converged point `first`, leaving it with increasing
-/// frequency when `orientation` is positive and decreasing when negative.
-fn follow(
-    hb: &mut impl Periodic,
+/// frequency when `orientation` is positive and decreasing when negative; `on_point` is
+/// told of every point (its index and the point) once it is on the path for good.
+fn trace<H: Periodic>(
+    hb: &mut H,
     first: HbSolution,
     orientation: f64,
     (from, to): (f64, f64),
     options: &ContinuationOptions,
-) -> Result<Branch> {
+    on_point: &mut dyn FnMut(&mut H, usize, &BranchPoint) -> Result<()>,
+) -> Result<Path> {
     let direction = (to - from).signum();
     let mut scaling = Scaling::at(&first);
     let mut start_direction = vec![0.0; first.coefficients.len() + 1];
@@ -346,7 +452,12 @@ fn follow(
     let mut boundaries: Vec<usize> = Vec::new();
     // The turn of the last attempt rejected for turning too much.
     let mut rejected_turn: Option<f64> = None;
+    let mut told = 0;
     let end = loop {
+        for (index, point) in points.iter().enumerate().skip(told) {
+            on_point(hb, index, point)?;
+        }
+        told = points.len();
         if points.len() >= options.max_points {
             break BranchEnd::PointLimit;
         }
@@ -461,19 +572,14 @@ fn follow(
             }
         }
     };
-    if options.stability {
-        add_stability(hb, &mut points)?;
+    for (index, point) in points.iter().enumerate().skip(told) {
+        on_point(hb, index, point)?;
     }
-    let folds = locate_folds(hb, &points, &boundaries);
-    let bifurcations = locate_bifurcations(hb, &points, &folds, &boundaries)?;
-    Ok(Branch {
-        options: *hb.options(),
-        folds,
+    Ok(Path {
+        points,
         corners,
         jumps,
-        jumped_after: boundaries,
-        bifurcations,
-        points,
+        boundaries,
         end,
     })
 }
@@ -636,26 +742,6 @@ fn jump_ahead(
             Some((t, s))
         })
     })
-}
-
-/// Hill stability of every point: the eigenproblems are built in order (that needs the
-/// harmonic balance's buffers) and solved in parallel, a chunk at a time to bound memory.
-/// Each solve is independent, so the result does not depend on the thread count.
-fn add_stability(hb: &mut impl Periodic, points: &mut [BranchPoint]) -> Result<()> {
-    for chunk in points.chunks_mut(32) {
-        let problems = chunk
-            .iter()
-            .map(|p| hb.hill_problem(&p.solution.coefficients, p.solution.frequency))
-            .collect::<Result<Vec<_>>>()?;
-        let verdicts = problems
-            .into_par_iter()
-            .map(HillProblem::solve)
-            .collect::<Result<Vec<_>>>()?;
-        for (p, v) in chunk.iter_mut().zip(verdicts) {
-            p.stability = Some(v);
-        }
-    }
-    Ok(())
 }
 
 /// Quick convergence (at most 3 iterations) lengthens the step by half, slow convergence
