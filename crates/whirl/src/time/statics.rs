@@ -7,7 +7,7 @@
 //! raised, which turns the step into a damped fall along the load towards contact. Once in
 //! contact mu returns to zero and convergence is quadratic. Directions with neither
 //! stiffness nor load (u_x with one roller at the bottom) keep their starting value: from
-//! u = 0 the horizontal position stays 0 (SPEC section 7).
+//! u = 0 the horizontal position stays 0 (docs/theory.md section 6).
 
 use faer::Mat;
 
