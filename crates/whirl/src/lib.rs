@@ -62,7 +62,7 @@
 //! let model = Model::from_toml_str(text, None)?;
 //! let system = fe::assemble(&model, fe::Bearings::Linearised);
 //! let modes = modal::undamped_modes(&system, 2)?;
-//! let (e, rho, d, l) = (2.11e11, 7810.0, 0.05, 1.0);
+//! let (e, rho, d, l): (f64, f64, f64, f64) = (2.11e11, 7810.0, 0.05, 1.0);
 //! let closed = std::f64::consts::PI / (2.0 * l * l) * (e * d * d / 16.0 / rho).sqrt();
 //! // 20 elements are within 0.1 % of the closed form for the first modes.
 //! assert!((modes.frequencies_hz[0] / closed - 1.0).abs() < 1e-3);
