@@ -270,8 +270,8 @@ fn an_unstable_central_difference_step_is_refused() {
         progress: None,
     };
     let e = simulate(&model, &options).unwrap_err().to_string();
-    // docs/theory.md section 6: w_max is about 5e5 rad/s for the full model, so the limit is ~4e-6
-    // s.
+    // docs/theory.md section 6: w_max is about 5e5 rad/s for the full model, so the limit
+    // is ~4e-6 s.
     assert!(e.contains("stability limit 3.94"), "{e}");
     assert!(e.contains("reduce the model"), "{e}");
 }

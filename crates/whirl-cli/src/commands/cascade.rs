@@ -18,8 +18,7 @@
 //!
 //! Every finished speed is saved at once in `<out>.partial/<key>/` (beside the output
 //! folder; `out/cascade.partial/<key>` by default, the key a hash of the model and the
-//! options, so cascades with other options keep their own checkpoints), atomically, so a run that
-//! is interrupted (Ctrl-C, a
+//! options, so cascades with other options keep their own checkpoints), atomically, so a run that is interrupted (Ctrl-C, a
 //! kill, a crash) and started again with the same command computes only the missing
 //! speeds and ends with the same bytes as an uninterrupted run. The folder stays after a
 //! successful run (running the same command again only redraws); a folder holding another

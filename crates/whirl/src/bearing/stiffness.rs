@@ -6,8 +6,7 @@
 //! the shaft):
 //!
 //! ```text
-//! F(u) = -sum_j K_c delta_j^n g_j,   delta_j = g_j . u - gamma_0,   g_j = (cos theta_j, sin
-//! theta_j)
+//! F(u) = -sum_j K_c delta_j^n g_j,   delta_j = g_j . u - gamma_0,   g_j = (cos theta_j, sin theta_j)
 //! K(u) = -dF/du = sum_j n K_c delta_j^(n-1) g_j g_j^T      (eq. 3.25, rollers with delta_j > 0)
 //! ```
 //!
