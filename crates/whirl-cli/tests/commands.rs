@@ -36,8 +36,8 @@ fn f(v: &Value) -> f64 {
     v.as_f64().unwrap_or(f64::NAN)
 }
 
-// SPEC section 10: the first undamped frequency of the reference rotor is about 49.8 Hz; the
-// window of +-0.5 Hz allows for the mesh and for gyroscopic splitting at the speeds used.
+// docs/theory.md section 9: the first undamped frequency of the reference rotor is about 49.8 Hz;
+// the window of +-0.5 Hz allows for the mesh and for gyroscopic splitting at the speeds used.
 const FIRST: std::ops::Range<f64> = 49.3..50.3;
 
 #[test]
@@ -90,7 +90,7 @@ fn modal_reports_forward_and_backward_modes() {
     // The first pair splits into a backward (lower) and a forward (higher) whirl.
     assert_eq!(modes[0]["whirl"], "backward");
     assert_eq!(modes[1]["whirl"], "forward");
-    // About 2 % damping on the first modes (SPEC section 10).
+    // About 2 % damping on the first modes (docs/theory.md section 9).
     assert!((f(&modes[0]["damping_ratio"]) - 0.02).abs() < 0.003);
     assert_eq!(
         header(&dir, "undamped_shapes.csv"),
@@ -129,7 +129,7 @@ fn campbell_finds_the_first_critical_speed() {
         (f(&crit[0]["speed_hz"]) - synchronous[0] / 2.0).abs() < 0.5,
         "{s}"
     );
-    // SPEC section 2 sign check: forward branches rise with speed, backward ones fall.
+    // docs/theory.md section 1 sign check: forward branches rise with speed, backward ones fall.
     for b in s["branches"].as_array().unwrap() {
         let (first, last) = (
             f(&b["frequency_at_first_speed_hz"]),
@@ -309,8 +309,8 @@ fn reduce_compares_the_reduced_and_full_models() {
     // aside), and with 12 modes the first pair is within 1e-6.
     assert!(errors.iter().all(|e| f(e) > -1e-12), "{s}");
     assert!(f(&errors[0]) < 1e-6, "{s}");
-    // SPEC section 7: w_max of the full model is about 5e5 rad/s, a limit near 4e-6 s, and
-    // the reduction raises it.
+    // docs/theory.md section 6: w_max of the full model is about 5e5 rad/s, a limit near 4e-6 s,
+    // and the reduction raises it.
     let full = f(&s["full_stable_step_s"]);
     assert!((3.5e-6..4.5e-6).contains(&full), "{s}");
     assert!(f(&s["reduced_stable_step_s"]) > 5.0 * full, "{s}");

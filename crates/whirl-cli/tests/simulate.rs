@@ -264,7 +264,7 @@ fn outputs_are_complete_and_the_npy_file_parses() {
 
 #[test]
 fn an_unstable_central_difference_step_is_refused_with_the_limit() {
-    // SPEC section 7: w_max of the full model is about 5e5 rad/s, so 1e-5 s is unstable.
+    // docs/theory.md section 6: w_max of the full model is about 5e5 rad/s, so 1e-5 s is unstable.
     fails(
         &[
             "--speed",

@@ -1,6 +1,6 @@
 //! The bundled example models, shared by tests, benchmarks and documentation.
 
-/// The reference rotor of SPEC section 10 (`examples/reference_rotor.toml`).
+/// The reference rotor of docs/theory.md section 9 (`examples/reference_rotor.toml`).
 pub const REFERENCE_ROTOR: &str = include_str!("../../../examples/reference_rotor.toml");
 
 /// The reference rotor on 1e6 N/m supports (`examples/reference_rotor_soft.toml`).

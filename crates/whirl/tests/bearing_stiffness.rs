@@ -1,5 +1,5 @@
-//! Equivalent stiffness of the roller bearing (thesis 3.4, SPEC section 6): tangent against
-//! finite differences, the statically determinate bottom-roller equilibrium against its
+//! Equivalent stiffness of the roller bearing (thesis 3.4, docs/theory.md section 5): tangent
+//! against finite differences, the statically determinate bottom-roller equilibrium against its
 //! closed form, symmetry, force balance, and the fall of stiffness with clearance.
 
 use std::f64::consts::PI;

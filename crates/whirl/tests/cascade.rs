@@ -1,4 +1,4 @@
-//! The cascade (SPEC section 9): its 1X line is the linear unbalance response when the
+//! The cascade (docs/theory.md section 8): its 1X line is the linear unbalance response when the
 //! rollers act as linear springs; an interrupted cascade resumes to the uninterrupted
 //! result, bit for bit; the number of threads changes nothing; a checkpoint of another
 //! cascade is refused; bad options name their field.

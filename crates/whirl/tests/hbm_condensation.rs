@@ -1,6 +1,6 @@
 //! Exact dynamic condensation of harmonic balance onto the coordinates that carry nonlinear
 //! forces: the reference rotor solved condensed and in full gives the same Fourier
-//! coefficients, faster; and (SPEC section 11) an isotropic rotor in a clearance ring
+//! coefficients, faster; and an isotropic rotor in a clearance ring
 //! reproduces the exact synchronous circular orbit through the multi-valued resonance.
 
 use std::f64::consts::TAU;
@@ -203,7 +203,7 @@ fn the_condensed_frequency_derivative_is_exact() {
 }
 
 /// A rigid ring of clearance gamma around an isotropic rotor, contact linear in the
-/// penetration: F = -k_c (r - gamma)_+ e_r on (x, y) (SPEC section 11).
+/// penetration: F = -k_c (r - gamma)_+ e_r on (x, y).
 struct ClearanceRing {
     dofs: [usize; 2],
     stiffness: f64,

@@ -1,4 +1,4 @@
-//! Time integrators against closed forms (SPEC section 11) and against the linear
+//! Time integrators against closed forms and against the linear
 //! unbalance response.
 
 use std::f64::consts::PI;
@@ -270,7 +270,8 @@ fn an_unstable_central_difference_step_is_refused() {
         progress: None,
     };
     let e = simulate(&model, &options).unwrap_err().to_string();
-    // SPEC section 7: w_max is about 5e5 rad/s for the full model, so the limit is ~4e-6 s.
+    // docs/theory.md section 6: w_max is about 5e5 rad/s for the full model, so the limit
+    // is ~4e-6 s.
     assert!(e.contains("stability limit 3.94"), "{e}");
     assert!(e.contains("reduce the model"), "{e}");
 }

@@ -1,5 +1,5 @@
-//! Time simulation with roller bearings (SPEC sections 6-7, thesis 4.1-4.2): the spectrum at
-//! a bearing shows the varying-compliance frequency N_b w_c and each waviness frequency
+//! Time simulation with roller bearings (docs/theory.md sections 5-6, thesis 4.1-4.2): the spectrum
+//! at a bearing shows the varying-compliance frequency N_b w_c and each waviness frequency
 //! (N_w - 1) w_c within one FFT bin; the Hertz rollers penetrate by micrometres and carry
 //! the rotor's weight; a thinned recording is the full one, thinned; a divergence names
 //! the DOF that left the bound.
@@ -213,7 +213,7 @@ fn lagrange_rollers_never_penetrate_and_carry_the_weight() {
     for record in &r.rollers {
         let s = record.summary(start..r.time.len());
         eprintln!("{}: {s:?}, wall {:.3} s", record.name, r.wall_time_s);
-        // SPEC section 11: no penetration beyond round-off (of micrometre approaches), all
+        // No penetration beyond round-off (of micrometre approaches), all
         // multipliers compressive.
         assert!(s.largest_penetration < 1e-13, "{s:?}");
         assert!(record.force.iter().all(|&q| q >= 0.0));

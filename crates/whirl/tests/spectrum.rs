@@ -1,5 +1,5 @@
-//! Spectra, peaks and the NSV amplitude (SPEC sections 7 and 9) on signals whose answer is
-//! known in closed form.
+//! Spectra, peaks and the NSV amplitude (docs/theory.md sections 6 and 8) on signals whose answer
+//! is known in closed form.
 
 use std::f64::consts::PI;
 
@@ -94,7 +94,7 @@ fn sweep_between_bins(window: Window) -> (f64, f64, f64) {
 fn flat_top_reads_an_off_bin_sine_within_a_permille() {
     let (raw, refined, frequency) = sweep_between_bins(Window::FlatTop);
     eprintln!("flat top: raw {raw:.2e}, refined {refined:.2e}, frequency {frequency:.2e} bins");
-    // HFT90D is flat to 0.045 % (Heinzel et al. 2002); SPEC asks for 0.1 %.
+    // HFT90D is flat to 0.045 % (Heinzel et al. 2002); the check asks for 0.1 %.
     assert!(raw < 1e-3, "raw {raw}");
     // Corrected by its own kernel (measured 4.5e-9): bounded by the long-record kernel's
     // error, (pi 5 / N)^2 / 6 = 1e-7 at the edge of its +-5-bin main lobe.

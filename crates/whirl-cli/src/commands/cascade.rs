@@ -2,7 +2,7 @@
 //! [--contact hertz|lagrange|forcing|linear] [--reduce 12 | --full-model] [--node N]
 //! [--component ux|uy] [--window hann|flat-top] [--max-frequency 3000Hz] [--tolerance 2]
 //! [--threshold 1um] [--full] [--restart]`: the cascade (waterfall) diagram of non-synchronous
-//! vibration over a speed range (SPEC section 9, thesis ch. 5; see [`whirl::nsv`]).
+//! vibration over a speed range (docs/theory.md section 8, thesis ch. 5; see [`whirl::nsv`]).
 //!
 //! Writes `cascade.csv` (long format: `speed_hz,frequency_hz,amplitude_m`, every bin of
 //! the band at every speed), `nsv.csv` (per speed: 1X, the largest non-synchronous peak,

@@ -22,7 +22,7 @@ use super::{
 use crate::output::{header, num, Output};
 use crate::plots;
 
-/// Roots more damped than this are left out (overdamped or spurious, SPEC section 4).
+/// Roots more damped than this are left out (overdamped or spurious, docs/theory.md section 3).
 const MAX_DAMPING_RATIO: f64 = 0.9;
 
 /// Smallest speed solved, rad/s (see the module doc).

@@ -1,5 +1,5 @@
 //! `whirl reduce model.toml [--modes 12] [--nodes 5,10]`: how good a Craig-Bampton reduced
-//! model is (SPEC section 5, thesis 2.3 and fig. 4.3).
+//! model is (docs/theory.md section 4, thesis 2.3 and fig. 4.3).
 //!
 //! The boundary is every DOF of the bearing nodes and of the `--nodes` given; the reduced
 //! model keeps those and `--modes` fixed-interface modes. Reported: its natural frequencies

@@ -1,7 +1,7 @@
 //! `whirl simulate model.toml --speed 50Hz [--duration 1s] [--method cd|newmark|rk]
 //! [--hht-alpha A] [--step S] [--reduce N] [--settle T] [--nodes 10,0] [--contact hertz|lagrange|forcing|linear]
 //! [--record-every N] [--ramp-to SPEED] [--start static|rest] [--divergence-bound X]`: time
-//! response (SPEC section 7).
+//! response (docs/theory.md section 6).
 //!
 //! Writes `time_history.csv` and `time_history.npy` (column `time_s`, then one column per
 //! channel `n10.ux`, `n10.uy`, ... in m; the .npy is a 2-D float64 array, rows = samples),

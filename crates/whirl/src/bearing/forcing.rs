@@ -1,4 +1,4 @@
-//! Forcing-function bearing law (thesis eq. 3.12, SPEC section 6): the whole bearing as
+//! Forcing-function bearing law (thesis eq. 3.12, docs/theory.md section 5): the whole bearing as
 //! one radial spring fitted to the Hertz model,
 //!
 //! ```text
@@ -16,8 +16,8 @@
 //!
 //! is exact wherever the law is smooth. At the contact edge (s = 0) the force is zero and
 //! so is its Jacobian, the one-sided limit for b > 1 (fitted laws have b between the
-//! Hertz 10/9 and about 1.6). At u_r = 0, reachable only when gamma <= 0, the direction e is undefined:
-//! the force is taken as zero (its average over directions) and the Jacobian as
+//! Hertz 10/9 and about 1.6). At u_r = 0, reachable only when gamma <= 0, the direction e is
+//! undefined: the force is taken as zero (its average over directions) and the Jacobian as
 //! -f'(s) I, the exact limit for gamma = 0 and b >= 1. A fitted law extrapolated to speeds
 //! where a(W) or b(W) is no longer positive ([`valid_up_to`]) gives no force there.
 

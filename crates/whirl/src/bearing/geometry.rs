@@ -168,8 +168,8 @@ impl RollerGeometry {
     ///
     /// Note: eq. 3.18 multiplies only the time term by the order, not the roller's pitch
     /// angle. That is what makes the whole bearing force oscillate at the waviness
-    /// frequency (N_w - 1) w_c of eq. 4.5, which SPEC requires; a ring-fixed waviness would
-    /// take N_w pitch_j instead (see docs/theory-errata.md).
+    /// frequency (N_w - 1) w_c of eq. 4.5, which the spectrum must show; a ring-fixed waviness
+    /// would take N_w pitch_j instead (see docs/theory-errata.md).
     fn waviness_at(
         &self,
         pitch: f64,

@@ -1,4 +1,4 @@
-//! Hertz line contact per roller slice (thesis eq. 3.5, SPEC section 6):
+//! Hertz line contact per roller slice (thesis eq. 3.5, docs/theory.md section 5):
 //!
 //! ```text
 //! Q = K_s delta^n + C_s d(delta)/dt   when delta > 0 and the sum is compressive, else 0

@@ -1,6 +1,6 @@
 //! Roller contacts as constraints enforced by Lagrange multipliers inside the central
 //! difference (thesis eqs. 3.7-3.11, 4.6-4.9; forward-increment Lagrange multipliers,
-//! Carpenter, Taylor & Katona 1991; SPEC section 6).
+//! Carpenter, Taylor & Katona 1991; docs/theory.md section 5).
 //!
 //! The central difference gives q_{n+1} = q^_{n+1} + S F_c with S = (M/h^2 + D/2h)^-1 and
 //! q^ the prediction without contact. Every roller j is a constraint

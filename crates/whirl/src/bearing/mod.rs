@@ -1,5 +1,5 @@
-//! Cylindrical roller bearing with internal radial clearance (thesis chapter 3, SPEC
-//! section 6).
+//! Cylindrical roller bearing with internal radial clearance (thesis chapter 3, docs/theory.md
+//! section 5).
 //!
 //! The inner ring turns with the shaft, the outer ring is fixed, the rollers orbit at the
 //! cage speed w_c = (1 - D_b/D_p) Omega / 2 (eq. 3.4). Roller j sits at

@@ -1,5 +1,5 @@
 //! Equivalent stiffness of a roller bearing and its force-deflection surfaces (thesis
-//! section 3.4, eqs. 3.20-3.25; SPEC section 6).
+//! section 3.4, eqs. 3.20-3.25; docs/theory.md section 5).
 //!
 //! With the cage held still and no damping, the bearing's force on the journal depends on
 //! the journal displacement u = (u_x, u_y) alone (eq. 3.20, with the sign of the force on
@@ -198,7 +198,7 @@ pub struct StiffnessOptions {
     /// Load W the rotor puts on the bearing, N (not zero).
     pub load: [f64; 2],
     /// Angle of roller 0 for the frozen cage, rad; `None` puts roller 0 on the load line
-    /// (at the bottom under gravity, SPEC section 6).
+    /// (at the bottom under gravity, docs/theory.md section 5).
     pub cage_angle: Option<f64>,
     /// Cage positions per roller passage for the average (at least 1).
     pub cage_steps: usize,

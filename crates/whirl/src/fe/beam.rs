@@ -2,7 +2,7 @@
 //! 1976; Lalanne & Ferraris 1998).
 //!
 //! Element DOFs, in this order: `[ux1, uy1, tx1, ty1, ux2, uy2, tx2, ty2]` with
-//! `ty = d(ux)/dz` and `tx = -d(uy)/dz` (SPEC section 2). With Hermite cubics
+//! `ty = d(ux)/dz` and `tx = -d(uy)/dz` (docs/theory.md section 1). With Hermite cubics
 //! psi_1..psi_4 of eq. 2.9 on s in [0, l]:
 //!
 //! ```text

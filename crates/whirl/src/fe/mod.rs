@@ -3,7 +3,7 @@
 //! Shaft elements follow Euler-Bernoulli ([`beam`], the default) or Timoshenko
 //! ([`timoshenko`], shear deformation) beam theory, chosen per section.
 //!
-//! Equation of motion (thesis eq. 2.4, SPEC section 2):
+//! Equation of motion (thesis eq. 2.4, docs/theory.md section 1):
 //! `M q'' + (Omega G + C) q' + K q = F_lin(t) + F_nl(q, q', t)`.
 //!
 //! Global DOF numbering: four DOFs per node, node by node from z = 0:

@@ -1,4 +1,4 @@
-//! Harmonic balance (thesis 4.3, SPEC section 8): periodic responses of
+//! Harmonic balance (thesis 4.3, docs/theory.md section 7): periodic responses of
 //!
 //! ```text
 //! M q'' + (C + w G) q' + K q = F_0 + Re((f w^2 + h) e^{i w t}) + F_nl(q, q', t)

@@ -1,4 +1,4 @@
-//! Modal analysis (thesis 2.2, SPEC section 4).
+//! Modal analysis (thesis 2.2, docs/theory.md section 3).
 //!
 //! - [`undamped_modes`]: K v = w^2 M v, mass-normalised shapes.
 //! - [`complex_modes`]: the damped gyroscopic system at a spin speed in first-order form

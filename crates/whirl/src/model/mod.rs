@@ -269,7 +269,7 @@ impl RollerBearing {
     ///
     /// Per contact delta[mm] = 3.84e-5 Q[N]^0.9 / l[mm]^0.8 (Palmgren), i.e.
     /// Q = k delta^(10/9) with k = (l_mm^0.8 / 3.84e-5 * 1e3)^(10/9) in SI. Two equal
-    /// contacts in series: K = (2 k^(-9/10))^(-10/9) = k 2^(-10/9) (SPEC section 6
+    /// contacts in series: K = (2 k^(-9/10))^(-10/9) = k 2^(-10/9) (docs/theory.md section 5
     /// erratum of thesis eq. 3.6, which used the ball-bearing exponent).
     pub fn palmgren_stiffness(roller_length: f64) -> f64 {
         let n = 10.0 / 9.0;
@@ -485,8 +485,8 @@ mod tests {
 
     #[test]
     fn palmgren_stiffness_of_the_reference_roller() {
-        // SPEC section 10: Palmgren with inner and outer in series gives 4.53e8 N/m^(10/9)
-        // for a 7 mm roller; the SPEC quotes three digits, hence 0.5 %.
+        // docs/theory.md section 9: Palmgren with inner and outer in series gives 4.53e8 N/m^(10/9)
+        // for a 7 mm roller; the reference value has three digits, hence 0.5 %.
         let k = RollerBearing::palmgren_stiffness(0.007);
         assert!((k / 4.53e8 - 1.0).abs() < 5e-3, "{k}");
     }

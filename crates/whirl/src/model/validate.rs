@@ -585,7 +585,7 @@ fn linear_bearing(
                 .ok_or_else(|| missing("spring_stiffness"))?;
             let k = positive(*k.get_ref(), k.span(), &f("spring_stiffness"), "N/m")?;
             // N_s equal springs equally spaced: sum cos^2 = sum sin^2 = N_s/2, sum sin cos = 0
-            // (SPEC section 3 erratum of thesis eq. 2.20).
+            // (docs/theory-errata.md, thesis eq. 2.20).
             let kr = n as f64 / 2.0 * k;
             [[kr, 0.0], [0.0, kr]]
         }

@@ -1,4 +1,4 @@
-//! What the largest non-synchronous peak at each speed is (SPEC section 9; thesis 5.1).
+//! What the largest non-synchronous peak at each speed is (docs/theory.md section 8; thesis 5.1).
 //!
 //! The classes name the physics and, for the sub-synchronous ones, the whirl direction
 //! (from the full spectrum of x + i y: forward when the component at +f is the larger):

@@ -1,5 +1,5 @@
 //! Non-synchronous vibration over a speed range: the cascade (waterfall) diagram and the
-//! NSV at each speed, classified and summarised (SPEC section 9, thesis ch. 5).
+//! NSV at each speed, classified and summarised (docs/theory.md section 8, thesis ch. 5).
 //!
 //! # The cascade
 //!
@@ -15,9 +15,9 @@
 //!    mean (the static sag) removed;
 //! 3. finds the largest peak that is not within `tolerance_bins` of a multiple of the
 //!    running speed ([`crate::post::largest_non_synchronous_below`], refined between bins):
-//!    the NSV amplitude of SPEC section 9. Its whirl direction comes from the full spectrum
-//!    of `x + i y` (forward at +f, backward at -f), and its amplitude in the record's two
-//!    halves tells a steady vibration from free vibration still dying away.
+//!    the NSV amplitude of docs/theory.md section 8. Its whirl direction comes from the full
+//!    spectrum of `x + i y` (forward at +f, backward at -f), and its amplitude in the
+//!    record's two halves tells a steady vibration from free vibration still dying away.
 //!
 //! Then the NSV of every speed is classified ([`NsvClass`]: sub-synchronous whirl, whip,
 //! varying compliance and its combinations with the running speed, super-harmonic,

@@ -1,4 +1,4 @@
-//! Post-processing of time histories (SPEC sections 7 and 9; thesis ch. 5).
+//! Post-processing of time histories (docs/theory.md sections 6 and 8; thesis ch. 5).
 //!
 //! - [`spectrum`]: one-sided amplitude spectrum scaled to physical zero-to-peak
 //!   amplitude, `A_k = c_k |X_k| / sum(w)` with `X_k = sum_n w_n x_n e^(-2 pi i k n / N)`,
@@ -7,7 +7,7 @@
 //!   allocation-free [`SpectrumPlanner`] for cascades.
 //! - [`peaks`]: spectral peaks refined between bins by the window's own main-lobe shape,
 //!   their order relative to the running speed, the largest non-synchronous peak (the NSV
-//!   amplitude of SPEC section 9) and the amplitude read near a given frequency (1X).
+//!   amplitude of docs/theory.md section 8) and the amplitude read near a given frequency (1X).
 //! - [`tracking`]: the component of a signal at an order of the shaft angle, with its
 //!   phase (the settled 1X amplitude and phase of a time history).
 //!

@@ -1,4 +1,5 @@
-//! Peaks of an amplitude spectrum, refined between bins (SPEC section 9: the NSV amplitude).
+//! Peaks of an amplitude spectrum, refined between bins (docs/theory.md section 8: the NSV
+//! amplitude).
 //!
 //! # Method: window-kernel ratio interpolation
 //!
@@ -71,8 +72,8 @@ pub fn spectral_peaks(
 }
 
 /// The largest peak that is not within `tolerance_bins` bins of `k * running_speed_hz` for
-/// any `k = 0 (DC), 1, ..., max_order`: the non-synchronous vibration amplitude of SPEC
-/// section 9. `None` when every local maximum is synchronous. It is the largest
+/// any `k = 0 (DC), 1, ..., max_order`: the non-synchronous vibration amplitude of
+/// docs/theory.md section 8. `None` when every local maximum is synchronous. It is the largest
 /// non-synchronous local maximum however small, down to round-off; compare it with the 1X
 /// ([`amplitude_at`]) to judge whether it matters. A running speed that is not finite and
 /// positive excludes only DC.

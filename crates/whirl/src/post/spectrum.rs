@@ -1,4 +1,4 @@
-//! Amplitude spectra of sampled time histories (SPEC sections 7 and 9).
+//! Amplitude spectra of sampled time histories (docs/theory.md sections 6 and 8).
 //!
 //! A record `x_n`, `n = 0 .. N-1`, sampled at `fs`, is (optionally) stripped of its mean,
 //! multiplied by a window `w_n` and transformed, `X_k = sum_n w_n x_n e^(-2 pi i k n / N)`.

@@ -1,4 +1,4 @@
-//! Craig-Bampton reduction (thesis 2.3, SPEC section 5).
+//! Craig-Bampton reduction (thesis 2.3, docs/theory.md section 4).
 //!
 //! DOFs split into boundary B (every DOF of the bearing nodes, plus nodes the user marks)
 //! and internal I. The internal DOFs are described by static constraint modes and the N

@@ -1,5 +1,5 @@
-//! Sensitivity studies of non-synchronous vibration (thesis ch. 5, SPEC section 9): sweeps
-//! of model parameters, each point a cascade.
+//! Sensitivity studies of non-synchronous vibration (thesis ch. 5, docs/theory.md section 8):
+//! sweeps of model parameters, each point a cascade.
 //!
 //! A study file names a model file, the cascade settings shared by every point, and a list
 //! of sweeps; a sweep varies one parameter, addressed by its path in the model file

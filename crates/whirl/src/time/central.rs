@@ -22,7 +22,7 @@
 //!
 //! Stability: h < 2 / w_max, w_max the highest natural frequency of (K + K_nl, M) with the
 //! nonlinear forces' largest tangent stiffness. A larger step is refused with the limit in
-//! the message (SPEC section 7). During a speed ramp the change of Omega G since the last
+//! the message (docs/theory.md section 6). During a speed ramp the change of Omega G since the last
 //! factorisation acts as an explicit force, and the step is rebuilt whenever the speed has
 //! moved by 1 % of the top speed.
 

@@ -1,4 +1,4 @@
-//! Time marching (thesis 4.1-4.2, SPEC section 7).
+//! Time marching (thesis 4.1-4.2, docs/theory.md section 6).
 //!
 //! - [`central_difference`]: explicit, conditionally stable; refuses an unstable step.
 //! - [`newmark`]: implicit Newmark (average acceleration, or HHT-alpha) with Newton

@@ -1,6 +1,6 @@
 //! Roller bearings in a time simulation: the contact law that models them, what each roller
-//! did at every recorded instant, and the frequencies their passage excites (SPEC sections
-//! 6-7, thesis figs. 4.7 and 4.9).
+//! did at every recorded instant, and the frequencies their passage excites (docs/theory.md
+//! sections 5-6, thesis figs. 4.7 and 4.9).
 //!
 //! A [`RollerRecord`] holds, per recorded sample and roller, the roller's angle theta_j,
 //! its approach delta_j (positive = penetration, eq. 3.2 / 3.19) and its contact force

@@ -2,7 +2,7 @@
 //! the initial state, march, and record named channels.
 //!
 //! With one roller at the bottom the horizontal static position inside the clearance is not
-//! unique; the static solve starts from u = 0, so it keeps u_x = 0 (SPEC section 7).
+//! unique; the static solve starts from u = 0, so it keeps u_x = 0 (docs/theory.md section 6).
 //!
 //! [`stable_step`] gives the central difference's stability limit of the model exactly as
 //! [`simulate`] will integrate it, so a caller can choose a step before running.

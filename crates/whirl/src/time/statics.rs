@@ -22,7 +22,7 @@
 //! taken whole when it lowers |R| enough (Armijo) or the residual still points along it;
 //! otherwise it stops where the residual turns against it. Directions with neither
 //! stiffness nor load (u_x with one roller at the bottom) keep their starting value: from
-//! u = 0 the horizontal position stays 0 (SPEC section 7).
+//! u = 0 the horizontal position stays 0 (docs/theory.md section 6).
 //!
 //! A spinning bearing's damping acts on the cage's motion over the rollers even at rest,
 //! a force that is not the gradient of any energy: with many rollers at speed there may be

@@ -1,5 +1,6 @@
-//! The roller-bearing outputs of `whirl simulate`: per bearing, what the rollers did (SPEC
-//! section 7, thesis figs. 4.7 and 4.9) and whether the spectrum shows the frequencies they
+//! The roller-bearing outputs of `whirl simulate`: per bearing, what the rollers did
+//! (docs/theory.md
+//! section 6, thesis figs. 4.7 and 4.9) and whether the spectrum shows the frequencies they
 //! excite, N_b w_c and (N_w - 1) w_c (eqs. 4.4-4.5).
 //!
 //! - `contacts_<bearing>.csv`: `time_s`, `in_contact` (rollers carrying load), then each
