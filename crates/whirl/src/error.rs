@@ -109,9 +109,37 @@ pub enum Error {
         path: PathBuf,
         source: std::io::Error,
     },
-    /// A numerical method failed; the message says why and what to change.
+    /// An option or argument of an analysis is out of its range: an empty or unsorted
+    /// speed list, a step that is not positive, a DOF or node outside the model, a signal
+    /// too short or not finite. The message names the value and the range.
     #[error("{0}")]
-    Numerical(String),
+    InvalidOption(String),
+    /// The analysis does not support this combination of model, method and options (for
+    /// example Lagrange-multiplier contacts with an implicit method, or an unbalance
+    /// response of a model without unbalance). The message says what to use instead.
+    #[error("{0}")]
+    Unsupported(String),
+    /// A matrix that must be inverted is singular (or not positive definite): the
+    /// structure is not held, or a frequency sits on a resonance.
+    #[error("{message}")]
+    Singular {
+        /// The matrix, e.g. "mass matrix", "dynamic stiffness", "Jacobian".
+        what: &'static str,
+        /// What is singular, why, and what to change.
+        message: String,
+    },
+    /// An iterative method stopped before meeting its tolerance.
+    #[error("{message}")]
+    NotConverged {
+        /// The method, e.g. "harmonic balance", "eigen-solver", "static equilibrium".
+        what: &'static str,
+        /// Iterations made, when the method counts them.
+        iterations: Option<usize>,
+        /// The last residual (in the method's own measure), when it has one.
+        residual: Option<f64>,
+        /// What did not converge, where, and what to change.
+        message: String,
+    },
     /// A time integration diverged; what was computed before stays with the caller.
     #[error("{message}")]
     Diverged {
@@ -122,10 +150,69 @@ pub enum Error {
         /// What happened and what to change.
         message: String,
     },
+    /// A result could not be encoded as JSON to be saved.
+    #[error("cannot encode {what}: {source}")]
+    Encode {
+        /// What was being encoded, e.g. "the study manifest".
+        what: String,
+        /// serde_json's reason.
+        source: serde_json::Error,
+    },
+    /// A part of whirl stopped unexpectedly (a worker thread ended early); a bug to report.
+    #[error("{0}")]
+    Internal(String),
     /// A long computation was stopped on request; what was finished is kept where the
     /// message says.
     #[error("{0}")]
     Interrupted(String),
+}
+
+impl Error {
+    /// A singular matrix, named by `what`.
+    pub(crate) fn singular(what: &'static str, message: String) -> Error {
+        Error::Singular { what, message }
+    }
+
+    /// An iteration of method `what` that stopped short of its tolerance.
+    pub(crate) fn not_converged(
+        what: &'static str,
+        iterations: Option<usize>,
+        residual: Option<f64>,
+        message: String,
+    ) -> Error {
+        Error::NotConverged {
+            what,
+            iterations,
+            residual,
+            message,
+        }
+    }
+
+    /// The same numerical failure with its message rewritten by `f` (to add where or why it
+    /// happened); input, file, divergence, encoding and interruption errors pass unchanged.
+    pub(crate) fn map_message(self, f: impl FnOnce(String) -> String) -> Error {
+        match self {
+            Error::InvalidOption(m) => Error::InvalidOption(f(m)),
+            Error::Unsupported(m) => Error::Unsupported(f(m)),
+            Error::Singular { what, message } => Error::Singular {
+                what,
+                message: f(message),
+            },
+            Error::NotConverged {
+                what,
+                iterations,
+                residual,
+                message,
+            } => Error::NotConverged {
+                what,
+                iterations,
+                residual,
+                message: f(message),
+            },
+            Error::Internal(m) => Error::Internal(f(m)),
+            other => other,
+        }
+    }
 }
 
 impl From<InputError> for Error {

@@ -291,7 +291,7 @@ fn the_planner_reuses_its_plan_and_matches_the_one_shot_spectrum() {
 
 fn message(result: Result<impl std::fmt::Debug, Error>) -> String {
     match result {
-        Err(Error::Numerical(message)) => message,
+        Err(Error::InvalidOption(message)) => message,
         other => panic!("expected a numerical error, got {other:?}"),
     }
 }

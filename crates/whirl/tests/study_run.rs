@@ -73,7 +73,7 @@ fn a_failed_point_is_left_out_and_computed_again_by_the_next_run() {
     let failing = |p: &Point| {
         calls.set(calls.get() + 1);
         if calls.get() == 4 {
-            Err(whirl::Error::Numerical("interrupted".into()))
+            Err(whirl::Error::Interrupted("interrupted".into()))
         } else {
             fake_cascade(p)
         }

@@ -139,7 +139,7 @@ pub fn fit_forcing(
     options: &ForcingFitOptions,
 ) -> Result<ForcingFit> {
     let bearing = model.roller_bearings.get(index).ok_or_else(|| {
-        Error::Numerical(format!(
+        Error::InvalidOption(format!(
             "roller bearing {index} does not exist: the model has {} (numbered from 0)",
             model.roller_bearings.len()
         ))
@@ -182,7 +182,7 @@ pub fn fit_forcing(
 }
 
 fn check_request(speeds: &[f64], options: &ForcingFitOptions) -> Result<()> {
-    let bad = |m: String| Err(Error::Numerical(m));
+    let bad = |m: String| Err(Error::InvalidOption(m));
     if speeds.is_empty() {
         return bad("give at least one speed to fit the forcing function at".into());
     }

@@ -157,7 +157,7 @@ fn starting_law(data: &[LogSample]) -> Result<ForcingFunction> {
         })
         .collect();
     if per_speed.is_empty() {
-        return Err(Error::Numerical(
+        return Err(Error::InvalidOption(
             "fewer than two distinct deflections in contact at every speed: nothing to fit \
              the forcing function to (run longer, or at speeds where the shaft moves)"
                 .into(),

@@ -39,7 +39,7 @@ impl HertzBearing {
     pub fn new(bearing: &RollerBearing, dofs: Vec<usize>) -> Result<Self> {
         let geometry = RollerGeometry::new(bearing);
         if dofs.len() != geometry.coordinates() {
-            return Err(Error::Numerical(format!(
+            return Err(Error::InvalidOption(format!(
                 "{} needs {} coordinates, got {}",
                 bearing.name,
                 geometry.coordinates(),

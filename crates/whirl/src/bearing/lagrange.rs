@@ -194,12 +194,12 @@ impl LagrangeContacts {
     /// Constraints for `bearings`, whose (ux, uy) are the coordinates `coordinates[2 b..2 b + 2]`.
     pub fn new(bearings: &[RollerBearing], coordinates: Vec<usize>) -> Result<Self> {
         if bearings.len() > MAX_BEARINGS {
-            return Err(Error::Numerical(format!(
+            return Err(Error::Unsupported(format!(
                 "at most {MAX_BEARINGS} bearings can be constrained by Lagrange multipliers"
             )));
         }
         if coordinates.len() != 2 * bearings.len() {
-            return Err(Error::Numerical(
+            return Err(Error::InvalidOption(
                 "each constrained bearing needs its (ux, uy) coordinates".into(),
             ));
         }
@@ -381,7 +381,8 @@ fn solve_complementarity(w: &mut Work, m: usize) -> Result<usize> {
     let p_scale = w.predicted[..m].iter().fold(0.0f64, |a, &d| a.max(d.abs()));
     w.lambda[..m].iter_mut().for_each(|l| *l = 0.0);
     if w_scale <= 0.0 || p_scale <= 0.0 || !w_scale.is_finite() || !p_scale.is_finite() {
-        return Err(Error::Numerical(
+        return Err(Error::singular(
+            "contact compliance",
             "the Lagrange-multiplier contact met a roller with no compliance; reduce the time \
              step"
                 .into(),
@@ -444,7 +445,10 @@ impl Tableau {
                 leaving - m
             };
             let Some(row) = self.ratio_test(w, m, entering) else {
-                return Err(Error::Numerical(
+                return Err(Error::not_converged(
+                    "Lagrange-multiplier contact",
+                    None,
+                    None,
                     "the Lagrange-multiplier contact has no solution at this step (the \
                      rollers cannot hold the predicted motion); reduce the time step"
                         .into(),
@@ -456,7 +460,10 @@ impl Tableau {
                 return Ok(pivots);
             }
         }
-        Err(Error::Numerical(
+        Err(Error::not_converged(
+            "Lagrange-multiplier contact",
+            None,
+            None,
             "the Lagrange-multiplier contact did not find its contact forces within the pivot \
              limit; reduce the time step"
                 .into(),

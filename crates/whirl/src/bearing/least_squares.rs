@@ -61,7 +61,7 @@ pub(crate) fn levenberg_marquardt(start: &[f64], residuals: Residuals<'_>) -> Re
     let m = start.len();
     let mut p = start.to_vec();
     let mut at = residuals(&p).ok_or_else(|| {
-        Error::Numerical("least squares: the model is undefined at the starting values".into())
+        Error::InvalidOption("least squares: the model is undefined at the starting values".into())
     })?;
     let scale = column_norms(&at.jacobian, m);
     let mut lambda = 1e-3;
@@ -100,9 +100,12 @@ pub(crate) fn levenberg_marquardt(start: &[f64], residuals: Residuals<'_>) -> Re
             }
         }
     }
-    Err(Error::Numerical(format!(
-        "least squares did not converge in {MAX_ITERATIONS} iterations"
-    )))
+    Err(Error::not_converged(
+        "least squares",
+        Some(MAX_ITERATIONS),
+        None,
+        format!("least squares did not converge in {MAX_ITERATIONS} iterations"),
+    ))
 }
 
 /// True when the scaled step is below [`STEP_TOLERANCE`] of the scaled parameters.

@@ -66,7 +66,7 @@ pub fn contact_coordinates_of(
         .map(|&d| {
             let c = coordinate(dof(node, d));
             if c == usize::MAX {
-                Err(Error::Numerical(format!(
+                Err(Error::Unsupported(format!(
                     "{} at node {node}: its DOFs are not kept by the reduction; they must be \
                      boundary DOFs",
                     bearing.name

@@ -463,14 +463,19 @@ impl FrozenBearing {
     }
 
     fn no_equilibrium(&self, load: [f64; 2], residual: f64) -> Error {
-        Error::Numerical(format!(
-            "no static equilibrium of the bearing at clearance {:.3} um under the load \
+        Error::not_converged(
+            "bearing equilibrium",
+            None,
+            Some(residual),
+            format!(
+                "no static equilibrium of the bearing at clearance {:.3} um under the load \
              ({:.4}, {:.4}) N (force left over {residual:.3e} N): the rollers cannot carry a \
              load in this direction",
-            self.clearance * 1e6,
-            load[0],
-            load[1]
-        ))
+                self.clearance * 1e6,
+                load[0],
+                load[1]
+            ),
+        )
     }
 }
 
@@ -661,7 +666,8 @@ pub fn gravity_load(model: &Model, index: usize) -> Result<[f64; 2]> {
     if load.iter().all(|x| x.is_finite()) {
         Ok(load)
     } else {
-        Err(Error::Numerical(
+        Err(Error::singular(
+            "linearised stiffness",
             "the linearised rotor cannot carry its weight (its supports leave it free); give \
              each roller bearing a positive linear_stiffness"
                 .into(),

@@ -157,7 +157,7 @@ impl HarmonicBalance {
     /// Harmonic balance at frequency w (rad/s) by Newton-Raphson from `guess`.
     ///
     /// # Errors
-    /// [`Error::Numerical`] when Newton does not converge within `max_iterations`: an
+    /// [`Error::NotConverged`] when Newton does not converge within `max_iterations`: an
     /// unconverged point is never returned.
     pub fn solve(&mut self, frequency: f64, guess: &[f64]) -> Result<HbSolution> {
         self.check_arguments(frequency, guess)?;
@@ -179,31 +179,39 @@ impl HarmonicBalance {
             }
             let jacobian = self.linearise(&x, frequency).jacobian;
             let step = solve_dense(&jacobian, &residual.values).ok_or_else(|| {
-                Error::Numerical(format!(
-                    "harmonic balance at {frequency} rad/s: singular Jacobian (a turning \
+                Error::singular(
+                    "Jacobian",
+                    format!(
+                        "harmonic balance at {frequency} rad/s: singular Jacobian (a turning \
                      point?); use continuation to pass it"
-                ))
+                    ),
+                )
             })?;
             for (xi, di) in x.iter_mut().zip(&step) {
                 *xi -= di;
             }
         }
-        Err(Error::Numerical(format!(
-            "harmonic balance did not converge at {frequency} rad/s after {} Newton \
+        Err(Error::not_converged(
+            "harmonic balance",
+            Some(self.options.max_iterations),
+            Some(last),
+            format!(
+                "harmonic balance did not converge at {frequency} rad/s after {} Newton \
              iterations (relative residual {last:e}, tolerance {:e}); start nearer the \
              solution (continuation with a smaller step), or use more time samples",
-            self.options.max_iterations, self.options.tolerance
-        )))
+                self.options.max_iterations, self.options.tolerance
+            ),
+        ))
     }
 
     pub(crate) fn check_arguments(&self, frequency: f64, x: &[f64]) -> Result<()> {
         if !(frequency.is_finite() && frequency > 0.0) {
-            return Err(Error::Numerical(format!(
+            return Err(Error::InvalidOption(format!(
                 "harmonic balance needs a positive excitation frequency, got {frequency} rad/s"
             )));
         }
         if x.len() != self.unknowns() {
-            return Err(Error::Numerical(format!(
+            return Err(Error::InvalidOption(format!(
                 "harmonic balance has {} unknowns, the guess {}",
                 self.unknowns(),
                 x.len()

@@ -80,11 +80,12 @@ impl CagedBearing {
     /// `inner` with its cage positions set by `cage`.
     ///
     /// # Errors
-    /// [`Error::Numerical`] when the bearing has waviness or `cage` has no positions.
+    /// [`Error::Unsupported`] when the bearing has waviness, [`Error::InvalidOption`] when
+    /// `cage` has no positions.
     pub fn new(inner: HertzBearing, cage: CageModel) -> Result<CagedBearing> {
         let geometry = inner.geometry();
         if !geometry.waviness.is_empty() {
-            return Err(Error::Numerical(format!(
+            return Err(Error::Unsupported(format!(
                 "{}: waviness makes the bearing force quasi-periodic (it moves with the cage \
                  and the inner ring), which harmonic balance in the running speed cannot \
                  hold; remove the waviness for harmonic balance or use `whirl simulate`",
@@ -95,7 +96,7 @@ impl CagedBearing {
         let pitch_angle = TAU / geometry.rollers as f64 / geometry.cage_ratio;
         let angles = match cage {
             CageModel::PassageAveraged { positions: 0 } => {
-                return Err(Error::Numerical(
+                return Err(Error::InvalidOption(
                     "the passage average needs at least one cage position per pitch".into(),
                 ))
             }

@@ -99,7 +99,7 @@ pub fn settled_response(
         channel(&format!("n{node}.ux")),
         channel(&format!("n{node}.uy")),
     ) else {
-        return Err(crate::Error::Numerical(format!(
+        return Err(crate::Error::InvalidOption(format!(
             "node {node} was not recorded"
         )));
     };

@@ -183,7 +183,8 @@ impl CondensedBalance {
     /// matrices are exact; only the linear rest is truncated, to its lowest modes.
     ///
     /// # Errors
-    /// [`Error::Numerical`] when the reduction or the eigen-solver fails.
+    /// [`Error::Singular`] or [`Error::NotConverged`] when the reduction or the eigen-solver
+    /// fails.
     pub fn stability(&mut self, x: &[f64], frequency: f64) -> Result<Stability> {
         self.hill_problem(x, frequency)?.solve()
     }
@@ -266,7 +267,7 @@ impl CondensedBalance {
     /// The linear part condensed at frequency w.
     ///
     /// # Errors
-    /// [`Error::Numerical`] when D_bb is singular: w sits on a resonance of the linear part
+    /// [`Error::Singular`] when D_bb is singular: w sits on a resonance of the linear part
     /// with the kept coordinates held fixed, where the rest cannot be condensed.
     pub fn condense(&self, frequency: f64) -> Result<Condensed> {
         let blocks = (0..=self.harmonics())
@@ -378,10 +379,13 @@ impl CondensedBalance {
             }
         }
         let singular = || {
-            Error::Numerical(format!(
-                "condensation at {frequency} rad/s: the linear part with the nonlinear \
+            Error::singular(
+                "condensed linear part",
+                format!(
+                    "condensation at {frequency} rad/s: the linear part with the nonlinear \
                  coordinates held is singular (a resonance of the condensed coordinates)"
-            ))
+                ),
+            )
         };
         let lu = BandedLu::new(b.len(), band, band, |i, k| d_bb[i * width + k + band - i].0)
             .ok_or_else(singular)?;
@@ -527,19 +531,25 @@ impl CondensedBalance {
             }
             let (jacobian, _) = self.linearise(condensed, &x);
             let step = solve_dense(&jacobian, &residual).ok_or_else(|| {
-                Error::Numerical(format!(
-                    "condensed harmonic balance at {frequency} rad/s: singular Jacobian"
-                ))
+                Error::singular(
+                    "Jacobian",
+                    format!("condensed harmonic balance at {frequency} rad/s: singular Jacobian"),
+                )
             })?;
             for (xi, di) in x.iter_mut().zip(&step) {
                 *xi -= di;
             }
         }
-        Err(Error::Numerical(format!(
-            "condensed harmonic balance did not converge at {frequency} rad/s after {} \
+        Err(Error::not_converged(
+            "condensed harmonic balance",
+            Some(options.max_iterations),
+            Some(last),
+            format!(
+                "condensed harmonic balance did not converge at {frequency} rad/s after {} \
              Newton iterations (relative residual {last:e}, tolerance {:e})",
-            options.max_iterations, options.tolerance
-        )))
+                options.max_iterations, options.tolerance
+            ),
+        ))
     }
 
     /// The full Fourier coefficients x[slot * n + dof] of a condensed solution (the

@@ -273,7 +273,8 @@ impl Scaling {
 /// `guess` at `from`.
 ///
 /// # Errors
-/// [`Error::Numerical`] when the first point does not converge or the range is empty;
+/// [`Error::NotConverged`] or [`Error::Singular`] when the first point does not converge,
+/// [`Error::InvalidOption`] when the range is empty;
 /// later failures end the branch ([`BranchEnd::StepTooSmall`]) and keep what converged.
 pub fn continuation(
     hb: &mut impl Periodic,
@@ -315,7 +316,7 @@ fn check_range(from: f64, to: f64) -> Result<()> {
     if to.is_finite() && from.is_finite() && to != from {
         Ok(())
     } else {
-        Err(Error::Numerical(format!(
+        Err(Error::InvalidOption(format!(
             "continuation needs two different frequencies, got {from} and {to} rad/s"
         )))
     }
@@ -402,7 +403,7 @@ fn trace_with_stability<H: Periodic>(
             let s = &point.solution;
             let problem = hb.hill_problem(&s.coefficients, s.frequency)?;
             sender.send((index, problem)).map_err(|_| {
-                Error::Numerical("the thread solving Hill's eigenproblems stopped".into())
+                Error::Internal("the thread solving Hill's eigenproblems stopped".into())
             })
         };
         let path = trace(hb, first, orientation, range, options, &mut submit);
@@ -415,7 +416,7 @@ fn trace_with_stability<H: Periodic>(
         .into_inner()
         .unwrap_or_else(PoisonError::into_inner);
     if verdicts.len() != path.points.len() {
-        return Err(Error::Numerical(
+        return Err(Error::Internal(
             "the thread solving Hill's eigenproblems stopped before the last point".into(),
         ));
     }
@@ -789,10 +790,13 @@ fn unit_tangent(
     let mut rhs = vec![0.0; previous.len()];
     rhs[previous.len() - 1] = 1.0;
     let t = solve_dense(&a, &rhs).ok_or_else(|| {
-        Error::Numerical(format!(
-            "the branch's tangent is undefined at {} rad/s (a branch point?)",
-            s.frequency
-        ))
+        Error::singular(
+            "continuation Jacobian",
+            format!(
+                "the branch's tangent is undefined at {} rad/s (a branch point?)",
+                s.frequency
+            ),
+        )
     })?;
     let length = norm(&t);
     Ok(t.iter().map(|v| v / length).collect())
@@ -845,10 +849,15 @@ pub(super) fn correct(
             *yi -= di;
         }
     }
-    Err(Error::Numerical(format!(
-        "the continuation corrector did not converge with step {step:e} from {} rad/s",
-        y0[y0.len() - 1] * scaling.frequency
-    )))
+    Err(Error::not_converged(
+        "continuation corrector",
+        None,
+        None,
+        format!(
+            "the continuation corrector did not converge with step {step:e} from {} rad/s",
+            y0[y0.len() - 1] * scaling.frequency
+        ),
+    ))
 }
 
 /// The solution at exactly `to`, between `before` and `after`, by Newton at fixed

@@ -65,7 +65,7 @@ impl Aft {
     /// lies below the Nyquist frequency.
     pub fn new(harmonics: usize, samples: usize) -> Result<Aft> {
         if samples <= 2 * harmonics {
-            return Err(Error::Numerical(format!(
+            return Err(Error::InvalidOption(format!(
                 "harmonic balance with {harmonics} harmonics needs more than {} time samples \
                  per period, got {samples}",
                 2 * harmonics

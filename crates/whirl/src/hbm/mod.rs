@@ -119,13 +119,13 @@ impl HbProblem {
             && square(&self.gyroscopic))
             || vectors.iter().any(|v| v.len() != n)
         {
-            return Err(Error::Numerical(
+            return Err(Error::InvalidOption(
                 "harmonic balance problem matrices and vectors differ in size".into(),
             ));
         }
         for f in &self.nonlinear {
             if let Some(&d) = f.dofs().iter().find(|&&d| d >= n) {
-                return Err(Error::Numerical(format!(
+                return Err(Error::InvalidOption(format!(
                     "{} acts on coordinate {d} of {n}",
                     f.name()
                 )));

@@ -33,7 +33,8 @@ pub struct Stability {
 /// Hill's method at the solution `x` at frequency w (rad/s).
 ///
 /// # Errors
-/// [`Error::Numerical`] when M is singular or the eigen-solver fails.
+/// [`Error::Singular`] when M is singular, [`Error::NotConverged`] when the eigen-solver
+/// fails.
 pub fn hill_stability(hb: &mut HarmonicBalance, x: &[f64], frequency: f64) -> Result<Stability> {
     hb.check_arguments(frequency, x)?;
     let lin = hb.linearise(x, frequency);
@@ -86,13 +87,16 @@ impl HillProblem {
     /// The Floquet exponents and the verdict.
     ///
     /// # Errors
-    /// [`Error::Numerical`] when the eigen-solver fails.
+    /// [`Error::NotConverged`] when the eigen-solver fails.
     pub fn solve(self) -> Result<Stability> {
         let frequency = self.frequency;
         let values = self.companion.eigenvalues().map_err(|_| {
-            Error::Numerical(format!(
-                "Hill's eigenproblem did not converge at {frequency} rad/s"
-            ))
+            Error::not_converged(
+                "Hill's eigenproblem",
+                None,
+                None,
+                format!("Hill's eigenproblem did not converge at {frequency} rad/s"),
+            )
         })?;
         let mut all: Vec<(f64, f64)> = values.iter().map(|v| (v.re, v.im)).collect();
         let largest = all.iter().map(|(re, im)| re.hypot(*im)).fold(0.0, f64::max);
@@ -150,7 +154,8 @@ fn block_inverse_mass(hb: &HarmonicBalance, size: usize) -> Result<Mat<f64>> {
     let mut inverse = Mat::<f64>::identity(n, n);
     faer::linalg::solvers::Solve::solve_in_place(&mass.partial_piv_lu(), inverse.as_mut());
     if (0..n).any(|i| (0..n).any(|j| !inverse[(i, j)].is_finite())) {
-        return Err(Error::Numerical(
+        return Err(Error::singular(
+            "mass matrix",
             "Hill's method needs a nonsingular mass matrix".into(),
         ));
     }

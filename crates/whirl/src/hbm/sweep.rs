@@ -183,7 +183,7 @@ pub fn model_problem(
     cage: CageModel,
 ) -> Result<(HbProblem, Vec<f64>, Option<CraigBampton>)> {
     if model.roller_bearings.is_empty() {
-        return Err(Error::Numerical(
+        return Err(Error::Unsupported(
             "the model has no roller bearing: its periodic response is linear; use `whirl \
              unbalance`"
                 .into(),
@@ -195,12 +195,12 @@ pub fn model_problem(
         ContactLaw::Hertz => time_problem(model, reduction, speed, apart, &hertz)?,
         ContactLaw::Forcing => time_problem(model, reduction, speed, apart, &forcing_bearings)?,
         ContactLaw::Linear => {
-            return Err(Error::Numerical(
+            return Err(Error::Unsupported(
                 "linear bearings give a linear periodic response: use `whirl unbalance`".into(),
             ))
         }
         ContactLaw::Lagrange => {
-            return Err(Error::Numerical(
+            return Err(Error::Unsupported(
                 "rigid (Lagrange-multiplier) rollers exist only in the central difference; \
                  harmonic balance needs a force law: use hertz or forcing"
                     .into(),
@@ -265,11 +265,13 @@ pub fn sweep_with_progress(
         &continuation_options,
     )
     .map_err(|e| match (options.contact, options.cage) {
-        (ContactLaw::Hertz, CageModel::Frozen) => Error::Numerical(format!(
-            "{e}. With the cage frozen, a single roller under the load leaves the journal free \
-             sideways inside the clearance: set the bearing's cage_angle half a roller pitch \
-             off, or use the passage average"
-        )),
+        (ContactLaw::Hertz, CageModel::Frozen) => e.map_message(|m| {
+            format!(
+                "{m}. With the cage frozen, a single roller under the load leaves the journal \
+                 free sideways inside the clearance: set the bearing's cage_angle half a \
+                 roller pitch off, or use the passage average"
+            )
+        }),
         _ => e,
     })?;
     let coefficients = branch
@@ -326,7 +328,7 @@ impl Periodic for Reporting<'_> {
 }
 
 fn check(options: &SweepOptions) -> Result<()> {
-    let bad = |m: String| Err(Error::Numerical(m));
+    let bad = |m: String| Err(Error::InvalidOption(m));
     if !(options.from.is_finite() && options.from > 0.0 && options.to.is_finite()) {
         return bad(format!(
             "harmonic balance needs positive speeds, got {} to {} rad/s",

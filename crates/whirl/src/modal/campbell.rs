@@ -110,12 +110,14 @@ pub struct CampbellResult {
 /// Computes a Campbell diagram.
 pub fn campbell(system: &SystemMatrices, options: &CampbellOptions) -> Result<CampbellResult> {
     if options.speeds.is_empty() {
-        return Err(Error::Numerical(
+        return Err(Error::InvalidOption(
             "a Campbell diagram needs at least one speed".into(),
         ));
     }
     if options.speeds.windows(2).any(|w| w[1] < w[0]) {
-        return Err(Error::Numerical("Campbell speeds must be ascending".into()));
+        return Err(Error::InvalidOption(
+            "Campbell speeds must be ascending".into(),
+        ));
     }
     let basis = match options.basis_size {
         Some(p) if p < system.dofs() => ModalBasis::truncated(system, p)?,

@@ -159,9 +159,14 @@ impl ModalBasis {
             (false, false) => -(self.c[(i - p, j - p)] + omega * self.g[(i - p, j - p)]),
         });
         let eig = a.eigen().map_err(|_| {
-            Error::Numerical(format!(
+            Error::not_converged(
+                "eigen-solver",
+                None,
+                None,
+                format!(
                 "the eigen-solver did not converge at {omega} rad/s; check the model's matrices"
-            ))
+            ),
+            )
         })?;
         let values = eig.S().column_vector();
         let vectors = eig.U();

@@ -53,8 +53,8 @@ pub struct CriticalSpeedMap {
 /// The map over `stiffness` (N/m, positive), `modes` curves.
 ///
 /// # Errors
-/// [`Error::Numerical`] for a stiffness that is not positive, a model without bearings or
-/// an eigen-solver failure.
+/// [`Error::InvalidOption`] for a stiffness that is not positive, [`Error::Unsupported`]
+/// for a model without bearings, [`Error::Singular`] when the rotor is not held.
 pub fn critical_speed_map(
     model: &Model,
     stiffness: &[f64],
@@ -62,12 +62,12 @@ pub fn critical_speed_map(
     synchronous: bool,
 ) -> Result<CriticalSpeedMap> {
     if model.bearings.is_empty() && model.roller_bearings.is_empty() {
-        return Err(Error::Numerical(
+        return Err(Error::Unsupported(
             "the critical-speed map needs bearings: the model has none".into(),
         ));
     }
     if let Some(k) = stiffness.iter().find(|k| !(k.is_finite() && **k > 0.0)) {
-        return Err(Error::Numerical(format!(
+        return Err(Error::InvalidOption(format!(
             "bearing stiffness {k} N/m: the map needs positive stiffnesses"
         )));
     }
@@ -138,10 +138,13 @@ fn critical_speeds(model: &Model, k: f64, modes: usize, synchronous: bool) -> Re
     });
     // M_eff v = mu K_p v: mu ascending, so the lowest speeds are the largest mu.
     let (mu, _) = symmetric_modes(&meff, &kp, p).map_err(|_| {
-        Error::Numerical(format!(
-            "with every bearing at {k:.3e} N/m the stiffness is not positive definite: the \
+        Error::singular(
+            "stiffness matrix",
+            format!(
+                "with every bearing at {k:.3e} N/m the stiffness is not positive definite: the \
              rotor needs bearings at two nodes at least"
-        ))
+            ),
+        )
     })?;
     Ok(mu
         .iter()

@@ -24,7 +24,8 @@ pub struct UndampedModes {
 /// Cholesky factor L of the mass matrix, with a clear error when M is not positive definite.
 fn mass_cholesky(mass: &Mat<f64>) -> Result<faer::linalg::solvers::Llt<f64>> {
     mass.llt(Side::Lower).map_err(|_| {
-        Error::Numerical(
+        Error::singular(
+            "mass matrix",
             "the mass matrix is not positive definite: every node needs mass; check for \
              zero-length or zero-density shaft sections"
                 .into(),
@@ -41,13 +42,16 @@ const NEUTRAL_OMEGA_SQUARED: f64 =
 /// divergence (buckling), which a frequency of 0 Hz would hide.
 fn stable_at_rest(omega_squared: &[f64]) -> Result<()> {
     match omega_squared.first() {
-        Some(&w2) if w2 < NEUTRAL_OMEGA_SQUARED => Err(Error::Numerical(format!(
+        Some(&w2) if w2 < NEUTRAL_OMEGA_SQUARED => Err(Error::singular(
+            "stiffness matrix",
+            format!(
             "the rotor is unstable at rest: its stiffness is not positive (the lowest mode has \
              w^2 = {w2:.4e} (rad/s)^2, a static divergence growing at {:.4} 1/s); a compressive \
              axial load above the buckling load or a negative bearing stiffness does this: check \
              elements.axial_load and the bearings' stiffnesses",
             (-w2).sqrt()
-        ))),
+        ),
+        )),
         _ => Ok(()),
     }
 }
@@ -55,7 +59,7 @@ fn stable_at_rest(omega_squared: &[f64]) -> Result<()> {
 /// The `count` lowest undamped modes (all when `count` exceeds the DOF count).
 ///
 /// # Errors
-/// [`Error::Numerical`] when the mass is not positive definite, or the stiffness is not
+/// [`Error::Singular`] when the mass is not positive definite, or the stiffness is not
 /// positive semi-definite (the rotor is unstable at rest).
 pub fn undamped_modes(system: &SystemMatrices, count: usize) -> Result<UndampedModes> {
     let (omega_squared, shapes) = symmetric_modes(&system.stiffness, &system.mass, count)?;
@@ -123,7 +127,14 @@ fn symmetric_eigen(a: &Mat<f64>) -> Result<(Vec<f64>, Mat<f64>)> {
         MemStack::new(&mut MemBuffer::new(scratch)),
         params.into(),
     )
-    .map_err(|_| Error::Numerical("the symmetric eigen-solver did not converge".into()))?;
+    .map_err(|_| {
+        Error::not_converged(
+            "symmetric eigen-solver",
+            None,
+            None,
+            "the symmetric eigen-solver did not converge".into(),
+        )
+    })?;
     let values = (0..n).map(|j| values.column_vector()[j]).collect();
     Ok((values, vectors))
 }

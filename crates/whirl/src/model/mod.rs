@@ -431,7 +431,7 @@ impl Model {
                 .iter()
                 .position(|&zn| (zn - st.z).abs() <= tol)
                 .ok_or_else(|| {
-                    Error::Numerical(format!(
+                    Error::InvalidOption(format!(
                         "no node at z = {} m with elements {:?}",
                         st.z, elements
                     ))

@@ -40,8 +40,10 @@ pub(super) struct Checkpoint {
 
 /// The manifest of a cascade of `model` with these options.
 fn manifest(model: &Model, options: &CascadeOptions, resolved: &Resolved) -> Result<Value> {
-    let model_json = serde_json::to_string(model)
-        .map_err(|e| Error::Numerical(format!("cannot encode the model for its hash: {e}")))?;
+    let model_json = serde_json::to_string(model).map_err(|source| Error::Encode {
+        what: "the model for its hash".into(),
+        source,
+    })?;
     Ok(json!({
         "format": FORMAT,
         "whirl_version": env!("CARGO_PKG_VERSION"),
@@ -108,8 +110,10 @@ impl Checkpoint {
                 return Err(mismatch(dir, &found, &wanted));
             }
         } else {
-            let text = serde_json::to_string_pretty(&wanted)
-                .map_err(|e| Error::Numerical(format!("cannot encode the manifest: {e}")))?;
+            let text = serde_json::to_string_pretty(&wanted).map_err(|source| Error::Encode {
+                what: "the manifest".into(),
+                source,
+            })?;
             write_atomically(&path, text.as_bytes())?;
         }
         remove_leftovers(dir)?;
@@ -133,8 +137,10 @@ impl Checkpoint {
 
     /// Saves point `index` atomically.
     pub(super) fn save(&self, index: usize, point: &CascadePoint) -> Result<()> {
-        let text = serde_json::to_string(point)
-            .map_err(|e| Error::Numerical(format!("cannot encode a cascade point: {e}")))?;
+        let text = serde_json::to_string(point).map_err(|source| Error::Encode {
+            what: "a cascade point".into(),
+            source,
+        })?;
         write_atomically(&self.point_path(index), text.as_bytes())
     }
 

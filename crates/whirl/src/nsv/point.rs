@@ -272,7 +272,7 @@ pub(super) fn compute(
 /// The record of `samples` samples from `start`.
 fn record<'a>(values: &'a [f64], start: usize, r: &Resolved) -> Result<&'a [f64]> {
     values.get(start..start + r.samples).ok_or_else(|| {
-        Error::Numerical(format!(
+        Error::Internal(format!(
             "the record after settling holds {} samples, fewer than the {} planned",
             values.len().saturating_sub(start),
             r.samples

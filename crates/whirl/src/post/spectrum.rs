@@ -175,8 +175,8 @@ pub struct FullSpectrum {
 /// reads it). See [`amplitude_spectrum_with`] to remove the mean.
 ///
 /// # Errors
-/// [`Error::Numerical`] for an empty or short (fewer than 8 samples) signal, a sample that
-/// is not finite, or a sample rate that is not finite and positive.
+/// [`Error::InvalidOption`] for an empty or short (fewer than 8 samples) signal, a sample
+/// that is not finite, or a sample rate that is not finite and positive.
 pub fn amplitude_spectrum(signal: &[f64], sample_rate_hz: f64, window: Window) -> Result<Spectrum> {
     amplitude_spectrum_with(signal, sample_rate_hz, SpectrumOptions::window(window))
 }
@@ -242,7 +242,7 @@ impl SpectrumPlanner {
     /// Plans spectra of `len` samples taken at `sample_rate_hz`.
     ///
     /// # Errors
-    /// [`Error::Numerical`] when `len < 8` or the sample rate is not finite and positive.
+    /// [`Error::InvalidOption`] when `len < 8` or the sample rate is not finite and positive.
     pub fn new(len: usize, sample_rate_hz: f64, options: SpectrumOptions) -> Result<Self> {
         check_length("spectrum", len)?;
         check_rate("spectrum", sample_rate_hz)?;
@@ -296,7 +296,7 @@ impl SpectrumPlanner {
     /// [`bins`](Self::bins)), allocating nothing.
     ///
     /// # Errors
-    /// [`Error::Numerical`] when a length is wrong or a sample is not finite.
+    /// [`Error::InvalidOption`] when a length is wrong or a sample is not finite.
     pub fn process(&mut self, signal: &[f64], amplitude: &mut [f64]) -> Result<()> {
         const WHAT: &str = "spectrum";
         check_same_length(WHAT, "signal", signal.len(), self.len())?;
@@ -312,7 +312,7 @@ impl SpectrumPlanner {
         }
         self.fft
             .process_with_scratch(&mut self.input, &mut self.output, &mut self.scratch)
-            .map_err(|e| Error::Numerical(format!("{WHAT}: FFT failed: {e}")))?;
+            .map_err(|e| Error::Internal(format!("{WHAT}: FFT failed: {e}")))?;
         let len = self.len();
         for (k, (a, x)) in amplitude.iter_mut().zip(&self.output).enumerate() {
             let edge = k == 0 || 2 * k == len;
@@ -354,7 +354,7 @@ impl FullSpectrumPlanner {
     /// Plans full spectra of `len` samples taken at `sample_rate_hz`.
     ///
     /// # Errors
-    /// [`Error::Numerical`] when `len < 8` or the sample rate is not finite and positive.
+    /// [`Error::InvalidOption`] when `len < 8` or the sample rate is not finite and positive.
     pub fn new(len: usize, sample_rate_hz: f64, options: SpectrumOptions) -> Result<Self> {
         check_length("full spectrum", len)?;
         check_rate("full spectrum", sample_rate_hz)?;
@@ -398,7 +398,7 @@ impl FullSpectrumPlanner {
     /// [`frequency_hz`](Self::frequency_hz)), allocating nothing.
     ///
     /// # Errors
-    /// [`Error::Numerical`] when a length is wrong or a sample is not finite.
+    /// [`Error::InvalidOption`] when a length is wrong or a sample is not finite.
     pub fn process(&mut self, x: &[f64], y: &[f64], amplitude: &mut [f64]) -> Result<()> {
         const WHAT: &str = "full spectrum";
         let len = self.len();
@@ -444,9 +444,9 @@ impl FullSpectrumPlanner {
 
 fn check_length(what: &str, len: usize) -> Result<()> {
     if len == 0 {
-        Err(Error::Numerical(format!("{what}: the signal is empty")))
+        Err(Error::InvalidOption(format!("{what}: the signal is empty")))
     } else if len < MIN_SAMPLES {
-        Err(Error::Numerical(format!(
+        Err(Error::InvalidOption(format!(
             "{what}: the signal has {len} samples; at least {MIN_SAMPLES} are needed"
         )))
     } else {
@@ -458,7 +458,7 @@ fn check_rate(what: &str, sample_rate_hz: f64) -> Result<()> {
     if sample_rate_hz.is_finite() && sample_rate_hz > 0.0 {
         Ok(())
     } else {
-        Err(Error::Numerical(format!(
+        Err(Error::InvalidOption(format!(
             "{what}: the sample rate must be finite and positive, got {sample_rate_hz} Hz"
         )))
     }
@@ -468,7 +468,7 @@ fn check_same_length(what: &str, name: &str, len: usize, expected: usize) -> Res
     if len == expected {
         Ok(())
     } else {
-        Err(Error::Numerical(format!(
+        Err(Error::InvalidOption(format!(
             "{what}: the {name} has {len} samples; this planner expects {expected}"
         )))
     }
@@ -477,7 +477,7 @@ fn check_same_length(what: &str, name: &str, len: usize, expected: usize) -> Res
 fn check_finite(what: &str, name: &str, signal: &[f64]) -> Result<()> {
     match signal.iter().position(|v| !v.is_finite()) {
         None => Ok(()),
-        Some(n) => Err(Error::Numerical(format!(
+        Some(n) => Err(Error::InvalidOption(format!(
             "{what}: sample {n} of the {name} is {}; every sample must be finite \
              (did the simulation diverge?)",
             signal[n]

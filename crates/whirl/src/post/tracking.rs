@@ -41,11 +41,11 @@ pub struct OrderComponent {
 /// Fits the `order` component of `signal`, sampled at shaft angles `angle` (rad).
 ///
 /// # Errors
-/// [`Error::Numerical`] when the lengths differ, a value is not finite, there are fewer than
+/// [`Error::InvalidOption`] when the lengths differ, a value is not finite, there are fewer than
 /// three samples, or `order` times the angles spans less than half a turn, too little to
 /// tell the cosine from the sine and the offset (e.g. a shaft at rest).
 pub fn order_component(angle: &[f64], signal: &[f64], order: f64) -> Result<OrderComponent> {
-    let bad = |why: String| Err(Error::Numerical(format!("order tracking: {why}")));
+    let bad = |why: String| Err(Error::InvalidOption(format!("order tracking: {why}")));
     if angle.len() != signal.len() {
         return bad(format!(
             "{} angles but {} samples",

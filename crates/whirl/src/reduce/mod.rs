@@ -62,7 +62,7 @@ impl CraigBampton {
         let mut is_boundary = vec![false; n];
         for &b in boundary {
             if b >= n {
-                return Err(Error::Numerical(format!(
+                return Err(Error::InvalidOption(format!(
                     "boundary DOF {b} is outside the model ({n} DOFs)"
                 )));
             }
@@ -71,7 +71,7 @@ impl CraigBampton {
         let boundary: Vec<usize> = (0..n).filter(|&i| is_boundary[i]).collect();
         let internal: Vec<usize> = (0..n).filter(|&i| !is_boundary[i]).collect();
         if boundary.is_empty() {
-            return Err(Error::Numerical(
+            return Err(Error::Unsupported(
                 "Craig-Bampton needs boundary DOFs: the model has no bearing; mark nodes as boundary".into(),
             ));
         }
@@ -84,7 +84,8 @@ impl CraigBampton {
         let lu = k_ii.partial_piv_lu();
         faer::linalg::solvers::Solve::solve_in_place(&lu, phi_c.as_mut());
         if phi_c.col_iter().any(|c| c.iter().any(|v| !v.is_finite())) {
-            return Err(Error::Numerical(
+            return Err(Error::singular(
+                "internal stiffness K_II",
                 "the internal stiffness K_II is singular: part of the shaft is not held by any \
                  boundary node (mark a node there as boundary)"
                     .into(),

@@ -104,7 +104,7 @@ impl FrfResult {
 /// frequency `frequency` (rad/s) while the rotor spins at `speed` (rad/s).
 ///
 /// # Errors
-/// [`Error::Numerical`] when the dynamic stiffness is singular (an undamped mode at this
+/// [`Error::Singular`] when the dynamic stiffness is singular (an undamped mode at this
 /// frequency, or a rotor without supports at w = 0).
 pub fn harmonic_response(
     system: &SystemMatrices,
@@ -124,11 +124,14 @@ pub fn harmonic_response(
     faer::linalg::solvers::Solve::solve_in_place(&z.partial_piv_lu(), rhs.as_mut());
     let q: Vec<c64> = (0..n).map(|i| rhs[(i, 0)]).collect();
     if q.iter().any(|v| !v.re.is_finite() || !v.im.is_finite()) {
-        return Err(Error::Numerical(format!(
-            "the dynamic stiffness is singular at {:.3} Hz: the rotor has an undamped \
+        return Err(Error::singular(
+            "dynamic stiffness",
+            format!(
+                "the dynamic stiffness is singular at {:.3} Hz: the rotor has an undamped \
              mode at this frequency, or is not supported (add bearings or damping)",
-            w / (2.0 * std::f64::consts::PI)
-        )));
+                w / (2.0 * std::f64::consts::PI)
+            ),
+        ));
     }
     Ok(q)
 }
@@ -137,7 +140,8 @@ pub fn harmonic_response(
 /// (rad/s) over the circular frequencies `frequencies` (rad/s).
 ///
 /// # Errors
-/// [`Error::Numerical`] for a DOF outside the model or a singular dynamic stiffness.
+/// [`Error::InvalidOption`] for a DOF outside the model, [`Error::Singular`] for a
+/// singular dynamic stiffness.
 pub fn frf(
     system: &SystemMatrices,
     speed: f64,
@@ -147,7 +151,7 @@ pub fn frf(
 ) -> Result<FrfResult> {
     let n = system.dofs();
     if let Some(&bad) = std::iter::once(&input).chain(outputs).find(|&&d| d >= n) {
-        return Err(Error::Numerical(format!(
+        return Err(Error::InvalidOption(format!(
             "DOF {bad} is not in the model (DOFs 0 to {})",
             n - 1
         )));

@@ -74,13 +74,13 @@ pub fn unbalance_response(
 ) -> Result<UnbalanceResult> {
     let count = model.node_count();
     if let Some(&bad) = nodes.iter().find(|&&n| n >= count) {
-        return Err(Error::Numerical(format!(
+        return Err(Error::InvalidOption(format!(
             "node {bad} is not on the shaft (nodes 0 to {})",
             count - 1
         )));
     }
     if model.unbalances.is_empty() {
-        return Err(Error::Numerical(
+        return Err(Error::Unsupported(
             "the model has no [[unbalance]]: add one to compute an unbalance response".into(),
         ));
     }

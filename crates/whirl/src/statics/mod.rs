@@ -89,7 +89,7 @@ impl StaticResult {
 /// Static response of `model` under its gravity, roller bearings carried as `rollers` says.
 ///
 /// # Errors
-/// [`Error::Numerical`] when the equilibrium cannot be found (a rotor not held by its
+/// [`Error::NotConverged`] or [`Error::Singular`] when the equilibrium cannot be found (a rotor not held by its
 /// bearings).
 pub fn static_response(model: &Model, rollers: RollerSupport) -> Result<StaticResult> {
     let (bearings, forces): (Bearings, ForceBuilder<'_>) = match rollers {
@@ -100,7 +100,8 @@ pub fn static_response(model: &Model, rollers: RollerSupport) -> Result<StaticRe
     let n = problem.size();
     let q = static_equilibrium(&mut problem, &vec![0.0; n])?;
     if q.iter().any(|v| !v.is_finite()) {
-        return Err(Error::Numerical(
+        return Err(Error::singular(
+            "stiffness matrix",
             "the static deflection is not finite: check that the bearings hold the rotor".into(),
         ));
     }
@@ -120,7 +121,7 @@ pub fn static_response(model: &Model, rollers: RollerSupport) -> Result<StaticRe
             Some(b) if b.value >= m.value => Some(b),
             _ => Some(m),
         })
-        .ok_or_else(|| Error::Numerical("the shaft has no nodes".into()))?;
+        .ok_or_else(|| Error::InvalidOption("the shaft has no nodes".into()))?;
     Ok(StaticResult {
         stations,
         reactions,

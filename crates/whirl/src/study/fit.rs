@@ -84,14 +84,14 @@ fn with_quality(mut fit: PolynomialFit, x: &[f64], y: &[f64]) -> PolynomialFit {
 
 fn check_data(x: &[f64], y: &[f64], degree: usize) -> Result<()> {
     if x.len() != y.len() {
-        return Err(Error::Numerical(format!(
+        return Err(Error::InvalidOption(format!(
             "polynomial fit: {} x values but {} y values",
             x.len(),
             y.len()
         )));
     }
     if x.iter().chain(y).any(|v| !v.is_finite()) {
-        return Err(Error::Numerical(
+        return Err(Error::InvalidOption(
             "polynomial fit: every value must be a finite number".into(),
         ));
     }
@@ -99,7 +99,7 @@ fn check_data(x: &[f64], y: &[f64], degree: usize) -> Result<()> {
     distinct.sort_by(f64::total_cmp);
     distinct.dedup();
     if distinct.len() <= degree {
-        return Err(Error::Numerical(format!(
+        return Err(Error::InvalidOption(format!(
             "a polynomial of degree {degree} needs at least {} different values of the \
              parameter, got {}",
             degree + 1,

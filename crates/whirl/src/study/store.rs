@@ -72,8 +72,10 @@ impl Store {
             fingerprint: fingerprint.to_string(),
             study_file: study_file.display().to_string(),
         };
-        let text = serde_json::to_string_pretty(&manifest)
-            .map_err(|e| Error::Numerical(format!("cannot encode the study manifest: {e}")))?;
+        let text = serde_json::to_string_pretty(&manifest).map_err(|source| Error::Encode {
+            what: "the study manifest".into(),
+            source,
+        })?;
         write_atomically(&manifest_path, text.as_bytes())?;
         Ok(store)
     }
@@ -101,8 +103,10 @@ impl Store {
 
     /// Saves the finished point `key` atomically.
     pub fn save<T: Serialize>(&self, key: &str, point: &T) -> Result<()> {
-        let text = serde_json::to_string(point)
-            .map_err(|e| Error::Numerical(format!("cannot encode point {key}: {e}")))?;
+        let text = serde_json::to_string(point).map_err(|source| Error::Encode {
+            what: format!("point {key}"),
+            source,
+        })?;
         write_atomically(&self.point_path(key), text.as_bytes())
     }
 

@@ -302,14 +302,14 @@ impl Step {
 
 /// Adds the time to a contact failure.
 fn at_time(e: Error, t: f64) -> Error {
-    match e {
-        Error::Numerical(m) => Error::Numerical(format!("at t = {t:.6e} s: {m}")),
-        other => other,
-    }
+    e.map_message(|m| format!("at t = {t:.6e} s: {m}"))
 }
 
 fn singular() -> Error {
-    Error::Numerical("the central-difference matrix M/h^2 + D/2h is singular".into())
+    Error::singular(
+        "central-difference matrix",
+        "the central-difference matrix M/h^2 + D/2h is singular".into(),
+    )
 }
 
 /// The largest stable step for this problem, s.
@@ -473,7 +473,7 @@ fn start(
 fn check_step(problem: &TimeProblem, h: f64) -> Result<()> {
     let limit = central_difference_limit(problem)?;
     if h >= limit {
-        return Err(Error::Numerical(format!(
+        return Err(Error::InvalidOption(format!(
             "the time step {h:.3e} s is above the central difference's stability limit \
              {limit:.3e} s (2 / w_max, w_max = {:.4e} rad/s with the contacts' tangent \
              stiffness): use a step below {limit:.3e} s, reduce the model (Craig-Bampton \

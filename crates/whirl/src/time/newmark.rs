@@ -192,7 +192,8 @@ impl AtSpeed {
         });
         let mut factors = Factors::new(layout.band(), &effective_matrix(problem, speed, c))
             .ok_or_else(|| {
-                Error::Numerical(
+                Error::singular(
+                    "Newmark matrix",
                     "the Newmark matrix M/(beta h^2) + (1+alpha)(D gamma/(beta h) + K) is \
                      singular"
                         .into(),
@@ -454,14 +455,19 @@ impl Stepper<'_> {
                 } else {
                     "the forces are not finite there".to_string()
                 };
-                Err(Error::Numerical(format!(
-                    "Newmark's Newton iterations did not converge at t = {t1:.6} s even with \
+                Err(Error::not_converged(
+                    "Newmark Newton iteration",
+                    None,
+                    residual.is_finite().then_some(residual),
+                    format!(
+                        "Newmark's Newton iterations did not converge at t = {t1:.6} s even with \
                      the step cut {} times to {:.3e} s ({why}): check the model's nonlinear \
                      forces (contact parameters), or use the central difference \
                      (--method cd)",
-                    1u32 << depth,
-                    self.levels.coefficients(depth).h
-                )))
+                        1u32 << depth,
+                        self.levels.coefficients(depth).h
+                    ),
+                ))
             }
         }
     }
@@ -604,7 +610,7 @@ pub fn newmark(
     problem.check()?;
     let alpha = scheme.alpha();
     if !(-1.0 / 3.0..=0.0).contains(&alpha) {
-        return Err(Error::Numerical(format!(
+        return Err(Error::InvalidOption(format!(
             "HHT alpha must lie in [-1/3, 0], got {alpha}"
         )));
     }

@@ -128,13 +128,13 @@ impl TimeProblem {
             || self.unbalance_re.len() != n
             || self.unbalance_im.len() != n
         {
-            return Err(Error::Numerical(
+            return Err(Error::InvalidOption(
                 "time problem matrices and vectors differ in size".into(),
             ));
         }
         for f in &self.nonlinear {
             if let Some(&d) = f.dofs().iter().find(|&&d| d >= n) {
-                return Err(Error::Numerical(format!(
+                return Err(Error::InvalidOption(format!(
                     "{} acts on coordinate {d} of {n}",
                     f.name()
                 )));

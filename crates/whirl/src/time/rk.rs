@@ -108,7 +108,10 @@ impl Rhs {
         let mut minv = Mat::<f64>::identity(n, n);
         faer::linalg::solvers::Solve::solve_in_place(&lu, minv.as_mut());
         if minv.col_iter().any(|c| c.iter().any(|v| !v.is_finite())) {
-            return Err(Error::Numerical("the mass matrix is singular".into()));
+            return Err(Error::singular(
+                "mass matrix",
+                "the mass matrix is singular".into(),
+            ));
         }
         Ok(Rhs {
             minv_k: Dense::from_mat(&(&minv * &problem.stiffness)),
@@ -231,10 +234,15 @@ pub fn runge_kutta(
                 h = h_step * factor.min(1.0);
             }
             if h < 1e-15 * t_out.max(1.0) {
-                return Err(Error::Numerical(format!(
+                return Err(Error::not_converged(
+                    "Runge-Kutta step control",
+                    None,
+                    None,
+                    format!(
                     "the Runge-Kutta step fell below round-off at t = {t:.6} s: the problem is \
                      too stiff or discontinuous for an explicit method; use Newmark"
-                )));
+                ),
+                ));
             }
         }
         if out % 64 == 0 {

@@ -308,7 +308,7 @@ impl SparseRow {
 }
 
 fn check_options(model: &Model, o: &SimulationOptions) -> Result<()> {
-    let bad = |m: String| Err(Error::Numerical(m));
+    let bad = |m: String| Err(Error::InvalidOption(m));
     if !(o.step.is_finite() && o.step > 0.0) {
         return bad(format!("the time step must be positive, got {} s", o.step));
     }
@@ -643,18 +643,18 @@ fn march_and_record(
     } = recording;
     check_options(model, options)?;
     if until.as_ref().is_some_and(|u| u.every == 0) {
-        return Err(Error::Numerical(
+        return Err(Error::InvalidOption(
             "a stop rule must look every 1 recorded sample or more, not 0".into(),
         ));
     }
     if record_every == 0 {
-        return Err(Error::Numerical(
+        return Err(Error::InvalidOption(
             "record every 1 step or more, not 0".into(),
         ));
     }
     let lagrange = law == Some(ContactLaw::Lagrange);
     if lagrange && options.method != Method::CentralDifference {
-        return Err(Error::Numerical(format!(
+        return Err(Error::Unsupported(format!(
             "Lagrange-multiplier contacts work with the central difference only (thesis eqs. \
              4.6-4.9), not with {}",
             options.method.name()
@@ -828,7 +828,12 @@ fn starting_point(
     };
     match found {
         Ok(q) => Ok((q, None)),
-        Err(Error::Numerical(why)) => Ok((
+        Err(
+            why @ (Error::InvalidOption(_)
+            | Error::Unsupported(_)
+            | Error::Singular { .. }
+            | Error::NotConverged { .. }),
+        ) => Ok((
             rest,
             Some(format!(
                 "no static equilibrium was found, so the run started from rest: {why}"

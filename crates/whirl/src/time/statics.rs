@@ -87,12 +87,17 @@ pub fn static_equilibrium(problem: &mut TimeProblem, guess: &[f64]) -> Result<Ve
     if norm(&r) <= 1e-8 * scale {
         return Ok(condensed.expand(&u));
     }
-    Err(Error::Numerical(format!(
-        "the static equilibrium did not converge (residual {:.3e} N against a load of \
+    Err(Error::not_converged(
+        "static equilibrium",
+        None,
+        Some(norm(&r)),
+        format!(
+            "the static equilibrium did not converge (residual {:.3e} N against a load of \
          {scale:.3e} N); with a spinning bearing's contact damping there may be none: \
          check that every bearing can carry the load, or start from rest",
-        norm(&r)
-    )))
+            norm(&r)
+        ),
+    ))
 }
 
 /// The balance condensed onto the nonlinear forces' coordinates (module documentation).
@@ -133,7 +138,8 @@ impl Condensed {
         let (lower, upper) = bandwidths(&k_ww);
         let band = (lower + upper + 1 < m / 2).then_some((lower, upper));
         let mut factors = Factors::new(band, &k_ww).ok_or_else(|| {
-            Error::Numerical(
+            Error::singular(
+                "static stiffness",
                 "the static equilibrium needs the structure held when the nonlinear forces' \
                  coordinates are fixed, and part of it is free (its stiffness without them \
                  is singular); add a support, or start from rest"
