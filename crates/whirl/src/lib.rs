@@ -167,6 +167,7 @@ pub mod bearing;
 pub mod error;
 pub mod examples;
 pub mod fe;
+pub mod force;
 pub mod hbm;
 pub mod lock;
 pub mod modal;

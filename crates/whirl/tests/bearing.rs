@@ -5,8 +5,9 @@ use std::f64::consts::PI;
 
 use whirl::bearing::{hertz_bearings, HertzBearing, RollerGeometry};
 use whirl::fe::{assemble, gravity_force, Bearings};
+use whirl::force::{Kinematics, NonlinearForce};
 use whirl::model::{Clearance, Model, Ring, RollerBearing, Waviness};
-use whirl::time::{static_equilibrium, Kinematics, NonlinearForce, SpeedProfile, TimeProblem};
+use whirl::time::{static_equilibrium, SpeedProfile, TimeProblem};
 
 fn reference() -> Model {
     Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap()
@@ -232,7 +233,7 @@ fn hang_in_bearings(rollers: usize) {
         constant_force: gravity.clone(),
         unbalance_re: vec![0.0; n],
         unbalance_im: vec![0.0; n],
-        nonlinear: hertz_bearings(&model, &|d| d).unwrap(),
+        nonlinear: hertz_bearings(&model, &Some).unwrap(),
         speed: SpeedProfile::Constant(0.0),
     };
     let q = static_equilibrium(&mut problem, &vec![0.0; n]).unwrap();

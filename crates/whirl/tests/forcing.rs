@@ -3,17 +3,17 @@
 
 use std::f64::consts::PI;
 
-use whirl::bearing::forcing_fit::STEP_FRACTION;
 use whirl::bearing::{
-    fit_forcing, fit_forcing_law, forcing_bearings, hertz_bearings, ForcingBearing,
-    ForcingFitOptions, ForcingPoint,
+    fit_forcing_law, forcing_bearings, hertz_bearings, ForcingBearing, ForcingPoint,
 };
 use whirl::fe::Bearings;
+use whirl::force::{ForceBuilder, Kinematics, NonlinearForce};
 use whirl::model::{Clearance, ForcingFunction, Model, RollerBearing};
 use whirl::post::order_component;
+use whirl::time::forcing_fit::STEP_FRACTION;
+use whirl::time::{fit_forcing, ForcingFitOptions};
 use whirl::time::{
-    simulate_with, stable_step_with, ForceBuilder, Initial, Kinematics, Method, NonlinearForce,
-    SimulationOptions, SpeedProfile,
+    simulate_with, stable_step_with, Initial, Method, SimulationOptions, SpeedProfile,
 };
 
 fn reference() -> Model {
@@ -122,7 +122,7 @@ fn at_the_centre_with_zero_clearance_the_tangent_is_the_radial_slope() {
 #[test]
 fn a_bearing_without_a_law_names_itself_and_the_fix() {
     let model = reference();
-    let e = match forcing_bearings(&model, &|d| d) {
+    let e = match forcing_bearings(&model, &Some) {
         Ok(_) => panic!("a bearing without a forcing function was accepted"),
         Err(e) => e.to_string(),
     };

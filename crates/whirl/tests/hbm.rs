@@ -7,13 +7,12 @@ use std::ops::ControlFlow;
 use std::time::Instant;
 
 use faer::Mat;
+use whirl::force::CubicSpring;
 use whirl::hbm::{
     continuation, resume, BifurcationKind, Branch, BranchEnd, ContinuationOptions, HarmonicBalance,
     HbOptions, HbProblem,
 };
-use whirl::time::{
-    runge_kutta, CubicSpring, MarchOptions, RkTolerances, SpeedProfile, TimeProblem,
-};
+use whirl::time::{runge_kutta, MarchOptions, RkTolerances, SpeedProfile, TimeProblem};
 
 const MASS: f64 = 1.0;
 const DAMPING: f64 = 0.1;

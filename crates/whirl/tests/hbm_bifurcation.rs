@@ -10,10 +10,10 @@
 use std::f64::consts::TAU;
 
 use faer::Mat;
+use whirl::force::{Kinematics, NonlinearForce};
 use whirl::hbm::{
     continuation, BifurcationKind, ContinuationOptions, HarmonicBalance, HbOptions, HbProblem,
 };
-use whirl::time::{Kinematics, NonlinearForce};
 
 fn diagonal(n: usize, v: f64) -> Mat<f64> {
     Mat::from_fn(n, n, |i, j| if i == j { v } else { 0.0 })

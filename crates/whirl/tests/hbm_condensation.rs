@@ -7,10 +7,11 @@ use std::f64::consts::TAU;
 use std::time::Instant;
 
 use faer::Mat;
+use whirl::force::{CubicSpring, Kinematics, NonlinearForce};
 use whirl::hbm::{
     continuation, CondensedBalance, ContinuationOptions, HarmonicBalance, HbOptions, HbProblem,
 };
-use whirl::time::{CubicSpring, Kinematics, NonlinearForce};
+
 use whirl::{fe, model::Model};
 
 const HARMONICS: usize = 3;

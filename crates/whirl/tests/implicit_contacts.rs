@@ -11,13 +11,14 @@
 
 use std::f64::consts::PI;
 
+use whirl::bearing::ContactLaw;
 use whirl::fe::{assemble, dof, gravity_force, Bearings, Direction, DOFS_PER_NODE};
+use whirl::force::{Kinematics, NonlinearForce};
 use whirl::model::{Clearance, Model};
 use whirl::post::order_component;
 use whirl::time::{
-    newmark, simulate_contacts, simulate_with, ContactLaw, Initial, Kinematics, MarchOptions,
-    Method, NewmarkScheme, NonlinearForce, RunStatus, SimulationOptions, SimulationResult,
-    SpeedProfile, TimeProblem,
+    newmark, simulate_contacts, simulate_with, Initial, MarchOptions, Method, NewmarkScheme,
+    RunStatus, SimulationOptions, SimulationResult, SpeedProfile, TimeProblem,
 };
 use whirl::Result;
 
@@ -295,13 +296,14 @@ impl NonlinearForce for Saturating {
 /// The reference rotor on saturating supports at its bearing nodes.
 fn on_saturating_supports(model: &Model, initial: Initial, limit: f64) -> SimulationResult {
     let forces =
-        |m: &Model, map: &dyn Fn(usize) -> usize| -> Result<Vec<Box<dyn NonlinearForce>>> {
+        |m: &Model, map: &dyn Fn(usize) -> Option<usize>| -> Result<Vec<Box<dyn NonlinearForce>>> {
             Ok(m.roller_bearings
                 .iter()
                 .map(|b| {
                     let node = b.station.node;
+                    let at = |d| map(dof(node, d)).expect("the full model keeps every DOF");
                     Box::new(Saturating {
-                        dofs: [map(dof(node, Direction::Ux)), map(dof(node, Direction::Uy))],
+                        dofs: [at(Direction::Ux), at(Direction::Uy)],
                         stiffness: 1e8,
                         limit,
                     }) as Box<dyn NonlinearForce>

@@ -6,12 +6,12 @@ use std::ops::ControlFlow;
 
 use faer::Mat;
 use whirl::fe::{assemble, Bearings};
+use whirl::force::CubicSpring;
 use whirl::model::Model;
 use whirl::response::unbalance_response;
 use whirl::time::{
-    central_difference, newmark, runge_kutta, simulate, stable_step, CubicSpring, Initial,
-    MarchOptions, Method, NewmarkScheme, Progress, RkTolerances, SimulationOptions, SpeedProfile,
-    TimeProblem,
+    central_difference, newmark, runge_kutta, simulate, stable_step, Initial, MarchOptions, Method,
+    NewmarkScheme, Progress, RkTolerances, SimulationOptions, SpeedProfile, TimeProblem,
 };
 
 const M: f64 = 2.0;

@@ -7,12 +7,13 @@
 use std::f64::consts::PI;
 use std::path::Path;
 
+use whirl::bearing::{contact_frequencies, ContactLaw};
 use whirl::fe::{assemble, gravity_force, Bearings, DOFS_PER_NODE};
 use whirl::model::Model;
 use whirl::post::{amplitude_spectrum_with, Spectrum, SpectrumOptions, Window};
 use whirl::time::{
-    contact_frequencies, peak_near, simulate_contacts, stable_step_for, ContactLaw, Initial,
-    Method, RollerRecord, RunStatus, SimulationOptions, SimulationResult, SpeedProfile,
+    peak_near, simulate_contacts, stable_step_for, Initial, Method, RollerRecord, RunStatus,
+    SimulationOptions, SimulationResult, SpeedProfile,
 };
 
 fn example(name: &str) -> Model {

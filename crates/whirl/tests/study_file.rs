@@ -89,7 +89,7 @@ fn set_fixes_other_parameters_and_cascade_settings_can_be_swept() {
     }
     assert_eq!(
         s.points[1].cascade.contact,
-        Some(whirl::time::ContactLaw::Lagrange)
+        Some(whirl::bearing::ContactLaw::Lagrange)
     );
     assert_eq!(s.sweeps[0].values[1].si, None);
     assert_eq!(

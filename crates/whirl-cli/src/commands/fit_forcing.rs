@@ -5,7 +5,7 @@
 //! At each speed the rotor runs on its Hertz bearings; the chosen bearing's deflection and
 //! cage-averaged elastic contact force are sampled from the settled part, and
 //! F = (a0 + a1 W) (u_r - gamma)^(b0 + b1 W) is fitted to all samples in log-log (see
-//! [`whirl::bearing::forcing_fit`]). Writes `fit.csv` (every sample: speed, deflection,
+//! [`whirl::time::forcing_fit`]). Writes `fit.csv` (every sample: speed, deflection,
 //! force, fitted force), `forcing_function.toml` (the `forcing_function = { ... }` line to
 //! paste into the bearing's `[[roller_bearing]]` block) and the plot `force_deflection`
 //! (force over deflection beyond the clearance, log-log, samples and fit per speed).
@@ -15,8 +15,9 @@ use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
 use serde_json::{json, Value};
-use whirl::bearing::{fit_forcing, valid_up_to, ForcingFit, ForcingFitOptions};
+use whirl::bearing::valid_up_to;
 use whirl::model::{ForcingFunction, Model};
+use whirl::time::{fit_forcing, ForcingFit, ForcingFitOptions};
 use whirl_plot::{Colour, Figure2d, LegendPosition, Marker, PlotError, Series, Style};
 
 use super::{

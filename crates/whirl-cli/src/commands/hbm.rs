@@ -26,13 +26,14 @@ use std::sync::Mutex;
 
 use clap::ValueEnum;
 use serde_json::{json, Value};
+use whirl::bearing::ContactLaw;
 use whirl::fe::{dof, Direction};
 use whirl::hbm::{
     settled_response, sweep_with_progress, AtSpeed, BifurcationKind, BranchEnd, CageModel,
     MarchSettings, SettledResponse, Sweep, SweepOptions, DEFAULT_STABILITY_MODES,
 };
 use whirl::model::Model;
-use whirl::time::ContactLaw;
+
 use whirl_plot::{Colour, Figure2d, LegendPosition, Marker, RefLine, Series, Style};
 
 use super::{

@@ -40,14 +40,15 @@ use std::io::IsTerminal;
 
 use clap::ValueEnum;
 use serde_json::{json, Value};
+use whirl::bearing::ContactLaw;
 use whirl::model::Model;
 use whirl::post::{
     amplitude_spectrum_with, largest_non_synchronous, order_component, spectral_peaks,
     OrderComponent, SpectralPeak, Spectrum, SpectrumOptions, Window,
 };
 use whirl::time::{
-    simulate_contacts, stable_step_for, ContactLaw, Initial, Method, NewmarkScheme, Progress,
-    RkTolerances, RunStatus, SimulationOptions, SimulationResult, SpeedProfile,
+    simulate_contacts, stable_step_for, Initial, Method, NewmarkScheme, Progress, RkTolerances,
+    RunStatus, SimulationOptions, SimulationResult, SpeedProfile,
 };
 
 use super::campbell::order_name;

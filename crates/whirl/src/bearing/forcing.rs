@@ -25,8 +25,8 @@ use super::contact_coordinates_of;
 use super::HERTZ_BOUND_APPROACH;
 use crate::error::{Error, InputError, Result};
 use crate::fe::Direction;
+use crate::force::{Kinematics, NonlinearForce};
 use crate::model::{Clearance, ForcingFunction, Model, RollerBearing};
-use crate::time::{Kinematics, NonlinearForce};
 
 /// A roller bearing modelled by its forcing function, acting on [u_x, u_y] of its node.
 #[derive(Debug, Clone)]
@@ -229,12 +229,12 @@ pub fn law_speeds(model: &Model) -> (f64, f64) {
 }
 
 /// Forcing-function bearings for every roller bearing of `model` (a
-/// [`crate::time::ForceBuilder`]), their stiffness bounded over [`law_speeds`]. Fails,
+/// [`crate::force::ForceBuilder`]), their stiffness bounded over [`law_speeds`]. Fails,
 /// naming the bearing and the command that fits one, when a bearing has no
 /// `forcing_function`.
 pub fn forcing_bearings(
     model: &Model,
-    coordinate: &dyn Fn(usize) -> usize,
+    coordinate: &dyn Fn(usize) -> Option<usize>,
 ) -> Result<Vec<Box<dyn NonlinearForce>>> {
     let speeds = law_speeds(model);
     model

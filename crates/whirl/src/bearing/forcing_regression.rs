@@ -26,7 +26,7 @@ pub struct ForcingPoint {
     /// Radial deflection u_r at the bearing node, m.
     pub deflection: f64,
     /// Magnitude of the contact force, N (from the Hertz model: elastic and averaged over
-    /// the cage, see [`super::forcing_fit`]).
+    /// the cage, see [`crate::time::forcing_fit`]).
     pub force: f64,
 }
 

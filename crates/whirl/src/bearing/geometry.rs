@@ -4,8 +4,8 @@ use std::f64::consts::PI;
 
 use serde::Serialize;
 
+use crate::force::Kinematics;
 use crate::model::{Clearance, Ring, RollerBearing, Waviness};
-use crate::time::Kinematics;
 
 /// One contact slice of one roller at one instant.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -12,8 +12,8 @@
 
 use super::geometry::{RollerGeometry, RollerState, Slice};
 use crate::error::{Error, Result};
+use crate::force::{Kinematics, NonlinearForce};
 use crate::model::RollerBearing;
-use crate::time::{Kinematics, NonlinearForce};
 
 /// Approach used to bound the contact's tangent stiffness for the explicit stability
 /// limit, m. At 100 um a roller of the reference bearing carries about 16 kN, far beyond

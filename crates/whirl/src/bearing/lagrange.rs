@@ -21,8 +21,8 @@
 
 use super::geometry::RollerGeometry;
 use crate::error::{Error, InputError, Result};
+use crate::force::Kinematics;
 use crate::model::RollerBearing;
-use crate::time::Kinematics;
 
 /// Most bearings one set of constraints handles.
 const MAX_BEARINGS: usize = 32;

@@ -16,36 +16,40 @@
 //! them the roller is cut into slices at axial offsets z_k (eq. 3.13), each carrying
 //! 1/n_slices of the contact stiffness and damping, so that an aligned sliced roller
 //! carries exactly the unsliced force. [`geometry`] holds these kinematics, [`hertz`] the
-//! contact law as a [`crate::time::NonlinearForce`]. [`forcing`] replaces the rollers by
-//! one radial law (eq. 3.12) that [`forcing_fit`] samples from the Hertz model's response
-//! and [`forcing_regression`] fits.
+//! contact law as a [`crate::force::NonlinearForce`]. [`forcing`] replaces the rollers by
+//! one radial law (eq. 3.12) that [`crate::time::forcing_fit`] samples from the Hertz
+//! model's response and [`forcing_regression`] fits. [`law`] names the contact laws a
+//! solver can choose ([`ContactLaw`], with the forces each builds) and the frequencies the
+//! rollers excite.
+//!
+//! This module is below the solvers: it imports nothing from `time`, `hbm` or `nsv`.
 
 pub mod forcing;
-pub mod forcing_fit;
 pub mod forcing_regression;
 pub mod geometry;
 pub mod hertz;
 pub mod lagrange;
+pub mod law;
 pub(crate) mod least_squares;
 pub mod stiffness;
 
 pub use forcing::{forcing_bearings, law_speeds, valid_up_to, ForcingBearing};
-pub use forcing_fit::{fit_forcing, ForcingFit, ForcingFitOptions, SpeedFit};
 pub use forcing_regression::{fit_forcing_law, ForcingPoint};
 pub use geometry::{RollerGeometry, RollerState};
 pub use hertz::{HertzBearing, HERTZ_BOUND_APPROACH};
 pub use lagrange::{ContactStep, LagrangeContacts};
+pub use law::{contact_frequencies, ContactFrequency, ContactLaw};
 
 use crate::error::{Error, Result};
 use crate::fe::{dof, Direction};
+use crate::force::NonlinearForce;
 use crate::model::{Model, RollerBearing};
-use crate::time::NonlinearForce;
 
 /// Integrator coordinates of a bearing's contact: its node's [ux, uy] (and [tx, ty] with
 /// roller tilt), through `coordinate`, which maps a physical DOF to its coordinate.
 pub fn contact_coordinates(
     bearing: &RollerBearing,
-    coordinate: &dyn Fn(usize) -> usize,
+    coordinate: &dyn Fn(usize) -> Option<usize>,
 ) -> Result<Vec<usize>> {
     let mut directions = vec![Direction::Ux, Direction::Uy];
     if bearing.roller_tilt {
@@ -58,30 +62,27 @@ pub fn contact_coordinates(
 pub fn contact_coordinates_of(
     bearing: &RollerBearing,
     directions: &[Direction],
-    coordinate: &dyn Fn(usize) -> usize,
+    coordinate: &dyn Fn(usize) -> Option<usize>,
 ) -> Result<Vec<usize>> {
     let node = bearing.station.node;
     directions
         .iter()
         .map(|&d| {
-            let c = coordinate(dof(node, d));
-            if c == usize::MAX {
-                Err(Error::Unsupported(format!(
+            coordinate(dof(node, d)).ok_or_else(|| {
+                Error::Unsupported(format!(
                     "{} at node {node}: its DOFs are not kept by the reduction; they must be \
                      boundary DOFs",
                     bearing.name
-                )))
-            } else {
-                Ok(c)
-            }
+                ))
+            })
         })
         .collect()
 }
 
-/// Hertz contacts of every roller bearing of `model` (a [`crate::time::ForceBuilder`]).
+/// Hertz contacts of every roller bearing of `model` (a [`crate::force::ForceBuilder`]).
 pub fn hertz_bearings(
     model: &Model,
-    coordinate: &dyn Fn(usize) -> usize,
+    coordinate: &dyn Fn(usize) -> Option<usize>,
 ) -> Result<Vec<Box<dyn NonlinearForce>>> {
     model
         .roller_bearings

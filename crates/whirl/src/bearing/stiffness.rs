@@ -45,8 +45,8 @@ use serde::Serialize;
 use super::hertz::HertzBearing;
 use crate::error::{Error, InputError, Result};
 use crate::fe::{assemble, dof, gravity_force, Bearings, Direction};
+use crate::force::{Kinematics, NonlinearForce};
 use crate::model::{Clearance, Model, RollerBearing};
-use crate::time::{Kinematics, NonlinearForce};
 
 /// Equilibria stop when the force balance is met to this fraction of the load. Round-off in
 /// the sum over rollers is about 1e-15 of the load; 1e-11 leaves room for it and is far

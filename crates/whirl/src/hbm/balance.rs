@@ -21,7 +21,7 @@ use faer::Mat;
 use super::fourier::{cos_slot, sin_slot, slot_basis, Aft};
 use super::{HbOptions, HbProblem};
 use crate::error::{Error, Result};
-use crate::time::Kinematics;
+use crate::force::Kinematics;
 
 /// A converged periodic solution.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -526,7 +526,7 @@ pub(crate) fn solve_dense(a: &Mat<f64>, b: &[f64]) -> Option<Vec<f64>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::time::NonlinearForce;
+    use crate::force::NonlinearForce;
 
     /// A force coupling two coordinates through displacements and velocities, so every
     /// term of the Jacobian (G[dF/dq], G[dF/dv] Nabla, the frequency derivative) is

@@ -23,8 +23,8 @@ use serde::Serialize;
 use crate::bearing::geometry::Slice;
 use crate::bearing::{contact_coordinates, HertzBearing};
 use crate::error::{Error, Result};
+use crate::force::{Kinematics, NonlinearForce};
 use crate::model::Model;
-use crate::time::{Kinematics, NonlinearForce};
 
 /// How the roller passage is made periodic in the running speed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -209,13 +209,13 @@ impl NonlinearForce for CagedBearing {
 }
 
 /// Hertz contacts of every roller bearing of `model` with their cages fixed by `cage` (a
-/// [`crate::time::ForceBuilder`] once `cage` is bound).
+/// [`crate::force::ForceBuilder`] once `cage` is bound).
 ///
 /// # Errors
 /// As [`CagedBearing::new`], or when a bearing's coordinates are missing.
 pub fn caged_bearings(
     model: &Model,
-    coordinate: &dyn Fn(usize) -> usize,
+    coordinate: &dyn Fn(usize) -> Option<usize>,
     cage: CageModel,
 ) -> Result<Vec<Box<dyn NonlinearForce>>> {
     model

@@ -4,14 +4,14 @@
 
 use serde::Serialize;
 
+use crate::bearing::ContactLaw;
 use crate::error::Result;
 use crate::model::Model;
 use crate::post::{
     amplitude_spectrum_with, largest_non_synchronous, order_component, SpectrumOptions, Window,
 };
 use crate::time::{
-    simulate_response, stable_step_for, ContactLaw, Initial, Method, SimulationOptions,
-    SpeedProfile,
+    simulate_response, stable_step_for, Initial, Method, SimulationOptions, SpeedProfile,
 };
 
 /// How the time simulation runs.

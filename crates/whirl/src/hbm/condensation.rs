@@ -31,8 +31,8 @@ use super::stability::{hill_problem, HillProblem, Stability};
 use super::{HarmonicBalance, HbOptions, HbProblem, HbSolution};
 use crate::error::{Error, Result};
 use crate::fe::SystemMatrices;
+use crate::force::{Kinematics, NonlinearForce};
 use crate::reduce::CraigBampton;
-use crate::time::{Kinematics, NonlinearForce};
 
 /// A nonlinear force renumbered onto the condensed coordinates.
 struct Renumbered {

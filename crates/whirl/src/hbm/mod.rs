@@ -22,7 +22,7 @@
 //!   how it changes, named by the crossing Floquet multiplier (fold or symmetry breaking,
 //!   period doubling, Neimark-Sacker).
 //!
-//! Nonlinear forces are seen only through [`crate::time::NonlinearForce`], the interface the
+//! Nonlinear forces are seen only through [`crate::force::NonlinearForce`], the interface the
 //! time integrators use, so every contact law works in both.
 
 mod balance;
@@ -52,7 +52,8 @@ pub use sweep::{sweep, sweep_with_progress, AtSpeed, Sweep, SweepOptions};
 use faer::Mat;
 
 use crate::error::{Error, Result};
-use crate::time::{NonlinearForce, TimeProblem};
+use crate::force::NonlinearForce;
+use crate::time::TimeProblem;
 
 /// The system whose periodic response is sought, in the solver's coordinates.
 pub struct HbProblem {

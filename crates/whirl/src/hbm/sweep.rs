@@ -17,11 +17,12 @@ use super::fourier::{cos_slot, sin_slot};
 use super::stability::{HillProblem, Stability};
 use super::{aliasing_free_samples, CondensedBalance, HbOptions, HbProblem, HbSolution};
 use crate::bearing::forcing_bearings;
+use crate::bearing::ContactLaw;
 use crate::error::{Error, Result};
 use crate::fe::Bearings;
 use crate::model::Model;
 use crate::reduce::CraigBampton;
-use crate::time::{model_problem as time_problem, static_equilibrium, ContactLaw};
+use crate::time::{model_problem as time_problem, static_equilibrium};
 
 /// What to solve.
 #[derive(Debug, Clone, Serialize)]
@@ -189,7 +190,7 @@ pub fn model_problem(
                 .into(),
         ));
     }
-    let hertz = move |m: &Model, c: &dyn Fn(usize) -> usize| caged_bearings(m, c, cage);
+    let hertz = move |m: &Model, c: &dyn Fn(usize) -> Option<usize>| caged_bearings(m, c, cage);
     let apart = Bearings::NonlinearApart;
     let (mut problem, reduced) = match contact {
         ContactLaw::Hertz => time_problem(model, reduction, speed, apart, &hertz)?,

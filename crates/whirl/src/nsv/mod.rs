@@ -7,7 +7,7 @@
 //!
 //! 1. marches the rotor (full or Craig-Bampton reduced, central difference, from the static
 //!    equilibrium under gravity, roller bearings by the chosen
-//!    [`ContactLaw`](crate::time::ContactLaw)) for
+//!    [`ContactLaw`](crate::bearing::ContactLaw)) for
 //!    `settle + record` seconds, recording the response node's u_x and u_y;
 //! 2. discards the first `settle` seconds and takes the windowed amplitude spectrum of the
 //!    chosen component over the rest, scaled to physical zero-to-peak amplitude
@@ -83,11 +83,11 @@ pub use summary::{
     ClassCount, LargestNsv, NsvStatistics, NsvSummary, Onset, SpeedLevel, DEFAULT_THRESHOLD_M,
 };
 
+use crate::bearing::contact_frequencies;
 use crate::error::{Error, Result};
 use crate::fe::{assemble, Bearings};
 use crate::modal::{campbell, CampbellOptions};
 use crate::model::Model;
-use crate::time::contact_frequencies;
 use checkpoint::Checkpoint;
 use classify::Context;
 

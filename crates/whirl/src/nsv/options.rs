@@ -3,11 +3,12 @@
 
 use serde::Serialize;
 
+use crate::bearing::{contact_frequencies, ContactLaw};
 use crate::error::{Error, InputError, Result};
 use crate::model::Model;
 use crate::post::spectrum::MIN_SAMPLES;
 use crate::post::Window;
-use crate::time::{contact_frequencies, stable_step_for, ContactLaw, Initial};
+use crate::time::{stable_step_for, Initial};
 use crate::units::rad_s_to_hz;
 
 /// The central difference runs at this fraction of its stability limit by default (as

@@ -35,8 +35,9 @@ use serde::Serialize;
 use crate::bearing::hertz_bearings;
 use crate::error::{Error, Result};
 use crate::fe::{dof, Bearings, Direction};
+use crate::force::{no_forces, ForceBuilder};
 use crate::model::Model;
-use crate::time::{model_problem, static_equilibrium, ForceBuilder};
+use crate::time::{model_problem, static_equilibrium};
 
 /// How roller bearings carry the load.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -94,7 +95,7 @@ impl StaticResult {
 pub fn static_response(model: &Model, rollers: RollerSupport) -> Result<StaticResult> {
     let (bearings, forces): (Bearings, ForceBuilder<'_>) = match rollers {
         RollerSupport::Hertz => (Bearings::NonlinearApart, &hertz_bearings),
-        RollerSupport::Linear => (Bearings::Linearised, &|_, _| Ok(Vec::new())),
+        RollerSupport::Linear => (Bearings::Linearised, &no_forces),
     };
     let (mut problem, _) = model_problem(model, None, 0.0, bearings, forces)?;
     let n = problem.size();

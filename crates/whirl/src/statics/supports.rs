@@ -6,8 +6,8 @@ use super::RollerSupport;
 use crate::bearing::HertzBearing;
 use crate::error::Result;
 use crate::fe::{dof, Direction};
+use crate::force::{Kinematics, NonlinearForce};
 use crate::model::{Model, RollerBearing};
-use crate::time::{Kinematics, NonlinearForce};
 
 /// One roller of a roller bearing at the static equilibrium.
 #[derive(Debug, Clone, Copy, Serialize)]

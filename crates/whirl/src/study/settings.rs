@@ -6,8 +6,9 @@
 use serde::Serialize;
 
 use super::file::CascadeFile;
+use crate::bearing::ContactLaw;
 use crate::error::InputError;
-use crate::time::{ContactLaw, Initial};
+use crate::time::Initial;
 use crate::units::{parse_quantity, parse_range, Dimension};
 
 /// Contact laws a study's cascade may use.

@@ -1,8 +1,9 @@
 //! Test fixtures shared by the integrators' tests.
 
 use crate::fe::{assemble, gravity_force, unbalance_force, Bearings};
+use crate::force::{CubicSpring, LinearSupport};
 use crate::model::Model;
-use crate::time::{CubicSpring, LinearSupport, SpeedProfile, TimeProblem};
+use crate::time::{SpeedProfile, TimeProblem};
 
 /// The reference rotor's full model (84 DOFs, half-bandwidth 7) with unbalance at `speed`,
 /// and a stiff cubic spring and a cross-coupled linear support on node 10 when `nonlinear`.

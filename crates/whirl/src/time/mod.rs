@@ -11,14 +11,15 @@
 //!
 //! Every integrator works on a [`TimeProblem`] (matrices in the integrator's coordinates,
 //! full or Craig-Bampton reduced) and sees nonlinear forces only through
-//! [`NonlinearForce`], so contact laws plug in without changing the integrators. Each
+//! [`crate::force::NonlinearForce`], so contact laws plug in without changing the
+//! integrators. Each
 //! calls an observer with (t, q, q') at every step; [`simulate`] builds the problem from a
 //! model and records named channels.
 
 mod central;
 #[cfg(test)]
 mod fixtures;
-mod forces;
+pub mod forcing_fit;
 mod newmark;
 mod problem;
 mod rk;
@@ -27,17 +28,15 @@ mod simulate;
 mod statics;
 
 pub use central::{central_difference, central_difference_constrained, central_difference_limit};
-pub use forces::{CubicSpring, Kinematics, LinearSupport, NonlinearForce};
+pub use forcing_fit::{fit_forcing, ForcingFit, ForcingFitOptions, SpeedFit};
 pub use newmark::{newmark, NewmarkScheme};
 pub use problem::{NlScratch, SpeedProfile, TimeProblem};
 pub use rk::{runge_kutta, RkStats, RkTolerances};
-pub use rollers::{
-    contact_frequencies, peak_near, ContactFrequency, ContactLaw, ContactSummary, RollerRecord,
-};
+pub use rollers::{peak_near, ContactSummary, RollerRecord};
 pub(crate) use simulate::model_problem;
 pub use simulate::{
-    simulate, simulate_with, stable_step, stable_step_with, Channel, ForceBuilder, Initial, Method,
-    Progress, RunStatus, SimulationOptions, SimulationResult,
+    simulate, simulate_with, stable_step, stable_step_with, Channel, Initial, Method, Progress,
+    RunStatus, SimulationOptions, SimulationResult,
 };
 pub use simulate::{simulate_contacts, simulate_response, stable_step_for, Until, DIVERGENCE_NET};
 pub use statics::static_equilibrium;

@@ -37,8 +37,9 @@ use faer::Mat;
 use super::problem::{
     axpy, bandwidths, solve_small, vectorised, Band, Columns, Factors, TimeProblem,
 };
-use super::{check_state, Kinematics, MarchOptions, NlScratch, Observer};
+use super::{check_state, MarchOptions, NlScratch, Observer};
 use crate::error::{Error, Result};
+use crate::force::Kinematics;
 
 /// Which member of the Newmark family.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -12,8 +12,8 @@
 use faer::traits::pulp::Arch;
 use faer::Mat;
 
-use super::forces::{Kinematics, NonlinearForce};
 use crate::error::{Error, Result};
+use crate::force::{Kinematics, NonlinearForce};
 
 /// Spin speed over time.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -1,73 +1,19 @@
-//! Roller bearings in a time simulation: the contact law that models them, what each roller
-//! did at every recorded instant, and the frequencies their passage excites (docs/theory.md
-//! sections 5-6, thesis figs. 4.7 and 4.9).
+//! Roller bearings in a time simulation: what each roller did at every recorded instant
+//! (docs/theory.md sections 5-6, thesis figs. 4.7 and 4.9).
 //!
 //! A [`RollerRecord`] holds, per recorded sample and roller, the roller's angle theta_j,
 //! its approach delta_j (positive = penetration, eq. 3.2 / 3.19) and its contact force
-//! Q_j. The rollers' forces excite the rotor at
-//!
-//! ```text
-//! w_vc = N_b w_c            (varying compliance, eq. 4.4)
-//! w_P  = (N_w - 1) w_c      (each waviness component of order N_w, eq. 4.5)
-//! ```
-//!
-//! with w_c = (1 - D_b/D_p) Omega / 2 the cage speed; [`ContactFrequency`] names them and
-//! [`peak_near`] finds the spectral peak that shows each.
+//! Q_j. The rollers' forces excite the rotor at the frequencies of
+//! [`crate::bearing::contact_frequencies`]; [`peak_near`] finds the spectral peak that
+//! shows each.
 
 use std::ops::Range;
 
 use serde::Serialize;
 
 use crate::bearing::RollerGeometry;
-use crate::fe::Bearings;
-use crate::model::{Model, RollerBearing};
+use crate::model::RollerBearing;
 use crate::post::{spectral_peaks, SpectralPeak, Spectrum};
-
-/// How the roller bearings act in a time simulation.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum ContactLaw {
-    /// Linear springs: each bearing's `linear_stiffness` and `linear_damping` in the
-    /// matrices, as in the linear analyses. Nothing is recorded per roller.
-    Linear,
-    /// Hertz line contact per roller (eq. 3.5), with tilt, skew and waviness.
-    Hertz,
-    /// The bearing's forcing function (eq. 3.12): one radial law, no rollers. The record
-    /// holds each roller's approach; its forces are NaN.
-    Forcing,
-    /// Rigid rollers: non-penetration enforced by Lagrange multipliers on the central
-    /// difference (eqs. 3.7-3.11, 4.6-4.9); the forces are the multipliers.
-    Lagrange,
-}
-
-impl ContactLaw {
-    /// Hertz when the model has roller bearings, else linear.
-    pub fn default_for(model: &Model) -> ContactLaw {
-        if model.roller_bearings.is_empty() {
-            ContactLaw::Linear
-        } else {
-            ContactLaw::Hertz
-        }
-    }
-
-    /// Short name, as on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            ContactLaw::Linear => "linear",
-            ContactLaw::Hertz => "hertz",
-            ContactLaw::Forcing => "forcing",
-            ContactLaw::Lagrange => "lagrange",
-        }
-    }
-
-    /// Whether the roller bearings' linear stiffness goes into the matrices.
-    pub fn bearings(self) -> Bearings {
-        match self {
-            ContactLaw::Linear => Bearings::Linearised,
-            _ => Bearings::NonlinearApart,
-        }
-    }
-}
 
 /// What the rollers of one bearing did at each recorded sample. Per-sample arrays hold
 /// `rollers` values per sample, sample after sample: roller j of sample i is at
@@ -202,41 +148,6 @@ pub struct ContactSummary {
     pub largest_penetration: f64,
     /// Largest roller force, N; NaN without per-roller forces.
     pub largest_force: f64,
-}
-
-/// A frequency the rollers excite.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct ContactFrequency {
-    /// `varying compliance` or `waviness <ring> order <N_w>`.
-    pub source: String,
-    /// N_b for the varying compliance, N_w - 1 for a waviness: multiples of the cage speed.
-    pub cage_orders: f64,
-    /// The frequency, Hz.
-    pub frequency_hz: f64,
-}
-
-/// The varying-compliance frequency N_b w_c and every waviness frequency (N_w - 1) w_c of
-/// `bearing` at spin speed `speed` (rad/s), in Hz.
-pub fn contact_frequencies(bearing: &RollerBearing, speed: f64) -> Vec<ContactFrequency> {
-    let geometry = RollerGeometry::new(bearing);
-    let hz = |w: f64| w / (2.0 * std::f64::consts::PI);
-    let mut out = vec![ContactFrequency {
-        source: "varying compliance".into(),
-        cage_orders: bearing.rollers as f64,
-        frequency_hz: hz(geometry.varying_compliance_frequency(speed)),
-    }];
-    for w in &bearing.waviness {
-        let ring = match w.ring {
-            crate::model::Ring::Outer => "outer",
-            crate::model::Ring::Inner => "inner",
-        };
-        out.push(ContactFrequency {
-            source: format!("waviness {ring} order {}", w.order),
-            cage_orders: w.order as f64 - 1.0,
-            frequency_hz: hz(geometry.waviness_frequency(w.order, speed)),
-        });
-    }
-    out
 }
 
 /// The largest local maximum of `spectrum` within `within_bins` bins of `frequency_hz`,

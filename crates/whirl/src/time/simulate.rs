@@ -49,14 +49,15 @@ use super::central::{
 use super::newmark::{newmark, NewmarkScheme};
 use super::problem::{SpeedProfile, TimeProblem};
 use super::rk::{runge_kutta, RkStats, RkTolerances};
-use super::rollers::{ContactLaw, RollerRecord};
+use super::rollers::RollerRecord;
 use super::statics::static_equilibrium;
-use super::{MarchOptions, NonlinearForce};
-use crate::bearing::{forcing_bearings, hertz_bearings};
+use super::MarchOptions;
+use crate::bearing::ContactLaw;
 use crate::error::{Error, Result};
 use crate::fe::{
     assemble, dof, dof_name, gravity_force, unbalance_force, Bearings, Direction, SystemMatrices,
 };
+use crate::force::{no_forces, ForceBuilder};
 use crate::model::Model;
 use crate::reduce::{boundary_dofs, CraigBampton};
 use contacts::{
@@ -101,10 +102,6 @@ pub enum Initial {
     /// Zero displacement and velocity.
     Rest,
 }
-
-/// Builds the nonlinear forces of a model, given how physical DOFs map to coordinates.
-pub type ForceBuilder<'a> =
-    &'a dyn Fn(&Model, &dyn Fn(usize) -> usize) -> Result<Vec<Box<dyn NonlinearForce>>>;
 
 /// Reports how far a run has got: called with the fraction of the simulated time done,
 /// from 0 to 1, at most a thousand times per run (so a display costs nothing measurable;
@@ -381,11 +378,6 @@ pub fn stable_step_with(
     central_difference_limit(&problem)
 }
 
-/// The force builder of a model without nonlinear forces.
-fn no_forces(_: &Model, _: &dyn Fn(usize) -> usize) -> Result<Vec<Box<dyn NonlinearForce>>> {
-    Ok(Vec::new())
-}
-
 /// The full (unreduced) problem of `model` at constant speed `speed` (rad/s), for solvers
 /// other than the integrators (harmonic balance).
 /// The problem of `model` at constant speed `speed` (rad/s), full or Craig-Bampton reduced
@@ -433,7 +425,7 @@ fn integrated(
     let unbalance = unbalance_force(model, full.dofs());
     let ub_re: Vec<f64> = unbalance.iter().map(|c| c.re).collect();
     let ub_im: Vec<f64> = unbalance.iter().map(|c| c.im).collect();
-    let map = |physical: usize| coords.coordinate_of(physical).unwrap_or(usize::MAX);
+    let map = |physical: usize| coords.coordinate_of(physical);
     let nonlinear = forces(model, &map)?;
     let problem = TimeProblem {
         mass: coords.system.mass.clone(),
@@ -544,62 +536,24 @@ fn simulate_law(
     law: ContactLaw,
     recording: Recording<'_>,
 ) -> Result<SimulationResult> {
-    match law {
-        ContactLaw::Linear => march_and_record(
-            model,
-            options,
-            Bearings::Linearised,
-            &no_forces,
-            None,
-            recording,
-        ),
-        ContactLaw::Hertz => march_and_record(
-            model,
-            options,
-            Bearings::NonlinearApart,
-            &hertz_bearings,
-            Some(law),
-            recording,
-        ),
-        ContactLaw::Forcing => march_and_record(
-            model,
-            options,
-            Bearings::NonlinearApart,
-            &forcing_bearings,
-            Some(law),
-            recording,
-        ),
-        ContactLaw::Lagrange => march_and_record(
-            model,
-            options,
-            Bearings::NonlinearApart,
-            &no_forces,
-            Some(law),
-            recording,
-        ),
-    }
+    // Linear bearings have no rollers to record.
+    let rollers = (law != ContactLaw::Linear).then_some(law);
+    march_and_record(
+        model,
+        options,
+        law.bearings(),
+        law.forces(),
+        rollers,
+        recording,
+    )
 }
 
 /// The central difference's stability limit (s) of `model` with its roller bearings
 /// modelled by `law`: full, or reduced with `reduction` fixed-interface modes.
 pub fn stable_step_for(model: &Model, reduction: Option<usize>, law: ContactLaw) -> Result<f64> {
-    match law {
-        ContactLaw::Linear => stable_step(model, reduction),
-        ContactLaw::Hertz => {
-            stable_step_with(model, reduction, Bearings::NonlinearApart, &hertz_bearings)
-        }
-        ContactLaw::Forcing => stable_step_with(
-            model,
-            reduction,
-            Bearings::NonlinearApart,
-            &forcing_bearings,
-        ),
-        // Rigid constraints corrected after each step leave the explicit limit of the
-        // unconstrained rotor (Carpenter et al. 1991).
-        ContactLaw::Lagrange => {
-            stable_step_with(model, reduction, Bearings::NonlinearApart, &no_forces)
-        }
-    }
+    // Rigid constraints corrected after each step leave the explicit limit of the
+    // unconstrained rotor (Carpenter et al. 1991): the Lagrange law adds no forces.
+    stable_step_with(model, reduction, law.bearings(), law.forces())
 }
 
 /// The first recorded translation beyond the bound: (channel, value).

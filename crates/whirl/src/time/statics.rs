@@ -31,8 +31,8 @@
 use faer::Mat;
 
 use super::problem::{bandwidths, solve_small, Factors, NlScratch, TimeProblem};
-use super::Kinematics;
 use crate::error::{Error, Result};
+use crate::force::Kinematics;
 
 /// Scale of mu, a squared circular frequency, (rad/s)^2. The first regularised step uses
 /// 1e-6 of it: a free rotor's trial fall g / mu is then far past any clearance and the

@@ -25,12 +25,10 @@ use std::fmt::Write;
 use std::ops::Range;
 
 use serde_json::{json, Value};
+use whirl::bearing::{contact_frequencies, ContactFrequency};
 use whirl::model::Model;
 use whirl::post::SpectralPeak;
-use whirl::time::{
-    contact_frequencies, peak_near, ContactFrequency, ContactSummary, RollerRecord,
-    SimulationResult,
-};
+use whirl::time::{peak_near, ContactSummary, RollerRecord, SimulationResult};
 use whirl_plot::{Colour, RefLine};
 
 use super::ChannelReport;

@@ -3,12 +3,15 @@
 //! recorded motion of its bearing's node.
 
 use super::{integrated, Coordinates, SimulationOptions, SparseRow};
-use crate::bearing::{contact_coordinates_of, hertz_bearings, HertzBearing, LagrangeContacts};
+use crate::bearing::{
+    contact_coordinates_of, hertz_bearings, ContactLaw, HertzBearing, LagrangeContacts,
+};
 use crate::error::Result;
 use crate::fe::{dof, Bearings, Direction};
+use crate::force::Kinematics;
 use crate::model::{Model, RollerBearing};
 use crate::time::statics::static_equilibrium;
-use crate::time::{ContactLaw, Kinematics, RollerRecord};
+use crate::time::RollerRecord;
 
 /// Rigid rollers are approached in the static solve by Hertz contacts this many times
 /// stiffer than the model's: their penetration, (1/RIGID_STIFFENING)^(1/n) = 2.5e-4 times
@@ -39,7 +42,7 @@ pub(super) fn rigid_static_equilibrium(
 
 /// Every roller bearing's rollers as Lagrange-multiplier constraints.
 pub(super) fn lagrange_contacts(model: &Model, coords: &Coordinates) -> Result<LagrangeContacts> {
-    let map = |physical: usize| coords.coordinate_of(physical).unwrap_or(usize::MAX);
+    let map = |physical: usize| coords.coordinate_of(physical);
     let mut coordinates = Vec::new();
     for b in &model.roller_bearings {
         coordinates.extend(contact_coordinates_of(

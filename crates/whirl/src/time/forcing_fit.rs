@@ -17,7 +17,7 @@
 //! - at zero slope: the recorded channels hold translations only, so the shaft's slope at
 //!   the bearing is taken as zero (it matters only for a bearing with roller tilt).
 //!
-//! The law is then fitted to the samples ([`super::forcing_regression`]). The speeds run in
+//! The law is then fitted to the samples ([`crate::bearing::forcing_regression`]). The speeds run in
 //! parallel.
 
 use std::f64::consts::PI;
@@ -26,16 +26,15 @@ use std::time::Instant;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::forcing_regression::{fit_forcing_law, law_force, own_power_law, quality};
-use super::forcing_regression::{in_contact, ForcingPoint};
-use super::hertz::HertzBearing;
-use super::hertz_bearings;
+use crate::bearing::forcing_regression::{fit_forcing_law, law_force, own_power_law, quality};
+use crate::bearing::forcing_regression::{in_contact, ForcingPoint};
+use crate::bearing::{hertz_bearings, HertzBearing};
 use crate::error::{Error, Result};
 use crate::fe::Bearings;
+use crate::force::NonlinearForce;
 use crate::model::{Clearance, ForcingFunction, Model, RollerBearing};
 use crate::time::{
-    simulate_with, stable_step_with, Initial, Method, NonlinearForce, SimulationOptions,
-    SpeedProfile,
+    simulate_with, stable_step_with, Initial, Method, SimulationOptions, SpeedProfile,
 };
 
 /// How the Hertz model is run for a fit.

@@ -1,11 +1,16 @@
-//! The nonlinear-force interface every integrator uses (thesis eq. 2.4, F_nl(q, q', t)).
+//! The nonlinear-force interface every solver uses (thesis eq. 2.4, F_nl(q, q', t)): the
+//! time integrators, the static solver and harmonic balance see forces only through
+//! [`NonlinearForce`], and the contact laws of [`crate::bearing`] implement it.
 //!
-//! A force acts on a few named coordinates of the integrator (physical DOFs of the full
+//! A force acts on a few named coordinates of the solver (physical DOFs of the full
 //! model, or boundary DOFs of a Craig-Bampton model, which are physical too). It gives its
 //! value and its Jacobian at given displacement, velocity and time, so explicit methods use
 //! the value and implicit methods and the static solver use the Jacobian as well.
-//! Linear supports and a cubic spring implement it here; the roller bearing contact laws
-//! plug in the same way.
+//! Linear supports and a cubic spring implement it here; a [`ForceBuilder`] makes the
+//! forces of a model once the solver's coordinates are known.
+
+use crate::error::Result;
+use crate::model::Model;
 
 /// Spin kinematics at an instant.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -154,4 +159,17 @@ impl NonlinearForce for CubicSpring {
     fn stiffness_bound(&self) -> Vec<f64> {
         vec![self.linear + 3.0 * self.cubic.max(0.0) * self.reach * self.reach]
     }
+}
+
+/// Builds the nonlinear forces of a model, given how physical DOFs map to the solver's
+/// coordinates (`None` for a DOF the solver does not keep).
+pub type ForceBuilder<'a> =
+    &'a dyn Fn(&Model, &dyn Fn(usize) -> Option<usize>) -> Result<Vec<Box<dyn NonlinearForce>>>;
+
+/// The force builder of a model without nonlinear forces.
+pub fn no_forces(
+    _: &Model,
+    _: &dyn Fn(usize) -> Option<usize>,
+) -> Result<Vec<Box<dyn NonlinearForce>>> {
+    Ok(Vec::new())
 }
