@@ -11,7 +11,8 @@
 //! `docs/theory-errata.md` where and why whirl departs from the thesis.
 //!
 //! Data flows one way: a model file is read and validated into a [`model::Model`]; the
-//! finite-element layer ([`fe`]) assembles its matrices; the solvers ([`modal`],
+//! finite-element layer ([`fe`]) assembles its matrices; the roller bearings' contact laws
+//! ([`bearing`]) implement the nonlinear-force interface ([`force`]); the solvers ([`modal`],
 //! [`response`], [`statics`], [`time`], [`hbm`], [`nsv`], [`study`]) turn those into
 //! results types that serialize to JSON and CSV. Units are SI everywhere inside (m, kg, s,
 //! rad/s); [`units`] converts what people write (`"750 Hz"`, `"20 um"`).
@@ -114,9 +115,9 @@
 //! stability limit:
 //!
 //! ```
-//! use whirl::{model::Model, time};
+//! use whirl::{bearing::ContactLaw, model::Model, time};
 //! let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None)?;
-//! let law = time::ContactLaw::Hertz;
+//! let law = ContactLaw::Hertz;
 //! let options = time::SimulationOptions {
 //!     speed: time::SpeedProfile::Constant(2.0 * std::f64::consts::PI * 50.0),
 //!     duration: 0.2,
@@ -169,6 +170,7 @@ pub mod examples;
 pub mod fe;
 pub mod force;
 pub mod hbm;
+pub(crate) mod linalg;
 pub mod lock;
 pub mod modal;
 pub mod model;

@@ -25,13 +25,13 @@
 use faer::Mat;
 
 use super::balance::{norm, solve_dense};
-use super::banded::BandedLu;
 use super::fourier::{cos_slot, sin_slot};
 use super::stability::{hill_problem, HillProblem, Stability};
 use super::{HarmonicBalance, HbOptions, HbProblem, HbSolution};
 use crate::error::{Error, Result};
 use crate::fe::SystemMatrices;
 use crate::force::{Kinematics, NonlinearForce};
+use crate::linalg::banded::BandedLu;
 use crate::reduce::CraigBampton;
 
 /// A nonlinear force renumbered onto the condensed coordinates.

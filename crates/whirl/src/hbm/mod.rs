@@ -26,7 +26,6 @@
 //! time integrators use, so every contact law works in both.
 
 mod balance;
-mod banded;
 pub mod bearings;
 pub mod bifurcation;
 pub mod compare;

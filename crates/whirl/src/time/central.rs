@@ -28,53 +28,23 @@
 
 use faer::Mat;
 
-use super::problem::{axpy, bandwidths, vectorised, Band, BandLu, Columns, NlScratch, TimeProblem};
+use super::problem::{NlScratch, TimeProblem};
 use super::{check_state, MarchOptions, Observer};
 use crate::bearing::LagrangeContacts;
 use crate::error::{Error, Result};
+use crate::linalg::{axpy, vectorised, Band, BandLu, Columns, Layout};
 use crate::reduce::explicit_stability_limit;
 
-/// How a step is computed; see the module documentation.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Layout {
-    Dense,
-    /// Lower and upper bandwidths of M, K, C and G together.
-    Banded(usize, usize),
-}
-
-impl Layout {
-    /// The cheaper form for this problem. Per row the dense step multiplies 2 n times; the
-    /// banded one 2 (l + u + 1) times in its products and l + u times in its solves. On the
-    /// reference rotor's full model (n = 84, l = u = 7) the banded step took 0.8 of the dense
-    /// one's time for a quarter of the multiplications: a band multiplication costs about
-    /// three dense ones (short rows, and triangular solves where each row waits for the
-    /// one before), hence the factor 3.
-    fn choose(problem: &TimeProblem) -> Layout {
-        let n = problem.size();
-        let (lower, upper) = [
-            &problem.mass,
-            &problem.stiffness,
-            &problem.damping,
-            &problem.gyroscopic,
-        ]
-        .into_iter()
-        .map(bandwidths)
-        .fold((0, 0), |(l, u), (lm, um)| (l.max(lm), u.max(um)));
-        let banded = 3 * (lower + upper) + 2;
-        if 3 * banded < 2 * n {
-            Layout::Banded(lower, upper)
-        } else {
-            Layout::Dense
-        }
-    }
-
-    /// The bandwidths its matrices are stored with (a dense matrix is a full band).
-    fn widths(self, n: usize) -> (usize, usize) {
-        match self {
-            Layout::Banded(lower, upper) => (lower, upper),
-            Layout::Dense => (n.saturating_sub(1), n.saturating_sub(1)),
-        }
-    }
+/// The cheaper step form for this problem (see the module documentation): per row the
+/// dense step multiplies 2 n times, the banded one makes two band products and a solve.
+fn choose_layout(problem: &TimeProblem) -> Layout {
+    let matrices = [
+        &problem.mass,
+        &problem.stiffness,
+        &problem.damping,
+        &problem.gyroscopic,
+    ];
+    Layout::choose(matrices, 2, 2 * problem.size())
 }
 
 /// The force of one step, F_n = F_0 + c_re u_re + c_im u_im + `extra`.
@@ -336,7 +306,7 @@ pub fn central_difference(
 ) -> Result<()> {
     march(
         problem,
-        Layout::choose(problem),
+        choose_layout(problem),
         q0,
         v0,
         options,
@@ -357,7 +327,7 @@ pub fn central_difference_constrained(
     contacts: &mut LagrangeContacts,
     observe: Observer<'_>,
 ) -> Result<()> {
-    let layout = Layout::choose(problem);
+    let layout = choose_layout(problem);
     march(problem, layout, q0, v0, options, Some(contacts), observe)
 }
 
@@ -585,7 +555,7 @@ mod tests {
     #[test]
     fn the_full_model_is_marched_banded() {
         let problem = full_rotor(SpeedProfile::Constant(2.0 * PI * 50.0), false);
-        assert_eq!(Layout::choose(&problem), Layout::Banded(7, 7));
+        assert_eq!(choose_layout(&problem), Layout::Banded(7, 7));
     }
 
     #[test]

@@ -34,12 +34,11 @@
 
 use faer::Mat;
 
-use super::problem::{
-    axpy, bandwidths, solve_small, vectorised, Band, Columns, Factors, TimeProblem,
-};
+use super::problem::TimeProblem;
 use super::{check_state, MarchOptions, NlScratch, Observer};
 use crate::error::{Error, Result};
 use crate::force::Kinematics;
+use crate::linalg::{axpy, solve_small, vectorised, Band, Columns, Factors, Layout};
 
 /// Which member of the Newmark family.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -88,42 +87,17 @@ impl Coefficients {
     }
 }
 
-/// How the step's matrices are stored and J0 solved.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Layout {
-    Dense,
-    /// Lower and upper bandwidths of M, K, C and G together.
-    Banded(usize, usize),
-}
-
-impl Layout {
-    /// The bandwidths when banded.
-    fn band(self) -> Option<(usize, usize)> {
-        match self {
-            Layout::Banded(l, u) => Some((l, u)),
-            Layout::Dense => None,
-        }
-    }
-
-    /// The cheaper form. Per row a linear step multiplies 6 n times dense (five products and
-    /// the inverse) and 5 (l + u + 1) + (l + u) times banded; as for the central
-    /// difference, a band multiplication costs about three dense ones.
-    fn choose(problem: &TimeProblem) -> Layout {
-        let (lower, upper) = [
-            &problem.mass,
-            &problem.stiffness,
-            &problem.damping,
-            &problem.gyroscopic,
-        ]
-        .into_iter()
-        .map(bandwidths)
-        .fold((0, 0), |(l, u), (lm, um)| (l.max(lm), u.max(um)));
-        if 3 * (6 * (lower + upper) + 5) < 6 * problem.size() {
-            Layout::Banded(lower, upper)
-        } else {
-            Layout::Dense
-        }
-    }
+/// How the step's matrices are stored and J0 solved: per row a linear step multiplies
+/// 6 n times dense (five products and the inverse), banded it makes five band products
+/// and a solve.
+fn choose_layout(problem: &TimeProblem) -> Layout {
+    let matrices = [
+        &problem.mass,
+        &problem.stiffness,
+        &problem.damping,
+        &problem.gyroscopic,
+    ];
+    Layout::choose(matrices, 5, 6 * problem.size())
 }
 
 /// A matrix of the residual's products, in the layout's fast form.
@@ -621,15 +595,7 @@ pub fn newmark(
         beta: (1.0 - alpha).powi(2) / 4.0,
         h: options.step,
     };
-    march(
-        problem,
-        Layout::choose(problem),
-        q0,
-        v0,
-        c,
-        options,
-        observe,
-    )
+    march(problem, choose_layout(problem), q0, v0, c, options, observe)
 }
 
 /// [`newmark`] in a given layout, so that tests can run both on one problem.
@@ -837,14 +803,14 @@ mod tests {
     #[test]
     fn the_full_model_is_marched_banded_and_a_reduced_one_dense() {
         let problem = full_rotor(SpeedProfile::Constant(2.0 * PI * 50.0), false);
-        assert_eq!(Layout::choose(&problem), Layout::Banded(7, 7));
+        assert_eq!(choose_layout(&problem), Layout::Banded(7, 7));
         let mut small = full_rotor(SpeedProfile::Constant(0.0), false);
         let keep = |m: &Mat<f64>| Mat::from_fn(20, 20, |i, j| m[(i, j)]);
         small.mass = keep(&small.mass);
         small.stiffness = keep(&small.stiffness);
         small.damping = keep(&small.damping);
         small.gyroscopic = keep(&small.gyroscopic);
-        assert_eq!(Layout::choose(&small), Layout::Dense);
+        assert_eq!(choose_layout(&small), Layout::Dense);
     }
 
     #[test]

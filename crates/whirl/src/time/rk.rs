@@ -12,9 +12,10 @@
 
 use faer::Mat;
 
-use super::problem::{Dense, NlScratch, TimeProblem};
+use super::problem::{NlScratch, TimeProblem};
 use super::{check_state, MarchOptions, Observer};
 use crate::error::{Error, Result};
+use crate::linalg::Dense;
 
 /// Error tolerances: a component passes when |error| <= atol + rtol |y|.
 #[derive(Debug, Clone, Copy, PartialEq)]

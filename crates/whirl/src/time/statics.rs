@@ -30,9 +30,10 @@
 
 use faer::Mat;
 
-use super::problem::{bandwidths, solve_small, Factors, NlScratch, TimeProblem};
+use super::problem::{NlScratch, TimeProblem};
 use crate::error::{Error, Result};
 use crate::force::Kinematics;
+use crate::linalg::{bandwidths, dot_in_order as dot, solve_small, Factors};
 
 /// Scale of mu, a squared circular frequency, (rad/s)^2. The first regularised step uses
 /// 1e-6 of it: a free rotor's trial fall g / mu is then far past any clearance and the
@@ -342,10 +343,6 @@ fn condensed_mass(mass: &Mat<f64>, dofs: &[usize], others: &[usize], columns: &[
         }
     }
     out
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 fn norm(r: &[f64]) -> f64 {
