@@ -184,3 +184,8 @@ pub mod time;
 pub mod units;
 
 pub use error::{Error, InputError, Result};
+
+/// What identifies this build's numbers: whirl's version and a hash of the library's
+/// source. Checkpoints of cascades and studies record it and are resumed only by the same
+/// build, since any change of the code may change the answers while the version stays.
+pub const BUILD_ID: &str = concat!(env!("CARGO_PKG_VERSION"), "+", env!("WHIRL_SOURCE_HASH"));

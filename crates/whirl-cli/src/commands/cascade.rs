@@ -32,7 +32,8 @@ use serde_json::{json, Value};
 use whirl::model::Model;
 use whirl::nsv::{
     cascade, checkpoint, Cascade, CascadeOptions, CascadeProgress, Component, NsvSummary,
-    DEFAULT_MAX_ADDED, DEFAULT_MODES, DEFAULT_THRESHOLD_M, DEFAULT_TOLERANCE_BINS,
+    DEFAULT_MAX_ADDED, DEFAULT_MAX_RECORDS, DEFAULT_MODES, DEFAULT_RELATIVE_ERROR,
+    DEFAULT_THRESHOLD_M, DEFAULT_TOLERANCE_BINS,
 };
 use whirl::post::Window;
 use whirl::time::Initial;
@@ -103,6 +104,14 @@ pub struct Args {
     /// Time recorded at each speed; its inverse is the bin spacing (0.5 s: 2 Hz).
     #[arg(long, value_name = "TIME", default_value = "0.5s", value_parser = time, allow_hyphen_values = true)]
     pub record: f64,
+    /// Most records averaged at a settled speed: records are added until the NSV's
+    /// standard error is within --average-tolerance (at least 4); 1 for a single record.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_RECORDS)]
+    pub max_records: usize,
+    /// Averaging stops once the NSV's standard error is within this fraction of it (or
+    /// 0.05 um).
+    #[arg(long, value_name = "FRACTION", default_value_t = DEFAULT_RELATIVE_ERROR, allow_hyphen_values = true)]
+    pub average_tolerance: f64,
     /// Contact law of the roller bearings [default: hertz when the model has roller
     /// bearings, linear otherwise].
     #[arg(long, value_name = "LAW", value_enum)]
@@ -293,6 +302,9 @@ fn cascade_options(args: &Args, model: &Model) -> miette::Result<CascadeOptions>
     o.refine.max_added = args.refine_budget;
     o.refine.min_spacing_hz = args.refine_spacing;
     o.record = args.record;
+    o.averaging.max_records = args.max_records;
+    o.averaging.min_records = o.averaging.min_records.min(args.max_records.max(1));
+    o.averaging.relative_error = args.average_tolerance;
     if let Some(c) = args.contact {
         o.law = c.law();
     }
@@ -381,6 +393,8 @@ fn flag(field: &str) -> Option<&'static str> {
         "settle_max" => "--settle-max",
         "refine_spacing" => "--refine-spacing",
         "record" => "--record",
+        "max_records" => "--max-records",
+        "average_tolerance" => "--average-tolerance",
         "step" => "--step",
         "node" => "--node",
         "max_frequency" => "--max-frequency",
@@ -450,6 +464,7 @@ fn summary(
     s.insert("start".into(), json!(o.initial));
     s.insert("refinement".into(), json!(o.refine));
     s.insert("record_s".into(), o.record.into());
+    s.insert("averaging".into(), json!(o.averaging));
     s.insert("step_s".into(), r.step.into());
     s.insert("sample_interval_s".into(), (1.0 / r.sample_rate_hz).into());
     s.insert("samples_per_record".into(), r.samples.into());
@@ -471,6 +486,8 @@ fn summary(
             "amplitudes are zero-to-peak, m, of the analysed component with the window-weighted mean removed; peaks refined between bins",
             "nsv: the largest spectral peak in the band not within tolerance_bins of a multiple of the running speed; classes and their rules: whirl::nsv::classify",
             "each speed settles until its largest non-synchronous peak stops dying away (or is negligible), from settle_s up to settle_max_s; an unsettled speed (still dying away at settle_max_s) has no NSV class and never makes the onset, the largest, the statistics or the dominant class",
+            "each settled speed power-averages the spectra of consecutive records until the NSV's standard error is within averaging.relative_error of it (or averaging.absolute_error_m), from min_records to max_records records; nsv.csv gives records, nsv_standard_error_m and nsv_variation (record-to-record scatter: near 0 for a steady vibration)",
+            "started_from_rest_hz: speeds where no static equilibrium was found, so the run started from rest (nsv.csv: start_fallback)",
             "speeds are refined where the NSV changes sharply, around the largest NSV and below each onset level (nsv.csv: added = 1); largest.neighbours and largest.spacing_hz say how finely the largest NSV is resolved",
             "statistics: each settled speed weighed by the stretch of speed it stands for, so they do not depend on how many speeds a region holds",
             "direction: forward when the full spectrum of x + i y is larger at +f than at -f",
@@ -493,7 +510,7 @@ fn text(model: &Model, c: &Cascade, nsv: &NsvSummary, checkpoint: &Path) -> Stri
     let _ = writeln!(
         t,
         "{}: cascade of {} speeds {low:.1}-{high:.1} Hz ({} added by refinement; {} contact, \
-         {}), settled {}-{} s + {} s recorded each, {:.2} Hz bins up to {:.0} Hz, in {:.1} s \
+         {}), settled {}-{} s + up to {} records of {} s averaged each, {:.2} Hz bins up to {:.0} Hz, in {:.1} s \
          ({} speeds from the checkpoint {})",
         model.name,
         c.points.len(),
@@ -504,6 +521,7 @@ fn text(model: &Model, c: &Cascade, nsv: &NsvSummary, checkpoint: &Path) -> Stri
             .map_or("full model".to_string(), |m| format!("reduced, {m} modes")),
         c.options.settle,
         c.options.settle_max,
+        c.options.averaging.max_records,
         c.options.record,
         c.resolved.resolution_hz,
         c.resolved.max_frequency_hz,
@@ -534,9 +552,11 @@ fn text(model: &Model, c: &Cascade, nsv: &NsvSummary, checkpoint: &Path) -> Stri
             .collect();
         let _ = writeln!(
             t,
-            "largest NSV: {:.2} um at {:.1} Hz ({:.3}X) when running at {:.1} Hz, {} whirl, {} \
-             (neighbours: {})",
+            "largest NSV: {:.2} +- {:.2} um ({} records) at {:.1} Hz ({:.3}X) when running at \
+             {:.1} Hz, {} whirl, {} (neighbours: {})",
             1e6 * l.amplitude_m,
+            1e6 * l.standard_error_m,
+            l.records,
             l.frequency_hz,
             l.order,
             l.speed_hz,
@@ -591,6 +611,14 @@ fn text(model: &Model, c: &Cascade, nsv: &NsvSummary, checkpoint: &Path) -> Stri
             nsv.diverged_speeds_hz[0]
         );
     }
+    if let Some(first) = nsv.started_from_rest_hz.first() {
+        let _ = writeln!(
+            t,
+            "started from rest at {} speed(s), from {first:.1} Hz: no static equilibrium was \
+             found there (nsv.csv: start_fallback)",
+            nsv.started_from_rest_hz.len()
+        );
+    }
     t
 }
 
@@ -626,6 +654,7 @@ fn write_tables(out: &mut Output, c: &Cascade) -> miette::Result<()> {
             flag01(p.added),
             flag01(p.settled),
             num(p.settle_s),
+            p.records.to_string(),
             num(p.one_x_m),
             cell(|p| p.frequency_hz),
             cell(|p| p.amplitude_m),
@@ -638,8 +667,11 @@ fn write_tables(out: &mut Output, c: &Cascade) -> miette::Result<()> {
             cell(|p| p.decay_ratio),
             peak.and_then(|p| p.settling_ratio)
                 .map_or(String::new(), num),
+            cell(|p| p.standard_error_m),
+            cell(|p| p.variation),
             n.as_ref().map_or(String::new(), |n| n.explanation.clone()),
             p.diverged.clone().unwrap_or_default(),
+            p.start_fallback.clone().unwrap_or_default(),
         ]
     });
     let h = header(&[
@@ -647,6 +679,7 @@ fn write_tables(out: &mut Output, c: &Cascade) -> miette::Result<()> {
         "added",
         "settled",
         "settle_s",
+        "records",
         "one_x_m",
         "nsv_frequency_hz",
         "nsv_amplitude_m",
@@ -657,8 +690,11 @@ fn write_tables(out: &mut Output, c: &Cascade) -> miette::Result<()> {
         "backward_m",
         "decay_ratio",
         "settling_ratio",
+        "nsv_standard_error_m",
+        "nsv_variation",
         "explanation",
         "diverged",
+        "start_fallback",
     ]);
     out.csv("nsv.csv", &h, rows)
 }

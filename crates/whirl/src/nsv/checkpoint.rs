@@ -6,7 +6,8 @@
 //! written. Numbers are JSON in the shortest form that reads back to the same f64, so a
 //! resumed cascade is bit for bit the uninterrupted one. The manifest holds a hash of the
 //! validated model (so editing a comment in the file keeps the checkpoint, changing a
-//! number does not), the options and the derived step and band, and whirl's version; a
+//! number does not), the options and the derived step and band, and whirl's build
+//! ([`crate::BUILD_ID`]: the version and a hash of the library's source); a
 //! folder whose manifest differs is refused, never mixed. One run at a time per folder:
 //! the open checkpoint holds the folder's lock (`.lock`, see [`crate::lock`]), so a second
 //! run is refused, and temporary files are cleaned only by the run that holds it.
@@ -24,7 +25,7 @@ use crate::lock::RunLock;
 use crate::model::Model;
 
 /// Format of the folder; a change makes older folders be refused.
-const FORMAT: u32 = 3;
+const FORMAT: u32 = 4;
 
 const MANIFEST: &str = "manifest.json";
 
@@ -46,7 +47,7 @@ fn manifest(model: &Model, options: &CascadeOptions, resolved: &Resolved) -> Res
     })?;
     Ok(json!({
         "format": FORMAT,
-        "whirl_version": env!("CARGO_PKG_VERSION"),
+        "whirl_version": crate::BUILD_ID,
         "model_hash": format!("{:016x}", fnv1a(model_json.as_bytes())),
         "options": options,
         "resolved": resolved,
@@ -189,7 +190,7 @@ fn mismatch(dir: &Path, found: &Value, wanted: &Value) -> Error {
         }
     }
     if differs("format") || differs("whirl_version") || what.is_empty() {
-        what.push("the whirl version or checkpoint format".into());
+        what.push("the whirl build (its version or source) or checkpoint format".into());
     }
     InputError::field(
         "checkpoint",

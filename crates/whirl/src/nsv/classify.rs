@@ -359,6 +359,8 @@ mod tests {
             backward_m: 2e-7,
             decay_ratio: 1.0,
             settling_ratio: Some(1.0),
+            standard_error_m: 0.0,
+            variation: 0.0,
         }
     }
 
@@ -407,6 +409,8 @@ mod tests {
             added: false,
             settle_s: 4.0,
             settled: false,
+            records: 1,
+            start_fallback: None,
             diverged: None,
             amplitude: Vec::new(),
             full_amplitude: Vec::new(),

@@ -34,6 +34,20 @@ pub const DEFAULT_SETTLE: f64 = 0.5;
 /// of 500 per second, so free vibration of tens of micrometres is gone well within it.
 pub const DEFAULT_SETTLE_MAX: f64 = 4.0;
 
+/// Default fewest records averaged at a settled speed: four half-second records halve the
+/// scatter of one.
+pub const DEFAULT_MIN_RECORDS: usize = 4;
+
+/// Default most records averaged at a settled speed (16 s of steady motion with 0.5 s
+/// records).
+pub const DEFAULT_MAX_RECORDS: usize = 32;
+
+/// Default tolerance of the averaged NSV: a standard error within 5 % of its amplitude ...
+pub const DEFAULT_RELATIVE_ERROR: f64 = 0.05;
+
+/// ... or within this, m: NSV of a few tenths of a micrometre need not be known better.
+pub const DEFAULT_ABSOLUTE_ERROR_M: f64 = 5e-8;
+
 /// Default largest number of speeds the refinement adds.
 pub const DEFAULT_MAX_ADDED: usize = 60;
 
@@ -92,6 +106,31 @@ impl Default for Refinement {
     }
 }
 
+/// How many records of a settled speed are averaged (see the module documentation of
+/// [`crate::nsv`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Averaging {
+    /// At least this many records (1 or more).
+    pub min_records: usize,
+    /// At most this many records (at least `min_records`; 1 for a single record).
+    pub max_records: usize,
+    /// Averaging stops once the NSV's standard error is within this fraction of it ...
+    pub relative_error: f64,
+    /// ... or within this, m.
+    pub absolute_error_m: f64,
+}
+
+impl Default for Averaging {
+    fn default() -> Self {
+        Averaging {
+            min_records: DEFAULT_MIN_RECORDS,
+            max_records: DEFAULT_MAX_RECORDS,
+            relative_error: DEFAULT_RELATIVE_ERROR,
+            absolute_error_m: DEFAULT_ABSOLUTE_ERROR_M,
+        }
+    }
+}
+
 /// What a cascade computes. Build with [`CascadeOptions::new`] and change fields.
 #[derive(Debug, Clone, Serialize)]
 pub struct CascadeOptions {
@@ -108,9 +147,10 @@ pub struct CascadeOptions {
     pub initial: Initial,
     /// Speeds added where the NSV changes sharply.
     pub refine: Refinement,
-    /// Time recorded after settling, whose spectrum is taken, s. The bin spacing is its
-    /// inverse.
+    /// Time of one record, whose spectrum is taken, s. The bin spacing is its inverse.
     pub record: f64,
+    /// How many records of a settled speed are averaged.
+    pub averaging: Averaging,
     /// Contact law of the roller bearings.
     pub law: ContactLaw,
     /// Craig-Bampton reduction with this many fixed-interface modes; `None` for the full
@@ -156,6 +196,7 @@ impl CascadeOptions {
             initial: Initial::StaticEquilibrium,
             refine: Refinement::default(),
             record: 0.5,
+            averaging: Averaging::default(),
             law: ContactLaw::default_for(model),
             reduction: Some(DEFAULT_MODES),
             step: None,
@@ -298,6 +339,30 @@ fn check(model: &Model, o: &CascadeOptions) -> Result<()> {
             "refine_levels",
             format!("every onset level must be positive, got {level} m"),
             "e.g. 1 um and 10 um",
+        ));
+    }
+    let a = &o.averaging;
+    if a.min_records == 0 || a.max_records < a.min_records {
+        return Err(bad(
+            "max_records",
+            format!(
+                "between 1 and the most records averaged, at least 1 and at most the most: \
+                 got at least {} and at most {}",
+                a.min_records, a.max_records
+            ),
+            "e.g. 4 and 32 records, or 1 and 1 for a single record",
+        ));
+    }
+    if !(a.relative_error.is_finite() && a.relative_error >= 0.0)
+        || !(a.absolute_error_m.is_finite() && a.absolute_error_m >= 0.0)
+    {
+        return Err(bad(
+            "average_tolerance",
+            format!(
+                "the averaging tolerances must be 0 or more, got {} and {} m",
+                a.relative_error, a.absolute_error_m
+            ),
+            "e.g. 0.05 (5 %) and 5e-8 m",
         ));
     }
     if !positive(o.record) {

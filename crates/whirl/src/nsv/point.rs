@@ -1,15 +1,29 @@
-//! One speed of a cascade: simulate until the start has died away (or a cap), take the
-//! spectra of the record, and find its largest non-synchronous peak with its whirl
-//! direction and how it changes over time.
+//! One speed of a cascade: simulate until the start has died away (or a cap), average the
+//! spectra of consecutive records of the steady motion, and find the largest
+//! non-synchronous peak with its whirl direction, how it changed while settling, and how
+//! well the average knows it.
 //!
 //! # Settling by decay
 //!
-//! The record is the last `record` seconds of the run, and the run ends at the first of
-//! these checks (every half record, from `settle + record` on) that finds the record
-//! settled: its largest non-synchronous peak is steady (it does not keep falling over the
-//! three stretches of [`dies_away`]), or negligible ([`negligible`]). A run that reaches
-//! `settle_max` unsettled keeps its last record and is marked so: its peak is free
-//! vibration still dying away, never an NSV of any class.
+//! The first record is the last `record` seconds of the run at the first of these checks
+//! (every half record, from `settle + record` on) that finds it settled: its largest
+//! non-synchronous peak is steady (it does not keep falling over the three stretches of
+//! [`dies_away`]), or negligible ([`negligible`]). A run that reaches `settle_max`
+//! unsettled keeps that one record and is marked so: its peak is free vibration still
+//! dying away, never an NSV of any class.
+//!
+//! # Averaging
+//!
+//! Above the first critical speed the reference rotor's NSV is often irregular: the first
+//! mode rings at 45-50 Hz, driven by roller impacts, with an amplitude that wanders by
+//! +-35 % from one half-second record to the next. One record is then one draw: two starts
+//! that both settle (the static equilibrium and rest) gave NSV differing by more than 20 %
+//! at 46 of 150 speeds. So a settled run goes on recording: the spectra of consecutive
+//! records are power-averaged (the amplitude of a bin is the root of its mean square, a
+//! signal analyser's RMS averaging, which leaves a steady sine's amplitude exactly as one
+//! record gives it) until the standard error of the largest non-synchronous peak is within
+//! [`Averaging`]'s tolerance (at least `min_records`, at most `max_records` records). The
+//! peak carries that standard error and the record-to-record variation of its amplitude.
 
 use std::f64::consts::PI;
 use std::ops::ControlFlow;
@@ -17,7 +31,7 @@ use std::ops::ControlFlow;
 use num_complex::Complex;
 use serde::{Deserialize, Serialize};
 
-use super::options::{CascadeOptions, Component, Resolved};
+use super::options::{Averaging, CascadeOptions, Component, Resolved};
 use crate::error::{Error, Result};
 use crate::model::Model;
 use crate::post::{
@@ -64,14 +78,21 @@ pub struct NsvPeak {
     pub forward_m: f64,
     /// Radius of the backward-whirling component at -frequency, m.
     pub backward_m: f64,
-    /// Amplitude at this frequency in the record's second half over that in its first
-    /// half: about 1 for a steady vibration, well below 1 for free vibration still dying
-    /// away.
+    /// Amplitude at this frequency in the later half of the records averaged over that in
+    /// the earlier half (with one record, its second half over its first): about 1 for a
+    /// steady vibration, well below 1 for free vibration still dying away.
     pub decay_ratio: f64,
     /// Amplitude at this frequency in the record's first half over that in the equally
     /// long stretch just before the record (the end of the settling time); `None` when the
     /// settling time is shorter than half the record.
     pub settling_ratio: Option<f64>,
+    /// Standard error of the averaged amplitude over the records, m: how far another
+    /// stretch of the same steady motion (or another start) may put it.
+    pub standard_error_m: f64,
+    /// Standard deviation of the records' amplitudes at this frequency over their mean:
+    /// near 0 for a steady (periodic or quasi-periodic) vibration, 0.3-0.5 for an
+    /// irregular one whose amplitude wanders from record to record.
+    pub variation: f64,
 }
 
 /// The result at one speed, as stored in a checkpoint.
@@ -88,6 +109,11 @@ pub struct CascadePoint {
     /// Whether the record is settled (see the module documentation); an unsettled point's
     /// peak is free vibration still dying away at the cap.
     pub settled: bool,
+    /// Records averaged into the spectra (1 for an unsettled point, 0 for a diverged one).
+    pub records: usize,
+    /// Why the run started from rest although the static equilibrium was asked for;
+    /// `None` when it started where asked.
+    pub start_fallback: Option<String>,
     /// Why the run at this speed stopped early; `None` when it completed (then the
     /// spectra below are empty).
     pub diverged: Option<String>,
@@ -140,7 +166,6 @@ impl Planners {
 /// A record's one-sided spectrum and its largest non-synchronous peak (without the full
 /// spectrum's whirl radii).
 struct Reading {
-    spectrum: Spectrum,
     peak: Option<NsvPeak>,
     one_x_m: f64,
 }
@@ -156,6 +181,213 @@ impl Reading {
 /// or after it).
 fn samples_in(time: f64, r: &Resolved) -> usize {
     (time * r.sample_rate_hz - 1e-9).ceil().max(0.0) as usize
+}
+
+/// Where a speed's run stands: settling, then averaging records.
+struct Watch<'a> {
+    o: &'a CascadeOptions,
+    r: &'a Resolved,
+    speed_hz: f64,
+    /// The first sample a settled record may start at, and the last (the cap).
+    first_start: usize,
+    last_start: usize,
+    /// The first record's start, once settled or at the cap.
+    start: Option<usize>,
+    records: Records,
+}
+
+impl Watch<'_> {
+    /// Looks at the record so far (called every half record): settled yet, and if so, is the
+    /// averaged NSV known well enough? `Break` ends the run.
+    fn check(&mut self, values: &[f64], planners: &mut Planners) -> Result<ControlFlow<()>> {
+        let (o, r) = (self.o, self.r);
+        let start = match self.start {
+            Some(start) => start,
+            None => {
+                let latest = values.len().saturating_sub(r.samples);
+                if latest < self.first_start {
+                    return Ok(ControlFlow::Continue(()));
+                }
+                let start = latest.min(self.last_start);
+                let settled = read(values, start, self.speed_hz, o, r, planners)?.settled();
+                if !settled && start < self.last_start {
+                    return Ok(ControlFlow::Continue(()));
+                }
+                self.start = Some(start);
+                if !settled {
+                    // Still dying away at the cap: its last record is all it gets.
+                    return Ok(ControlFlow::Break(()));
+                }
+                start
+            }
+        };
+        let complete = ((values.len() - start) / r.samples).min(o.averaging.max_records);
+        self.records.extend(values, start, complete, r, planners)?;
+        let enough = complete >= o.averaging.max_records
+            || (complete >= o.averaging.min_records
+                && self
+                    .records
+                    .estimate(self.speed_hz, o, r)
+                    .converged(&o.averaging));
+        Ok(if enough {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        })
+    }
+}
+
+/// The one-sided power spectra of consecutive records from a settled start.
+#[derive(Default)]
+struct Records {
+    /// Squared amplitude of every bin, one vector per record.
+    powers: Vec<Vec<f64>>,
+    /// The first record's spectrum (its bins and window describe them all).
+    first: Option<Spectrum>,
+}
+
+impl Records {
+    /// Takes the spectra of records `len..count` (consecutive, from `start`).
+    fn extend(
+        &mut self,
+        values: &[f64],
+        start: usize,
+        count: usize,
+        r: &Resolved,
+        planners: &mut Planners,
+    ) -> Result<()> {
+        while self.powers.len() < count {
+            let x = record(values, start + self.powers.len() * r.samples, r)?;
+            let spectrum = planners.one_sided(x)?;
+            self.powers
+                .push(spectrum.amplitude.iter().map(|a| a * a).collect());
+            self.first.get_or_insert(spectrum);
+        }
+        Ok(())
+    }
+
+    /// The power-averaged spectrum (amplitude = root of the mean squared amplitude, as a
+    /// signal analyser's RMS averaging: a steady sine keeps its amplitude exactly) and its
+    /// largest non-synchronous peak with the peak's standard error.
+    fn estimate(&self, speed_hz: f64, o: &CascadeOptions, r: &Resolved) -> Estimate {
+        let n = self.powers.len().max(1) as f64;
+        let template = self.first.as_ref();
+        let bins = self.powers.first().map_or(0, Vec::len);
+        let amplitude: Vec<f64> = (0..bins)
+            .map(|k| (self.powers.iter().map(|p| p[k]).sum::<f64>() / n).sqrt())
+            .collect();
+        let spectrum = Spectrum {
+            frequency_hz: template.map_or_else(Vec::new, |s| s.frequency_hz.clone()),
+            amplitude,
+            resolution_hz: r.resolution_hz,
+            window: o.window,
+        };
+        let peak = largest_non_synchronous_below(
+            &spectrum,
+            speed_hz,
+            o.tolerance_bins,
+            r.max_frequency_hz,
+        );
+        let spread = peak.map(|p| self.spread_at(p.frequency_hz / r.resolution_hz));
+        Estimate {
+            one_x_m: amplitude_at(&spectrum, speed_hz),
+            spectrum,
+            peak: peak.zip(spread),
+        }
+    }
+
+    /// Amplitude of the bin nearest `position` (in bins) over the later half of the records
+    /// over that over the earlier half (power-averaged, the middle record left out of an
+    /// odd count); `None` for a single record.
+    fn decay_at(&self, position: f64) -> Option<f64> {
+        let n = self.powers.len();
+        if n < 2 {
+            return None;
+        }
+        let k = position.round().max(0.0) as usize;
+        let mean = |records: &[Vec<f64>]| {
+            records
+                .iter()
+                .map(|p| p.get(k).copied().unwrap_or(0.0))
+                .sum::<f64>()
+                / records.len() as f64
+        };
+        let (earlier, later) = (mean(&self.powers[..n / 2]), mean(&self.powers[n - n / 2..]));
+        Some(if earlier > 0.0 {
+            (later / earlier).sqrt()
+        } else {
+            1.0
+        })
+    }
+
+    /// The scatter over the records of the bin nearest `position` (in bins).
+    fn spread_at(&self, position: f64) -> Spread {
+        let k = position.round().max(0.0) as usize;
+        let powers: Vec<f64> = self
+            .powers
+            .iter()
+            .map(|p| p.get(k).copied().unwrap_or(0.0))
+            .collect();
+        let amplitudes: Vec<f64> = powers.iter().map(|p| p.sqrt()).collect();
+        let (mean_power, sd_power) = mean_and_deviation(&powers);
+        let (mean_amplitude, sd_amplitude) = mean_and_deviation(&amplitudes);
+        let n = powers.len() as f64;
+        Spread {
+            // A = sqrt(mean P): its relative error is half that of the mean power.
+            relative_error: if mean_power > 0.0 {
+                0.5 * sd_power / mean_power / n.sqrt()
+            } else {
+                0.0
+            },
+            variation: if mean_amplitude > 0.0 {
+                sd_amplitude / mean_amplitude
+            } else {
+                0.0
+            },
+        }
+    }
+}
+
+/// Mean and sample standard deviation (0 for fewer than two values).
+fn mean_and_deviation(x: &[f64]) -> (f64, f64) {
+    let n = x.len() as f64;
+    if x.is_empty() {
+        return (0.0, 0.0);
+    }
+    let mean = x.iter().sum::<f64>() / n;
+    if x.len() < 2 {
+        return (mean, 0.0);
+    }
+    let variance = x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    (mean, variance.sqrt())
+}
+
+/// How the records scatter at a peak's frequency.
+#[derive(Debug, Clone, Copy)]
+struct Spread {
+    /// Standard error of the averaged amplitude over the amplitude.
+    relative_error: f64,
+    /// Standard deviation of the records' amplitudes over their mean.
+    variation: f64,
+}
+
+/// The averaged spectrum of a speed, its 1X and its largest non-synchronous peak.
+struct Estimate {
+    spectrum: Spectrum,
+    one_x_m: f64,
+    peak: Option<(crate::post::SpectralPeak, Spread)>,
+}
+
+impl Estimate {
+    /// Whether the averaged NSV is known well enough: its standard error within the
+    /// tolerance, or the peak negligible next to the 1X.
+    fn converged(&self, a: &Averaging) -> bool {
+        self.peak.is_none_or(|(p, s)| {
+            s.relative_error * p.amplitude
+                <= (a.relative_error * p.amplitude).max(a.absolute_error_m)
+                || p.amplitude < negligible(self.one_x_m)
+        })
+    }
 }
 
 /// Simulates and analyses one speed (rad/s). A run that diverges is a point with its
@@ -174,11 +406,12 @@ pub(super) fn compute(
     };
     let first_start = samples_in(o.settle, r);
     let last_start = samples_in(o.settle_max, r).max(first_start);
+    let most = o.averaging.max_records as f64;
     let simulation = SimulationOptions {
         speed: SpeedProfile::Constant(speed),
-        // Two samples more than the record, so that rounding of the step count never
-        // leaves it a sample short.
-        duration: o.settle_max.max(o.settle) + o.record + 2.0 / r.sample_rate_hz,
+        // Two samples more than the records, so that rounding of the step count never
+        // leaves the last a sample short.
+        duration: o.settle_max.max(o.settle) + most * o.record + 2.0 / r.sample_rate_hz,
         step: r.step,
         method: Method::CentralDifference,
         reduction: o.reduction,
@@ -188,35 +421,32 @@ pub(super) fn compute(
         divergence_bound: o.divergence_bound,
         progress: None,
     };
-    // The record's start where a check found it settled.
-    let mut settled_at: Option<usize> = None;
+    let mut watch = Watch {
+        o,
+        r,
+        speed_hz,
+        first_start,
+        last_start,
+        start: None,
+        records: Records::default(),
+    };
     let mut failure: Option<Error> = None;
-    let half = (r.samples / 2).max(1);
-    let mut decide = |values: &[Vec<f64>]| {
-        let start = values[channel].len().saturating_sub(r.samples);
-        if start < first_start || start >= last_start {
-            return ControlFlow::Continue(());
-        }
-        match read(&values[channel], start, speed_hz, o, r, planners) {
-            Ok(reading) if reading.settled() => {
-                settled_at = Some(start);
-                ControlFlow::Break(())
-            }
-            Ok(_) => ControlFlow::Continue(()),
-            Err(e) => {
-                failure = Some(e);
-                ControlFlow::Break(())
-            }
+    let mut decide = |values: &[Vec<f64>]| match watch.check(&values[channel], planners) {
+        Ok(flow) => flow,
+        Err(e) => {
+            failure = Some(e);
+            ControlFlow::Break(())
         }
     };
-    let until = (last_start > first_start).then_some(Until {
-        every: half,
+    let until = Until {
+        every: (r.samples / 2).max(1),
         decide: &mut decide,
-    });
-    let result = simulate_response(model, &simulation, o.law, r.record_every, until)?;
+    };
+    let result = simulate_response(model, &simulation, o.law, r.record_every, Some(until))?;
     if let Some(e) = failure {
         return Err(e);
     }
+    let start_fallback = result.start_fallback.clone();
     if let RunStatus::Diverged { message, .. } = &result.status {
         return Ok(CascadePoint {
             speed,
@@ -224,6 +454,8 @@ pub(super) fn compute(
             added: false,
             settle_s: 0.0,
             settled: false,
+            records: 0,
+            start_fallback,
             diverged: Some(message.clone()),
             amplitude: Vec::new(),
             full_amplitude: Vec::new(),
@@ -231,32 +463,46 @@ pub(super) fn compute(
             peak: None,
         });
     }
-    let start = settled_at.unwrap_or(last_start);
-    let x = record(&result.channels[0].values, start, r)?;
-    let y = record(&result.channels[1].values, start, r)?;
-    let reading = read(
-        &result.channels[channel].values,
-        start,
-        speed_hz,
-        o,
-        r,
-        planners,
-    )?;
-    let settled = reading.settled();
-    let full = planners.two_sided(x, y)?;
-    let peak = reading.peak.map(|p| NsvPeak {
+    let values = &result.channels[channel].values;
+    let start = watch.start.unwrap_or(last_start);
+    let first = read(values, start, speed_hz, o, r, planners)?;
+    let count = if first.settled() {
+        ((values.len().saturating_sub(start)) / r.samples).clamp(1, o.averaging.max_records)
+    } else {
+        1
+    };
+    let mut records = watch.records;
+    records.powers.truncate(count);
+    records.extend(values, start, count, r, planners)?;
+    let estimate = records.estimate(speed_hz, o, r);
+    let (xs, ys) = (&result.channels[0].values, &result.channels[1].values);
+    let full = averaged_two_sided(xs, ys, start, count, r, planners)?;
+    let x = record(values, start, r)?;
+    let half = r.samples / 2;
+    let tail = start.checked_sub(half).map(|from| &values[from..start]);
+    let peak = estimate.peak.map(|(p, spread)| NsvPeak {
+        frequency_hz: p.frequency_hz,
+        amplitude_m: p.amplitude,
+        order: p.order,
         forward_m: full_reading(&full, r, p.frequency_hz),
         backward_m: full_reading(&full, r, -p.frequency_hz),
-        ..p
+        decay_ratio: records
+            .decay_at(p.frequency_hz / r.resolution_hz)
+            .unwrap_or_else(|| decay_ratio(x, p.frequency_hz, r.sample_rate_hz)),
+        settling_ratio: tail.map(|tail| ratio(&x[..half], tail, p.frequency_hz, r.sample_rate_hz)),
+        standard_error_m: spread.relative_error * p.amplitude,
+        variation: spread.variation,
     });
-    let mut amplitude = reading.spectrum.amplitude;
+    let mut amplitude = estimate.spectrum.amplitude;
     amplitude.truncate(r.bins);
     Ok(CascadePoint {
         speed,
         speed_hz,
         added: false,
         settle_s: start as f64 / r.sample_rate_hz,
-        settled,
+        settled: first.settled(),
+        records: count,
+        start_fallback,
         diverged: None,
         amplitude,
         full_amplitude: if o.full {
@@ -264,9 +510,32 @@ pub(super) fn compute(
         } else {
             Vec::new()
         },
-        one_x_m: reading.one_x_m,
+        one_x_m: estimate.one_x_m,
         peak,
     })
+}
+
+/// The full spectrum of x + i y power-averaged over `count` records from `start`.
+fn averaged_two_sided(
+    x: &[f64],
+    y: &[f64],
+    start: usize,
+    count: usize,
+    r: &Resolved,
+    planners: &mut Planners,
+) -> Result<Vec<f64>> {
+    let mut power = vec![0.0; r.samples];
+    for k in 0..count {
+        let from = start + k * r.samples;
+        let full = planners.two_sided(record(x, from, r)?, record(y, from, r)?)?;
+        for (p, a) in power.iter_mut().zip(&full) {
+            *p += a * a;
+        }
+    }
+    Ok(power
+        .into_iter()
+        .map(|p| (p / count.max(1) as f64).sqrt())
+        .collect())
 }
 
 /// The record of `samples` samples from `start`.
@@ -306,13 +575,11 @@ fn read(
                 decay_ratio: decay_ratio(x, p.frequency_hz, r.sample_rate_hz),
                 settling_ratio: tail
                     .map(|tail| ratio(&x[..half], tail, p.frequency_hz, r.sample_rate_hz)),
+                standard_error_m: 0.0,
+                variation: 0.0,
             });
     let one_x_m = amplitude_at(&spectrum, speed_hz);
-    Ok(Reading {
-        spectrum,
-        peak,
-        one_x_m,
-    })
+    Ok(Reading { peak, one_x_m })
 }
 
 /// Whether `peak` is free vibration dying away: it falls over the three stretches (the
@@ -431,6 +698,8 @@ mod tests {
             backward_m: 2e-7,
             decay_ratio,
             settling_ratio,
+            standard_error_m: 0.0,
+            variation: 0.0,
         }
     }
 
@@ -443,6 +712,73 @@ mod tests {
         // Without the settling stretch, only a fall below TRANSIENT_DECAY counts.
         assert!(!dies_away(&peak(0.3, None)));
         assert!(dies_away(&peak(0.1, None)));
+    }
+
+    /// Records of a unit sine at 10 Hz (exactly on a bin) whose amplitude is `amplitudes`
+    /// record by record, averaged as a settled speed's are.
+    fn averaged(amplitudes: &[f64]) -> (Records, Resolved, CascadeOptions) {
+        let model =
+            crate::model::Model::from_toml_str(crate::examples::REFERENCE_ROTOR, None).unwrap();
+        let mut o = CascadeOptions::new(&model, vec![1.0]);
+        o.record = 1.0;
+        let r = Resolved {
+            step: 1e-3,
+            record_every: 1,
+            samples: 1000,
+            sample_rate_hz: 1000.0,
+            resolution_hz: 1.0,
+            max_frequency_hz: 100.0,
+            bins: 101,
+        };
+        let values: Vec<f64> = amplitudes
+            .iter()
+            .flat_map(|a| (0..1000).map(move |n| a * (2.0 * PI * 10.0 * n as f64 / 1000.0).sin()))
+            .collect();
+        let mut planners = Planners::new(&o, &r).unwrap();
+        let mut records = Records::default();
+        records
+            .extend(&values, 0, amplitudes.len(), &r, &mut planners)
+            .unwrap();
+        (records, r, o)
+    }
+
+    #[test]
+    fn averaging_keeps_a_steady_sine_and_measures_a_wandering_one() {
+        // Running at 40 Hz: 10 Hz is a quarter of the running speed, non-synchronous.
+        let speed_hz = 40.0;
+        let (steady, r, o) = averaged(&[2.0, 2.0, 2.0, 2.0]);
+        let e = steady.estimate(speed_hz, &o, &r);
+        let (p, spread) = e.peak.unwrap();
+        // An integer number of periods on a bin: the Hann spectrum is exact to round-off.
+        assert!((p.amplitude - 2.0).abs() < 1e-9, "{}", p.amplitude);
+        assert!(spread.relative_error < 1e-9 && spread.variation < 1e-9);
+
+        let (wandering, r, o) = averaged(&[1.0, 3.0, 1.0, 3.0]);
+        let (p, spread) = wandering.estimate(speed_hz, &o, &r).peak.unwrap();
+        // Power average: sqrt((1 + 9) / 2); the powers 1, 9, 1, 9 have a sample standard
+        // deviation of 4.6188 (n - 1), so the amplitude's relative standard error is
+        // 0.5 * 4.6188 / 5 / sqrt(4) = 0.23094; the amplitudes' variation is
+        // 1.1547 / 2 = 0.57735.
+        assert!((p.amplitude - 5f64.sqrt()).abs() < 1e-9, "{}", p.amplitude);
+        assert!(
+            (spread.relative_error - 0.230_940).abs() < 1e-5,
+            "{spread:?}"
+        );
+        assert!((spread.variation - 0.577_350).abs() < 1e-5, "{spread:?}");
+        let mut tolerance = Averaging::default();
+        assert!(!e_converged(&wandering, &o, &r, speed_hz, &tolerance));
+        tolerance.relative_error = 0.25;
+        assert!(e_converged(&wandering, &o, &r, speed_hz, &tolerance));
+    }
+
+    fn e_converged(
+        records: &Records,
+        o: &CascadeOptions,
+        r: &Resolved,
+        speed_hz: f64,
+        a: &Averaging,
+    ) -> bool {
+        records.estimate(speed_hz, o, r).converged(a)
     }
 
     #[test]

@@ -217,6 +217,8 @@ mod tests {
             backward_m: 0.0,
             decay_ratio: 1.0,
             settling_ratio: Some(1.0),
+            standard_error_m: 0.0,
+            variation: 0.0,
         };
         let p = CascadePoint {
             speed: speed_hz * std::f64::consts::TAU,
@@ -224,6 +226,8 @@ mod tests {
             added: false,
             settle_s: 0.5,
             settled: true,
+            records: 4,
+            start_fallback: None,
             diverged: None,
             amplitude: Vec::new(),
             full_amplitude: Vec::new(),

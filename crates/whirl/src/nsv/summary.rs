@@ -38,6 +38,10 @@ pub struct LargestNsv {
     pub frequency_hz: f64,
     /// Zero-to-peak amplitude, m.
     pub amplitude_m: f64,
+    /// Standard error of the amplitude over the records averaged there, m.
+    pub standard_error_m: f64,
+    /// Records averaged there.
+    pub records: usize,
     /// Frequency over running speed.
     pub order: f64,
     /// Its class.
@@ -120,6 +124,8 @@ pub struct NsvSummary {
     pub unsettled_speeds_hz: Vec<f64>,
     /// Speeds whose run diverged, Hz.
     pub diverged_speeds_hz: Vec<f64>,
+    /// Speeds that started from rest because no static equilibrium was found there, Hz.
+    pub started_from_rest_hz: Vec<f64>,
 }
 
 /// The NSV level of a point: its steady NSV amplitude (0 without a non-synchronous peak),
@@ -167,7 +173,7 @@ pub(super) fn summarise(
             onsets.push(onset);
         }
     }
-    let largest = largest(&settled, nsv);
+    let largest = largest(points, &settled, nsv);
     let classes: Vec<ClassCount> = NsvClass::ALL
         .iter()
         .map(|&class| {
@@ -213,6 +219,7 @@ pub(super) fn summarise(
         added_speeds: points.iter().filter(|p| p.added).count(),
         unsettled_speeds_hz: speeds_where(&|p| p.diverged.is_none() && !p.settled),
         diverged_speeds_hz: speeds_where(&|p| p.diverged.is_some()),
+        started_from_rest_hz: speeds_where(&|p| p.start_fallback.is_some()),
     }
 }
 
@@ -227,7 +234,11 @@ fn onset_at(settled: &[(usize, SpeedLevel)], level_m: f64) -> Option<Onset> {
 }
 
 /// The largest settled NSV with its neighbours in speed.
-fn largest(settled: &[(usize, SpeedLevel)], nsv: &[Option<Nsv>]) -> Option<LargestNsv> {
+fn largest(
+    points: &[CascadePoint],
+    settled: &[(usize, SpeedLevel)],
+    nsv: &[Option<Nsv>],
+) -> Option<LargestNsv> {
     let (k, _) = settled
         .iter()
         .enumerate()
@@ -248,6 +259,8 @@ fn largest(settled: &[(usize, SpeedLevel)], nsv: &[Option<Nsv>]) -> Option<Large
         speed_hz: n.speed_hz,
         frequency_hz: n.peak.frequency_hz,
         amplitude_m: n.peak.amplitude_m,
+        standard_error_m: n.peak.standard_error_m,
+        records: points[i].records,
         order: n.peak.order,
         class: n.class,
         direction: n.direction,

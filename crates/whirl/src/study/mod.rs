@@ -89,7 +89,7 @@ pub struct SweepValue {
 /// One point: a model and cascade settings.
 #[derive(Debug, Clone)]
 pub struct Point {
-    /// Fingerprint of its validated model and cascade settings (and whirl's version):
+    /// Fingerprint of its validated model and cascade settings (and whirl's build, [`crate::BUILD_ID`]):
     /// names its file in the checkpoint folder.
     pub key: String,
     /// What differs from the base model and settings, `path = value`, in order.
@@ -365,7 +365,7 @@ impl Expander {
         // one point.
         let model_json = serde_json::to_string(&valid).unwrap_or_default();
         let cascade_json = serde_json::to_string(&settings).unwrap_or_default();
-        let key = store::fingerprint(&[env!("CARGO_PKG_VERSION"), &model_json, &cascade_json]);
+        let key = store::fingerprint(&[crate::BUILD_ID, &model_json, &cascade_json]);
         if let Some(&k) = self.by_key.get(&key) {
             return Ok(k);
         }

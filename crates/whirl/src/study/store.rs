@@ -4,7 +4,7 @@
 //! Layout: `study.json` records the fingerprint of the study that started the folder (its
 //! sweeps and its points' inputs); `points/<key>.json` holds one finished point, `<key>`
 //! being the fingerprint of that point's exact input (validated model after its edits,
-//! cascade settings, whirl version). A point file is written to a temporary name and renamed into place, so
+//! cascade settings, whirl build: version and source hash). A point file is written to a temporary name and renamed into place, so
 //! it is either whole or absent, whatever the moment of interruption. A folder started by a
 //! different study file or model is refused rather than mixed; a point file that cannot be
 //! read back (written by another whirl version) is computed again. The open store holds
