@@ -224,6 +224,18 @@ impl From<InputError> for Error {
 /// Result with whirl's error.
 pub type Result<T> = std::result::Result<T, Error>;
 
+/// Maps an I/O error on `path` to whirl's error, saying what was being done.
+pub(crate) fn io<'a>(
+    action: &'static str,
+    path: &'a std::path::Path,
+) -> impl FnOnce(std::io::Error) -> Error + 'a {
+    move |source| Error::Io {
+        action,
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

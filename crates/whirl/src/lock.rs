@@ -17,8 +17,7 @@ use std::fs::{self, File, OpenOptions, TryLockError};
 use std::io::{Read, Seek, Write};
 use std::path::{Path, PathBuf};
 
-use crate::error::{Error, InputError, Result};
-use crate::nsv::checkpoint::io;
+use crate::error::{io, Error, InputError, Result};
 
 /// Attempts at taking a lock whose file was replaced meanwhile (see the module doc); two
 /// replacements in a row need three runs racing for one folder, so three is plenty.

@@ -20,7 +20,7 @@ use serde_json::{json, Value};
 
 use super::options::{CascadeOptions, Resolved};
 use super::point::CascadePoint;
-use crate::error::{Error, InputError, Result};
+use crate::error::{io, Error, InputError, Result};
 use crate::lock::RunLock;
 use crate::model::Model;
 
@@ -72,18 +72,6 @@ pub(crate) fn fnv1a(bytes: &[u8]) -> u64 {
     bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
         (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
     })
-}
-
-/// Maps an I/O error on `path` to whirl's error, saying what was being done.
-pub(crate) fn io<'a>(
-    action: &'static str,
-    path: &'a Path,
-) -> impl FnOnce(std::io::Error) -> Error + 'a {
-    move |source| Error::Io {
-        action,
-        path: path.to_path_buf(),
-        source,
-    }
 }
 
 impl Checkpoint {

@@ -16,9 +16,9 @@ use std::path::{Path, PathBuf};
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
-use crate::error::{Error, InputError, Result};
+use crate::error::{io, Error, InputError, Result};
 use crate::lock::RunLock;
-use crate::nsv::checkpoint::{fnv1a, io, write_atomically, LOCK};
+use crate::nsv::checkpoint::{fnv1a, write_atomically, LOCK};
 
 /// The manifest of a checkpoint folder.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
