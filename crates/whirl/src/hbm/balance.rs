@@ -154,17 +154,25 @@ impl HarmonicBalance {
         2 * self.options.harmonics + 1
     }
 
-    /// Harmonic balance at frequency w (rad/s) by Newton-Raphson from `guess`.
+    /// Harmonic balance at frequency w (rad/s) by Newton-Raphson from `guess`: plain
+    /// Newton, then, should it fail, Newton with a line search ([`line_search`]), which
+    /// converges where full steps cycle between contact states.
     ///
     /// # Errors
     /// [`Error::NotConverged`] when Newton does not converge within `max_iterations`: an
     /// unconverged point is never returned.
     pub fn solve(&mut self, frequency: f64, guess: &[f64]) -> Result<HbSolution> {
         self.check_arguments(frequency, guess)?;
+        self.newton(frequency, guess, FULL_STEPS)
+            .or_else(|_| self.newton(frequency, guess, LINE_SEARCH_HALVINGS))
+    }
+
+    /// Newton-Raphson at w from `guess`, each step shortened up to `halvings` times.
+    fn newton(&mut self, frequency: f64, guess: &[f64], halvings: usize) -> Result<HbSolution> {
         let mut x = guess.to_vec();
         let mut last = f64::NAN;
+        let mut residual = self.residual(&x, frequency);
         for iteration in 0..=self.options.max_iterations {
-            let residual = self.residual(&x, frequency);
             last = relative(&residual);
             if last <= self.options.tolerance {
                 return Ok(HbSolution {
@@ -187,9 +195,9 @@ impl HarmonicBalance {
                     ),
                 )
             })?;
-            for (xi, di) in x.iter_mut().zip(&step) {
-                *xi -= di;
-            }
+            (x, residual) = line_search(&x, &step, &residual, halvings, |trial| {
+                self.residual(trial, frequency)
+            });
         }
         Err(Error::not_converged(
             "harmonic balance",
@@ -513,6 +521,61 @@ pub(crate) fn relative(residual: &Residual) -> f64 {
     } else {
         r / residual.scale
     }
+}
+
+/// Halvings of a Newton step before the line search takes the best length it tried: down
+/// to 1/256 of the step, short enough to leave a contact state the full step overshoots.
+pub(crate) const LINE_SEARCH_HALVINGS: usize = 8;
+
+/// Plain Newton (every step taken whole): no halving.
+pub(crate) const FULL_STEPS: usize = 0;
+
+/// Armijo's sufficient decrease: the residual must fall by this fraction of what the
+/// linear model promises, a weak condition that the full Newton step meets wherever Newton
+/// converges quadratically (so converging iterations are unchanged by the search).
+const SUFFICIENT_DECREASE: f64 = 1e-4;
+
+/// The next Newton iterate x - lambda d and its residual, by backtracking on |R|: the full
+/// step when it lowers |R| enough ([`SUFFICIENT_DECREASE`]), else the step halved, up to
+/// `halvings` times, until it does, else the tried length with the smallest finite |R|
+/// (with no halving, the full step: plain Newton). Newton on a contact force that switches
+/// on and off can cycle between contact states with full steps (each step's linearisation
+/// holds in one state only); a shorter step that lowers |R| breaks the cycle. `residual_at`
+/// gives R at a trial point (not finite where it cannot be evaluated).
+pub(crate) fn line_search(
+    x: &[f64],
+    d: &[f64],
+    current: &Residual,
+    halvings: usize,
+    mut residual_at: impl FnMut(&[f64]) -> Residual,
+) -> (Vec<f64>, Residual) {
+    let size = norm(&current.values);
+    let mut at = |lambda: f64| {
+        let trial: Vec<f64> = x.iter().zip(d).map(|(xi, di)| xi - lambda * di).collect();
+        let residual = residual_at(&trial);
+        let trial_size = norm(&residual.values);
+        let sufficient = trial_size <= (1.0 - SUFFICIENT_DECREASE * lambda) * size;
+        (trial, residual, trial_size, sufficient)
+    };
+    let (trial, residual, trial_size, sufficient) = at(1.0);
+    if sufficient {
+        return (trial, residual);
+    }
+    // The full step is kept when no length gives a finite residual (the caller then stops
+    // on it); a finite one replaces it, and a smaller one that.
+    let mut best = (trial, residual, trial_size);
+    let mut lambda = 1.0;
+    for _ in 0..halvings {
+        lambda /= 2.0;
+        let (trial, residual, trial_size, sufficient) = at(lambda);
+        if sufficient {
+            return (trial, residual);
+        }
+        if trial_size < best.2 || (trial_size.is_finite() && !best.2.is_finite()) {
+            best = (trial, residual, trial_size);
+        }
+    }
+    (best.0, best.1)
 }
 
 /// Solves A y = b by LU with partial pivoting; `None` when the solution is not finite.
