@@ -684,6 +684,66 @@ mod tests {
         assert!(worst < 1e-8, "worst difference {worst:e}");
     }
 
+    /// A restoring force that saturates, F = -atan(q): far from q = 0 its tangent is so
+    /// soft that a full Newton step overshoots to the other side by more than it started
+    /// (q = 3 -> -9.5 -> 124 ...), as a step that overshoots a contact's state does.
+    struct Saturating;
+
+    impl NonlinearForce for Saturating {
+        fn name(&self) -> String {
+            "saturating test force".into()
+        }
+        fn dofs(&self) -> &[usize] {
+            &[0]
+        }
+        fn force(&mut self, _: &Kinematics, q: &[f64], _: &[f64], out: &mut [f64]) {
+            out[0] = -q[0].atan();
+        }
+        fn jacobian(
+            &mut self,
+            _: &Kinematics,
+            q: &[f64],
+            _: &[f64],
+            dfdq: &mut [f64],
+            dfdv: &mut [f64],
+        ) {
+            dfdq[0] = -1.0 / (1.0 + q[0] * q[0]);
+            dfdv[0] = 0.0;
+        }
+        fn stiffness_bound(&self) -> Vec<f64> {
+            vec![1.0]
+        }
+    }
+
+    #[test]
+    fn the_line_search_converges_where_full_newton_steps_run_away() {
+        // One coordinate held by the saturating force alone (no linear spring), unforced:
+        // the periodic solution is q = 0. The damping keeps the harmonic blocks regular
+        // (w c = 0.5) wherever Newton goes.
+        let one = |v: f64| Mat::from_fn(1, 1, |_, _| v);
+        let problem = HbProblem {
+            mass: one(1.0),
+            stiffness: one(0.0),
+            damping: one(1.0),
+            gyroscopic: one(0.0),
+            constant_force: vec![0.0],
+            unbalance_re: vec![0.0],
+            unbalance_im: vec![0.0],
+            harmonic_re: vec![0.0],
+            harmonic_im: vec![0.0],
+            nonlinear: vec![Box::new(Saturating)],
+        };
+        let mut hb = HarmonicBalance::new(problem, HbOptions::new(1)).unwrap();
+        let mut guess = vec![0.0; hb.unknowns()];
+        guess[0] = 3.0;
+        let plain = hb.newton(0.5, &guess, FULL_STEPS);
+        assert!(plain.is_err(), "{plain:?}");
+        let solution = hb.solve(0.5, &guess).unwrap();
+        // Converged to the tolerance 1e-10 of |F_nl| ~ |q| near the root, whose only root
+        // is q = 0 (atan is monotone): |q| is of the order of the tolerance.
+        assert!(solution.coefficients.iter().all(|c| c.abs() < 1e-9), "{solution:?}");
+    }
+
     #[test]
     fn newton_refuses_to_return_an_unconverged_point() {
         let options = HbOptions {
