@@ -741,7 +741,10 @@ mod tests {
         let solution = hb.solve(0.5, &guess).unwrap();
         // Converged to the tolerance 1e-10 of |F_nl| ~ |q| near the root, whose only root
         // is q = 0 (atan is monotone): |q| is of the order of the tolerance.
-        assert!(solution.coefficients.iter().all(|c| c.abs() < 1e-9), "{solution:?}");
+        assert!(
+            solution.coefficients.iter().all(|c| c.abs() < 1e-9),
+            "{solution:?}"
+        );
     }
 
     #[test]

@@ -22,8 +22,8 @@
 //! extremum of the cubic Hermite interpolant of w(s) between the two points stands in.
 
 use super::balance::{
-    line_search, norm, relative, solve_dense, HarmonicBalance, HbSolution, Residual,
-    FULL_STEPS, LINE_SEARCH_HALVINGS,
+    line_search, norm, relative, solve_dense, HarmonicBalance, HbSolution, Residual, FULL_STEPS,
+    LINE_SEARCH_HALVINGS,
 };
 use super::bifurcation::{locate_bifurcations, Bifurcation};
 use super::condensation::CondensedBalance;
