@@ -195,20 +195,17 @@ impl HarmonicBalance {
                     ),
                 )
             })?;
-            let next = line_search(&x, &step, &residual, halvings, |trial| {
+            (x, residual) = line_search(&x, &step, &residual, halvings, |trial| {
                 self.residual(trial, frequency)
             });
-            let Some(next) = next else { break };
-            (x, residual) = next;
         }
         Err(Error::not_converged(
             "harmonic balance",
             Some(self.options.max_iterations),
             Some(last),
             format!(
-                "harmonic balance did not converge at {frequency} rad/s within {} Newton \
-                 iterations, with or without a line search (relative residual {last:e}, \
-                 tolerance {:e}); start nearer the \
+                "harmonic balance did not converge at {frequency} rad/s after {} Newton \
+             iterations (relative residual {last:e}, tolerance {:e}); start nearer the \
              solution (continuation with a smaller step), or use more time samples",
                 self.options.max_iterations, self.options.tolerance
             ),
@@ -526,8 +523,8 @@ pub(crate) fn relative(residual: &Residual) -> f64 {
     }
 }
 
-/// Halvings of a Newton step before the line search gives up: down to 1/256 of the step,
-/// short enough to leave a contact state the full step overshoots.
+/// Halvings of a Newton step before the line search takes the best length it tried: down
+/// to 1/256 of the step, short enough to leave a contact state the full step overshoots.
 pub(crate) const LINE_SEARCH_HALVINGS: usize = 8;
 
 /// Plain Newton (every step taken whole): no halving.
@@ -535,37 +532,50 @@ pub(crate) const FULL_STEPS: usize = 0;
 
 /// Armijo's sufficient decrease: the residual must fall by this fraction of what the
 /// linear model promises, a weak condition that the full Newton step meets wherever Newton
-/// converges quadratically.
+/// converges quadratically (so converging iterations are unchanged by the search).
 const SUFFICIENT_DECREASE: f64 = 1e-4;
 
 /// The next Newton iterate x - lambda d and its residual, by backtracking on |R|: the full
 /// step when it lowers |R| enough ([`SUFFICIENT_DECREASE`]), else the step halved, up to
-/// `halvings` times, until it does; `None` when no length does (Newton has stalled at a
-/// minimum of |R| that is no root, or on a kink, and would not converge). With no halving
-/// ([`FULL_STEPS`]) it is plain Newton: the full step, whatever its residual. Newton on a
-/// contact force that switches on and off can cycle between contact states with full
-/// steps (each step's linearisation holds in one state only); a shorter step that lowers
-/// |R| breaks the cycle. `residual_at` gives R at a trial point (not finite where it
-/// cannot be evaluated).
+/// `halvings` times, until it does, else the tried length with the smallest finite |R|
+/// (with no halving, the full step: plain Newton). Newton on a contact force that switches
+/// on and off can cycle between contact states with full steps (each step's linearisation
+/// holds in one state only); a shorter step that lowers |R| breaks the cycle. `residual_at`
+/// gives R at a trial point (not finite where it cannot be evaluated).
 pub(crate) fn line_search(
     x: &[f64],
     d: &[f64],
     current: &Residual,
     halvings: usize,
     mut residual_at: impl FnMut(&[f64]) -> Residual,
-) -> Option<(Vec<f64>, Residual)> {
+) -> (Vec<f64>, Residual) {
     let size = norm(&current.values);
-    let mut lambda = 1.0;
-    for _ in 0..=halvings {
+    let mut at = |lambda: f64| {
         let trial: Vec<f64> = x.iter().zip(d).map(|(xi, di)| xi - lambda * di).collect();
         let residual = residual_at(&trial);
-        let lowered = norm(&residual.values) <= (1.0 - SUFFICIENT_DECREASE * lambda) * size;
-        if halvings == FULL_STEPS || lowered {
-            return Some((trial, residual));
-        }
-        lambda /= 2.0;
+        let trial_size = norm(&residual.values);
+        let sufficient = trial_size <= (1.0 - SUFFICIENT_DECREASE * lambda) * size;
+        (trial, residual, trial_size, sufficient)
+    };
+    let (trial, residual, trial_size, sufficient) = at(1.0);
+    if sufficient {
+        return (trial, residual);
     }
-    None
+    // The full step is kept when no length gives a finite residual (the caller then stops
+    // on it); a finite one replaces it, and a smaller one that.
+    let mut best = (trial, residual, trial_size);
+    let mut lambda = 1.0;
+    for _ in 0..halvings {
+        lambda /= 2.0;
+        let (trial, residual, trial_size, sufficient) = at(lambda);
+        if sufficient {
+            return (trial, residual);
+        }
+        if trial_size < best.2 || (trial_size.is_finite() && !best.2.is_finite()) {
+            best = (trial, residual, trial_size);
+        }
+    }
+    (best.0, best.1)
 }
 
 /// Solves A y = b by LU with partial pivoting; `None` when the solution is not finite.

@@ -554,20 +554,17 @@ impl CondensedBalance {
                     format!("condensed harmonic balance at {frequency} rad/s: singular Jacobian"),
                 )
             })?;
-            let next = line_search(&x, &step, &residual, halvings, |trial| {
+            (x, residual) = line_search(&x, &step, &residual, halvings, |trial| {
                 self.condensed_residual(condensed, trial)
             });
-            let Some(next) = next else { break };
-            (x, residual) = next;
         }
         Err(Error::not_converged(
             "condensed harmonic balance",
             Some(options.max_iterations),
             Some(last),
             format!(
-                "condensed harmonic balance did not converge at {frequency} rad/s within {} \
-                 Newton iterations, with or without a line search (relative residual \
-                 {last:e}, tolerance {:e})",
+                "condensed harmonic balance did not converge at {frequency} rad/s after {} \
+             Newton iterations (relative residual {last:e}, tolerance {:e})",
                 options.max_iterations, options.tolerance
             ),
         ))

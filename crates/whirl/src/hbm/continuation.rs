@@ -863,11 +863,9 @@ fn newton_on_arclength(
         let Some(delta) = solve_dense(&a, &rhs) else {
             break;
         };
-        let next = line_search(&y, &delta, &residual, halvings, |trial| {
+        (y, residual) = line_search(&y, &delta, &residual, halvings, |trial| {
             scaled_residual(hb, trial, scaling)
         });
-        let Some(next) = next else { break };
-        (y, residual) = next;
     }
     Err(Error::not_converged(
         "continuation corrector",
