@@ -154,17 +154,25 @@ impl HarmonicBalance {
         2 * self.options.harmonics + 1
     }
 
-    /// Harmonic balance at frequency w (rad/s) by Newton-Raphson from `guess`.
+    /// Harmonic balance at frequency w (rad/s) by Newton-Raphson from `guess`: plain
+    /// Newton, then, should it fail, Newton with a line search ([`line_search`]), which
+    /// converges where full steps cycle between contact states.
     ///
     /// # Errors
     /// [`Error::NotConverged`] when Newton does not converge within `max_iterations`: an
     /// unconverged point is never returned.
     pub fn solve(&mut self, frequency: f64, guess: &[f64]) -> Result<HbSolution> {
         self.check_arguments(frequency, guess)?;
+        self.newton(frequency, guess, FULL_STEPS)
+            .or_else(|_| self.newton(frequency, guess, LINE_SEARCH_HALVINGS))
+    }
+
+    /// Newton-Raphson at w from `guess`, each step shortened up to `halvings` times.
+    fn newton(&mut self, frequency: f64, guess: &[f64], halvings: usize) -> Result<HbSolution> {
         let mut x = guess.to_vec();
         let mut last = f64::NAN;
+        let mut residual = self.residual(&x, frequency);
         for iteration in 0..=self.options.max_iterations {
-            let residual = self.residual(&x, frequency);
             last = relative(&residual);
             if last <= self.options.tolerance {
                 return Ok(HbSolution {
@@ -187,9 +195,9 @@ impl HarmonicBalance {
                     ),
                 )
             })?;
-            for (xi, di) in x.iter_mut().zip(&step) {
-                *xi -= di;
-            }
+            (x, residual) = line_search(&x, &step, &residual, halvings, |trial| {
+                self.residual(trial, frequency)
+            });
         }
         Err(Error::not_converged(
             "harmonic balance",
@@ -515,6 +523,61 @@ pub(crate) fn relative(residual: &Residual) -> f64 {
     }
 }
 
+/// Halvings of a Newton step before the line search takes the best length it tried: down
+/// to 1/256 of the step, short enough to leave a contact state the full step overshoots.
+pub(crate) const LINE_SEARCH_HALVINGS: usize = 8;
+
+/// Plain Newton (every step taken whole): no halving.
+pub(crate) const FULL_STEPS: usize = 0;
+
+/// Armijo's sufficient decrease: the residual must fall by this fraction of what the
+/// linear model promises, a weak condition that the full Newton step meets wherever Newton
+/// converges quadratically (so converging iterations are unchanged by the search).
+const SUFFICIENT_DECREASE: f64 = 1e-4;
+
+/// The next Newton iterate x - lambda d and its residual, by backtracking on |R|: the full
+/// step when it lowers |R| enough ([`SUFFICIENT_DECREASE`]), else the step halved, up to
+/// `halvings` times, until it does, else the tried length with the smallest finite |R|
+/// (with no halving, the full step: plain Newton). Newton on a contact force that switches
+/// on and off can cycle between contact states with full steps (each step's linearisation
+/// holds in one state only); a shorter step that lowers |R| breaks the cycle. `residual_at`
+/// gives R at a trial point (not finite where it cannot be evaluated).
+pub(crate) fn line_search(
+    x: &[f64],
+    d: &[f64],
+    current: &Residual,
+    halvings: usize,
+    mut residual_at: impl FnMut(&[f64]) -> Residual,
+) -> (Vec<f64>, Residual) {
+    let size = norm(&current.values);
+    let mut at = |lambda: f64| {
+        let trial: Vec<f64> = x.iter().zip(d).map(|(xi, di)| xi - lambda * di).collect();
+        let residual = residual_at(&trial);
+        let trial_size = norm(&residual.values);
+        let sufficient = trial_size <= (1.0 - SUFFICIENT_DECREASE * lambda) * size;
+        (trial, residual, trial_size, sufficient)
+    };
+    let (trial, residual, trial_size, sufficient) = at(1.0);
+    if sufficient {
+        return (trial, residual);
+    }
+    // The full step is kept when no length gives a finite residual (the caller then stops
+    // on it); a finite one replaces it, and a smaller one that.
+    let mut best = (trial, residual, trial_size);
+    let mut lambda = 1.0;
+    for _ in 0..halvings {
+        lambda /= 2.0;
+        let (trial, residual, trial_size, sufficient) = at(lambda);
+        if sufficient {
+            return (trial, residual);
+        }
+        if trial_size < best.2 || (trial_size.is_finite() && !best.2.is_finite()) {
+            best = (trial, residual, trial_size);
+        }
+    }
+    (best.0, best.1)
+}
+
 /// Solves A y = b by LU with partial pivoting; `None` when the solution is not finite.
 pub(crate) fn solve_dense(a: &Mat<f64>, b: &[f64]) -> Option<Vec<f64>> {
     let mut y = Mat::<f64>::from_fn(b.len(), 1, |i, _| b[i]);
@@ -629,6 +692,69 @@ mod tests {
         // Central differences with h = 1e-6 on O(1) entries: truncation h^2 and round-off
         // 1e-16 / h, both near 1e-10.
         assert!(worst < 1e-8, "worst difference {worst:e}");
+    }
+
+    /// A restoring force that saturates, F = -atan(q): far from q = 0 its tangent is so
+    /// soft that a full Newton step overshoots to the other side by more than it started
+    /// (q = 3 -> -9.5 -> 124 ...), as a step that overshoots a contact's state does.
+    struct Saturating;
+
+    impl NonlinearForce for Saturating {
+        fn name(&self) -> String {
+            "saturating test force".into()
+        }
+        fn dofs(&self) -> &[usize] {
+            &[0]
+        }
+        fn force(&mut self, _: &Kinematics, q: &[f64], _: &[f64], out: &mut [f64]) {
+            out[0] = -q[0].atan();
+        }
+        fn jacobian(
+            &mut self,
+            _: &Kinematics,
+            q: &[f64],
+            _: &[f64],
+            dfdq: &mut [f64],
+            dfdv: &mut [f64],
+        ) {
+            dfdq[0] = -1.0 / (1.0 + q[0] * q[0]);
+            dfdv[0] = 0.0;
+        }
+        fn stiffness_bound(&self) -> Vec<f64> {
+            vec![1.0]
+        }
+    }
+
+    #[test]
+    fn the_line_search_converges_where_full_newton_steps_run_away() {
+        // One coordinate held by the saturating force alone (no linear spring), unforced:
+        // the periodic solution is q = 0. The damping keeps the harmonic blocks regular
+        // (w c = 0.5) wherever Newton goes.
+        let one = |v: f64| Mat::from_fn(1, 1, |_, _| v);
+        let problem = HbProblem {
+            mass: one(1.0),
+            stiffness: one(0.0),
+            damping: one(1.0),
+            gyroscopic: one(0.0),
+            constant_force: vec![0.0],
+            unbalance_re: vec![0.0],
+            unbalance_im: vec![0.0],
+            harmonic_re: vec![0.0],
+            harmonic_im: vec![0.0],
+            nonlinear: vec![Box::new(Saturating)],
+        };
+        let mut hb = HarmonicBalance::new(problem, HbOptions::new(1)).unwrap();
+        let mut guess = vec![0.0; hb.unknowns()];
+        guess[0] = 3.0;
+        let plain = hb.newton(0.5, &guess, FULL_STEPS);
+        assert!(plain.is_err(), "{plain:?}");
+        let solution = hb.solve(0.5, &guess).unwrap();
+        // Converged to the tolerance 1e-10 of |F_nl| ~ |q| near the root, whose only root
+        // is q = 0 (atan is monotone): |q| is of the order of the tolerance.
+        assert!(
+            solution.coefficients.iter().all(|c| c.abs() < 1e-9),
+            "{solution:?}"
+        );
     }
 
     #[test]

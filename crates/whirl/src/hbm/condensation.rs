@@ -24,7 +24,9 @@
 
 use faer::Mat;
 
-use super::balance::{norm, solve_dense};
+use super::balance::{
+    line_search, norm, relative, solve_dense, Residual, FULL_STEPS, LINE_SEARCH_HALVINGS,
+};
 use super::fourier::{cos_slot, sin_slot};
 use super::stability::{hill_problem, HillProblem, Stability};
 use super::{HarmonicBalance, HbOptions, HbProblem, HbSolution};
@@ -474,6 +476,12 @@ impl CondensedBalance {
         (values, norm(&linear) + norm(&external) + nonlinear.scale)
     }
 
+    /// [`Self::residual`] as the line search takes it.
+    fn condensed_residual(&mut self, condensed: &Condensed, x: &[f64]) -> Residual {
+        let (values, scale) = self.residual(condensed, x);
+        Residual { values, scale }
+    }
+
     /// dR_a/dx_a and dR_a/dw at (x_a, w), exact.
     pub fn linearise(&mut self, condensed: &Condensed, x: &[f64]) -> (Mat<f64>, Vec<f64>) {
         let nonlinear = self.reduced.linearise(x, condensed.frequency);
@@ -501,23 +509,33 @@ impl CondensedBalance {
     /// The tolerance applies to the condensed residual relative to its own terms
     /// (|S x_a| + |g| + |F_nl,a|).
     ///
+    /// Plain Newton first, then Newton with a line search, as [`HarmonicBalance::solve`].
+    ///
     /// # Errors
     /// As [`HarmonicBalance::solve`]: an unconverged point is never returned.
     pub fn solve(&mut self, frequency: f64, guess: &[f64]) -> Result<HbSolution> {
         self.reduced.check_arguments(frequency, guess)?;
-        self.with_condensed(frequency, |hb, condensed| hb.newton(condensed, guess))?
+        self.with_condensed(frequency, |hb, condensed| {
+            hb.newton(condensed, guess, FULL_STEPS)
+                .or_else(|_| hb.newton(condensed, guess, LINE_SEARCH_HALVINGS))
+        })?
     }
 
-    /// Newton-Raphson on the condensed residual at the condensation's frequency.
-    fn newton(&mut self, condensed: &Condensed, guess: &[f64]) -> Result<HbSolution> {
+    /// Newton-Raphson on the condensed residual at the condensation's frequency, each step
+    /// shortened up to `halvings` times ([`line_search`]).
+    fn newton(
+        &mut self,
+        condensed: &Condensed,
+        guess: &[f64],
+        halvings: usize,
+    ) -> Result<HbSolution> {
         let frequency = condensed.frequency;
         let options = *self.options();
         let mut x = guess.to_vec();
         let mut last = f64::NAN;
+        let mut residual = self.condensed_residual(condensed, &x);
         for iteration in 0..=options.max_iterations {
-            let (residual, scale) = self.residual(condensed, &x);
-            let size = norm(&residual);
-            last = if size == 0.0 { 0.0 } else { size / scale };
+            last = relative(&residual);
             if last <= options.tolerance {
                 return Ok(HbSolution {
                     frequency,
@@ -530,15 +548,15 @@ impl CondensedBalance {
                 break;
             }
             let (jacobian, _) = self.linearise(condensed, &x);
-            let step = solve_dense(&jacobian, &residual).ok_or_else(|| {
+            let step = solve_dense(&jacobian, &residual.values).ok_or_else(|| {
                 Error::singular(
                     "Jacobian",
                     format!("condensed harmonic balance at {frequency} rad/s: singular Jacobian"),
                 )
             })?;
-            for (xi, di) in x.iter_mut().zip(&step) {
-                *xi -= di;
-            }
+            (x, residual) = line_search(&x, &step, &residual, halvings, |trial| {
+                self.condensed_residual(condensed, trial)
+            });
         }
         Err(Error::not_converged(
             "condensed harmonic balance",

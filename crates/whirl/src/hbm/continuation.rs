@@ -21,7 +21,10 @@
 //! as accurate as the corrector, whatever the step. Should a corrector fail there, the
 //! extremum of the cubic Hermite interpolant of w(s) between the two points stands in.
 
-use super::balance::{norm, relative, solve_dense, HarmonicBalance, HbSolution, Residual};
+use super::balance::{
+    line_search, norm, relative, solve_dense, HarmonicBalance, HbSolution, Residual, FULL_STEPS,
+    LINE_SEARCH_HALVINGS,
+};
 use super::bifurcation::{locate_bifurcations, Bifurcation};
 use super::condensation::CondensedBalance;
 use super::stability::{hill_problem, HillProblem, Stability};
@@ -802,7 +805,10 @@ fn unit_tangent(
     Ok(t.iter().map(|v| v / length).collect())
 }
 
-/// Pseudo-arclength corrector from the predictor y_0 + h t_0.
+/// Pseudo-arclength corrector from the predictor y_0 + h t_0: plain Newton, then, should
+/// it fail, Newton with a line search ([`line_search`]), which converges where full steps
+/// cycle between contact states. Plain Newton first keeps every point it reaches as it was
+/// and costs no extra residuals where it converges.
 pub(super) fn correct(
     hb: &mut impl Periodic,
     y0: &[f64],
@@ -810,19 +816,30 @@ pub(super) fn correct(
     step: f64,
     scaling: &Scaling,
 ) -> Result<HbSolution> {
+    newton_on_arclength(hb, y0, t0, step, scaling, FULL_STEPS)
+        .or_else(|_| newton_on_arclength(hb, y0, t0, step, scaling, LINE_SEARCH_HALVINGS))
+}
+
+/// Newton on the residual and the arclength equation from y_0 + h t_0, each step
+/// shortened up to `halvings` times.
+fn newton_on_arclength(
+    hb: &mut impl Periodic,
+    y0: &[f64],
+    t0: &[f64],
+    step: f64,
+    scaling: &Scaling,
+    halvings: usize,
+) -> Result<HbSolution> {
     let mut y: Vec<f64> = y0.iter().zip(t0).map(|(a, t)| a + step * t).collect();
     let max_iterations = hb.options().max_iterations;
     let tolerance = hb.options().tolerance;
+    let mut residual = scaled_residual(hb, &y, scaling);
     for iteration in 0..=max_iterations {
-        let (x, w) = scaling.unscaled(&y);
-        if !(w.is_finite() && w > 0.0) {
-            break;
-        }
-        let (values, scale) = hb.residual_at(&x, w);
-        let residual = Residual { values, scale };
         let r = relative(&residual);
-        // The arclength equation is linear: the predictor and every Newton step satisfy it.
+        // The arclength equation is linear: the predictor and every Newton step (whole or
+        // shortened) satisfy it.
         if r <= tolerance {
+            let (x, w) = scaling.unscaled(&y);
             return Ok(HbSolution {
                 frequency: w,
                 coefficients: x,
@@ -833,6 +850,7 @@ pub(super) fn correct(
         if !r.is_finite() || iteration == max_iterations {
             break;
         }
+        let (x, w) = scaling.unscaled(&y);
         let current = HbSolution {
             frequency: w,
             coefficients: x,
@@ -840,14 +858,14 @@ pub(super) fn correct(
             relative_residual: r,
         };
         let a = augmented(hb, &current, scaling, t0);
-        let mut rhs = residual.values;
+        let mut rhs = residual.values.clone();
         rhs.push(0.0);
         let Some(delta) = solve_dense(&a, &rhs) else {
             break;
         };
-        for (yi, di) in y.iter_mut().zip(&delta) {
-            *yi -= di;
-        }
+        (y, residual) = line_search(&y, &delta, &residual, halvings, |trial| {
+            scaled_residual(hb, trial, scaling)
+        });
     }
     Err(Error::not_converged(
         "continuation corrector",
@@ -858,6 +876,20 @@ pub(super) fn correct(
             y0[y0.len() - 1] * scaling.frequency
         ),
     ))
+}
+
+/// R at the scaled point y (its arclength row, satisfied by every corrector iterate, left
+/// out); not finite where the frequency is not positive.
+fn scaled_residual(hb: &mut impl Periodic, y: &[f64], scaling: &Scaling) -> Residual {
+    let (x, w) = scaling.unscaled(y);
+    if !(w.is_finite() && w > 0.0) {
+        return Residual {
+            values: vec![f64::NAN; x.len()],
+            scale: f64::NAN,
+        };
+    }
+    let (values, scale) = hb.residual_at(&x, w);
+    Residual { values, scale }
 }
 
 /// The solution at exactly `to`, between `before` and `after`, by Newton at fixed
