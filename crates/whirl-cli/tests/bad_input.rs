@@ -409,6 +409,78 @@ fn a_clearance_larger_than_the_rollers_is_refused() {
 }
 
 #[test]
+fn a_clearance_in_metres_is_refused() {
+    // A plain number is SI: `clearance = 20` is 20 m, not 20 um.
+    let m = edited("clearance = \"20 um\"", "clearance = 20");
+    check_fails(
+        &m,
+        &[
+            "roller_bearing[0].clearance",
+            "a clearance of 20 m is not smaller than the rollers",
+        ],
+    );
+}
+
+/// `whirl check` on a model text succeeds; returns its warnings (stderr).
+fn check_warnings(model: &str) -> String {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = tmp.path().join("odd.toml");
+    std::fs::write(&file, model).unwrap();
+    let output = Command::cargo_bin("whirl")
+        .unwrap()
+        .arg("check")
+        .arg(&file)
+        .arg("--out")
+        .arg(tmp.path().join("out"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr).to_string();
+    assert!(output.status.success(), "{stderr}");
+    stderr
+}
+
+#[test]
+fn the_reference_rotor_draws_no_warning() {
+    let stderr = check_warnings(&reference());
+    assert!(!stderr.contains("warning"), "{stderr}");
+}
+
+#[test]
+fn a_clearance_of_a_large_part_of_the_rollers_draws_a_warning() {
+    // 0.5 mm on 6.1 mm rollers: 8.2 % of them (above 5 %), 0.72 % of the 69.6 mm pitch
+    // diameter (below the 1 % that warned before).
+    let stderr = check_warnings(&edited("clearance = \"20 um\"", "clearance = \"0.5 mm\""));
+    assert!(
+        stderr.contains(
+            "roller_bearing[0].clearance: 0.0005 m is 8.2 % of the roller diameter and 0.72 % \
+             of the pitch diameter"
+        ),
+        "{stderr}"
+    );
+    assert!(stderr.contains("\"20 um\""), "{stderr}");
+}
+
+#[test]
+fn densities_no_engineering_solid_has_draw_a_warning() {
+    for (density, shown) in [("1e-3", "0.001"), ("3e4", "30000")] {
+        let stderr = check_warnings(&edited("density = 7810", &format!("density = {density}")));
+        assert!(
+            stderr.contains(&format!(
+                "material[0].density: {shown} kg/m^3 (material `steel`) is outside the 100 to \
+                 25000 kg/m^3"
+            )),
+            "{stderr}"
+        );
+    }
+    // The near-massless shaft is named as well: 1e-3 kg/m^3 makes 3.2 mg of shaft.
+    let stderr = check_warnings(&edited("density = 7810", "density = 1e-3"));
+    assert!(
+        stderr.contains("shaft: its mass (0.00000319049 kg)"),
+        "{stderr}"
+    );
+}
+
+#[test]
 fn a_clearance_polynomial_negative_at_speed_is_refused() {
     // 20 um at rest, falling 0.1 um per Hz: negative above 200 Hz, inside 1-750 Hz.
     let m = edited(

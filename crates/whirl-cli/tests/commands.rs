@@ -175,6 +175,65 @@ fn convergence_follows_the_frequencies_over_meshes() {
 }
 
 #[test]
+fn convergence_leaves_modes_a_coarse_mesh_lacks_empty() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("convergence");
+    let mut cmd = Command::cargo_bin("whirl").unwrap();
+    cmd.args(["convergence", "--counts", "2,4,20", "--modes", "40"])
+        .arg(reference())
+        .arg("--out")
+        .arg(&dir);
+    let output = cmd.output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    // 4 DOFs per node: 2 elements (3 nodes) have 12 modes, 4 elements 20, 20 elements 84.
+    assert!(
+        stderr.contains("2 of the meshes have fewer than the 40 modes asked for (2 elements: 12, 4 elements: 20)"),
+        "{stderr}"
+    );
+    let s: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["modes_found"], serde_json::json!([12, 20, 40]));
+    assert_eq!(
+        s["meshes_with_fewer_modes"],
+        serde_json::json!([{"elements": 2, "modes": 12}, {"elements": 4, "modes": 20}])
+    );
+    assert!(s["frequencies_hz"][0][12].is_null());
+    // Every row has 1 + 2 x 40 cells; the 2-element mesh's modes 13 to 40 are empty.
+    let text = std::fs::read_to_string(dir.join("convergence.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = text.lines().map(|l| l.split(',').collect()).collect();
+    assert!(rows.iter().all(|r| r.len() == 81), "{text}");
+    assert!(!rows[1][12].is_empty() && rows[1][13].is_empty());
+    // The finest mesh has every frequency; a change is empty where the previous mesh lacks
+    // the mode (mode 21 on 20 elements after 4), present where both have it (mode 20).
+    assert!(rows[3][1..=40].iter().all(|c| !c.is_empty()));
+    assert!(!rows[3][40 + 20].is_empty() && rows[3][40 + 21].is_empty());
+}
+
+#[test]
+fn api617_margins_are_not_applicable_to_a_range_from_1_hz() {
+    // The reference rotor runs from 1 Hz to 750 Hz: a run-up, not a running range.
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("unbalance");
+    let s = run(
+        &dir,
+        &["unbalance", "--speeds", "1:100Hz:199", "--nodes", "10"],
+    );
+    let status = s["api617_status"].as_str().unwrap();
+    assert!(
+        status.starts_with("not applicable: the operating range starts at 1.00 Hz")
+            && status.contains("set [operating] min_speed"),
+        "{status}"
+    );
+    assert!(s["nodes"][0]["peaks"][0]["meets_api617"].is_null());
+    let peaks = std::fs::read_to_string(dir.join("peaks.csv")).unwrap();
+    assert!(
+        peaks.lines().nth(1).unwrap().ends_with(",not applicable"),
+        "{peaks}"
+    );
+}
+
+#[test]
 fn unbalance_peaks_at_the_first_critical_speed() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().join("unbalance");

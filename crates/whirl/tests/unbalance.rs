@@ -101,9 +101,16 @@ fn reference_rotor_peaks_at_its_first_critical_speed() {
     // Damping ratio about 1.8 %: AF about 1 / (2 zeta) = 28.
     let af = p.amplification_factor.unwrap();
     assert!(af > 20.0 && af < 35.0, "{af}");
-    // API 617: AF >= 2.5 asks for a margin; the operating range starts at 1 Hz so the
-    // critical speed is inside it and the requirement is not met.
-    assert_eq!(p.meets_api617, Some(false));
+    // API 617: AF >= 2.5 asks for a margin, but the operating range runs from 1 Hz to
+    // 750 Hz, a run-up rather than a running range: the margin is not assessed, and the
+    // result says why.
+    assert!(p.required_margin_pct.unwrap() > 0.0);
+    assert_eq!(p.meets_api617, None);
+    let note = r.api617_note.as_deref().unwrap();
+    assert!(
+        note.starts_with("not applicable: the operating range starts at 1.00 Hz"),
+        "{note}"
+    );
 }
 
 #[test]

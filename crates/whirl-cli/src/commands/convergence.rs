@@ -5,11 +5,14 @@
 //! is skipped and listed in the summary. Writes `convergence.csv` (per element count, each
 //! mode's frequency and its relative change from the previous mesh) and the plots
 //! `convergence` (frequency versus elements, one panel per mode) and `convergence_change`.
+//! A coarse mesh has fewer modes than `--modes` asks for: its missing modes are empty
+//! cells (null in the summary), listed in the summary's `meshes_with_fewer_modes` and
+//! announced on stderr.
 
 use std::fmt::Write;
 
 use serde_json::{json, Value};
-use whirl::modal::convergence;
+use whirl::modal::{convergence, ConvergenceResult};
 
 use super::{finish, lib, load, mode_count, summary_head, Common, Outcome};
 use crate::error::Diag;
@@ -61,8 +64,22 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         .into());
     }
 
+    let short = meshes_with_fewer_modes(&result, args.modes);
+    if !short.is_empty() {
+        eprintln!("note: {}", fewer_modes_note(&short, args.modes));
+    }
+
     let mut s = summary_head("convergence", &loaded);
     s.insert("element_counts".into(), json!(result.element_counts));
+    s.insert("modes_requested".into(), json!(args.modes));
+    s.insert("modes_found".into(), json!(result.modes_found));
+    s.insert(
+        "meshes_with_fewer_modes".into(),
+        json!(short
+            .iter()
+            .map(|(n, m)| json!({"elements": n, "modes": m}))
+            .collect::<Vec<_>>()),
+    );
     s.insert("skipped_element_counts".into(), json!(result.skipped));
     s.insert("frequencies_hz".into(), json!(result.frequencies_hz));
     s.insert(
@@ -81,8 +98,20 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         model.name
     );
     for (n, f) in result.element_counts.iter().zip(&result.frequencies_hz) {
-        let list: Vec<String> = f.iter().map(|x| format!("{x:10.3}")).collect();
+        let list: Vec<String> = f
+            .iter()
+            .map(|x| {
+                if x.is_finite() {
+                    format!("{x:10.3}")
+                } else {
+                    format!("{:>10}", "-")
+                }
+            })
+            .collect();
         let _ = writeln!(text, "  {n:5} {}", list.join(" "));
+    }
+    if !short.is_empty() {
+        let _ = writeln!(text, "{}", fewer_modes_note(&short, args.modes));
     }
     if !result.skipped.is_empty() {
         let _ = writeln!(
@@ -115,4 +144,29 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         plots::convergence_change(&result).save(stem)
     })?;
     finish(out, Value::Object(s), text, &args.common)
+}
+
+/// (element count, modes found) of each mesh with fewer modes than `requested`.
+fn meshes_with_fewer_modes(result: &ConvergenceResult, requested: usize) -> Vec<(usize, usize)> {
+    result
+        .element_counts
+        .iter()
+        .zip(&result.modes_found)
+        .filter(|(_, &found)| found < requested)
+        .map(|(&n, &found)| (n, found))
+        .collect()
+}
+
+/// What the user is told about meshes that cannot give every mode asked for.
+fn fewer_modes_note(short: &[(usize, usize)], requested: usize) -> String {
+    let list: Vec<String> = short
+        .iter()
+        .map(|(n, m)| format!("{n} elements: {m}"))
+        .collect();
+    format!(
+        "{} of the meshes have fewer than the {requested} modes asked for ({}); \
+         their missing modes are left empty (- here, empty cells in convergence.csv, null in summary.json)",
+        short.len(),
+        list.join(", ")
+    )
 }

@@ -5,12 +5,15 @@
 //! `peaks.csv` (each resonance peak of the major semi-axis with its half-power band,
 //! amplification factor and API 617 separation margins) and the plots `bode`, `polar` and
 //! `orbit_major`. The default nodes are every disk node and every bearing node.
+//! Margins are assessed only for an operating range that starts at 10 % of its top or
+//! above; otherwise `meets_api617` reads "not applicable" and the summary's `api617_status`
+//! says why.
 
 use std::fmt::Write;
 
 use serde_json::{json, Value};
 use whirl::fe::{assemble, Bearings};
-use whirl::response::unbalance_response;
+use whirl::response::{unbalance_response, UnbalanceResult};
 
 use super::{
     finish, lib, load, node_index, report_nodes, speeds, summary_head, Common, Outcome, Speeds,
@@ -51,6 +54,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     );
     s.insert("speed_count".into(), result.speeds_hz.len().into());
     s.insert("operating_speed_hz".into(), json!(result.operating_hz));
+    s.insert("api617_status".into(), json!(api617_status(&result)));
     s.insert(
         "nodes".into(),
         result
@@ -104,6 +108,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
             let api = match p.meets_api617 {
                 Some(true) => "meets API 617",
                 Some(false) => "FAILS API 617 margin",
+                None if result.api617_note.is_some() => "API 617 margin not applicable",
                 None => "",
             };
             let _ = writeln!(
@@ -115,6 +120,10 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
                 60.0 * p.speed_hz
             );
         }
+    }
+
+    if let Some(note) = &result.api617_note {
+        let _ = writeln!(text, "API 617 separation margins {note}");
     }
 
     let mut out = Output::begin(&args.common.out_dir("unbalance"))?;
@@ -180,7 +189,11 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
                 opt(p.amplification_factor),
                 opt(p.required_margin_pct),
                 opt(p.actual_margin_pct),
-                p.meets_api617.map(|m| m.to_string()).unwrap_or_default(),
+                match (p.meets_api617, &result.api617_note) {
+                    (Some(m), _) => m.to_string(),
+                    (None, Some(_)) => "not applicable".to_string(),
+                    (None, None) => String::new(),
+                },
             ]);
         }
     }
@@ -189,4 +202,14 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     out.plot("polar", |stem| plots::polar(&result).save(stem))?;
     out.plot("orbit_major", |stem| plots::orbit_major(&result).save(stem))?;
     finish(out, Value::Object(s), text, &args.common)
+}
+
+/// The summary's verdict on the API 617 margins: "assessed" (see each peak's
+/// `meets_api617`), the reason they are not applicable, or "no operating range".
+fn api617_status(result: &UnbalanceResult) -> String {
+    match (&result.api617_note, result.operating_hz) {
+        (Some(note), _) => note.clone(),
+        (None, Some(_)) => "assessed".to_string(),
+        (None, None) => "no operating range: give [operating] min_speed and max_speed to assess separation margins".to_string(),
+    }
 }

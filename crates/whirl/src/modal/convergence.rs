@@ -1,7 +1,9 @@
 //! Mesh convergence: natural frequencies versus the number of beam elements (thesis
 //! fig. 2.8). Each section gets a share of the elements in proportion to its length (at
 //! least one); a mesh on which a disk or bearing would not sit on a node is skipped and
-//! reported, since moving a feature would change the rotor, not the mesh.
+//! reported, since moving a feature would change the rotor, not the mesh. A coarse mesh
+//! has fewer modes than a fine one (4 DOFs per node, less the constrained ones): the modes
+//! it lacks are NaN, so that every mesh has the same columns.
 
 use serde::Serialize;
 
@@ -15,10 +17,15 @@ use crate::model::Model;
 pub struct ConvergenceResult {
     /// Total element counts that could be meshed, ascending.
     pub element_counts: Vec<usize>,
-    /// `frequencies_hz[i][j]`: mode j on mesh i, Hz.
+    /// `frequencies_hz[i][j]`: mode j on mesh i, Hz; NaN where mesh i has fewer than
+    /// j + 1 modes. Every row has the same length: the modes asked for, or as many as the
+    /// mesh with the most modes has, if fewer.
     pub frequencies_hz: Vec<Vec<f64>>,
-    /// Relative change of each frequency from the previous mesh (0 for the first).
+    /// Relative change of each frequency from the previous mesh (0 for the first; NaN
+    /// where either mesh lacks the mode).
     pub relative_change: Vec<Vec<f64>>,
+    /// Number of modes each mesh has, at most the number asked for.
+    pub modes_found: Vec<usize>,
     /// Element counts left out because a feature would not sit on a node.
     pub skipped: Vec<usize>,
 }
@@ -33,6 +40,16 @@ fn split(model: &Model, total: usize) -> Vec<usize> {
         .collect()
 }
 
+/// Relative change from `previous` to `current`: NaN when either is missing (NaN), 0 from
+/// a zero frequency (a rigid-body mode stays at zero).
+fn change(current: f64, previous: f64) -> f64 {
+    if previous == 0.0 {
+        0.0
+    } else {
+        (current - previous).abs() / previous
+    }
+}
+
 /// Undamped frequencies of the first `modes` modes for each total element count.
 pub fn convergence(model: &Model, counts: &[usize], modes: usize) -> Result<ConvergenceResult> {
     let mut counts = counts.to_vec();
@@ -42,6 +59,7 @@ pub fn convergence(model: &Model, counts: &[usize], modes: usize) -> Result<Conv
         element_counts: Vec::new(),
         frequencies_hz: Vec::new(),
         relative_change: Vec::new(),
+        modes_found: Vec::new(),
         skipped: Vec::new(),
     };
     for total in counts {
@@ -50,18 +68,28 @@ pub fn convergence(model: &Model, counts: &[usize], modes: usize) -> Result<Conv
             continue;
         };
         let system = assemble(&mesh, Bearings::Linearised);
-        let f = undamped_modes(&system, modes)?.frequencies_hz;
+        let mut f = undamped_modes(&system, modes)?.frequencies_hz;
+        out.modes_found.push(f.len());
+        f.resize(modes, f64::NAN);
         let change = match out.frequencies_hz.last() {
-            Some(prev) => f
+            Some(prev) => f.iter().zip(prev).map(|(a, b)| change(*a, *b)).collect(),
+            None => f
                 .iter()
-                .zip(prev)
-                .map(|(a, b): (&f64, &f64)| if *b > 0.0 { (a - b).abs() / b } else { 0.0 })
+                .map(|a| if a.is_nan() { f64::NAN } else { 0.0 })
                 .collect(),
-            None => vec![0.0; f.len()],
         };
         out.element_counts.push(total);
         out.frequencies_hz.push(f);
         out.relative_change.push(change);
+    }
+    // No column that no mesh can fill.
+    let columns = out.modes_found.iter().copied().max().unwrap_or(0);
+    for row in out
+        .frequencies_hz
+        .iter_mut()
+        .chain(&mut out.relative_change)
+    {
+        row.truncate(columns);
     }
     Ok(out)
 }

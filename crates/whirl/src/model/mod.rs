@@ -324,6 +324,9 @@ pub struct Model {
     pub name: String,
     /// Gravity along -y, m/s^2.
     pub gravity: f64,
+    /// Materials as the file defines them, in its order (sections and disks given by their
+    /// geometry take theirs by name).
+    pub materials: Vec<Material>,
     /// Shaft sections from z = 0.
     pub sections: Vec<ShaftSection>,
     /// Beam element options.
@@ -373,7 +376,8 @@ impl Model {
     }
 
     /// Warnings about values that are valid but implausible (a clearance of a large part of
-    /// the bearing, a near-massless shaft), one sentence each naming the field. Models that
+    /// the bearing, a density no engineering solid has, a near-massless shaft), one sentence
+    /// each naming the field and what to check. Models that
     /// cannot exist are refused by [`Model::from_toml_str`] instead.
     pub fn warnings(&self) -> Vec<String> {
         validate::warnings(self)

@@ -176,6 +176,11 @@ pub(super) fn validate(raw: ModelFile) -> V<Model> {
         None => 9.81,
     };
     let materials = materials(&raw.material)?;
+    let material_list = raw
+        .material
+        .iter()
+        .filter_map(|m| materials.get(m.get_ref().name.get_ref()).cloned())
+        .collect();
     let options = element_options(&raw.elements)?;
     let sections = sections(&raw.shaft, &materials, options.beam)?;
     let z = node_positions(&sections);
@@ -217,6 +222,7 @@ pub(super) fn validate(raw: ModelFile) -> V<Model> {
     let model = Model {
         name: raw.name.clone().unwrap_or_else(|| "rotor".into()),
         gravity,
+        materials: material_list,
         sections,
         options,
         disks,
@@ -1163,21 +1169,19 @@ fn roller_bearing_plausible(
 /// Warnings about a valid but implausible model: values no real rotor has, which usually
 /// mean a unit slipped. One sentence each, naming the field.
 pub(super) fn warnings(model: &Model) -> Vec<String> {
-    let mut out = Vec::new();
-    for (i, b) in model.roller_bearings.iter().enumerate() {
-        let largest = checked_speeds(model.operating)
+    let mut out: Vec<String> = model
+        .roller_bearings
+        .iter()
+        .enumerate()
+        .filter_map(|(i, b)| clearance_warning(b, &format!("roller_bearing[{i}]"), model.operating))
+        .collect();
+    out.extend(
+        model
+            .materials
             .iter()
-            .map(|&w| b.clearance.at_speed(w))
-            .fold(0.0, f64::max);
-        if largest > MAX_PLAUSIBLE_CLEARANCE * b.pitch_diameter {
-            out.push(format!(
-                "roller_bearing[{i}].clearance: {} m is {:.1} % of the pitch diameter; radial \
-                 clearances are 0.01 to 0.1 % of it (a unit may be missing: \"20 um\")",
-                Si(largest),
-                100.0 * largest / b.pitch_diameter
-            ));
-        }
-    }
+            .enumerate()
+            .filter_map(|(i, m)| density_warning(m, &format!("material[{i}]"))),
+    );
     let shaft: f64 = model
         .sections
         .iter()
@@ -1197,9 +1201,60 @@ pub(super) fn warnings(model: &Model) -> Vec<String> {
     out
 }
 
+/// A warning when the bearing's largest clearance from rest to the top operating speed is
+/// a large part of the pitch diameter or of the rollers (refused outright when it reaches
+/// the roller diameter).
+fn clearance_warning(
+    b: &RollerBearing,
+    field: &str,
+    operating: Option<(f64, f64)>,
+) -> Option<String> {
+    let largest = checked_speeds(operating)
+        .iter()
+        .map(|&w| b.clearance.at_speed(w))
+        .fold(0.0, f64::max);
+    let implausible = largest > MAX_PLAUSIBLE_CLEARANCE * b.pitch_diameter
+        || largest > MAX_CLEARANCE_PER_ROLLER * b.roller_diameter;
+    implausible.then(|| {
+        format!(
+            "{field}.clearance: {} m is {:.1} % of the roller diameter and {:.2} % of the pitch \
+             diameter; radial clearances are micrometres, 0.01 to 0.1 % of the pitch diameter \
+             (a unit may be missing: \"20 um\")",
+            Si(largest),
+            100.0 * largest / b.roller_diameter,
+            100.0 * largest / b.pitch_diameter
+        )
+    })
+}
+
+/// A warning when a material's density lies outside [`PLAUSIBLE_DENSITY`].
+fn density_warning(m: &Material, field: &str) -> Option<String> {
+    let (low, high) = PLAUSIBLE_DENSITY;
+    (!(low..=high).contains(&m.density)).then(|| {
+        format!(
+            "{field}.density: {} kg/m^3 (material `{}`) is outside the {low} to {high} kg/m^3 \
+             of engineering solids (polymers about 1000, aluminium 2700, steel 7850, tungsten \
+             19300); masses and every frequency follow from it (give it in kg/m^3: steel is \
+             7850, not 7.85)",
+            Si(m.density),
+            m.name
+        )
+    })
+}
+
 /// A clearance above this fraction of the pitch diameter draws a warning (ten times the
 /// largest clearance group of ISO 5753).
 const MAX_PLAUSIBLE_CLEARANCE: f64 = 0.01;
+
+/// A clearance above this fraction of the roller diameter draws a warning: the largest
+/// clearance groups of ISO 5753 stay near 1 % of the rollers (0.1 mm on 10 mm rollers);
+/// five times that is no bearing in service.
+const MAX_CLEARANCE_PER_ROLLER: f64 = 0.05;
+
+/// Densities (kg/m^3) outside this range draw a warning: below it lie foams, not shaft or
+/// disk materials (polymers start near 900); above it nothing, since osmium, the densest
+/// element, has 22,590.
+const PLAUSIBLE_DENSITY: (f64, f64) = (100.0, 25_000.0);
 
 /// A shaft lighter than this fraction of the rotor draws a warning.
 const MIN_SHAFT_MASS_FRACTION: f64 = 0.01;

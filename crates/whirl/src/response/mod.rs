@@ -10,5 +10,5 @@ mod peaks;
 mod unbalance;
 
 pub use frf::{frf, harmonic_response, FrfChannel, FrfKind, FrfResult};
-pub use peaks::{separation_margin, ResponsePeak};
+pub use peaks::{margins_not_applicable, separation_margin, ResponsePeak, API617_MIN_SPEED_RATIO};
 pub use unbalance::{unbalance_response, NodeResponse, UnbalanceResult};

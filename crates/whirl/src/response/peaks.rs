@@ -8,6 +8,12 @@
 //! the required separation margin, in percent of the nearest operating speed limit, is
 //! 17 (1 - 1 / (AF - 1.5)) for a critical speed below the minimum operating speed and
 //! 10 + 17 (1 - 1 / (AF - 1.5)) for one above the maximum continuous speed.
+//!
+//! The margins separate critical speeds from a machine's continuous running range. A range
+//! that starts below [`API617_MIN_SPEED_RATIO`] of its top (from near rest, as a model that
+//! only states where it may run often does) holds every critical speed below the top, so
+//! every peak would fail: for such a range the margins are reported as not applicable
+//! ([`margins_not_applicable`]) rather than assessed.
 
 use serde::Serialize;
 
@@ -24,10 +30,30 @@ pub struct ResponsePeak {
     pub amplification_factor: Option<f64>,
     /// Margin API 617 requires, percent.
     pub required_margin_pct: Option<f64>,
-    /// Actual margin from the operating range, percent (negative inside the range).
+    /// Actual margin from the operating range, percent (negative inside the range); `None`
+    /// without a range or when margins are not applicable to it.
     pub actual_margin_pct: Option<f64>,
-    /// Whether the actual margin meets the requirement.
+    /// Whether the actual margin meets the requirement (`None` as for the actual margin).
     pub meets_api617: Option<bool>,
+}
+
+/// Lowest ratio of the minimum to the maximum operating speed for which API 617 margins are
+/// assessed: below it the range is taken for a run-up from near rest, not a running range
+/// (continuous ranges of compressors and turbines span well under 10:1).
+pub const API617_MIN_SPEED_RATIO: f64 = 0.1;
+
+/// Why API 617 separation margins mean nothing for the operating range `operating_hz`
+/// (minimum, maximum, Hz), or `None` when they apply.
+pub fn margins_not_applicable(operating_hz: (f64, f64)) -> Option<String> {
+    let (lo, hi) = operating_hz;
+    (lo < API617_MIN_SPEED_RATIO * hi).then(|| {
+        format!(
+            "not applicable: the operating range starts at {lo:.2} Hz, below {:.0} % of its top \
+             ({hi:.2} Hz), so every critical speed below the top lies inside it; set [operating] \
+             min_speed to the lowest continuous running speed to assess separation margins",
+            100.0 * API617_MIN_SPEED_RATIO
+        )
+    })
 }
 
 /// Required API 617 separation margin (percent) for an amplification factor, below or above
@@ -51,8 +77,10 @@ fn crossing(x: &[f64], y: &[f64], a: usize, b: usize, level: f64) -> f64 {
 }
 
 /// Local maxima of `y` over `x` (strictly higher than both neighbours), with their
-/// half-power bands and margins.
+/// half-power bands and margins (only the required margin when there is no operating range,
+/// or one for which margins are not applicable).
 pub(crate) fn find_peaks(x: &[f64], y: &[f64], operating: Option<(f64, f64)>) -> Vec<ResponsePeak> {
+    let operating = operating.filter(|&range| margins_not_applicable(range).is_none());
     let mut peaks = Vec::new();
     for k in 1..y.len().saturating_sub(1) {
         if !(y[k] > y[k - 1] && y[k] >= y[k + 1]) {
@@ -144,6 +172,27 @@ mod tests {
         let req = p.required_margin_pct.unwrap();
         assert!((req - 17.0 * (1.0 - 1.0 / (af - 1.5))).abs() < 1e-12);
         assert_eq!(p.meets_api617, Some(true));
+    }
+
+    #[test]
+    fn margins_need_a_running_range_not_a_run_up() {
+        // The resonance of the test above (r = 1) inside a range from 0.05 (below 10 % of
+        // the top, 2) would fail; from 0.5 it still fails, assessed.
+        let x: Vec<f64> = (0..2001).map(|i| 0.5 + i as f64 * 1e-3).collect();
+        let y: Vec<f64> = x
+            .iter()
+            .map(|r| 1.0 / ((1.0 - r * r).powi(2) + (0.02 * r).powi(2)).sqrt())
+            .collect();
+        let run_up = find_peaks(&x, &y, Some((0.05, 2.0)));
+        assert_eq!(run_up[0].meets_api617, None);
+        assert_eq!(run_up[0].actual_margin_pct, None);
+        assert!(run_up[0].required_margin_pct.is_some());
+        let running = find_peaks(&x, &y, Some((0.5, 2.0)));
+        assert_eq!(running[0].meets_api617, Some(false));
+        // The rule's edge: exactly 10 % of the top is assessed, just below is not.
+        assert!(margins_not_applicable((0.2, 2.0)).is_none());
+        let why = margins_not_applicable((0.199, 2.0)).unwrap();
+        assert!(why.contains("[operating] min_speed"), "{why}");
     }
 
     #[test]

@@ -17,7 +17,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use super::frf::harmonic_response;
-use super::peaks::{find_peaks, ResponsePeak};
+use super::peaks::{find_peaks, margins_not_applicable, ResponsePeak};
 use crate::error::{Error, Result};
 use crate::fe::{dof, unbalance_force, Direction, SystemMatrices};
 use crate::modal::Whirl;
@@ -57,6 +57,9 @@ pub struct UnbalanceResult {
     pub nodes: Vec<NodeResponse>,
     /// Operating speed range, Hz, when the model gives one.
     pub operating_hz: Option<(f64, f64)>,
+    /// Why the API 617 margins were not assessed, when the operating range makes them
+    /// meaningless (see [`margins_not_applicable`]).
+    pub api617_note: Option<String>,
 }
 
 /// Complex response vector at one speed: the harmonic response to Omega^2 f at w = Omega.
@@ -108,6 +111,7 @@ pub fn unbalance_response(
         speeds_hz,
         nodes,
         operating_hz,
+        api617_note: operating_hz.and_then(margins_not_applicable),
     })
 }
 
