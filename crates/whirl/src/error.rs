@@ -105,8 +105,11 @@ pub enum Error {
     /// A file could not be read or written.
     #[error("cannot {action} `{path}`: {source}")]
     Io {
+        /// What was being done, e.g. "read the model file".
         action: &'static str,
+        /// The file or folder.
         path: PathBuf,
+        /// The system's reason.
         source: std::io::Error,
     },
     /// An option or argument of an analysis is out of its range: an empty or unsorted

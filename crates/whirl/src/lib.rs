@@ -161,6 +161,8 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
 // Numerical kernels index several arrays in step; index loops read like the equations.
 #![allow(clippy::needless_range_loop)]
 

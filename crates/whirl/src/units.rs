@@ -101,21 +101,40 @@ impl fmt::Display for Dimension {
 pub enum UnitError {
     /// The number part is not a finite number.
     #[error("`{text}` is not a finite number with a unit (expected e.g. {example})")]
-    BadNumber { text: String, example: String },
+    BadNumber {
+        /// The text as given.
+        text: String,
+        /// A valid value of this dimension.
+        example: String,
+    },
     /// The unit is not one this dimension accepts.
     #[error("unknown {dimension} unit `{unit}` in `{text}` (accepted: {accepted})")]
     BadUnit {
+        /// The text as given.
         text: String,
+        /// The unit read from it.
         unit: String,
+        /// The dimension asked for.
         dimension: Dimension,
+        /// The units this dimension accepts.
         accepted: String,
     },
     /// A speed beyond [`MAX_ANGULAR_SPEED`].
     #[error("`{text}` is {value:e} rad/s, beyond the {MAX_ANGULAR_SPEED:e} rad/s (1.6 MHz) whirl accepts: a hundred times the fastest rotors built")]
-    TooFast { text: String, value: f64 },
+    TooFast {
+        /// The text as given.
+        text: String,
+        /// Its value, rad/s.
+        value: f64,
+    },
     /// A range is not `start:stop:count`.
     #[error("`{text}` is not a range `start:stop:count` (e.g. `0:800Hz:161`): {why}")]
-    BadRange { text: String, why: String },
+    BadRange {
+        /// The text as given.
+        text: String,
+        /// What is wrong with it.
+        why: String,
+    },
 }
 
 fn example(dimension: Dimension) -> String {
@@ -156,6 +175,10 @@ fn exponent_follows(rest: &str) -> bool {
 }
 
 /// Reads a quantity such as `"3000 rpm"` into SI. A bare number is SI.
+///
+/// # Errors
+/// [`UnitError`] for text that is not a number with an optional unit, a unit of another
+/// dimension, or a speed above [`MAX_ANGULAR_SPEED`].
 pub fn parse_quantity(text: &str, dimension: Dimension) -> Result<f64, UnitError> {
     parse_with_default_unit(text, dimension, None)
 }
@@ -210,6 +233,9 @@ fn parse_with_default_unit(
 }
 
 /// Refuses a speed beyond [`MAX_ANGULAR_SPEED`] (other dimensions pass).
+///
+/// # Errors
+/// [`UnitError::TooFast`] for an angular speed above [`MAX_ANGULAR_SPEED`].
 pub fn check_speed(value: f64, text: &str, dimension: Dimension) -> Result<(), UnitError> {
     if dimension == Dimension::AngularSpeed && value.abs() > MAX_ANGULAR_SPEED {
         return Err(UnitError::TooFast {
@@ -222,6 +248,10 @@ pub fn check_speed(value: f64, text: &str, dimension: Dimension) -> Result<(), U
 
 /// Reads `start:stop:count` into `count` equally spaced SI values (inclusive bounds).
 /// `start:stop` alone (no count) is refused: the caller decides a default count.
+///
+/// # Errors
+/// [`UnitError::BadRange`] for text that is not `start:stop:count` with a count of at least
+/// 2, and the errors of [`parse_quantity`] for its bounds.
 pub fn parse_range(text: &str, dimension: Dimension) -> Result<Vec<f64>, UnitError> {
     let bad = |why: &str| UnitError::BadRange {
         text: text.to_string(),

@@ -10,12 +10,13 @@
 
 use std::fmt::Write;
 
-use serde_json::{json, Value};
+use serde::Serialize;
 use whirl::fe::{assemble, Bearings};
-use whirl::modal::{campbell, CampbellOptions};
+use whirl::modal::{campbell, CampbellOptions, CampbellResult, Whirl};
+use whirl::model::Model;
 
 use super::{
-    finish, lib, load, mode_count, speeds, summary_head, whirl_labels, Common, Outcome, Speeds,
+    finish, lib, load, mode_count, speeds, whirl_labels, Common, Head, Loaded, Outcome, Speeds,
 };
 use crate::output::{num, Output};
 use crate::plots;
@@ -57,9 +58,72 @@ pub fn order_name(k: f64) -> String {
     format!("{k}X")
 }
 
+/// The diagram and its branch labels.
+struct Diagram {
+    result: CampbellResult,
+    /// `1F`, `1B`, ... of the branches.
+    labels: Vec<String>,
+}
+
+impl Diagram {
+    /// The label of branch index `branch`.
+    fn label_of(&self, branch: usize) -> String {
+        self.result
+            .branches
+            .iter()
+            .position(|b| b.index == branch)
+            .map(|i| self.labels[i].clone())
+            .unwrap_or_else(|| format!("branch {branch}"))
+    }
+}
+
+/// summary.json of `whirl campbell`.
+#[derive(Serialize)]
+struct Summary<'a> {
+    #[serde(flatten)]
+    head: Head,
+    speed_range_hz: [Option<&'a f64>; 2],
+    speed_count: usize,
+    orders: &'a [f64],
+    basis_size: usize,
+    branches: Vec<BranchSummary<'a>>,
+    critical_speeds: Vec<CriticalSummary>,
+}
+
+/// One branch in summary.json.
+#[derive(Serialize)]
+struct BranchSummary<'a> {
+    label: &'a str,
+    whirl: Whirl,
+    frequency_at_first_speed_hz: Option<&'a f64>,
+    frequency_at_last_speed_hz: Option<&'a f64>,
+    min_log_decrement: f64,
+}
+
+/// One critical speed in summary.json: the library's, with the branch by its label.
+#[derive(Serialize)]
+struct CriticalSummary {
+    speed_hz: f64,
+    speed_rpm: f64,
+    frequency_hz: f64,
+    order: f64,
+    branch: String,
+    whirl: Whirl,
+    damping_ratio: f64,
+}
+
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
-    let model = &loaded.model;
+    let diagram = solve(&loaded.model, args)?;
+    let mut out = Output::begin(&args.common.out_dir("campbell"))?;
+    write_tables(&mut out, &diagram)?;
+    write_plots(&mut out, &loaded.model, &diagram)?;
+    let text = text(&loaded.model, &diagram);
+    finish(out, summary(&loaded, &diagram), text, &args.common)
+}
+
+/// The Campbell diagram of the linearised model over the speeds asked for.
+fn solve(model: &Model, args: &Args) -> miette::Result<Diagram> {
     let system = assemble(model, Bearings::Linearised);
     let options = CampbellOptions {
         speeds: Speeds::or_default(&args.speeds, model, 0.0, 161),
@@ -70,69 +134,64 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     };
     let result = lib(campbell(&system, &options))?;
     let labels = whirl_labels(&result.branches.iter().map(|b| b.whirl).collect::<Vec<_>>());
-    let label_of = |branch: usize| {
-        result
-            .branches
-            .iter()
-            .position(|b| b.index == branch)
-            .map(|i| labels[i].clone())
-            .unwrap_or_else(|| format!("branch {branch}"))
-    };
-    let speeds_hz = &result.speeds_hz;
+    Ok(Diagram { result, labels })
+}
 
-    let mut s = summary_head("campbell", &loaded);
-    s.insert(
-        "speed_range_hz".into(),
-        json!([speeds_hz.first(), speeds_hz.last()]),
-    );
-    s.insert("speed_count".into(), speeds_hz.len().into());
-    s.insert("orders".into(), json!(result.orders));
-    s.insert("basis_size".into(), result.basis_size.into());
-    s.insert(
-        "branches".into(),
-        result
+fn summary<'a>(loaded: &Loaded, diagram: &'a Diagram) -> Summary<'a> {
+    let result = &diagram.result;
+    let speeds_hz = &result.speeds_hz;
+    Summary {
+        head: Head::new("campbell", loaded),
+        speed_range_hz: [speeds_hz.first(), speeds_hz.last()],
+        speed_count: speeds_hz.len(),
+        orders: &result.orders,
+        basis_size: result.basis_size,
+        branches: result
             .branches
             .iter()
-            .zip(&labels)
-            .map(|(b, l)| {
-                json!({
-                    "label": l, "whirl": b.whirl.name(),
-                    "frequency_at_first_speed_hz": b.frequency_hz.first(),
-                    "frequency_at_last_speed_hz": b.frequency_hz.last(),
-                    "min_log_decrement": b.log_decrement.iter().copied()
-                        .filter(|x| x.is_finite()).fold(f64::INFINITY, f64::min),
-                })
+            .zip(&diagram.labels)
+            .map(|(b, label)| BranchSummary {
+                label,
+                whirl: b.whirl,
+                frequency_at_first_speed_hz: b.frequency_hz.first(),
+                frequency_at_last_speed_hz: b.frequency_hz.last(),
+                min_log_decrement: b
+                    .log_decrement
+                    .iter()
+                    .copied()
+                    .filter(|x| x.is_finite())
+                    .fold(f64::INFINITY, f64::min),
             })
-            .collect::<Vec<_>>()
-            .into(),
-    );
-    s.insert(
-        "critical_speeds".into(),
-        result
+            .collect(),
+        critical_speeds: result
             .critical_speeds
             .iter()
-            .map(|c| {
-                json!({
-                    "speed_hz": c.speed_hz, "speed_rpm": c.speed_rpm,
-                    "frequency_hz": c.frequency_hz, "order": c.order,
-                    "branch": label_of(c.branch), "whirl": c.whirl.name(),
-                    "damping_ratio": c.damping_ratio,
-                })
+            .map(|c| CriticalSummary {
+                speed_hz: c.speed_hz,
+                speed_rpm: c.speed_rpm,
+                frequency_hz: c.frequency_hz,
+                order: c.order,
+                branch: diagram.label_of(c.branch),
+                whirl: c.whirl,
+                damping_ratio: c.damping_ratio,
             })
-            .collect::<Vec<_>>()
-            .into(),
-    );
+            .collect(),
+    }
+}
 
+/// The lines printed without `--json`.
+fn text(model: &Model, diagram: &Diagram) -> String {
+    let result = &diagram.result;
     let mut text = String::new();
     let _ = writeln!(
         text,
         "{}: {} branches over {} speeds (basis of {} modes)",
         model.name,
         result.branches.len(),
-        speeds_hz.len(),
+        result.speeds_hz.len(),
         result.basis_size
     );
-    for (b, l) in result.branches.iter().zip(&labels) {
+    for (b, l) in result.branches.iter().zip(&diagram.labels) {
         let first = b.frequency_hz.first().copied().unwrap_or(f64::NAN);
         let last = b.frequency_hz.last().copied().unwrap_or(f64::NAN);
         let _ = writeln!(
@@ -148,15 +207,20 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
             "  {:9.2} Hz ({:7.0} rpm)  {} x {}  zeta {:.4}",
             c.speed_hz,
             c.speed_rpm,
-            label_of(c.branch),
+            diagram.label_of(c.branch),
             order_name(c.order),
             c.damping_ratio
         );
     }
+    text
+}
 
-    let mut out = Output::begin(&args.common.out_dir("campbell"))?;
+/// `campbell.csv` and `critical_speeds.csv`.
+fn write_tables(out: &mut Output, diagram: &Diagram) -> miette::Result<()> {
+    let (result, labels) = (&diagram.result, &diagram.labels);
+    let speeds_hz = &result.speeds_hz;
     let mut h = vec!["speed_hz".to_string(), "speed_rpm".to_string()];
-    for l in &labels {
+    for l in labels {
         for q in ["frequency_hz", "damping_ratio", "log_decrement", "whirl"] {
             h.push(format!("{l}_{q}"));
         }
@@ -201,18 +265,20 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
                 num(c.speed_rpm),
                 num(c.frequency_hz),
                 num(c.order),
-                label_of(c.branch),
+                diagram.label_of(c.branch),
                 c.whirl.name().to_string(),
                 num(c.damping_ratio),
             ]
         })
         .collect();
-    out.csv("critical_speeds.csv", &h, &rows)?;
+    out.csv("critical_speeds.csv", &h, &rows)
+}
+
+fn write_plots(out: &mut Output, model: &Model, diagram: &Diagram) -> miette::Result<()> {
     out.plot("campbell", |stem| {
-        plots::campbell(model, &result, &labels).save(stem)
+        plots::campbell(model, &diagram.result, &diagram.labels).save(stem)
     })?;
     out.plot("log_decrement", |stem| {
-        plots::log_decrement(&result, &labels).save(stem)
-    })?;
-    finish(out, Value::Object(s), text, &args.common)
+        plots::log_decrement(&diagram.result, &diagram.labels).save(stem)
+    })
 }

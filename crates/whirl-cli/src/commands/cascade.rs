@@ -29,6 +29,7 @@ use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 
 use serde_json::{json, Value};
+use whirl::bearing::ContactLaw;
 use whirl::model::Model;
 use whirl::nsv::{
     cascade, checkpoint, Cascade, CascadeOptions, CascadeProgress, Component, NsvSummary,
@@ -39,7 +40,6 @@ use whirl::post::Window;
 use whirl::time::Initial;
 use whirl::units::{parse_quantity, parse_range, Dimension};
 
-use super::simulate::{Contact, Start};
 use super::{
     finish, hz, load, mode_count, node_index, positive_length, speeds, summary_head, time,
 };
@@ -52,24 +52,6 @@ use crate::progress::{duration_text, Pace};
 
 /// Speeds of the default sweep over the model's operating range.
 const DEFAULT_SPEEDS: usize = 150;
-
-/// The response's displacement for the one-sided spectrum.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum ComponentArg {
-    /// Horizontal.
-    Ux,
-    /// Vertical (the thesis' cascades).
-    Uy,
-}
-
-/// The data window.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum WindowArg {
-    /// Hann: peaks +-2 bins wide, amplitudes refined between bins.
-    Hann,
-    /// Flat top: amplitudes right within 0.05 % at every bin, peaks +-5 bins wide.
-    FlatTop,
-}
 
 /// `whirl cascade`
 #[derive(Debug, clap::Args)]
@@ -90,7 +72,7 @@ pub struct Args {
     pub settle_max: f64,
     /// Initial state of every run.
     #[arg(long, value_enum, default_value = "static")]
-    pub start: Start,
+    pub start: Initial,
     /// Compute only the requested speeds: add none where the NSV changes sharply.
     #[arg(long)]
     pub no_refine: bool,
@@ -115,7 +97,7 @@ pub struct Args {
     /// Contact law of the roller bearings [default: hertz when the model has roller
     /// bearings, linear otherwise].
     #[arg(long, value_name = "LAW", value_enum)]
-    pub contact: Option<Contact>,
+    pub contact: Option<ContactLaw>,
     /// Craig-Bampton reduction keeping N fixed-interface modes.
     #[arg(long, value_name = "N", default_value_t = DEFAULT_MODES, value_parser = mode_count)]
     pub reduce: usize,
@@ -130,10 +112,10 @@ pub struct Args {
     pub node: Option<usize>,
     /// Which displacement gives the one-sided spectrum (the full spectrum uses both).
     #[arg(long, value_enum, default_value = "uy")]
-    pub component: ComponentArg,
+    pub component: Component,
     /// Data window of the spectra.
     #[arg(long, value_enum, default_value = "hann")]
-    pub window: WindowArg,
+    pub window: Window,
     /// Top of the frequency band kept and searched: `3000Hz`, or a plain number in rad/s
     /// [default: 2.5 x the top speed or 1.25 x the highest contact frequency there].
     #[arg(long, value_name = "FREQ", value_parser = frequency, allow_hyphen_values = true)]
@@ -294,10 +276,7 @@ fn cascade_options(args: &Args, model: &Model) -> miette::Result<CascadeOptions>
     let mut o = CascadeOptions::new(model, speeds);
     o.settle = args.settle;
     o.settle_max = args.settle_max;
-    o.initial = match args.start {
-        Start::Static => Initial::StaticEquilibrium,
-        Start::Rest => Initial::Rest,
-    };
+    o.initial = args.start;
     o.refine.enabled = !args.no_refine;
     o.refine.max_added = args.refine_budget;
     o.refine.min_spacing_hz = args.refine_spacing;
@@ -305,22 +284,16 @@ fn cascade_options(args: &Args, model: &Model) -> miette::Result<CascadeOptions>
     o.averaging.max_records = args.max_records;
     o.averaging.min_records = o.averaging.min_records.min(args.max_records.max(1));
     o.averaging.relative_error = args.average_tolerance;
-    if let Some(c) = args.contact {
-        o.law = c.law();
+    if let Some(law) = args.contact {
+        o.law = law;
     }
     o.reduction = (!args.full_model).then_some(args.reduce);
     o.step = args.step;
     if let Some(n) = args.node {
         o.node = n;
     }
-    o.component = match args.component {
-        ComponentArg::Ux => Component::Ux,
-        ComponentArg::Uy => Component::Uy,
-    };
-    o.window = match args.window {
-        WindowArg::Hann => Window::Hann,
-        WindowArg::FlatTop => Window::FlatTop,
-    };
+    o.component = args.component;
+    o.window = args.window;
     o.max_frequency_hz = args.max_frequency;
     o.tolerance_bins = args.tolerance;
     o.full = args.full;

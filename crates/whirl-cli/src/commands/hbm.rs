@@ -44,15 +44,6 @@ use crate::error::Diag;
 use crate::output::{header, num, Output};
 use crate::progress::{duration_text, Pace};
 
-/// Contact laws harmonic balance can use.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Contact {
-    /// Hertz contact per roller, made periodic by `--cage`.
-    Hertz,
-    /// The bearing's forcing function (eq. 3.12).
-    Forcing,
-}
-
 /// Periodic approximations of the roller passage.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Cage {
@@ -83,9 +74,10 @@ pub struct Args {
     /// bearing node].
     #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = super::node_index)]
     pub nodes: Vec<usize>,
-    /// Contact law of the roller bearings.
+    /// Contact law of the roller bearings: hertz or forcing (harmonic balance needs a
+    /// force law of the displacement).
     #[arg(long, value_enum, default_value = "hertz")]
-    pub contact: Contact,
+    pub contact: ContactLaw,
     /// How the roller passage is made periodic (Hertz only).
     #[arg(long, value_enum, default_value = "passage")]
     pub cage: Cage,
@@ -246,10 +238,7 @@ fn sweep_options(args: &Args, model: &Model, harmonics: usize) -> miette::Result
         }
     };
     let mut options = SweepOptions::new(from, to, harmonics);
-    options.contact = match args.contact {
-        Contact::Hertz => ContactLaw::Hertz,
-        Contact::Forcing => ContactLaw::Forcing,
-    };
+    options.contact = args.contact;
     options.cage = match args.cage {
         Cage::Passage => CageModel::PassageAveraged {
             positions: args.cage_positions,
@@ -293,10 +282,7 @@ fn compare_at(model: &Model, args: &Args, w: f64, node: usize) -> miette::Result
     let settings = MarchSettings {
         settle: args.settle,
         record: args.record,
-        contact: match args.contact {
-            Contact::Hertz => ContactLaw::Hertz,
-            Contact::Forcing => ContactLaw::Forcing,
-        },
+        contact: args.contact,
         ..MarchSettings::default()
     };
     lib(settled_response(model, w, node, args.harmonics, &settings))

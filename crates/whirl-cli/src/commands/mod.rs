@@ -19,6 +19,7 @@ pub mod unbalance;
 
 use std::path::{Path, PathBuf};
 
+use serde::Serialize;
 use serde_json::Value;
 use whirl::modal::Whirl;
 use whirl::model::Model;
@@ -107,7 +108,7 @@ pub fn lib<T>(r: whirl::Result<T>) -> miette::Result<T> {
 /// Writes the summary, finishes the folder and builds the outcome.
 pub fn finish(
     out: Output,
-    summary: Value,
+    summary: impl Serialize,
     text: String,
     common: &Common,
 ) -> miette::Result<Outcome> {
@@ -117,10 +118,12 @@ pub fn finish(
 /// [`finish`] for a command without [`Common`]: `json` prints the summary as JSON.
 pub fn finish_json(
     out: Output,
-    mut summary: Value,
+    summary: impl Serialize,
     text: String,
     json: bool,
 ) -> miette::Result<Outcome> {
+    let mut summary = serde_json::to_value(summary)
+        .map_err(|e| Diag::new(format!("cannot encode the summary: {e}")))?;
     let (dir, files) = out.finish(&mut summary)?;
     Ok(Outcome {
         summary,
@@ -131,17 +134,37 @@ pub fn finish_json(
     })
 }
 
-/// The first keys of every summary.
-pub fn summary_head(command: &str, loaded: &Loaded) -> serde_json::Map<String, Value> {
-    let mut m = serde_json::Map::new();
-    m.insert("command".into(), command.into());
-    m.insert("whirl_version".into(), env!("CARGO_PKG_VERSION").into());
-    m.insert(
-        "model_file".into(),
-        loaded.path.display().to_string().into(),
-    );
-    m.insert("model_name".into(), loaded.model.name.clone().into());
-    m
+/// The first keys of every summary: which command, which whirl, which model.
+#[derive(Debug, Serialize)]
+pub struct Head {
+    /// The command's name, e.g. `modal`.
+    pub command: &'static str,
+    /// This build's version.
+    pub whirl_version: &'static str,
+    /// The model file as given on the command line.
+    pub model_file: String,
+    /// The model's `name`.
+    pub model_name: String,
+}
+
+impl Head {
+    /// The head of `command`'s summary of `loaded`.
+    pub fn new(command: &'static str, loaded: &Loaded) -> Head {
+        Head {
+            command,
+            whirl_version: env!("CARGO_PKG_VERSION"),
+            model_file: loaded.path.display().to_string(),
+            model_name: loaded.model.name.clone(),
+        }
+    }
+}
+
+/// [`Head`] as the start of a summary built key by key.
+pub fn summary_head(command: &'static str, loaded: &Loaded) -> serde_json::Map<String, Value> {
+    match serde_json::to_value(Head::new(command, loaded)) {
+        Ok(Value::Object(m)) => m,
+        _ => serde_json::Map::new(),
+    }
 }
 
 /// Clap parser of one speed: `3000rpm`, `50Hz`, or a plain number in rad/s (the one rule

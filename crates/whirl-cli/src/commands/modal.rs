@@ -12,12 +12,13 @@
 
 use std::fmt::Write;
 
-use serde_json::{json, Value};
+use serde::Serialize;
 use whirl::fe::{assemble, dof, Bearings, Direction};
-use whirl::modal::{undamped_modes, ModalBasis};
+use whirl::modal::{undamped_modes, ComplexMode, ModalBasis, UndampedModes, Whirl};
+use whirl::model::Model;
 
 use super::{
-    finish, hz, lib, load, mode_count, speed, summary_head, whirl_labels, Common, Outcome,
+    finish, hz, lib, load, mode_count, speed, whirl_labels, Common, Head, Loaded, Outcome,
 };
 use crate::output::{header, num, Output};
 use crate::plots;
@@ -41,51 +42,99 @@ pub struct Args {
     pub modes: usize,
 }
 
+/// The modes `whirl modal` reports.
+struct Modes {
+    undamped: UndampedModes,
+    damped: Vec<ComplexMode>,
+    /// `1F`, `1B`, ... of the damped modes.
+    labels: Vec<String>,
+}
+
+/// summary.json of `whirl modal`.
+#[derive(Serialize)]
+struct Summary<'a> {
+    #[serde(flatten)]
+    head: Head,
+    speed_hz: f64,
+    speed_rpm: f64,
+    undamped_frequencies_hz: &'a [f64],
+    damped_modes: Vec<DampedSummary<'a>>,
+    notes: [&'static str; 3],
+}
+
+/// One damped mode in summary.json.
+#[derive(Serialize)]
+struct DampedSummary<'a> {
+    label: &'a str,
+    damped_frequency_hz: f64,
+    natural_frequency_hz: f64,
+    damping_ratio: f64,
+    log_decrement: f64,
+    whirl: Whirl,
+}
+
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
-    let model = &loaded.model;
+    let modes = solve(&loaded.model, args)?;
+    let mut out = Output::begin(&args.common.out_dir("modal"))?;
+    write_tables(&mut out, &loaded.model, &modes)?;
+    write_plots(&mut out, &loaded.model, &modes, args.speed)?;
+    let text = text(&loaded.model, &modes, args.speed);
+    finish(
+        out,
+        summary(&loaded, &modes, args.speed),
+        text,
+        &args.common,
+    )
+}
+
+/// The undamped modes and the damped modes at the speed (see the module doc).
+fn solve(model: &Model, args: &Args) -> miette::Result<Modes> {
     let system = assemble(model, Bearings::Linearised);
     let undamped = lib(undamped_modes(&system, args.modes))?;
     let basis = lib(ModalBasis::full(&system))?;
     let mut damped = lib(basis.modes_at(args.speed.max(SPEED_FLOOR), MAX_DAMPING_RATIO))?;
     damped.truncate(args.modes);
     let labels = whirl_labels(&damped.iter().map(|m| m.whirl).collect::<Vec<_>>());
-    let z = model.node_positions();
+    Ok(Modes {
+        undamped,
+        damped,
+        labels,
+    })
+}
 
-    let mut s = summary_head("modal", &loaded);
-    s.insert("speed_hz".into(), hz(args.speed).into());
-    s.insert("speed_rpm".into(), (60.0 * hz(args.speed)).into());
-    s.insert(
-        "undamped_frequencies_hz".into(),
-        json!(undamped.frequencies_hz),
-    );
-    s.insert(
-        "damped_modes".into(),
-        damped
+fn summary<'a>(loaded: &Loaded, modes: &'a Modes, speed: f64) -> Summary<'a> {
+    Summary {
+        head: Head::new("modal", loaded),
+        speed_hz: hz(speed),
+        speed_rpm: 60.0 * hz(speed),
+        undamped_frequencies_hz: &modes.undamped.frequencies_hz,
+        damped_modes: modes
+            .damped
             .iter()
-            .zip(&labels)
-            .map(|(m, l)| {
-                json!({
-                    "label": l, "damped_frequency_hz": m.damped_frequency_hz,
-                    "natural_frequency_hz": m.natural_frequency_hz,
-                    "damping_ratio": m.damping_ratio, "log_decrement": m.log_decrement,
-                    "whirl": m.whirl.name(),
-                })
+            .zip(&modes.labels)
+            .map(|(m, label)| DampedSummary {
+                label,
+                damped_frequency_hz: m.damped_frequency_hz,
+                natural_frequency_hz: m.natural_frequency_hz,
+                damping_ratio: m.damping_ratio,
+                log_decrement: m.log_decrement,
+                whirl: m.whirl,
             })
-            .collect::<Vec<_>>()
-            .into(),
-    );
-    s.insert(
-        "notes".into(),
-        json!([
+            .collect(),
+        notes: [
             "undamped shapes are mass-normalised (phi^T M phi = 1)",
             "damped shapes are scaled so that the largest translation is 1",
             "roots with damping ratio above 0.9 are left out",
-        ]),
-    );
+        ],
+    }
+}
 
+/// The lines printed without `--json`.
+fn text(model: &Model, modes: &Modes, speed: f64) -> String {
     let mut text = String::new();
-    let list: Vec<String> = undamped
+    let list: Vec<String> = modes
+        .undamped
         .frequencies_hz
         .iter()
         .map(|x| format!("{x:.2}"))
@@ -99,10 +148,10 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let _ = writeln!(
         text,
         "damped modes at {:.2} Hz ({:.0} rpm):",
-        hz(args.speed),
-        60.0 * hz(args.speed)
+        hz(speed),
+        60.0 * hz(speed)
     );
-    for (m, l) in damped.iter().zip(&labels) {
+    for (m, l) in modes.damped.iter().zip(&modes.labels) {
         let _ = writeln!(
             text,
             "  {l:>3}  {:9.3} Hz  zeta {:.4}  log dec {:.4}  {}",
@@ -112,8 +161,18 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
             m.whirl.name()
         );
     }
+    text
+}
 
-    let mut out = Output::begin(&args.common.out_dir("modal"))?;
+/// The four tables of the module doc.
+fn write_tables(out: &mut Output, model: &Model, modes: &Modes) -> miette::Result<()> {
+    let z = model.node_positions();
+    write_undamped(out, &z, &modes.undamped)?;
+    write_damped(out, &z, &modes.damped, &modes.labels)
+}
+
+/// `undamped_modes.csv` and `undamped_shapes.csv`.
+fn write_undamped(out: &mut Output, z: &[f64], undamped: &UndampedModes) -> miette::Result<()> {
     let f = &undamped.frequencies_hz;
     let rows: Vec<Vec<String>> = f
         .iter()
@@ -147,11 +206,19 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         "tx",
         "ty",
     ]);
-    out.csv("undamped_shapes.csv", &h, &rows)?;
+    out.csv("undamped_shapes.csv", &h, &rows)
+}
 
+/// `damped_modes.csv` and `damped_shapes.csv`.
+fn write_damped(
+    out: &mut Output,
+    z: &[f64],
+    damped: &[ComplexMode],
+    labels: &[String],
+) -> miette::Result<()> {
     let rows: Vec<Vec<String>> = damped
         .iter()
-        .zip(&labels)
+        .zip(labels)
         .enumerate()
         .map(|(i, (m, l))| {
             vec![
@@ -180,7 +247,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     ]);
     out.csv("damped_modes.csv", &h, &rows)?;
     let mut rows = Vec::new();
-    for (i, (m, l)) in damped.iter().zip(&labels).enumerate() {
+    for (i, (m, l)) in damped.iter().zip(labels).enumerate() {
         for (n, zn) in z.iter().enumerate() {
             let (a, b) = (
                 m.shape[dof(n, Direction::Ux)],
@@ -213,13 +280,14 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         "forward_radius",
         "backward_radius",
     ]);
-    out.csv("damped_shapes.csv", &h, &rows)?;
+    out.csv("damped_shapes.csv", &h, &rows)
+}
 
+fn write_plots(out: &mut Output, model: &Model, modes: &Modes, speed: f64) -> miette::Result<()> {
     out.plot("mode_shapes", |stem| {
-        plots::mode_shapes(model, &undamped).save(stem)
+        plots::mode_shapes(model, &modes.undamped).save(stem)
     })?;
     out.plot("damped_orbits", |stem| {
-        plots::damped_orbits(model, &damped, &labels, hz(args.speed)).save(stem)
-    })?;
-    finish(out, Value::Object(s), text, &args.common)
+        plots::damped_orbits(model, &modes.damped, &modes.labels, hz(speed)).save(stem)
+    })
 }

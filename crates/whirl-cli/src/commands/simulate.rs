@@ -100,44 +100,10 @@ pub enum Integrator {
     Rk,
 }
 
-/// The roller bearings' contact law in the time march.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Contact {
-    /// Hertz line contact per roller (thesis eq. 3.5), with tilt, skew and waviness.
-    Hertz,
-    /// Rigid rollers held by Lagrange multipliers (eqs. 3.7-3.11), central difference only.
-    Lagrange,
-    /// The bearing's forcing function (eq. 3.12; fit one with `whirl fit-forcing`).
-    Forcing,
-    /// Linear springs (each bearing's `linear_stiffness`), as in the linear analyses.
-    Linear,
-}
-
-impl Contact {
-    /// The library's law.
-    pub fn law(self) -> ContactLaw {
-        match self {
-            Contact::Hertz => ContactLaw::Hertz,
-            Contact::Lagrange => ContactLaw::Lagrange,
-            Contact::Forcing => ContactLaw::Forcing,
-            Contact::Linear => ContactLaw::Linear,
-        }
-    }
-}
-
 /// The law asked for, or Hertz when the model has roller bearings, else linear.
 fn contact_law(args: &Args, model: &Model) -> ContactLaw {
     args.contact
-        .map_or_else(|| ContactLaw::default_for(model), Contact::law)
-}
-
-/// Where the run starts.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Start {
-    /// Static equilibrium under gravity.
-    Static,
-    /// Zero displacement and velocity.
-    Rest,
+        .unwrap_or_else(|| ContactLaw::default_for(model))
 }
 
 /// `whirl simulate`
@@ -175,7 +141,7 @@ pub struct Args {
     /// Contact law of the roller bearings [default: hertz when the model has roller
     /// bearings, linear otherwise].
     #[arg(long, value_name = "LAW", value_enum)]
-    pub contact: Option<Contact>,
+    pub contact: Option<ContactLaw>,
     /// Record every N-th step [default: as many steps as fit in 1e-5 s, at least 1].
     #[arg(long, value_name = "N", value_parser = record_every)]
     pub record_every: Option<usize>,
@@ -184,7 +150,7 @@ pub struct Args {
     pub ramp_to: Option<f64>,
     /// Initial state.
     #[arg(long, value_enum, default_value = "static")]
-    pub start: Start,
+    pub start: Initial,
     /// A recorded displacement (ux or uy of a recorded node, bearing nodes included)
     /// beyond this means the run diverged; any integrated coordinate beyond 1000 times it
     /// (rotations and modal coordinates too) as well.
@@ -241,10 +207,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         reduction: args.reduce,
         settle,
         nodes: nodes.clone(),
-        initial: match args.start {
-            Start::Static => Initial::StaticEquilibrium,
-            Start::Rest => Initial::Rest,
-        },
+        initial: args.start,
         divergence_bound: args.divergence_bound,
         progress: progress_display(),
     };

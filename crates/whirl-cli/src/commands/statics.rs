@@ -16,15 +16,6 @@ use super::{finish, lib, load, summary_head, Common, Outcome};
 use crate::output::{header, num, Output};
 use crate::plots;
 
-/// How roller bearings carry the rotor, on the command line.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Rollers {
-    /// Hertz contact per roller, with the clearance (the rotor drops onto the rollers).
-    Hertz,
-    /// The bearings' `linear_stiffness`, as in the linear analyses.
-    Linear,
-}
-
 /// `whirl static`
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -32,17 +23,13 @@ pub struct Args {
     pub common: Common,
     /// How roller bearings carry the load [default: hertz].
     #[arg(long, value_enum, default_value = "hertz")]
-    pub rollers: Rollers,
+    pub rollers: RollerSupport,
 }
 
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     let model = &loaded.model;
-    let support = match args.rollers {
-        Rollers::Hertz => RollerSupport::Hertz,
-        Rollers::Linear => RollerSupport::Linear,
-    };
-    let result = lib(static_response(model, support))?;
+    let result = lib(static_response(model, args.rollers))?;
     let total = result.total_reaction();
 
     let mut s = summary_head("static", &loaded);
@@ -95,7 +82,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         "{}: static response under gravity ({} m/s^2), roller bearings {}",
         model.name,
         model.gravity,
-        match support {
+        match args.rollers {
             RollerSupport::Hertz => "by Hertz contact",
             RollerSupport::Linear => "by their linear stiffness",
         }

@@ -11,12 +11,12 @@
 
 use std::fmt::Write;
 
-use serde_json::{json, Value};
+use serde::Serialize;
 use whirl::fe::{assemble, Bearings};
-use whirl::response::{unbalance_response, UnbalanceResult};
+use whirl::response::{unbalance_response, ResponsePeak, UnbalanceResult};
 
 use super::{
-    finish, lib, load, node_index, report_nodes, speeds, summary_head, Common, Outcome, Speeds,
+    finish, lib, load, node_index, report_nodes, speeds, Common, Head, Loaded, Outcome, Speeds,
 };
 use crate::output::{header, num, opt, Output};
 use crate::plots;
@@ -35,6 +35,56 @@ pub struct Args {
     pub nodes: Vec<usize>,
 }
 
+/// summary.json of `whirl unbalance`.
+#[derive(Serialize)]
+struct Summary<'a> {
+    #[serde(flatten)]
+    head: Head,
+    speed_range_hz: [Option<&'a f64>; 2],
+    speed_count: usize,
+    operating_speed_hz: Option<(f64, f64)>,
+    api617_status: String,
+    nodes: Vec<NodeSummary<'a>>,
+}
+
+/// One reported node in summary.json.
+#[derive(Serialize)]
+struct NodeSummary<'a> {
+    node: usize,
+    z_m: f64,
+    max_major_semi_axis_m: f64,
+    max_major_semi_axis_speed_hz: Option<&'a f64>,
+    peaks: Vec<PeakSummary>,
+}
+
+/// One resonance peak in summary.json.
+#[derive(Serialize)]
+struct PeakSummary {
+    speed_hz: f64,
+    speed_rpm: f64,
+    major_semi_axis_m: f64,
+    half_power_hz: Option<(f64, f64)>,
+    amplification_factor: Option<f64>,
+    api617_required_margin_pct: Option<f64>,
+    api617_actual_margin_pct: Option<f64>,
+    meets_api617: Option<bool>,
+}
+
+impl From<&ResponsePeak> for PeakSummary {
+    fn from(p: &ResponsePeak) -> Self {
+        PeakSummary {
+            speed_hz: p.speed_hz,
+            speed_rpm: 60.0 * p.speed_hz,
+            major_semi_axis_m: p.amplitude,
+            half_power_hz: p.half_power_hz,
+            amplification_factor: p.amplification_factor,
+            api617_required_margin_pct: p.required_margin_pct,
+            api617_actual_margin_pct: p.actual_margin_pct,
+            meets_api617: p.meets_api617,
+        }
+    }
+}
+
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     let model = &loaded.model;
@@ -46,58 +96,61 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         &Speeds::or_default(&args.speeds, model, 2.0 * std::f64::consts::PI, 800),
         &nodes,
     ))?;
+    let mut out = Output::begin(&args.common.out_dir("unbalance"))?;
+    write_tables(&mut out, &result)?;
+    out.plot("bode", |stem| plots::bode(&result).save(stem))?;
+    out.plot("polar", |stem| plots::polar(&result).save(stem))?;
+    out.plot("orbit_major", |stem| plots::orbit_major(&result).save(stem))?;
+    let text = text(&model.name, &nodes, &result);
+    finish(out, summary(&loaded, &result), text, &args.common)
+}
 
-    let mut s = summary_head("unbalance", &loaded);
-    s.insert(
-        "speed_range_hz".into(),
-        json!([result.speeds_hz.first(), result.speeds_hz.last()]),
-    );
-    s.insert("speed_count".into(), result.speeds_hz.len().into());
-    s.insert("operating_speed_hz".into(), json!(result.operating_hz));
-    s.insert("api617_status".into(), json!(api617_status(&result)));
-    s.insert(
-        "nodes".into(),
-        result
+fn summary<'a>(loaded: &Loaded, result: &'a UnbalanceResult) -> Summary<'a> {
+    let speeds_hz = &result.speeds_hz;
+    Summary {
+        head: Head::new("unbalance", loaded),
+        speed_range_hz: [speeds_hz.first(), speeds_hz.last()],
+        speed_count: speeds_hz.len(),
+        operating_speed_hz: result.operating_hz,
+        api617_status: api617_status(result),
+        nodes: result
             .nodes
             .iter()
             .map(|r| {
-                let (k, max) =
-                    r.major
-                        .iter()
-                        .copied()
-                        .enumerate()
-                        .fold((0, f64::NAN), |a, (i, v)| {
-                            if v > a.1 || a.1.is_nan() {
-                                (i, v)
-                            } else {
-                                a
-                            }
-                        });
-                json!({
-                    "node": r.node, "z_m": r.z,
-                    "max_major_semi_axis_m": max,
-                    "max_major_semi_axis_speed_hz": result.speeds_hz.get(k),
-                    "peaks": r.peaks.iter().map(|p| json!({
-                        "speed_hz": p.speed_hz, "speed_rpm": 60.0 * p.speed_hz,
-                        "major_semi_axis_m": p.amplitude,
-                        "half_power_hz": p.half_power_hz.map(|(a, b)| [a, b]),
-                        "amplification_factor": p.amplification_factor,
-                        "api617_required_margin_pct": p.required_margin_pct,
-                        "api617_actual_margin_pct": p.actual_margin_pct,
-                        "meets_api617": p.meets_api617,
-                    })).collect::<Vec<_>>(),
-                })
+                let (k, max) = largest(&r.major);
+                NodeSummary {
+                    node: r.node,
+                    z_m: r.z,
+                    max_major_semi_axis_m: max,
+                    max_major_semi_axis_speed_hz: speeds_hz.get(k),
+                    peaks: r.peaks.iter().map(PeakSummary::from).collect(),
+                }
             })
-            .collect::<Vec<_>>()
-            .into(),
-    );
+            .collect(),
+    }
+}
 
+/// The index and value of the largest entry (the first of equals; NaN when all are NaN).
+fn largest(values: &[f64]) -> (usize, f64) {
+    values
+        .iter()
+        .copied()
+        .enumerate()
+        .fold((0, f64::NAN), |a, (i, v)| {
+            if v > a.1 || a.1.is_nan() {
+                (i, v)
+            } else {
+                a
+            }
+        })
+}
+
+/// The lines printed without `--json`: every peak with its API 617 verdict.
+fn text(name: &str, nodes: &[usize], result: &UnbalanceResult) -> String {
     let mut text = String::new();
     let _ = writeln!(
         text,
-        "{}: unbalance response at nodes {:?}, {} speeds",
-        model.name,
-        nodes,
+        "{name}: unbalance response at nodes {nodes:?}, {} speeds",
         result.speeds_hz.len()
     );
     for r in &result.nodes {
@@ -121,12 +174,24 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
             );
         }
     }
-
     if let Some(note) = &result.api617_note {
         let _ = writeln!(text, "API 617 separation margins {note}");
     }
+    text
+}
 
-    let mut out = Output::begin(&args.common.out_dir("unbalance"))?;
+/// The summary's verdict on the API 617 margins: "assessed" (see each peak's
+/// `meets_api617`), the reason they are not applicable, or "no operating range".
+fn api617_status(result: &UnbalanceResult) -> String {
+    match (&result.api617_note, result.operating_hz) {
+        (Some(note), _) => note.clone(),
+        (None, Some(_)) => "assessed".to_string(),
+        (None, None) => "no operating range: give [operating] min_speed and max_speed to assess separation margins".to_string(),
+    }
+}
+
+/// `unbalance.csv` and `peaks.csv`.
+fn write_tables(out: &mut Output, result: &UnbalanceResult) -> miette::Result<()> {
     let mut h = header(&["speed_hz", "speed_rpm"]);
     for r in &result.nodes {
         for q in [
@@ -197,19 +262,5 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
             ]);
         }
     }
-    out.csv("peaks.csv", &h, &rows)?;
-    out.plot("bode", |stem| plots::bode(&result).save(stem))?;
-    out.plot("polar", |stem| plots::polar(&result).save(stem))?;
-    out.plot("orbit_major", |stem| plots::orbit_major(&result).save(stem))?;
-    finish(out, Value::Object(s), text, &args.common)
-}
-
-/// The summary's verdict on the API 617 margins: "assessed" (see each peak's
-/// `meets_api617`), the reason they are not applicable, or "no operating range".
-fn api617_status(result: &UnbalanceResult) -> String {
-    match (&result.api617_note, result.operating_hz) {
-        (Some(note), _) => note.clone(),
-        (None, Some(_)) => "assessed".to_string(),
-        (None, None) => "no operating range: give [operating] min_speed and max_speed to assess separation margins".to_string(),
-    }
+    out.csv("peaks.csv", &h, &rows)
 }

@@ -13,7 +13,7 @@
 //! ```
 //!
 //! a linear complementarity problem solved exactly by Lemke's pivoting (see
-//! [`solve_complementarity`] for why not an active-set loop). W is small (rollers x rollers) and needs only the block of S on the
+//! `solve_complementarity` for why not an active-set loop). W is small (rollers x rollers) and needs only the block of S on the
 //! bearings' coordinates, so a step with contact costs little more than one without.
 //!
 //! Roller tilt and skew are slice effects of the Hertz law; a rigid roller is one

@@ -17,19 +17,21 @@ use crate::model::{Model, Ring, RollerBearing};
 
 /// How the roller bearings act in a simulation (time marching or harmonic balance).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
+// In the command line's order (its help lists the laws so).
 pub enum ContactLaw {
-    /// Linear springs: each bearing's `linear_stiffness` and `linear_damping` in the
-    /// matrices, as in the linear analyses. Nothing is recorded per roller.
-    Linear,
     /// Hertz line contact per roller (eq. 3.5), with tilt, skew and waviness.
     Hertz,
-    /// The bearing's forcing function (eq. 3.12): one radial law, no rollers. The record
-    /// holds each roller's approach; its forces are NaN.
-    Forcing,
     /// Rigid rollers: non-penetration enforced by Lagrange multipliers on the central
     /// difference (eqs. 3.7-3.11, 4.6-4.9); the forces are the multipliers.
     Lagrange,
+    /// The bearing's forcing function (eq. 3.12): one radial law, no rollers. The record
+    /// holds each roller's approach; its forces are NaN.
+    Forcing,
+    /// Linear springs: each bearing's `linear_stiffness` and `linear_damping` in the
+    /// matrices, as in the linear analyses. Nothing is recorded per roller.
+    Linear,
 }
 
 impl ContactLaw {

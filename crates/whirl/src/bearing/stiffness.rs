@@ -237,7 +237,7 @@ pub struct ForceSurface {
     pub ux: Vec<f64>,
     /// Grid ordinates u_y, m.
     pub uy: Vec<f64>,
-    /// Force of the bearing on the shaft along x, N; `fx[j][i]` at (ux[i], uy[j]).
+    /// Force of the bearing on the shaft along x, N; `fx[j][i]` at `(ux[i], uy[j])`.
     pub fx: Vec<Vec<f64>>,
     /// Force along y, N.
     pub fy: Vec<Vec<f64>>,

@@ -14,10 +14,10 @@
 //!   through the same AFT route, and Newton-Raphson at one frequency.
 //! - [`CondensedBalance`]: the same on the coordinates that carry nonlinear forces, the
 //!   linear rest condensed exactly per harmonic.
-//! - [`continuation`]: pseudo-arclength continuation in w through turning points.
+//! - [`continuation()`]: pseudo-arclength continuation in w through turning points.
 //! - [`bearings`]: roller bearings made periodic in the running speed ([`CageModel`]).
 //! - [`compare`]: time marching read in the same terms, to check harmonic balance against.
-//! - [`sweep`]: a model's periodic response over a speed range, as `whirl hbm` runs it.
+//! - [`sweep()`]: a model's periodic response over a speed range, as `whirl hbm` runs it.
 //! - [`stability`]: Hill's method for each periodic solution; [`bifurcation`]: where and
 //!   how it changes, named by the crossing Floquet multiplier (fold or symmetry breaking,
 //!   period doubling, Neimark-Sacker).

@@ -108,6 +108,10 @@ pub struct CampbellResult {
 }
 
 /// Computes a Campbell diagram.
+///
+/// # Errors
+/// [`Error::InvalidOption`] for no speeds or speeds that are not ascending; the errors of
+/// [`ModalBasis::truncated`] and [`ModalBasis::modes_at`].
 pub fn campbell(system: &SystemMatrices, options: &CampbellOptions) -> Result<CampbellResult> {
     if options.speeds.is_empty() {
         return Err(Error::InvalidOption(

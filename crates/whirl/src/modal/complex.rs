@@ -112,11 +112,18 @@ pub struct ModalBasis {
 
 impl ModalBasis {
     /// All modes: exact, one 2n x 2n eigen-solve per speed.
+    ///
+    /// # Errors
+    /// As [`ModalBasis::truncated`].
     pub fn full(system: &SystemMatrices) -> Result<ModalBasis> {
         ModalBasis::truncated(system, system.dofs())
     }
 
     /// The `count` lowest undamped modes.
+    ///
+    /// # Errors
+    /// [`Error::Singular`] when the mass is not positive definite or the rotor is unstable at
+    /// rest, [`Error::NotConverged`] when the eigen-solver fails (see [`undamped_modes`]).
     pub fn truncated(system: &SystemMatrices, count: usize) -> Result<ModalBasis> {
         let modes = undamped_modes(system, count)?;
         let phi = modes.shapes;
@@ -144,6 +151,9 @@ impl ModalBasis {
 
     /// Damped modes at spin speed `omega` (rad/s), ascending in damped frequency, overdamped
     /// roots and roots with damping ratio above `max_damping_ratio` left out.
+    ///
+    /// # Errors
+    /// [`Error::NotConverged`] when the eigen-solver does not converge at this speed.
     pub fn modes_at(&self, omega: f64, max_damping_ratio: f64) -> Result<Vec<ComplexMode>> {
         let p = self.size();
         let a = Mat::<f64>::from_fn(2 * p, 2 * p, |i, j| match (i < p, j < p) {
@@ -261,6 +271,9 @@ fn classify_whirl(mode: &ComplexMode) -> Whirl {
 }
 
 /// Damped modes of the full system at spin speed `omega` (rad/s); see [`ModalBasis`].
+///
+/// # Errors
+/// As [`ModalBasis::full`] and [`ModalBasis::modes_at`].
 pub fn complex_modes(system: &SystemMatrices, omega: f64) -> Result<Vec<ComplexMode>> {
     ModalBasis::full(system)?.modes_at(omega, 1.0)
 }

@@ -51,6 +51,10 @@ fn change(current: f64, previous: f64) -> f64 {
 }
 
 /// Undamped frequencies of the first `modes` modes for each total element count.
+///
+/// # Errors
+/// [`Error::InvalidOption`](crate::Error::InvalidOption) when a feature does not fall on
+/// a node of a mesh (see [`Model::remeshed`]); the errors of [`undamped_modes`].
 pub fn convergence(model: &Model, counts: &[usize], modes: usize) -> Result<ConvergenceResult> {
     let mut counts = counts.to_vec();
     counts.sort_unstable();

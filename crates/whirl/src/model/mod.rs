@@ -1,13 +1,15 @@
 //! The validated rotor model: every number in SI, every reference resolved.
 //!
-//! Data flows one way: model file ([`schema`]) -> [`Model`] (this module, after
-//! [`validate`]) -> finite-element mesh and matrices ([`crate::fe`]) -> solvers.
+//! Data flows one way: model file (the private `schema`, as written) -> [`Model`] (this
+//! module, after the private `validate`) -> finite-element mesh and matrices ([`crate::fe`])
+//! -> solvers. The file's format is documented for users in `docs/model-file.md`; only the
+//! validated [`Model`] is public.
 //!
 //! Stations: a feature (disk, bearing, unbalance) sits at a node. The file may give the
 //! node index or the axial position `z`; both are kept, so that a re-meshed model (mesh
 //! convergence study) can place the feature at the same `z`.
 
-pub mod schema;
+mod schema;
 mod validate;
 
 use std::path::{Path, PathBuf};
@@ -267,7 +269,7 @@ impl RollerBearing {
     /// Palmgren's line-contact stiffness for one roller, inner and outer raceway contacts
     /// in series, in N/m^(10/9).
     ///
-    /// Per contact delta[mm] = 3.84e-5 Q[N]^0.9 / l[mm]^0.8 (Palmgren), i.e.
+    /// Per contact `delta[mm] = 3.84e-5 Q[N]^0.9 / l[mm]^0.8` (Palmgren), i.e.
     /// Q = k delta^(10/9) with k = (l_mm^0.8 / 3.84e-5 * 1e3)^(10/9) in SI. Two equal
     /// contacts in series: K = (2 k^(-9/10))^(-10/9) = k 2^(-10/9) (docs/theory.md section 5
     /// erratum of thesis eq. 3.6, which used the ball-bearing exponent).
@@ -347,6 +349,9 @@ pub struct Model {
 
 impl Model {
     /// Reads and validates a model file.
+    ///
+    /// # Errors
+    /// [`Error::Io`] when the file cannot be read; the errors of [`Model::from_toml_str`].
     pub fn from_file(path: &Path) -> Result<Model> {
         let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
             action: "read the model file",
@@ -357,6 +362,10 @@ impl Model {
     }
 
     /// Validates a model given as TOML text; `file` names it in error messages.
+    ///
+    /// # Errors
+    /// [`Error::Input`] for a syntax error, an unknown or missing field, a value out of its
+    /// range or a reference that does not resolve, located in `text`.
     pub fn from_toml_str(text: &str, file: Option<PathBuf>) -> Result<Model> {
         let raw: schema::ModelFile = toml::from_str(text).map_err(|e| {
             let mut err = InputError {
@@ -423,6 +432,9 @@ impl Model {
 
     /// The same model with each section meshed with `elements[i]` elements; every feature
     /// keeps its axial position. Fails when a feature does not fall on a node of the new mesh.
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] when a feature does not fall on a node of the new mesh.
     pub fn remeshed(&self, elements: &[usize]) -> Result<Model> {
         let mut m = self.clone();
         for (s, &n) in m.sections.iter_mut().zip(elements) {

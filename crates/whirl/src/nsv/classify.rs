@@ -5,7 +5,7 @@
 //! whip is forward precession locked at a natural frequency, and a backward whirl locked
 //! the same way is `backward-whip`, never plain whip.
 //!
-//! A point whose run did not settle ([`super::point`]: its largest non-synchronous peak was
+//! A point whose run did not settle (see [`crate::nsv`]: its largest non-synchronous peak was
 //! still dying away at the longest settling time) is **unsettled**, whatever its frequency;
 //! it is never an NSV of any other class. Otherwise the checks run in this order, the first
 //! that holds names the peak (`tol` is the cascade's tolerance, `tolerance_bins` times the
@@ -176,7 +176,7 @@ pub fn lock_tolerance(frequency_hz: f64, tolerance_hz: f64) -> f64 {
 }
 
 /// How far in speed (Hz) from `speed_hz` a lock partner of a peak of `order` is looked
-/// for: a tenth of the speed, at least [`LOCK_WINDOW_MIN_HZ`], and at least 1.5 times the
+/// for: a tenth of the speed, at least `LOCK_WINDOW_MIN_HZ`, and at least 1.5 times the
 /// speed change over which a vibration of that order would move by twice the lock
 /// tolerance `lock_hz` (else a low order could never show its lock).
 pub fn lock_window(speed_hz: f64, order: f64, lock_hz: f64) -> f64 {

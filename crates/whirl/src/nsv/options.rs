@@ -70,6 +70,7 @@ const BAND_MARGIN: f64 = 1.25;
 
 /// Which displacement of the response node the one-sided spectrum is taken of.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Component {
     /// Horizontal, u_x.

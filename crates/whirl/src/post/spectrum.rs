@@ -47,9 +47,12 @@ const HFT90D: [f64; 5] = [1.0, -1.942604, 1.340318, -0.440811, 0.043097];
 
 /// A data window, applied before the FFT.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum Window {
     /// No window: the sharpest peaks, the most leakage (side lobes fall as 1/f, -13 dB).
+    // Cascades are read for peaks between bins, which a rectangular window smears.
+    #[cfg_attr(feature = "clap", value(skip))]
     Rectangular,
     /// Hann, `0.5 - 0.5 cos(2 pi n / N)`: main lobe +-2 bins, side lobes -31 dB falling
     /// as 1/f^3. The default for cascades.

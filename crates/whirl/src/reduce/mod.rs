@@ -27,7 +27,7 @@ use crate::model::Model;
 /// A Craig-Bampton reduced model and the map back to physical DOFs.
 #[derive(Debug, Clone)]
 pub struct CraigBampton {
-    /// Boundary DOFs (physical indices); reduced coordinate i < boundary.len() is boundary[i].
+    /// Boundary DOFs (physical indices); reduced coordinate `i < boundary.len()` is `boundary[i]`.
     pub boundary: Vec<usize>,
     /// Number of fixed-interface modes kept.
     pub modes: usize,
@@ -57,6 +57,11 @@ fn sub(a: &Mat<f64>, rows: &[usize], cols: &[usize]) -> Mat<f64> {
 
 impl CraigBampton {
     /// Reduces `system` keeping `boundary` DOFs and `modes` fixed-interface modes.
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] for a boundary DOF outside the model, [`Error::Unsupported`]
+    /// without boundary DOFs, [`Error::Singular`] when part of the shaft is held by no boundary
+    /// node; the errors of [`crate::modal::undamped_modes`] for the fixed-interface modes.
     pub fn new(system: &SystemMatrices, boundary: &[usize], modes: usize) -> Result<CraigBampton> {
         let n = system.dofs();
         let mut is_boundary = vec![false; n];
@@ -178,6 +183,10 @@ impl CraigBampton {
 /// Largest stable step of the explicit central difference, 2 / w_max, with w_max the
 /// highest undamped natural frequency of (K + extra, M), rad/s. `extra` adds a tangent
 /// stiffness (e.g. of contacts) on the given DOFs.
+///
+/// # Errors
+/// The errors of [`crate::modal::undamped_modes`]: [`Error::Singular`] for a mass that is
+/// not positive definite, [`Error::NotConverged`] when the eigen-solver fails.
 pub fn explicit_stability_limit(
     system: &SystemMatrices,
     extra: Option<(&[usize], &Mat<f64>)>,
@@ -232,6 +241,9 @@ pub struct ReductionRow {
 
 /// Compares reduced models with `mode_counts` fixed-interface modes against the full one on
 /// the first `compare` natural frequencies.
+///
+/// # Errors
+/// The errors of [`CraigBampton::new`] and [`explicit_stability_limit`].
 pub fn reduction_study(
     system: &SystemMatrices,
     boundary: &[usize],

@@ -63,12 +63,20 @@ pub struct UnbalanceResult {
 }
 
 /// Complex response vector at one speed: the harmonic response to Omega^2 f at w = Omega.
+///
+/// # Errors
+/// [`Error::Singular`] when the dynamic stiffness is singular at `omega` (see
+/// [`harmonic_response`]).
 pub fn unbalance_phasor(system: &SystemMatrices, force: &[c64], omega: f64) -> Result<Vec<c64>> {
     let scaled: Vec<c64> = force.iter().map(|f| f * (omega * omega)).collect();
     harmonic_response(system, omega, omega, &scaled)
 }
 
 /// Unbalance response at `nodes` over `speeds` (rad/s).
+///
+/// # Errors
+/// [`Error::InvalidOption`] for a node that is not on the shaft, [`Error::Unsupported`] for
+/// a model without unbalance, [`Error::Singular`] as in `unbalance_phasor`.
 pub fn unbalance_response(
     model: &Model,
     system: &SystemMatrices,

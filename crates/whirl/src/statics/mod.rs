@@ -41,6 +41,7 @@ use crate::time::{model_problem, static_equilibrium};
 
 /// How roller bearings carry the load.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum RollerSupport {
     /// Hertz line contact per roller, with the clearance: the rotor drops through its

@@ -3,7 +3,7 @@
 //! table 5.1).
 //!
 //! The fit minimises sum (y_i - p(x_i))^2 with the project's Levenberg-Marquardt solver
-//! ([`crate::bearing::least_squares`]): the residuals are linear in the coefficients, so
+//! (the crate's Levenberg-Marquardt): the residuals are linear in the coefficients, so
 //! the curvature term is zero and the Marquardt column scaling takes care of columns as
 //! different as gamma^3 (1e-15 m^3) and 1. R^2 = 1 - SS_res / SS_tot with
 //! SS_tot = sum (y_i - mean y)^2.
@@ -33,6 +33,10 @@ impl PolynomialFit {
 /// Fits a polynomial of `degree` to the points (x_i, y_i).
 ///
 /// Needs at least `degree + 1` distinct x values and finite data; the error says so.
+///
+/// # Errors
+/// [`Error::InvalidOption`] when `x` and `y` differ in length, a value is not finite, or
+/// there are fewer than `degree + 1` distinct x values.
 pub fn polynomial_fit(x: &[f64], y: &[f64], degree: usize) -> Result<PolynomialFit> {
     check_data(x, y, degree)?;
     let m = degree + 1;

@@ -119,6 +119,9 @@ impl Point {
 
 impl Study {
     /// Reads a study file and the model file it names, and validates every point.
+    ///
+    /// # Errors
+    /// [`Error::Io`] when a file cannot be read; the errors of [`Study::from_toml_str`].
     pub fn from_file(path: &Path) -> Result<Study> {
         let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
             action: "read the study file",
@@ -130,6 +133,10 @@ impl Study {
 
     /// Validates a study given as TOML text; `path` names it in messages, and the model
     /// file is found relative to its folder.
+    ///
+    /// # Errors
+    /// [`Error::Input`] for a study file or a model file (as changed at each point) that does
+    /// not validate, located in its file; [`Error::Io`] when the model file cannot be read.
     pub fn from_toml_str(text: &str, path: &Path) -> Result<Study> {
         let located = |e: InputError| Error::from(e.locate(Some(path.to_path_buf()), text));
         let raw: StudyFile = toml::from_str(text).map_err(|e| {

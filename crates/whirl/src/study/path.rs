@@ -72,6 +72,10 @@ pub const PATH_HELP: &str = "write the path as in the model file: keys separated
 
 impl ParameterPath {
     /// Parses a path; the error says what is wrong with it.
+    ///
+    /// # Errors
+    /// A message for an empty path or key, a `]` without `[`, an unclosed `[` or quote, or an
+    /// empty selector.
     pub fn parse(text: &str) -> Result<ParameterPath, String> {
         let mut segments = Vec::new();
         for part in split_outside_brackets(text.trim())? {
@@ -97,6 +101,10 @@ impl ParameterPath {
     /// Sets the value at this path in `table` to `value` in every selected entry; returns
     /// how many values were set. The last key is added when it is missing (the model's
     /// validation then says whether it may be there).
+    ///
+    /// # Errors
+    /// A message naming the path when a key is missing on the way, a selector matches nothing,
+    /// or a table is not where the path expects one.
     pub fn set(&self, table: &mut dyn TableLike, value: &Value) -> Result<usize, String> {
         set_in(table, &self.segments, value, "")
     }

@@ -14,6 +14,10 @@ pub const DEFAULT_SPEED_COUNT: usize = 150;
 
 /// The cascade options of a point: the cascade's defaults, changed where the study's
 /// `[cascade]` table says so.
+///
+/// # Errors
+/// [`Error::Input`](crate::Error::Input) when the point's `[cascade]` settings do not fit
+/// its model (e.g. no speeds and no operating range).
 pub fn cascade_options(point: &Point) -> Result<CascadeOptions> {
     let s = &point.cascade;
     let speeds = match (&s.speeds, point.model.operating) {
@@ -77,6 +81,10 @@ pub fn cascade_options(point: &Point) -> Result<CascadeOptions> {
 
 /// Computes a point's cascade (resuming from, and saving speeds in, `checkpoint`) and
 /// keeps what the study needs of it.
+///
+/// # Errors
+/// The errors of [`cascade_options`] and of [`crate::nsv::cascade`] (including
+/// [`Error::Interrupted`](crate::Error::Interrupted) when stopped on request).
 pub fn compute(
     point: &Point,
     checkpoint: Option<&Path>,

@@ -175,6 +175,11 @@ pub type PointOutcome = std::result::Result<PointResult, String>;
 /// `compute`, saving each at once. `report` hears of each point as it becomes available
 /// (index, point, how, outcome). A point that fails is kept as its message; only a failure
 /// to save stops the study (the finished points stay saved).
+///
+/// # Errors
+/// The first failure to save a point to `store` ([`Error::Io`](crate::Error::Io),
+/// [`Error::Encode`](crate::Error::Encode)); failures of `compute` are kept as the point's
+/// outcome instead.
 pub fn run_points(
     study: &Study,
     store: &Store,

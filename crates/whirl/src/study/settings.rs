@@ -56,6 +56,9 @@ pub struct CascadeSettings {
 }
 
 /// Validates a `[cascade]` table; errors name the field as `cascade.<field>`.
+///
+/// # Errors
+/// An [`InputError`] naming `cascade.<field>` for an unknown field or a value out of range.
 pub fn cascade_settings(table: &toml::Table) -> Result<CascadeSettings, InputError> {
     let raw: CascadeFile =
         toml::Value::Table(table.clone())

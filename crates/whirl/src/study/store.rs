@@ -51,6 +51,11 @@ impl Store {
     /// `fingerprint`. With `restart`, points of an earlier study are discarded; without it,
     /// a folder of a different study is an error that says what to do, and a folder that
     /// another run is using is refused.
+    ///
+    /// # Errors
+    /// [`Error::Io`] when the folder cannot be created or written, [`Error::Input`] when it
+    /// holds another study's points (without `restart`), [`Error::Encode`] when the manifest
+    /// cannot be encoded.
     pub fn open(dir: &Path, fingerprint: &str, study_file: &Path, restart: bool) -> Result<Store> {
         fs::create_dir_all(dir).map_err(io("create the folder", dir))?;
         let manifest_path = dir.join("study.json");
@@ -102,6 +107,10 @@ impl Store {
     }
 
     /// Saves the finished point `key` atomically.
+    ///
+    /// # Errors
+    /// [`Error::Encode`] when the point cannot be encoded, [`Error::Io`] when it cannot be
+    /// written.
     pub fn save<T: Serialize>(&self, key: &str, point: &T) -> Result<()> {
         let text = serde_json::to_string(point).map_err(|source| Error::Encode {
             what: format!("point {key}"),

@@ -569,9 +569,9 @@ fn line_search(
 
 /// Marches `problem` from (q0, v0) with implicit Newmark; `observe` sees every step.
 ///
-/// A step whose Newton iteration does not converge (within [`NEWTON_ITERATIONS`], each
+/// A step whose Newton iteration does not converge (within `NEWTON_ITERATIONS`, each
 /// shortened by a backtracking line search until the residual falls enough) is done in
-/// two halves, recursively, down to h / 2^[`MAX_HALVINGS`]; `observe` still sees the
+/// two halves, recursively, down to h / 2^`MAX_HALVINGS`; `observe` still sees the
 /// times k h only. Below that the march stops with an error naming the time, the
 /// sub-step and the residual.
 pub fn newmark(

@@ -20,7 +20,14 @@ pub enum SpeedProfile {
     /// Constant speed, rad/s.
     Constant(f64),
     /// Linear ramp from `from` to `to` (rad/s) over `duration` (s), then constant.
-    Ramp { from: f64, to: f64, duration: f64 },
+    Ramp {
+        /// Starting speed, rad/s.
+        from: f64,
+        /// Final speed, rad/s.
+        to: f64,
+        /// Time to reach it, s.
+        duration: f64,
+    },
 }
 
 impl SpeedProfile {

@@ -95,9 +95,11 @@ impl Method {
 
 /// Where a run starts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum Initial {
     /// Static equilibrium under gravity.
+    #[cfg_attr(feature = "clap", value(name = "static"))]
     StaticEquilibrium,
     /// Zero displacement and velocity.
     Rest,
