@@ -354,9 +354,8 @@ fn check(model: &Model, o: &CascadeOptions) -> Result<()> {
             "e.g. 4 and 32 records, or 1 and 1 for a single record",
         ));
     }
-    if !(a.relative_error.is_finite() && a.relative_error >= 0.0)
-        || !(a.absolute_error_m.is_finite() && a.absolute_error_m >= 0.0)
-    {
+    let at_least_zero = |x: f64| x.is_finite() && x >= 0.0;
+    if !(at_least_zero(a.relative_error) && at_least_zero(a.absolute_error_m)) {
         return Err(bad(
             "average_tolerance",
             format!(
