@@ -167,6 +167,9 @@ pub type ForceBuilder<'a> =
     &'a dyn Fn(&Model, &dyn Fn(usize) -> Option<usize>) -> Result<Vec<Box<dyn NonlinearForce>>>;
 
 /// The force builder of a model without nonlinear forces.
+///
+/// # Errors
+/// None: it returns no forces; the `Result` is that of a [`ForceBuilder`].
 pub fn no_forces(
     _: &Model,
     _: &dyn Fn(usize) -> Option<usize>,

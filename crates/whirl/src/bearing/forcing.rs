@@ -43,6 +43,10 @@ impl ForcingBearing {
     /// The bearing acting on integrator coordinates `dofs` = [u_x, u_y]; its stiffness bound
     /// covers spin speeds `speeds` = (lowest, highest) in rad/s. Fails when the bearing has
     /// no forcing function.
+    ///
+    /// # Errors
+    /// [`Error::Input`] naming `roller_bearing[index].forcing_function` when the bearing has
+    /// none, with the command that fits one.
     pub fn new(
         bearing: &RollerBearing,
         index: usize,
@@ -232,6 +236,11 @@ pub fn law_speeds(model: &Model) -> (f64, f64) {
 /// [`crate::force::ForceBuilder`]), their stiffness bounded over [`law_speeds`]. Fails,
 /// naming the bearing and the command that fits one, when a bearing has no
 /// `forcing_function`.
+///
+/// # Errors
+/// [`Error::Unsupported`] when a bearing's (ux, uy) are not kept by `coordinate` (see
+/// [`contact_coordinates_of`]); [`Error::Input`] from [`ForcingBearing::new`] when a bearing
+/// has no `forcing_function`.
 pub fn forcing_bearings(
     model: &Model,
     coordinate: &dyn Fn(usize) -> Option<usize>,

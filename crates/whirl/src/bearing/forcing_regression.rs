@@ -43,6 +43,11 @@ pub(crate) fn in_contact(p: &ForcingPoint, clearance: &Clearance) -> bool {
 /// Fits a forcing function to samples in contact (others are ignored); returns it with the
 /// iterations taken. With samples at a single speed the law cannot vary with speed, so
 /// a1 = b1 = 0 and only a0, b0 are fitted.
+///
+/// # Errors
+/// [`Error::InvalidOption`] when no speed has two distinct deflections in contact (nothing
+/// to fit), or when the law is undefined at its starting values; [`Error::NotConverged`]
+/// when the Levenberg-Marquardt iteration does not converge.
 pub fn fit_forcing_law(
     points: &[ForcingPoint],
     clearance: &Clearance,

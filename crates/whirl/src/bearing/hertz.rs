@@ -36,6 +36,10 @@ pub struct HertzBearing {
 impl HertzBearing {
     /// The bearing acting on integrator coordinates `dofs`: [ux, uy], or [ux, uy, tx, ty]
     /// when the bearing models roller tilt.
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] when `dofs` does not hold as many coordinates as the bearing
+    /// needs (2, or 4 with roller tilt).
     pub fn new(bearing: &RollerBearing, dofs: Vec<usize>) -> Result<Self> {
         let geometry = RollerGeometry::new(bearing);
         if dofs.len() != geometry.coordinates() {

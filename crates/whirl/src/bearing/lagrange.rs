@@ -192,6 +192,12 @@ pub struct ContactStep {
 
 impl LagrangeContacts {
     /// Constraints for `bearings`, whose (ux, uy) are the coordinates `coordinates[2 b..2 b + 2]`.
+    ///
+    /// # Errors
+    /// [`Error::Unsupported`] for more than `MAX_BEARINGS` bearings; [`Error::InvalidOption`]
+    /// when `coordinates` does not hold two per bearing; [`Error::Input`] naming
+    /// `roller_bearing[i].roller_tilt` or `.skew_angle` for a bearing with roller tilt or skew,
+    /// which one rigid constraint per roller cannot model.
     pub fn new(bearings: &[RollerBearing], coordinates: Vec<usize>) -> Result<Self> {
         if bearings.len() > MAX_BEARINGS {
             return Err(Error::Unsupported(format!(
@@ -276,6 +282,12 @@ impl LagrangeContacts {
     /// penetrates. `s_block` is S restricted to `coordinates()` (row-major c x c) and
     /// `s_columns(c, out)` adds column `c` of S (in `coordinates()` order) times a factor:
     /// the caller owns S and its storage.
+    ///
+    /// # Errors
+    /// [`Error::Singular`] when a penetrating roller has no compliance (S restricted to
+    /// the contacts is zero or not finite); [`Error::NotConverged`] when the
+    /// complementarity problem has no solution or is not solved within its pivot limit.
+    /// Both messages suggest a shorter step.
     pub fn correct(
         &mut self,
         at: &Kinematics,

@@ -47,6 +47,9 @@ use crate::model::{Model, RollerBearing};
 
 /// Integrator coordinates of a bearing's contact: its node's [ux, uy] (and [tx, ty] with
 /// roller tilt), through `coordinate`, which maps a physical DOF to its coordinate.
+///
+/// # Errors
+/// The errors of [`contact_coordinates_of`].
 pub fn contact_coordinates(
     bearing: &RollerBearing,
     coordinate: &dyn Fn(usize) -> Option<usize>,
@@ -59,6 +62,10 @@ pub fn contact_coordinates(
 }
 
 /// Integrator coordinates of the bearing node's `directions`, through `coordinate`.
+///
+/// # Errors
+/// [`Error::Unsupported`] when `coordinate` does not keep one of the DOFs (a reduction
+/// that does not have them among its boundary DOFs).
 pub fn contact_coordinates_of(
     bearing: &RollerBearing,
     directions: &[Direction],
@@ -80,6 +87,10 @@ pub fn contact_coordinates_of(
 }
 
 /// Hertz contacts of every roller bearing of `model` (a [`crate::force::ForceBuilder`]).
+///
+/// # Errors
+/// The errors of [`contact_coordinates`] ([`Error::Unsupported`] for a bearing whose DOFs
+/// the reduction does not keep); [`HertzBearing::new`] cannot fail with them.
 pub fn hertz_bearings(
     model: &Model,
     coordinate: &dyn Fn(usize) -> Option<usize>,

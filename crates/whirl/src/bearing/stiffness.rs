@@ -266,6 +266,9 @@ const AT_REST: Kinematics = Kinematics {
 
 impl FrozenBearing {
     /// `bearing` with clearance `clearance` (m) and roller 0 at `cage_angle` (rad).
+    ///
+    /// # Errors
+    /// [`Error::Input`] naming `clearance` when `clearance` is negative or not finite.
     pub fn new(bearing: &RollerBearing, clearance: f64, cage_angle: f64) -> Result<Self> {
         if !(clearance.is_finite() && clearance >= 0.0) {
             return Err(InputError::field(
@@ -344,6 +347,11 @@ impl FrozenBearing {
     /// turns the step towards the load until more rollers touch. A step is taken whole when
     /// it lowers the residual, otherwise to the line minimum of the potential energy (where
     /// (F + W) . du changes sign), which always exists because the energy is convex.
+    ///
+    /// # Errors
+    /// [`Error::Input`] naming `load` for a load that is zero or not finite;
+    /// [`Error::NotConverged`] when no equilibrium is found within the iteration limit or the
+    /// shift grows too large (the rollers cannot carry a load in that direction).
     pub fn equilibrium(&mut self, load: [f64; 2]) -> Result<Equilibrium> {
         let magnitude = norm(load);
         if !(magnitude.is_finite() && magnitude > 0.0) {
@@ -495,6 +503,11 @@ fn shifted_solve(k: [[f64; 2]; 2], mu: f64, r: [f64; 2]) -> Option<[f64; 2]> {
 
 /// The frozen-cage tangents of a roller passage: the equilibrium under `load` with roller 0
 /// at `cage_angle + 2 pi k / (N_b steps)`, k = 0..steps, and their mean.
+///
+/// # Errors
+/// The errors of [`FrozenBearing::new`] and [`FrozenBearing::equilibrium`] at each cage
+/// position: [`Error::Input`] for a negative clearance or a zero load,
+/// [`Error::NotConverged`] when an equilibrium is not found.
 pub fn passage_average(
     bearing: &RollerBearing,
     clearance: f64,
@@ -546,6 +559,13 @@ pub fn cage_angle_on_load_line(load: [f64; 2]) -> f64 {
 }
 
 /// The three stiffnesses of `bearing` at every clearance of `options`.
+///
+/// # Errors
+/// [`Error::Input`] naming `clearances` when there are none and
+/// `options.fixed_displacement` is not given; the errors of [`FrozenBearing::new`],
+/// [`FrozenBearing::equilibrium`] and [`passage_average`] at each clearance
+/// ([`Error::Input`] for a negative clearance or a zero load, [`Error::NotConverged`] when
+/// an equilibrium is not found).
 pub fn stiffness_versus_clearance(
     bearing: &RollerBearing,
     options: &StiffnessOptions,
@@ -604,6 +624,10 @@ fn largest_clearance_deflection(clearances: &[f64], frozen: &[Equilibrium]) -> R
 
 /// F_x, F_y and F_r of `bearing` at clearance `clearance` over the grid `ux` x `uy` (m),
 /// roller 0 at `cage_angle`.
+///
+/// # Errors
+/// The errors of [`FrozenBearing::new`]: [`Error::Input`] naming `clearance` when it is
+/// negative or not finite.
 pub fn force_surface(
     bearing: &RollerBearing,
     clearance: f64,
@@ -641,6 +665,11 @@ pub fn force_surface(
 /// its linearised support in a linear static solve K q = F_gravity with every roller bearing
 /// replaced by its `linear_stiffness`. On two supports the shaft is statically determinate
 /// and the reaction does not depend on those stiffnesses.
+///
+/// # Errors
+/// [`Error::Input`] naming `bearing` when `index` is not a roller bearing of `model`;
+/// [`Error::Singular`] when the linearised rotor cannot carry its weight (the reaction is
+/// not finite: a support that leaves it free).
 pub fn gravity_load(model: &Model, index: usize) -> Result<[f64; 2]> {
     let bearing = model.roller_bearings.get(index).ok_or_else(|| {
         Error::from(InputError::field(

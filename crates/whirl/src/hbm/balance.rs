@@ -85,6 +85,11 @@ pub struct HarmonicBalance {
 
 impl HarmonicBalance {
     /// Sets up harmonic balance for `problem`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] from [`HbProblem::check`] (sizes that differ, a nonlinear
+    /// force on a coordinate outside the problem) and from the set-up of the transforms
+    /// (`options.samples` not above twice `options.harmonics`).
     pub fn new(problem: HbProblem, options: HbOptions) -> Result<HarmonicBalance> {
         problem.check()?;
         let aft = Aft::new(options.harmonics, options.samples)?;
@@ -155,7 +160,7 @@ impl HarmonicBalance {
     }
 
     /// Harmonic balance at frequency w (rad/s) by Newton-Raphson from `guess`: plain
-    /// Newton, then, should it fail, Newton with a line search ([`line_search`]), which
+    /// Newton, then, should it fail, Newton with a line search (`line_search`), which
     /// converges where full steps cycle between contact states.
     ///
     /// # Errors

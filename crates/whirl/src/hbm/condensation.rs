@@ -119,6 +119,12 @@ pub const DEFAULT_STABILITY_MODES: usize = 4;
 
 impl CondensedBalance {
     /// Sets up condensed harmonic balance for `problem`.
+    ///
+    /// # Errors
+    /// The errors of [`HbProblem::check`] and of [`HarmonicBalance::new`] for the
+    /// condensed problem: [`Error::InvalidOption`] for sizes that differ, a nonlinear force
+    /// on a coordinate outside the problem, or `options.samples` not above twice
+    /// `options.harmonics`.
     pub fn new(mut problem: HbProblem, options: HbOptions) -> Result<CondensedBalance> {
         problem.check()?;
         let forces = std::mem::take(&mut problem.nonlinear);

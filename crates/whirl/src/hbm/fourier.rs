@@ -63,6 +63,9 @@ pub(crate) struct Aft {
 impl Aft {
     /// Plans transforms for H harmonics on N samples; N must exceed 2H so that harmonic H
     /// lies below the Nyquist frequency.
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] when `samples` is not above `2 harmonics`.
     pub fn new(harmonics: usize, samples: usize) -> Result<Aft> {
         if samples <= 2 * harmonics {
             return Err(Error::InvalidOption(format!(

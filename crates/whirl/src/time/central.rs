@@ -283,6 +283,11 @@ fn singular() -> Error {
 }
 
 /// The largest stable step for this problem, s.
+///
+/// # Errors
+/// [`Error::Singular`] for a mass matrix that is not positive definite and
+/// [`Error::NotConverged`] when the eigen-solver fails: the errors of
+/// [`crate::reduce::explicit_stability_limit`].
 pub fn central_difference_limit(problem: &TimeProblem) -> Result<f64> {
     let n = problem.size();
     let all: Vec<usize> = (0..n).collect();
@@ -297,6 +302,14 @@ pub fn central_difference_limit(problem: &TimeProblem) -> Result<f64> {
 }
 
 /// Marches `problem` from (q0, v0) with the central difference; `observe` sees every step.
+///
+/// # Errors
+/// [`Error::InvalidOption`] when the matrices and vectors of `problem` differ in size, a
+/// nonlinear force acts on a coordinate outside it ([`TimeProblem::check`]), or
+/// `options.step` is at or above the stability limit (the limit is in the message); the
+/// errors of [`central_difference_limit`]; [`Error::Singular`] when M/h^2 + D/2h is
+/// singular; [`Error::Diverged`] when a coordinate leaves `options.divergence_bound` or is
+/// not finite (checked every 64 steps).
 pub fn central_difference(
     problem: &mut TimeProblem,
     q0: &[f64],
@@ -319,6 +332,11 @@ pub fn central_difference(
 /// each step's prediction, `contacts` corrects q_{n+1} so that no roller penetrates
 /// (forward-increment Lagrange multipliers, see [`crate::bearing::lagrange`]). The
 /// multipliers acting at each observed instant are recorded in `contacts`.
+///
+/// # Errors
+/// The errors of [`central_difference`]; and, at the time of the step, those of
+/// [`LagrangeContacts::correct`]: [`Error::Singular`] for a roller with no compliance,
+/// [`Error::NotConverged`] when the contact forces are not found.
 pub fn central_difference_constrained(
     problem: &mut TimeProblem,
     q0: &[f64],

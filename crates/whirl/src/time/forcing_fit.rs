@@ -131,6 +131,15 @@ impl ForcingFit {
 
 /// Fits the forcing function of roller bearing `index` of `model` to its Hertz response at
 /// `speeds` (rad/s).
+///
+/// # Errors
+/// [`Error::InvalidOption`] when bearing `index` does not exist, `speeds` is empty or holds
+/// a speed that is not positive and finite, or `options.samples_per_speed` is below 2.
+/// Without `options.step`, the errors of [`stable_step_with`]. For each speed the errors of
+/// [`simulate_with`] and of [`completed`](crate::time::SimulationResult::completed)
+/// ([`Error::Diverged`] when a run diverges); then those of [`fit_forcing_law`]
+/// ([`Error::InvalidOption`] when no speed has two distinct deflections in contact,
+/// [`Error::NotConverged`] when the least squares do not converge).
 pub fn fit_forcing(
     model: &Model,
     index: usize,

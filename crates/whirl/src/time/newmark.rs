@@ -387,17 +387,18 @@ impl Levels {
     ) -> Result<&mut AtSpeed> {
         let c = self.coefficients(depth);
         let slot = &mut self.at[depth as usize];
-        if slot.as_ref().is_none_or(|s| s.speed != speed) {
-            *slot = Some(AtSpeed::new(problem, self.layout, speed, c, dofs)?);
-        }
-        Ok(slot.as_mut().expect("formed just above"))
+        let current = match slot.take() {
+            Some(formed) if formed.speed == speed => formed,
+            _ => AtSpeed::new(problem, self.layout, speed, c, dofs)?,
+        };
+        Ok(slot.insert(current))
     }
 }
 
-/// One march: the state at the start of the next step and everything a step needs.
+/// One march: the state at the start of the next step and everything a step needs but
+/// the [`Levels`], which the march lends to each step.
 struct Stepper<'p> {
     problem: &'p mut TimeProblem,
-    levels: Levels,
     dofs: Vec<usize>,
     mass: Matrix,
     stiffness: Matrix,
@@ -413,13 +414,13 @@ impl Stepper<'_> {
     /// Advances the state from t0 to t1, in one step of sub-step `depth` if its Newton
     /// iteration converges, else in two halves, each again halved as needed: the step
     /// is cut where the forces need it and grows back for the next.
-    fn advance(&mut self, t0: f64, t1: f64, depth: u32) -> Result<()> {
-        match self.attempt(t1, depth)? {
+    fn advance(&mut self, levels: &mut Levels, t0: f64, t1: f64, depth: u32) -> Result<()> {
+        match self.attempt(levels, t1, depth)? {
             Attempt::Converged => Ok(()),
             Attempt::Failed(_) if depth < MAX_HALVINGS => {
                 let middle = 0.5 * (t0 + t1);
-                self.advance(t0, middle, depth + 1)?;
-                self.advance(middle, t1, depth + 1)
+                self.advance(levels, t0, middle, depth + 1)?;
+                self.advance(levels, middle, t1, depth + 1)
             }
             Attempt::Failed(residual) => {
                 let why = if residual.is_finite() {
@@ -440,7 +441,7 @@ impl Stepper<'_> {
                      forces (contact parameters), or use the central difference \
                      (--method cd)",
                         1u32 << depth,
-                        self.levels.coefficients(depth).h
+                        levels.coefficients(depth).h
                     ),
                 ))
             }
@@ -449,12 +450,10 @@ impl Stepper<'_> {
 
     /// One step of sub-step `depth` to t1: Newton on the balance with a backtracking line
     /// search. On convergence the state moves to t1; otherwise it stays where it was.
-    fn attempt(&mut self, t1: f64, depth: u32) -> Result<Attempt> {
-        let c = self.levels.coefficients(depth);
+    fn attempt(&mut self, levels: &mut Levels, t1: f64, depth: u32) -> Result<Attempt> {
+        let c = levels.coefficients(depth);
         let at1 = self.problem.external_force(t1, &mut self.w.force);
-        let speed = self
-            .levels
-            .get(self.problem, depth, at1.speed, &self.dofs)?;
+        let speed = levels.get(self.problem, depth, at1.speed, &self.dofs)?;
         let Stepper {
             problem,
             dofs,
@@ -506,7 +505,7 @@ impl Stepper<'_> {
             // A linear step is solved exactly by its first Newton iteration.
             if linear || norm_dq <= 1e-10 * norm_q + 1e-15 {
                 axpy(-1.0, &w.dq, &mut w.q1);
-                self.commit(at1, depth);
+                self.commit(at1, c, speed);
                 return Ok(Attempt::Converged);
             }
             match line_search(w, norm_r, |w| evaluate(problem, scratch, speed, w)) {
@@ -517,9 +516,9 @@ impl Stepper<'_> {
         Ok(Attempt::Failed(norm_r))
     }
 
-    /// Moves the state to the converged w.q1 at the end of a step of sub-step `depth`.
-    fn commit(&mut self, at1: Kinematics, depth: u32) {
-        let c = self.levels.coefficients(depth);
+    /// Moves the state to the converged w.q1 at the end of a step with coefficients `c`,
+    /// whose matrices at the step's speed are `speed`.
+    fn commit(&mut self, at1: Kinematics, c: Coefficients, speed: &AtSpeed) {
         let w = &mut self.w;
         c.kinematics(&self.q, &self.v, &self.a, &w.q1, &mut w.a1, &mut w.v1);
         self.q.copy_from_slice(&w.q1);
@@ -535,9 +534,6 @@ impl Stepper<'_> {
             &mut w.nl_prev,
             &mut self.scratch,
         );
-        let speed = self.levels.at[depth as usize]
-            .as_ref()
-            .expect("used by the step");
         vectorised(|| linear_force(speed, &self.stiffness, q, v, &mut w.linear));
         std::mem::swap(&mut w.force, &mut w.force_prev);
     }
@@ -574,6 +570,15 @@ fn line_search(
 /// two halves, recursively, down to h / 2^`MAX_HALVINGS`; `observe` still sees the
 /// times k h only. Below that the march stops with an error naming the time, the
 /// sub-step and the residual.
+///
+/// # Errors
+/// [`Error::InvalidOption`] when the matrices and vectors of `problem` differ in size or a
+/// nonlinear force acts on a coordinate outside it ([`TimeProblem::check`]), or when the HHT
+/// alpha of `scheme` lies outside [-1/3, 0]; [`Error::Singular`] when the Newmark matrix
+/// M/(beta h^2) + (1+alpha)(D gamma/(beta h) + K) is singular at a speed the run reaches;
+/// [`Error::NotConverged`] when a step's Newton iteration fails even with the step halved
+/// `MAX_HALVINGS` times (the time and residual are in the error); [`Error::Diverged`] when a
+/// coordinate leaves `options.divergence_bound` or is not finite (checked every 64 steps).
 pub fn newmark(
     problem: &mut TimeProblem,
     q0: &[f64],
@@ -629,7 +634,6 @@ fn march(
         stiffness,
         tangent: Tangent::new(n, dofs.clone()),
         problem,
-        levels,
         dofs,
         scratch,
         w,
@@ -643,7 +647,7 @@ fn march(
     }
     for step in 1..options.steps {
         let (t0, t1) = ((step - 1) as f64 * c.h, step as f64 * c.h);
-        stepper.advance(t0, t1, 0)?;
+        stepper.advance(&mut levels, t0, t1, 0)?;
         if step % 64 == 0 {
             check_state(t1, &stepper.q, options.divergence_bound)?;
         }

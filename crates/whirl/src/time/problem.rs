@@ -126,6 +126,11 @@ impl TimeProblem {
     }
 
     /// Checks sizes and the nonlinear forces' coordinates.
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] when the stiffness, damping or gyroscopic matrix is not square
+    /// of the mass matrix's size, a force vector has another length, or a nonlinear force acts
+    /// on a coordinate outside the problem.
     pub fn check(&self) -> Result<()> {
         let n = self.size();
         let square = |m: &Mat<f64>| m.nrows() == n && m.ncols() == n;

@@ -151,6 +151,13 @@ impl Rhs {
 }
 
 /// Integrates `problem` from (q0, v0), calling `observe` at t = k * options.step.
+///
+/// # Errors
+/// [`Error::InvalidOption`] from [`TimeProblem::check`] (sizes that differ, a nonlinear
+/// force on a coordinate outside the problem); [`Error::Singular`] for a singular mass
+/// matrix; [`Error::Diverged`] when the error estimate is not finite or a coordinate leaves
+/// `options.divergence_bound` (checked every 64 outputs); [`Error::NotConverged`] when the
+/// step falls below round-off (a problem too stiff for an explicit method).
 pub fn runge_kutta(
     problem: &mut TimeProblem,
     q0: &[f64],

@@ -226,6 +226,10 @@ pub struct SimulationResult {
 
 impl SimulationResult {
     /// The result if the run completed, else the divergence as an error.
+    ///
+    /// # Errors
+    /// [`Error::Diverged`], with the run's time and message, when the status is
+    /// [`RunStatus::Diverged`].
     pub fn completed(self) -> Result<SimulationResult> {
         match &self.status {
             RunStatus::Completed => Ok(self),
@@ -351,18 +355,40 @@ fn check_options(model: &Model, o: &SimulationOptions) -> Result<()> {
 
 /// Simulates `model` with its linear bearings in the matrices, roller bearings linearised
 /// (their `linear_stiffness`), and no further nonlinear forces.
+///
+/// # Errors
+/// [`Error::InvalidOption`] for a step that is not positive, a duration not above one step,
+/// a settling time outside [0, duration), more than 5e8 steps, a node not on the shaft, a
+/// speed ramp without a positive duration or a divergence bound that is not positive.
+/// Then the errors of building the problem: those of [`CraigBampton::new`] with
+/// `options.reduction`, of [`TimeProblem::check`] and of
+/// [`central_difference_limit`].
+/// Then those of the integrator that `options.method` names ([`central_difference`],
+/// [`newmark`], [`runge_kutta`]), but not
+/// [`Error::Diverged`]: a divergence ends the run with [`RunStatus::Diverged`] in the result
+/// (see [`SimulationResult::completed`]). A static equilibrium that is not found does not
+/// fail the run, which then starts from rest ([`SimulationResult::start_fallback`]).
 pub fn simulate(model: &Model, options: &SimulationOptions) -> Result<SimulationResult> {
     simulate_with(model, options, Bearings::Linearised, &no_forces)
 }
 
 /// The central difference's stability limit (s) of `model` as [`simulate`] integrates it:
 /// full, or reduced with `reduction` fixed-interface modes.
+///
+/// # Errors
+/// The errors of [`stable_step_with`] with linearised bearings and no forces.
 pub fn stable_step(model: &Model, reduction: Option<usize>) -> Result<f64> {
     stable_step_with(model, reduction, Bearings::Linearised, &no_forces)
 }
 
 /// The central difference's stability limit (s) of `model` as [`simulate_with`] integrates
 /// it with these bearings and forces (their largest tangent stiffness included).
+///
+/// # Errors
+/// The errors of [`CraigBampton::new`] with `reduction`, of `forces`, of
+/// [`TimeProblem::check`] ([`Error::InvalidOption`]) and of [`central_difference_limit`]
+/// ([`Error::Singular`] for a mass that is not positive definite, [`Error::NotConverged`]
+/// when the eigen-solver fails).
 pub fn stable_step_with(
     model: &Model,
     reduction: Option<usize>,
@@ -466,6 +492,19 @@ impl ProgressTicker<'_> {
 /// Simulates `model` with nonlinear forces from `forces`, which receives a map from
 /// physical DOFs to integrator coordinates. `bearings` says whether the roller bearings'
 /// linear stiffness is in the matrices. Every step is recorded; nothing per roller.
+///
+/// # Errors
+/// [`Error::InvalidOption`] for a step that is not positive, a duration not above one step,
+/// a settling time outside [0, duration), more than 5e8 steps, a node not on the shaft, a
+/// speed ramp without a positive duration or a divergence bound that is not positive.
+/// Then the errors of building the problem: those of [`CraigBampton::new`] with
+/// `options.reduction`, of `forces`, of [`TimeProblem::check`] and of
+/// [`central_difference_limit`].
+/// Then those of the integrator that `options.method` names ([`central_difference`],
+/// [`newmark`], [`runge_kutta`]), but not
+/// [`Error::Diverged`]: a divergence ends the run with [`RunStatus::Diverged`] in the result
+/// (see [`SimulationResult::completed`]). A static equilibrium that is not found does not
+/// fail the run, which then starts from rest ([`SimulationResult::start_fallback`]).
 pub fn simulate_with(
     model: &Model,
     options: &SimulationOptions,
@@ -499,6 +538,24 @@ enum Records {
 /// Simulates `model` with its roller bearings modelled by `law`, recording every
 /// `record_every`-th step: the channels of `options.nodes` and of every roller bearing's
 /// node (appended when not asked for), and what each roller did ([`RollerRecord`]).
+///
+/// # Errors
+/// [`Error::InvalidOption`] for a step that is not positive, a duration not above one step,
+/// a settling time outside [0, duration), more than 5e8 steps, a node not on the shaft, a
+/// speed ramp without a positive duration, a divergence bound that is not positive or a
+/// `record_every` of 0.
+/// [`Error::Unsupported`] for Lagrange-multiplier contacts with a method other than the
+/// central difference. Then the errors of building the problem: those of
+/// [`CraigBampton::new`] with `options.reduction`; [`Error::Unsupported`] when a bearing's
+/// DOFs are not kept by the reduction; [`Error::Input`] for a bearing without a
+/// `forcing_function` under the forcing law, or with roller tilt or skew under Lagrange
+/// contacts; [`Error::Unsupported`] for more bearings than Lagrange contacts can
+/// constrain; those of [`central_difference_limit`].
+/// Then those of the integrator that `options.method` names ([`central_difference`],
+/// [`central_difference_constrained`], [`newmark`], [`runge_kutta`]), but not
+/// [`Error::Diverged`]: a divergence ends the run with [`RunStatus::Diverged`] in the result
+/// (see [`SimulationResult::completed`]). A static equilibrium that is not found does not
+/// fail the run, which then starts from rest ([`SimulationResult::start_fallback`]).
 pub fn simulate_contacts(
     model: &Model,
     options: &SimulationOptions,
@@ -517,6 +574,24 @@ pub fn simulate_contacts(
 /// nodes added, no [`RollerRecord`]s. For many runs that need one response each (a
 /// cascade), where evaluating and storing every roller at every sample would cost about as
 /// much as the march. With `until`, the run ends as soon as it says so.
+///
+/// # Errors
+/// [`Error::InvalidOption`] for a step that is not positive, a duration not above one step,
+/// a settling time outside [0, duration), more than 5e8 steps, a node not on the shaft, a
+/// speed ramp without a positive duration, a divergence bound that is not positive, a
+/// `record_every` of 0 or an `until` that looks every 0 samples.
+/// [`Error::Unsupported`] for Lagrange-multiplier contacts with a method other than the
+/// central difference. Then the errors of building the problem: those of
+/// [`CraigBampton::new`] with `options.reduction`; [`Error::Unsupported`] when a bearing's
+/// DOFs are not kept by the reduction; [`Error::Input`] for a bearing without a
+/// `forcing_function` under the forcing law, or with roller tilt or skew under Lagrange
+/// contacts; [`Error::Unsupported`] for more bearings than Lagrange contacts can
+/// constrain; those of [`central_difference_limit`].
+/// Then those of the integrator that `options.method` names ([`central_difference`],
+/// [`central_difference_constrained`], [`newmark`], [`runge_kutta`]), but not
+/// [`Error::Diverged`]: a divergence ends the run with [`RunStatus::Diverged`] in the result
+/// (see [`SimulationResult::completed`]). A static equilibrium that is not found does not
+/// fail the run, which then starts from rest ([`SimulationResult::start_fallback`]).
 pub fn simulate_response(
     model: &Model,
     options: &SimulationOptions,
@@ -552,6 +627,9 @@ fn simulate_law(
 
 /// The central difference's stability limit (s) of `model` with its roller bearings
 /// modelled by `law`: full, or reduced with `reduction` fixed-interface modes.
+///
+/// # Errors
+/// The errors of [`stable_step_with`] with the bearings and forces of `law`.
 pub fn stable_step_for(model: &Model, reduction: Option<usize>, law: ContactLaw) -> Result<f64> {
     // Rigid constraints corrected after each step leave the explicit limit of the
     // unconstrained rotor (Carpenter et al. 1991): the Lagrange law adds no forces.

@@ -49,6 +49,13 @@ const ARMIJO: f64 = 1e-4;
 
 /// Static equilibrium of `problem` at its initial speed, starting from `guess` (only its
 /// entries on the nonlinear forces' coordinates matter: the rest follow from them).
+///
+/// # Errors
+/// [`Error::InvalidOption`] from [`TimeProblem::check`] (sizes that differ, a nonlinear
+/// force on a coordinate outside the problem); [`Error::Singular`] when the stiffness
+/// without the nonlinear forces' coordinates is singular (part of the structure is free);
+/// [`Error::NotConverged`] when the Levenberg-Marquardt iteration does not bring the
+/// residual below its tolerance.
 pub fn static_equilibrium(problem: &mut TimeProblem, guess: &[f64]) -> Result<Vec<f64>> {
     problem.check()?;
     let (start, _) = problem.speed.at(0.0);
