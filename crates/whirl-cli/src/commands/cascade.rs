@@ -217,7 +217,9 @@ fn warn_if_long(options: &CascadeOptions) {
     let Some(step) = options.step else {
         return;
     };
-    let steps_per_speed = (options.settle + options.record) / step;
+    // At least the shortest settling and the fewest records averaged.
+    let least_records = options.averaging.min_records as f64;
+    let steps_per_speed = (options.settle + least_records * options.record) / step;
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let seconds = steps_per_speed * options.speeds.len() as f64 * SECONDS_PER_STEP / threads as f64;
     if seconds > LONG_RUN_S {
