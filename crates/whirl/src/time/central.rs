@@ -38,13 +38,7 @@ use crate::reduce::explicit_stability_limit;
 /// The cheaper step form for this problem (see the module documentation): per row the
 /// dense step multiplies 2 n times, the banded one makes two band products and a solve.
 fn choose_layout(problem: &TimeProblem) -> Layout {
-    let matrices = [
-        &problem.mass,
-        &problem.stiffness,
-        &problem.damping,
-        &problem.gyroscopic,
-    ];
-    Layout::choose(matrices, 2, 2 * problem.size())
+    Layout::choose(problem.matrices(), 2, 2 * problem.size())
 }
 
 /// The force of one step, F_n = F_0 + c_re u_re + c_im u_im + `extra`.

@@ -91,13 +91,7 @@ impl Coefficients {
 /// 6 n times dense (five products and the inverse), banded it makes five band products
 /// and a solve.
 fn choose_layout(problem: &TimeProblem) -> Layout {
-    let matrices = [
-        &problem.mass,
-        &problem.stiffness,
-        &problem.damping,
-        &problem.gyroscopic,
-    ];
-    Layout::choose(matrices, 5, 6 * problem.size())
+    Layout::choose(problem.matrices(), 5, 6 * problem.size())
 }
 
 /// A matrix of the residual's products, in the layout's fast form.

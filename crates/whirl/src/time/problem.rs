@@ -103,6 +103,11 @@ pub struct TimeProblem {
 }
 
 impl TimeProblem {
+    /// M, K, C and G, for what looks at all four (their band structure).
+    pub(crate) fn matrices(&self) -> [&Mat<f64>; 4] {
+        [&self.mass, &self.stiffness, &self.damping, &self.gyroscopic]
+    }
+
     /// The acceleration M^-1 (F - (C + Omega G) v - K q) under the total force `force`
     /// (external and nonlinear), used to start the integrators.
     pub(crate) fn acceleration(&self, q: &[f64], v: &[f64], force: &[f64], speed: f64) -> Vec<f64> {
