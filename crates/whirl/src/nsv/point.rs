@@ -222,6 +222,10 @@ impl Watch<'_> {
             }
         };
         let complete = ((values.len() - start) / r.samples).min(o.averaging.max_records);
+        if complete == self.records.powers.len() {
+            // No record finished since the last check (checks come every half record).
+            return Ok(ControlFlow::Continue(()));
+        }
         self.records.extend(values, start, complete, r, planners)?;
         let enough = complete >= o.averaging.max_records
             || (complete >= o.averaging.min_records
@@ -242,6 +246,9 @@ impl Watch<'_> {
 struct Records {
     /// Squared amplitude of every bin, one vector per record.
     powers: Vec<Vec<f64>>,
+    /// Their sum over the records, bin by bin (so a check costs one pass over the bins,
+    /// not one per record).
+    sum: Vec<f64>,
     /// The first record's spectrum (its bins and window describe them all).
     first: Option<Spectrum>,
 }
@@ -259,8 +266,12 @@ impl Records {
         while self.powers.len() < count {
             let x = record(values, start + self.powers.len() * r.samples, r)?;
             let spectrum = planners.one_sided(x)?;
-            self.powers
-                .push(spectrum.amplitude.iter().map(|a| a * a).collect());
+            let power: Vec<f64> = spectrum.amplitude.iter().map(|a| a * a).collect();
+            self.sum.resize(power.len(), 0.0);
+            for (total, p) in self.sum.iter_mut().zip(&power) {
+                *total += p;
+            }
+            self.powers.push(power);
             self.first.get_or_insert(spectrum);
         }
         Ok(())
@@ -272,10 +283,7 @@ impl Records {
     fn estimate(&self, speed_hz: f64, o: &CascadeOptions, r: &Resolved) -> Estimate {
         let n = self.powers.len().max(1) as f64;
         let template = self.first.as_ref();
-        let bins = self.powers.first().map_or(0, Vec::len);
-        let amplitude: Vec<f64> = (0..bins)
-            .map(|k| (self.powers.iter().map(|p| p[k]).sum::<f64>() / n).sqrt())
-            .collect();
+        let amplitude: Vec<f64> = self.sum.iter().map(|total| (total / n).sqrt()).collect();
         let spectrum = Spectrum {
             frequency_hz: template.map_or_else(Vec::new, |s| s.frequency_hz.clone()),
             amplitude,
@@ -471,8 +479,8 @@ pub(super) fn compute(
     } else {
         1
     };
+    // The checks took at most `count` records (the same settled reading, fewer samples).
     let mut records = watch.records;
-    records.powers.truncate(count);
     records.extend(values, start, count, r, planners)?;
     let estimate = records.estimate(speed_hz, o, r);
     let (xs, ys) = (&result.channels[0].values, &result.channels[1].values);
