@@ -286,3 +286,31 @@ fn the_averaged_nsv_does_not_depend_on_the_start() {
     );
     assert!(a.variation > 0.1 && b.variation > 0.1, "{a:?} {b:?}");
 }
+
+/// With 16 rollers at 20 um the rollers beside the bottom one sit at the edge of contact,
+/// and the static equilibrium has no root the solver finds (its residual stays near the
+/// contact damping's force jump, about 1 N). A cascade asked to start from the static
+/// equilibrium must not stop or silently start elsewhere: the speed starts from rest, and
+/// the point and the summary say so.
+#[test]
+fn a_speed_whose_static_start_fails_starts_from_rest_and_says_so() {
+    faer::set_global_parallelism(faer::Par::Seq);
+    let mut model = reference();
+    for b in &mut model.roller_bearings {
+        b.rollers = 16;
+    }
+    let mut options = CascadeOptions::new(&model, rad_s(&[120.0]));
+    assert_eq!(options.initial, whirl::time::Initial::StaticEquilibrium);
+    options.refine.enabled = false;
+    options.settle = 0.1;
+    options.settle_max = 0.1;
+    options.record = 0.1;
+    let result = cascade(&model, &options, None, None).unwrap();
+    let point = &result.points[0];
+    let why = point.start_fallback.as_deref().unwrap_or_default();
+    assert!(!why.is_empty(), "{point:?}");
+    let summary = result.nsv_summary(DEFAULT_THRESHOLD_M);
+    // One speed, reported in Hz after the rad/s round trip (a few ulps).
+    assert_eq!(summary.started_from_rest_hz.len(), 1);
+    assert!((summary.started_from_rest_hz[0] - 120.0).abs() < 1e-9);
+}
