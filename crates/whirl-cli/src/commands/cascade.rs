@@ -32,9 +32,10 @@ use serde_json::{json, Value};
 use whirl::bearing::ContactLaw;
 use whirl::model::Model;
 use whirl::nsv::{
-    cascade, checkpoint, Cascade, CascadeOptions, CascadeProgress, Component, NsvSummary,
-    DEFAULT_MAX_ADDED, DEFAULT_MAX_RECORDS, DEFAULT_MODES, DEFAULT_RELATIVE_ERROR,
-    DEFAULT_THRESHOLD_M, DEFAULT_TOLERANCE_BINS,
+    cascade, checkpoint, compare_starts, other_start_options, Cascade, CascadeOptions,
+    CascadeProgress, Component, NsvSummary, StartComparison, DEFAULT_MAX_ADDED,
+    DEFAULT_MAX_RECORDS, DEFAULT_MODES, DEFAULT_RELATIVE_ERROR, DEFAULT_THRESHOLD_M,
+    DEFAULT_TOLERANCE_BINS, STARTS_DIFFER_SIGMAS,
 };
 use whirl::post::Window;
 use whirl::time::Initial;
@@ -135,6 +136,11 @@ pub struct Args {
     /// every speed again.
     #[arg(long)]
     pub restart: bool,
+    /// Run every speed again from the other start (rest after the static equilibrium, or
+    /// the reverse) and mark the speeds where the NSV differs beyond three standard errors:
+    /// coexisting motions (starts.csv, the plot `starts`; twice the computing).
+    #[arg(long)]
+    pub compare_starts: bool,
 }
 
 /// Clap parser of a frequency: `3000Hz`, `180000rpm`, or a plain number in rad/s (the
@@ -185,11 +191,30 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let result = result.map_err(|e| library_error(e, &checkpoint))?;
     check_divergence(&result)?;
     let nsv = result.nsv_summary(args.threshold);
+    let starts = if args.compare_starts {
+        Some(other_start(
+            model,
+            &result,
+            args.threshold,
+            &out_dir,
+            &report,
+        )?)
+    } else {
+        None
+    };
 
-    let summary = summary(&loaded, args, &result, &nsv, &checkpoint);
-    let text = text(model, &result, &nsv, &checkpoint);
+    let mut summary = summary(&loaded, args, &result, &nsv, &checkpoint);
+    let mut text = text(model, &result, &nsv, &checkpoint);
     let mut out = Output::begin(&out_dir)?;
     write_tables(&mut out, &result)?;
+    if let Some(starts) = &starts {
+        summary["starts"] = starts_summary(starts, args.threshold);
+        text.push_str(&starts_text(starts));
+        write_starts(&mut out, starts)?;
+        out.plot("starts", |stem| {
+            plots::nsv_from_both_starts(&result, starts, args.threshold).save(stem)
+        })?;
+    }
     out.plot("waterfall", |stem| plots::waterfall(&result).save(stem))?;
     out.plot("cascade_map", |stem| {
         plots::cascade_map(&result, args.threshold).save(stem)
@@ -201,6 +226,95 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         out.plot("full_map", |stem| plots::full_map(&result).save(stem))?;
     }
     finish(out, summary, text, &args.common)
+}
+
+/// The cascade again from the other start at the same speeds, with its own checkpoint
+/// beside the first run's, compared speed by speed.
+fn other_start(
+    model: &Model,
+    first: &Cascade,
+    threshold: f64,
+    out_dir: &Path,
+    report: &(dyn Fn(CascadeProgress) -> ControlFlow<()> + Sync),
+) -> miette::Result<StartComparison> {
+    let options = other_start_options(first);
+    let key = checkpoint::key(model, &options).map_err(|e| library_error(e, out_dir))?;
+    let checkpoint = checkpoint_dir(out_dir)?.join(key);
+    eprintln!(
+        "comparing starts: every speed again from {}",
+        start_name(options.initial)
+    );
+    let display = ProgressLine::new();
+    let draw = |p: CascadeProgress| {
+        display.draw(p);
+        report(p)
+    };
+    let second = cascade(model, &options, Some(&checkpoint), Some(&draw));
+    display.clear();
+    let second = second.map_err(|e| library_error(e, &checkpoint))?;
+    compare_starts(first, second, threshold).map_err(|e| from_whirl(e, ""))
+}
+
+fn start_name(start: Initial) -> &'static str {
+    match start {
+        Initial::StaticEquilibrium => "the static equilibrium",
+        Initial::Rest => "rest",
+    }
+}
+
+fn starts_summary(s: &StartComparison, threshold: f64) -> Value {
+    json!({
+        "other_start": s.other,
+        "compared_speeds": s.compared(),
+        "differing_speeds_hz": s.differing_speeds_hz(),
+        "sigmas": STARTS_DIFFER_SIGMAS,
+        "other_start_nsv": s.cascade.nsv_summary(threshold),
+        "note": "differing: the NSV amplitudes from the two starts differ by more than `sigmas` standard errors of their difference and the larger reaches the threshold: most likely two coexisting steady motions (starts.csv)",
+    })
+}
+
+fn starts_text(s: &StartComparison) -> String {
+    let differing = s.differing_speeds_hz();
+    let list: Vec<String> = differing.iter().map(|f| format!("{f:.1}")).collect();
+    if differing.is_empty() {
+        format!(
+            "from {}: the NSV agrees within {STARTS_DIFFER_SIGMAS} standard errors at all {} speeds compared\n",
+            start_name(s.other),
+            s.compared()
+        )
+    } else {
+        format!(
+            "from {}: the NSV differs beyond {STARTS_DIFFER_SIGMAS} standard errors at {} of {} speeds compared (coexisting motions; starts.csv): {} Hz\n",
+            start_name(s.other),
+            differing.len(),
+            s.compared(),
+            list.join(", ")
+        )
+    }
+}
+
+fn write_starts(out: &mut Output, s: &StartComparison) -> miette::Result<()> {
+    let rows = s.pairs.iter().map(|p| {
+        [
+            num(p.speed_hz),
+            num(p.first_m),
+            num(p.first_error_m),
+            num(p.other_m),
+            num(p.other_error_m),
+            flag01(p.comparable),
+            flag01(p.differs),
+        ]
+    });
+    let h = header(&[
+        "speed_hz",
+        "nsv_m",
+        "nsv_standard_error_m",
+        "other_start_nsv_m",
+        "other_start_standard_error_m",
+        "comparable",
+        "differs",
+    ]);
+    out.csv("starts.csv", &h, rows)
 }
 
 /// Computing time of one central-difference step of the reduced reference rotor on Hertz

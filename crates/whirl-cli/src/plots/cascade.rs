@@ -6,7 +6,8 @@
 //! [`DECADES`] decades below the largest: on a linear one the 1X near a critical speed
 //! would flatten every non-synchronous peak into the baseline.
 
-use whirl::nsv::{Cascade, CascadePoint, Component, NsvClass};
+use whirl::nsv::{Cascade, CascadePoint, Component, NsvClass, StartComparison};
+use whirl::time::Initial;
 use whirl_plot::{Colour, Figure2d, HeatMap, LegendPosition, Marker, RefLine, Series, Style};
 
 /// Decades of amplitude below the largest that the waterfall and the maps show.
@@ -200,6 +201,61 @@ pub fn full_map(c: &Cascade) -> HeatMap {
 }
 
 /// 1X and the NSV amplitude over speed, NSV by class; the threshold as a line.
+/// The NSV over speed from both starts, the speeds where they differ (coexisting motions)
+/// ringed.
+pub fn nsv_from_both_starts(c: &Cascade, starts: &StartComparison, threshold: f64) -> Figure2d {
+    let mut fig = Figure2d::new(
+        format!(
+            "Largest non-synchronous vibration from two starts, node {} {}",
+            c.options.node,
+            component(c)
+        ),
+        "Speed [Hz]",
+        "Amplitude [µm]",
+    );
+    let comparable = || starts.pairs.iter().filter(|p| p.comparable);
+    let line = |f: fn(&whirl::nsv::StartPair) -> f64| -> (Vec<f64>, Vec<f64>) {
+        comparable().map(|p| (p.speed_hz, 1e6 * f(p))).unzip()
+    };
+    let (x, y) = line(|p| p.first_m);
+    fig.series.push(
+        Series::new(x, y)
+            .label(format!("from {}", start_label(c.options.initial)))
+            .style(Style::solid(Colour::Palette(0))),
+    );
+    let (x, y) = line(|p| p.other_m);
+    fig.series.push(
+        Series::new(x, y)
+            .label(format!("from {}", start_label(starts.other)))
+            .style(Style::dashed(Colour::Palette(1))),
+    );
+    let (x, y): (Vec<f64>, Vec<f64>) = starts
+        .pairs
+        .iter()
+        .filter(|p| p.differs)
+        .map(|p| (p.speed_hz, 1e6 * p.first_m.max(p.other_m)))
+        .unzip();
+    if !x.is_empty() {
+        fig.series.push(
+            Series::new(x, y)
+                .label("differ beyond 3 standard errors")
+                .style(Style::markers(Colour::BLACK, Marker::OpenCircle).marker_size(7)),
+        );
+    }
+    fig.log_y = true;
+    fig.horizontal_lines
+        .push(RefLine::new(1e6 * threshold).label("threshold"));
+    fig.legend = LegendPosition::LowerRight;
+    fig
+}
+
+fn start_label(start: Initial) -> &'static str {
+    match start {
+        Initial::StaticEquilibrium => "static equilibrium",
+        Initial::Rest => "rest",
+    }
+}
+
 pub fn nsv_amplitude(c: &Cascade, threshold: f64) -> Figure2d {
     let mut fig = Figure2d::new(
         format!(

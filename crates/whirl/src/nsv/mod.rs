@@ -58,6 +58,7 @@ pub mod classify;
 mod options;
 mod point;
 mod refine;
+mod starts;
 mod summary;
 
 use std::ops::ControlFlow;
@@ -80,6 +81,10 @@ pub use point::{
     NEGLIGIBLE_M, TRANSIENT_DECAY,
 };
 pub use refine::SHARP_RATIO;
+pub use starts::{
+    compare_starts, other_start, other_start_options, StartComparison, StartPair,
+    STARTS_DIFFER_SIGMAS,
+};
 pub use summary::{
     ClassCount, LargestNsv, NsvStatistics, NsvSummary, Onset, SpeedLevel, DEFAULT_THRESHOLD_M,
 };
