@@ -374,6 +374,17 @@ fn huge_speed_counts_are_refused_before_any_allocation() {
         &["hbm", "{model}", "--samples", "1000000000"],
         &["--samples", "at most 65536"],
     );
+    // 200 harmonics would make each point minutes of Hill eigenvalues: refused at once.
+    fails(
+        Some(&reference()),
+        &["hbm", "{model}", "--harmonics", "200"],
+        &["--harmonics", "from 1 to 50"],
+    );
+    fails(
+        Some(&reference()),
+        &["hbm", "{model}", "--harmonics-study", "1..60"],
+        &["--harmonics-study", "from 1 to 50"],
+    );
 }
 
 #[test]

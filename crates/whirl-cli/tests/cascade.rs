@@ -185,7 +185,12 @@ fn compare_starts_marks_the_speed_with_two_motions() {
     let out = tmp.path().join("cascade");
     let run = whirl(
         &out,
-        &["--speeds", "640Hz:670Hz:4", "--no-refine", "--compare-starts"],
+        &[
+            "--speeds",
+            "640Hz:670Hz:4",
+            "--no-refine",
+            "--compare-starts",
+        ],
     );
     assert!(run.status.success(), "{run:?}");
     let s = summary(&out);

@@ -67,8 +67,8 @@ pub struct Args {
     /// top operating speed].
     #[arg(long, value_name = "RANGE", value_parser = speed_span)]
     pub speeds: Option<Speeds>,
-    /// Harmonics H of the running speed.
-    #[arg(long, value_name = "H", default_value = "5", value_parser = mode_count)]
+    /// Harmonics H of the running speed (1 to 50).
+    #[arg(long, value_name = "H", default_value = "5", value_parser = harmonic_count)]
     pub harmonics: usize,
     /// Nodes to report, comma-separated; the first is plotted [default: every disk and
     /// bearing node].
@@ -127,16 +127,48 @@ fn speed_span(text: &str) -> Result<Speeds, String> {
 #[derive(Debug, Clone)]
 pub struct HarmonicList(pub Vec<usize>);
 
+/// The most harmonics: Hill's stability matrix has 2 (2H + 1) times the bearing and modal
+/// coordinates as its side and its eigenvalues cost the cube of that, so at 50 a point
+/// takes seconds and a branch of hundreds of points most of an hour (the thesis used up to
+/// 5).
+const MAX_HARMONICS: usize = 50;
+
+/// Clap parser of a harmonic count, 1 to [`MAX_HARMONICS`].
+fn harmonic_count(text: &str) -> Result<usize, String> {
+    match text.trim().parse::<usize>() {
+        Ok(h) if (1..=MAX_HARMONICS).contains(&h) => Ok(h),
+        _ => Err(format!(
+            "`{text}`: a harmonic count is a whole number from 1 to {MAX_HARMONICS} (the \
+             stability matrix grows with 2H + 1 and its cost with the cube of that)"
+        )),
+    }
+}
+
+/// Computing time of one branch point of the reference rotor with H = 5 and stability on
+/// this project's 2-core test machine (12 points in 0.31 s of CPU, start-up included), s.
+const SECONDS_PER_POINT_H5: f64 = 0.025;
+
+/// Estimated time per point above which `hbm` warns before it starts, s.
+const SLOW_POINT_S: f64 = 1.0;
+
+/// Warns before a sweep whose harmonic count makes every point slow: the cost grows about
+/// as the cube of 2H + 1 (Hill's eigenvalues, the dense Newton solves).
+fn warn_if_slow(harmonics: usize, stability: bool) {
+    let growth = ((2 * harmonics + 1) as f64 / 11.0).powi(3);
+    let per_point = SECONDS_PER_POINT_H5 * growth * if stability { 1.0 } else { 0.5 };
+    if per_point > SLOW_POINT_S {
+        eprintln!(
+            "warning: H = {harmonics} makes each point of the branch about {} of computing, \
+             and a branch over a speed range has hundreds of points; fewer harmonics \
+             or --no-stability are faster",
+            duration_text(per_point)
+        );
+    }
+}
+
 /// Clap parser of `a..b` or `a,b,c` (1 to 50 each).
 fn harmonic_list(text: &str) -> Result<HarmonicList, String> {
-    let parse = |t: &str| -> Result<usize, String> {
-        match t.trim().parse::<usize>() {
-            Ok(h) if (1..=50).contains(&h) => Ok(h),
-            _ => Err(format!(
-                "`{t}`: a harmonic count is a whole number from 1 to 50"
-            )),
-        }
-    };
+    let parse = harmonic_count;
     let list = match text.split_once("..") {
         Some((a, b)) => {
             let (a, b) = (parse(a)?, parse(b)?);
@@ -159,6 +191,12 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         nodes.sort_by_key(|n| !model.disks.iter().any(|d| d.station.node == *n));
     }
     let options = sweep_options(args, model, args.harmonics)?;
+    let most = args
+        .harmonics_study
+        .iter()
+        .flat_map(|l| l.0.iter().copied())
+        .fold(args.harmonics, usize::max);
+    warn_if_slow(most, options.stability);
     let result = lib(sweep_shown(model, &options))?;
     let comparisons = args
         .compare_time
