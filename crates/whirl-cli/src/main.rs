@@ -74,6 +74,8 @@ enum Command {
     Cascade(commands::cascade::Args),
     /// Sensitivity study: sweeps of model parameters, each point a cascade (thesis ch. 5).
     Study(commands::study::Args),
+    /// A rotor saved by ROSS (Rotor.save) as a whirl model file, with its first frequencies.
+    ImportRoss(commands::import_ross::Args),
 }
 
 impl Command {
@@ -95,6 +97,7 @@ impl Command {
             Command::Hbm(a) => a.common.out_dir("hbm"),
             Command::Cascade(a) => a.common.out_dir("cascade"),
             Command::Study(a) => a.out_dir(),
+            Command::ImportRoss(a) => a.out_dir(),
         }
     }
 
@@ -115,6 +118,7 @@ impl Command {
             Command::Hbm(a) => commands::hbm::run(a),
             Command::Cascade(a) => commands::cascade::run(a),
             Command::Study(a) => commands::study::run(a),
+            Command::ImportRoss(a) => commands::import_ross::run(a),
         }
     }
 }

@@ -135,6 +135,14 @@ impl Output {
         Ok(())
     }
 
+    /// Writes `name` (e.g. `model.toml`) with the text `content`.
+    pub fn text(&mut self, name: &str, content: &str) -> miette::Result<()> {
+        let path = self.tmp.join(name);
+        fs::write(&path, content).map_err(|e| io_error("write", &path, e))?;
+        self.files.push(name.to_string());
+        Ok(())
+    }
+
     /// Writes `name` (e.g. `time_history.npy`) as a 2-D float64 array whose columns are
     /// `columns` (all of one length): rows are samples (see the module doc for the format).
     pub fn npy(&mut self, name: &str, columns: &[&[f64]]) -> miette::Result<()> {

@@ -8,6 +8,7 @@ pub mod convergence;
 pub mod fit_forcing;
 pub mod frf;
 pub mod hbm;
+pub mod import_ross;
 pub mod modal;
 pub mod reduce;
 pub mod simulate;
@@ -46,10 +47,14 @@ pub struct Common {
 impl Common {
     /// The output folder of `command`.
     pub fn out_dir(&self, command: &str) -> PathBuf {
-        self.out
-            .clone()
-            .unwrap_or_else(|| Path::new("out").join(command))
+        out_or_default(&self.out, command)
     }
+}
+
+/// `--out` when given, else `out/<command>`.
+pub fn out_or_default(out: &Option<PathBuf>, command: &str) -> PathBuf {
+    out.clone()
+        .unwrap_or_else(|| Path::new("out").join(command))
 }
 
 /// What a command hands back to `main` for printing.

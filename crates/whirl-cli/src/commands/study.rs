@@ -58,9 +58,7 @@ pub struct Args {
 impl Args {
     /// The output folder.
     pub fn out_dir(&self) -> PathBuf {
-        self.out
-            .clone()
-            .unwrap_or_else(|| Path::new("out").join("study"))
+        super::out_or_default(&self.out, "study")
     }
 }
 

@@ -9,6 +9,7 @@
 //! node index or the axial position `z`; both are kept, so that a re-meshed model (mesh
 //! convergence study) can place the feature at the same `z`.
 
+pub mod ross;
 mod schema;
 mod validate;
 
