@@ -12,9 +12,11 @@
 //!
 //! Data flows one way: a model file is read and validated into a [`model::Model`]; the
 //! finite-element layer ([`fe`]) assembles its matrices; the roller bearings' contact laws
-//! ([`bearing`]) implement the nonlinear-force interface ([`force`]); the solvers ([`modal`],
-//! [`response`], [`statics`], [`time`], [`hbm`], [`nsv`], [`study`]) turn those into
-//! results types that serialize to JSON and CSV. Units are SI everywhere inside (m, kg, s,
+//! ([`bearing`]) implement the nonlinear-force interface ([`force`]); [`system::build`] makes
+//! the one linear system with its loads and contact forces ([`system::System`], full or
+//! Craig-Bampton reduced by [`reduce`]) that time marching and harmonic balance both solve;
+//! the solvers ([`modal`], [`response`], [`statics`], [`time`], [`hbm`], [`nsv`],
+//! [`study`]) turn those into results types that serialize to JSON and CSV. Units are SI everywhere inside (m, kg, s,
 //! rad/s); [`units`] converts what people write (`"750 Hz"`, `"20 um"`).
 //!
 //! **Build profile.** faer, the linear algebra underneath, is about 70 times slower
@@ -182,6 +184,7 @@ pub mod reduce;
 pub mod response;
 pub mod statics;
 pub mod study;
+pub mod system;
 pub mod time;
 pub mod units;
 

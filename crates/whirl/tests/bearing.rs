@@ -4,10 +4,11 @@
 use std::f64::consts::PI;
 
 use whirl::bearing::{hertz_bearings, HertzBearing, RollerGeometry};
-use whirl::fe::{assemble, gravity_force, Bearings};
+use whirl::fe::Bearings;
 use whirl::force::{Kinematics, NonlinearForce};
 use whirl::model::{Clearance, Model, Ring, RollerBearing, Waviness};
-use whirl::time::{static_equilibrium, SpeedProfile, TimeProblem};
+use whirl::system::build;
+use whirl::time::static_equilibrium;
 
 fn reference() -> Model {
     Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap()
@@ -222,21 +223,12 @@ fn hang_in_bearings(rollers: usize) {
     for b in &mut model.roller_bearings {
         b.rollers = rollers;
     }
-    let system = assemble(&model, Bearings::NonlinearApart);
-    let gravity = gravity_force(&model, &system);
-    let n = system.dofs();
-    let mut problem = TimeProblem {
-        mass: system.mass.clone(),
-        stiffness: system.stiffness.clone(),
-        damping: system.damping.clone(),
-        gyroscopic: system.gyroscopic.clone(),
-        constant_force: gravity.clone(),
-        unbalance_re: vec![0.0; n],
-        unbalance_im: vec![0.0; n],
-        nonlinear: hertz_bearings(&model, &Some).unwrap(),
-        speed: SpeedProfile::Constant(0.0),
-    };
-    let q = static_equilibrium(&mut problem, &vec![0.0; n]).unwrap();
+    let mut problem = build(&model, None, Bearings::NonlinearApart, &hertz_bearings)
+        .unwrap()
+        .system;
+    let gravity = problem.constant_force.clone();
+    let n = problem.size();
+    let q = static_equilibrium(&mut problem, &vec![0.0; n], 0.0).unwrap();
     let weight: f64 = -gravity.iter().skip(1).step_by(4).sum::<f64>();
     let mut carried = 0.0;
     for b in &model.roller_bearings {

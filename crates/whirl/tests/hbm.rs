@@ -7,12 +7,14 @@ use std::ops::ControlFlow;
 use std::time::Instant;
 
 use faer::Mat;
+use whirl::fe::SystemMatrices;
 use whirl::force::CubicSpring;
 use whirl::hbm::{
     continuation, resume, BifurcationKind, Branch, BranchEnd, ContinuationOptions, HarmonicBalance,
-    HbOptions, HbProblem,
+    HbOptions,
 };
-use whirl::time::{runge_kutta, MarchOptions, RkTolerances, SpeedProfile, TimeProblem};
+use whirl::system::{SpeedProfile, System};
+use whirl::time::{runge_kutta, MarchOptions, RkTolerances};
 
 const MASS: f64 = 1.0;
 const DAMPING: f64 = 0.1;
@@ -23,26 +25,34 @@ const FORCE: f64 = 0.3;
 const FROM: f64 = 0.5;
 const TO: f64 = 3.0;
 
-fn duffing_time_problem(frequency: f64) -> TimeProblem {
+/// The Duffing oscillator, unforced.
+fn duffing() -> System {
     let one = |v: f64| Mat::from_fn(1, 1, |_, _| v);
-    TimeProblem {
-        mass: one(MASS),
-        stiffness: one(STIFFNESS),
-        damping: one(DAMPING),
-        gyroscopic: one(0.0),
-        constant_force: vec![0.0],
-        // The unbalance force is Re(f w^2 e^{i w t}): F cos(w t) at this one speed.
-        unbalance_re: vec![FORCE / (frequency * frequency)],
-        unbalance_im: vec![0.0],
+    System {
         nonlinear: vec![Box::new(CubicSpring::new(0, 0.0, CUBIC, 5.0))],
-        speed: SpeedProfile::Constant(frequency),
+        ..System::unloaded(SystemMatrices {
+            mass: one(MASS),
+            stiffness: one(STIFFNESS),
+            damping: one(DAMPING),
+            gyroscopic: one(0.0),
+        })
+    }
+}
+
+/// The Duffing oscillator forced for time marching, which has no fixed-amplitude force: the
+/// unbalance force Re(f w^2 e^{i w t}) is F cos(w t) at this one speed.
+fn duffing_time_problem(frequency: f64) -> System {
+    System {
+        unbalance_re: vec![FORCE / (frequency * frequency)],
+        ..duffing()
     }
 }
 
 fn duffing_hb(harmonics: usize) -> HarmonicBalance {
-    let mut problem = HbProblem::from_time_problem(duffing_time_problem(1.0));
-    problem.unbalance_re = vec![0.0];
-    problem.harmonic_re = vec![FORCE];
+    let problem = System {
+        harmonic_re: vec![FORCE],
+        ..duffing()
+    };
     HarmonicBalance::new(problem, HbOptions::new(harmonics)).unwrap()
 }
 
@@ -155,6 +165,7 @@ fn time_integrated_amplitude(frequency: f64, coefficients: &[f64], harmonics: us
     // e^{-c t / 2}: 60 periods make them negligible below 1e-3.
     let periods = 60;
     let options = MarchOptions {
+        speed: SpeedProfile::Constant(frequency),
         step: period / per_period as f64,
         steps: periods * per_period,
         divergence_bound: 100.0,
@@ -313,17 +324,10 @@ fn linear_rotor_matches_the_unbalance_response() {
     let system = fe::assemble(&model, fe::Bearings::Linearised);
     let n = system.dofs();
     let unbalance = fe::unbalance_force(&model, n);
-    let problem = HbProblem {
-        mass: system.mass.clone(),
-        stiffness: system.stiffness.clone(),
-        damping: system.damping.clone(),
-        gyroscopic: system.gyroscopic.clone(),
-        constant_force: vec![0.0; n],
+    let problem = System {
         unbalance_re: unbalance.iter().map(|f| f.re).collect(),
         unbalance_im: unbalance.iter().map(|f| f.im).collect(),
-        harmonic_re: vec![0.0; n],
-        harmonic_im: vec![0.0; n],
-        nonlinear: Vec::new(),
+        ..System::unloaded(system.clone())
     };
     let mut hb = HarmonicBalance::new(problem, HbOptions::new(2)).unwrap();
     let w = TAU * 180.0;

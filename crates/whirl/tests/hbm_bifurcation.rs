@@ -10,10 +10,10 @@
 use std::f64::consts::TAU;
 
 use faer::Mat;
+use whirl::fe::SystemMatrices;
 use whirl::force::{Kinematics, NonlinearForce};
-use whirl::hbm::{
-    continuation, BifurcationKind, ContinuationOptions, HarmonicBalance, HbOptions, HbProblem,
-};
+use whirl::hbm::{continuation, BifurcationKind, ContinuationOptions, HarmonicBalance, HbOptions};
+use whirl::system::System;
 
 fn diagonal(n: usize, v: f64) -> Mat<f64> {
     Mat::from_fn(n, n, |i, j| if i == j { v } else { 0.0 })
@@ -62,11 +62,13 @@ const INTERNAL: f64 = 0.04;
 
 #[test]
 fn internal_damping_loses_stability_by_neimark_sacker_at_the_threshold_speed() {
-    let problem = HbProblem {
-        mass: diagonal(2, 1.0),
-        stiffness: diagonal(2, 1.0),
-        damping: diagonal(2, EXTERNAL),
-        gyroscopic: diagonal(2, 0.0),
+    let problem = System {
+        matrices: SystemMatrices {
+            mass: diagonal(2, 1.0),
+            stiffness: diagonal(2, 1.0),
+            damping: diagonal(2, EXTERNAL),
+            gyroscopic: diagonal(2, 0.0),
+        },
         constant_force: vec![0.0; 2],
         unbalance_re: vec![0.01, 0.0],
         unbalance_im: vec![0.0, -0.01],
@@ -201,11 +203,13 @@ fn period_doubling_boundary(mut lo: f64, mut hi: f64) -> f64 {
 
 #[test]
 fn mathieu_tongue_is_bounded_by_period_doublings_where_the_monodromy_matrix_says() {
-    let problem = HbProblem {
-        mass: diagonal(1, 1.0),
-        stiffness: diagonal(1, 1.0),
-        damping: diagonal(1, MATHIEU_DAMPING),
-        gyroscopic: diagonal(1, 0.0),
+    let problem = System {
+        matrices: SystemMatrices {
+            mass: diagonal(1, 1.0),
+            stiffness: diagonal(1, 1.0),
+            damping: diagonal(1, MATHIEU_DAMPING),
+            gyroscopic: diagonal(1, 0.0),
+        },
         constant_force: vec![1.0],
         unbalance_re: vec![0.0],
         unbalance_im: vec![0.0],

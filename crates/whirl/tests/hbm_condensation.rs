@@ -8,10 +8,10 @@ use std::time::Instant;
 
 use faer::Mat;
 use whirl::force::{CubicSpring, Kinematics, NonlinearForce};
-use whirl::hbm::{
-    continuation, CondensedBalance, ContinuationOptions, HarmonicBalance, HbOptions, HbProblem,
-};
+use whirl::hbm::{continuation, CondensedBalance, ContinuationOptions, HarmonicBalance, HbOptions};
 
+use whirl::fe::SystemMatrices;
+use whirl::system::System;
 use whirl::{fe, model::Model};
 
 const HARMONICS: usize = 3;
@@ -19,7 +19,7 @@ const HARMONICS: usize = 3;
 /// The reference rotor on linearised bearings with hardening cubic springs on both
 /// directions of bearing A (node 0) and bearing B (node 20): four nonlinear coordinates out
 /// of 84. `cubic` k3 in N/m^3.
-fn reference_rotor(cubic: f64) -> HbProblem {
+fn reference_rotor(cubic: f64) -> System {
     let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
     let system = fe::assemble(&model, fe::Bearings::Linearised);
     let n = system.dofs();
@@ -30,23 +30,18 @@ fn reference_rotor(cubic: f64) -> HbProblem {
         fe::dof(20, fe::Direction::Ux),
         fe::dof(20, fe::Direction::Uy),
     ];
-    HbProblem {
-        mass: system.mass.clone(),
-        stiffness: system.stiffness.clone(),
-        damping: system.damping.clone(),
-        gyroscopic: system.gyroscopic.clone(),
+    System {
         // A constant load on bearing A makes the cubic springs generate even harmonics too.
         constant_force: (0..n)
             .map(|d| if d == dofs[1] { -200.0 } else { 0.0 })
             .collect(),
         unbalance_re: unbalance.iter().map(|f| f.re).collect(),
         unbalance_im: unbalance.iter().map(|f| f.im).collect(),
-        harmonic_re: vec![0.0; n],
-        harmonic_im: vec![0.0; n],
         nonlinear: dofs
             .iter()
             .map(|&d| Box::new(CubicSpring::new(d, 0.0, cubic, 1e-4)) as Box<dyn NonlinearForce>)
             .collect(),
+        ..System::unloaded(system)
     }
 }
 
@@ -267,24 +262,23 @@ const RING_CONTACT: f64 = 10.0;
 const RING_CLEARANCE: f64 = 1.0;
 const RING_UNBALANCE: f64 = 0.2;
 
-fn ring_rotor(unbalance: f64) -> HbProblem {
+fn ring_rotor(unbalance: f64) -> System {
     let diagonal = |v: f64| Mat::from_fn(2, 2, |i, j| if i == j { v } else { 0.0 });
-    HbProblem {
-        mass: diagonal(RING_MASS),
-        stiffness: diagonal(RING_SHAFT),
-        damping: diagonal(RING_DAMPING),
-        gyroscopic: diagonal(0.0),
-        constant_force: vec![0.0; 2],
+    System {
         // m e w^2 (cos w t, sin w t) = Re(m e w^2 (1, -i) e^{i w t}).
         unbalance_re: vec![unbalance, 0.0],
         unbalance_im: vec![0.0, -unbalance],
-        harmonic_re: vec![0.0; 2],
-        harmonic_im: vec![0.0; 2],
         nonlinear: vec![Box::new(ClearanceRing {
             dofs: [0, 1],
             stiffness: RING_CONTACT,
             clearance: RING_CLEARANCE,
         })],
+        ..System::unloaded(SystemMatrices {
+            mass: diagonal(RING_MASS),
+            stiffness: diagonal(RING_SHAFT),
+            damping: diagonal(RING_DAMPING),
+            gyroscopic: diagonal(0.0),
+        })
     }
 }
 

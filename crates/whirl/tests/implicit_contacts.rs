@@ -12,13 +12,14 @@
 use std::f64::consts::PI;
 
 use whirl::bearing::ContactLaw;
-use whirl::fe::{assemble, dof, gravity_force, Bearings, Direction, DOFS_PER_NODE};
+use whirl::fe::{assemble, dof, gravity_force, Bearings, Direction, SystemMatrices, DOFS_PER_NODE};
 use whirl::force::{Kinematics, NonlinearForce};
 use whirl::model::{Clearance, Model};
 use whirl::post::order_component;
+use whirl::system::{SpeedProfile, System};
 use whirl::time::{
     newmark, simulate_contacts, simulate_with, Initial, MarchOptions, Method, NewmarkScheme,
-    RunStatus, SimulationOptions, SimulationResult, SpeedProfile, TimeProblem,
+    RunStatus, SimulationOptions, SimulationResult,
 };
 use whirl::Result;
 
@@ -144,22 +145,21 @@ fn a_step_without_a_root_at_any_size_stops_with_the_time_and_the_sub_step() {
     // Mass 1 kg on the breaking spring, 1e-4 s steps: the steps up to 0.01 s converge,
     // the one ending there fails at every sub-step down to 1e-4 / 2^12.
     let one = |x: f64| faer::Mat::from_fn(1, 1, |_, _| x);
-    let mut problem = TimeProblem {
-        mass: one(1.0),
-        stiffness: one(0.0),
-        damping: one(0.0),
-        gyroscopic: one(0.0),
-        constant_force: vec![0.0],
-        unbalance_re: vec![0.0],
-        unbalance_im: vec![0.0],
+    let mut problem = System {
         nonlinear: vec![Box::new(Breaking {
             dof: [0],
             stiffness: 1e4,
             from: 0.01,
         })],
-        speed: SpeedProfile::Constant(0.0),
+        ..System::unloaded(SystemMatrices {
+            mass: one(1.0),
+            stiffness: one(0.0),
+            damping: one(0.0),
+            gyroscopic: one(0.0),
+        })
     };
     let options = MarchOptions {
+        speed: SpeedProfile::Constant(0.0),
         step: 1e-4,
         steps: 1000,
         divergence_bound: 1.0,

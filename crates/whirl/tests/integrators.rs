@@ -5,13 +5,15 @@ use std::f64::consts::PI;
 use std::ops::ControlFlow;
 
 use faer::Mat;
+use whirl::fe::SystemMatrices;
 use whirl::fe::{assemble, Bearings};
 use whirl::force::CubicSpring;
 use whirl::model::Model;
 use whirl::response::unbalance_response;
+use whirl::system::{SpeedProfile, System};
 use whirl::time::{
     central_difference, newmark, runge_kutta, simulate, stable_step, Initial, MarchOptions, Method,
-    NewmarkScheme, Progress, RkTolerances, SimulationOptions, SpeedProfile, TimeProblem,
+    NewmarkScheme, Progress, RkTolerances, SimulationOptions,
 };
 
 const M: f64 = 2.0;
@@ -25,17 +27,17 @@ fn mat1(x: f64) -> Mat<f64> {
 }
 
 /// m x'' + c x' + k x = F0 cos(W t), written as an "unbalance" F0 / W^2 turning at W.
-fn oscillator() -> TimeProblem {
-    TimeProblem {
-        mass: mat1(M),
-        stiffness: mat1(M * WN * WN),
-        damping: mat1(2.0 * ZETA * M * WN),
-        gyroscopic: mat1(0.0),
+fn oscillator() -> System {
+    System {
         constant_force: vec![0.0],
         unbalance_re: vec![F0 / (W * W)],
         unbalance_im: vec![0.0],
-        nonlinear: Vec::new(),
-        speed: SpeedProfile::Constant(W),
+        ..System::unloaded(SystemMatrices {
+            mass: mat1(M),
+            stiffness: mat1(M * WN * WN),
+            damping: mat1(2.0 * ZETA * M * WN),
+            gyroscopic: mat1(0.0),
+        })
     }
 }
 
@@ -74,6 +76,7 @@ fn steady_error(method: &str, h: f64) -> (f64, f64) {
     let q0 = [amp * phase.cos()];
     let v0 = [-amp * W * phase.sin()];
     let options = MarchOptions {
+        speed: SpeedProfile::Constant(W),
         step: h,
         steps: (2.0 / h).round() as usize,
         divergence_bound: 1.0,
@@ -167,23 +170,19 @@ fn undamped_free_vibration_conserves_energy() {
     let v0 = vec![0.0; n];
     let e0 = energy(&q0, &v0);
     for (method, h, tol) in [("cd", 1e-5, 1e-2), ("newmark", 1e-4, 1e-10)] {
-        let mut problem = TimeProblem {
+        let mut problem = System::unloaded(SystemMatrices {
             mass: r.mass.clone(),
             stiffness: r.stiffness.clone(),
             damping: Mat::zeros(n, n),
             gyroscopic: r.gyroscopic.clone(),
-            constant_force: vec![0.0; n],
-            unbalance_re: vec![0.0; n],
-            unbalance_im: vec![0.0; n],
-            nonlinear: Vec::new(),
-            speed: SpeedProfile::Constant(2.0 * PI * 100.0),
-        };
+        });
         let mut worst = 0.0f64;
         let mut observe = |_: f64, q: &[f64], v: &[f64]| {
             worst = worst.max((energy(q, v) - e0).abs() / e0);
             ControlFlow::Continue(())
         };
         let options = MarchOptions {
+            speed: SpeedProfile::Constant(2.0 * PI * 100.0),
             step: h,
             steps: (0.2 / h) as usize,
             divergence_bound: 1.0,
@@ -319,7 +318,7 @@ fn stable_step_is_the_limit_the_simulation_reports_and_progress_is_told() {
 fn integrators_agree_on_a_duffing_oscillator() {
     let run = |method: &str, h: f64| {
         let mut p = oscillator();
-        p.stiffness = mat1(0.0);
+        p.matrices.stiffness = mat1(0.0);
         p.nonlinear.push(Box::new(CubicSpring::new(
             0,
             M * WN * WN,
@@ -327,6 +326,7 @@ fn integrators_agree_on_a_duffing_oscillator() {
             0.05,
         )));
         let options = MarchOptions {
+            speed: SpeedProfile::Constant(W),
             step: h,
             steps: (1.0 / h).round() as usize,
             divergence_bound: 1.0,
@@ -378,8 +378,9 @@ fn integrators_agree_on_a_duffing_oscillator() {
 #[test]
 fn divergence_is_reported_with_its_time() {
     let mut p = oscillator();
-    p.stiffness = mat1(-M * WN * WN);
+    p.matrices.stiffness = mat1(-M * WN * WN);
     let options = MarchOptions {
+        speed: SpeedProfile::Constant(W),
         step: 1e-3,
         steps: 10_000,
         divergence_bound: 1e-2,

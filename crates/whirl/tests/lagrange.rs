@@ -5,13 +5,14 @@ use std::f64::consts::PI;
 use std::ops::ControlFlow;
 
 use whirl::bearing::{contact_coordinates, hertz_bearings, LagrangeContacts};
-use whirl::fe::{assemble, gravity_force, unbalance_force, Bearings, Direction};
+use whirl::fe::{Bearings, Direction};
+use whirl::force::{no_forces, ForceBuilder};
 use whirl::model::Model;
 use whirl::post::order_component;
-use whirl::reduce::{boundary_dofs, CraigBampton};
+use whirl::reduce::CraigBampton;
+use whirl::system::{build, SpeedProfile, System};
 use whirl::time::{
     central_difference, central_difference_constrained, central_difference_limit, MarchOptions,
-    SpeedProfile, TimeProblem,
 };
 
 const SPEED_HZ: f64 = 100.0;
@@ -20,42 +21,30 @@ const SETTLE: f64 = 0.2;
 
 /// The reduced reference rotor without its roller bearings, with its Hertz contacts
 /// scaled by `stiffness_factor` (none when `None`), at 100 Hz.
-fn problem(model: &Model, stiffness_factor: Option<f64>) -> (TimeProblem, CraigBampton) {
+fn problem(model: &Model, stiffness_factor: Option<f64>) -> (System, CraigBampton) {
     let mut model = model.clone();
-    let full = assemble(&model, Bearings::NonlinearApart);
-    let cb = CraigBampton::new(&full, &boundary_dofs(&model, &[]), 12).unwrap();
-    let unbalance = unbalance_force(&model, full.dofs());
-    let re: Vec<f64> = unbalance.iter().map(|c| c.re).collect();
-    let im: Vec<f64> = unbalance.iter().map(|c| c.im).collect();
-    let map = |d: usize| cb.reduced_index(d);
-    let nonlinear = match stiffness_factor {
+    let forces: ForceBuilder<'_> = match stiffness_factor {
         Some(f) => {
             for b in &mut model.roller_bearings {
                 b.contact_stiffness *= f;
                 b.contact_damping = 0.0;
             }
-            hertz_bearings(&model, &map).unwrap()
+            &hertz_bearings
         }
-        None => Vec::new(),
+        None => &no_forces,
     };
-    let p = TimeProblem {
-        mass: cb.reduced.mass.clone(),
-        stiffness: cb.reduced.stiffness.clone(),
-        damping: cb.reduced.damping.clone(),
-        gyroscopic: cb.reduced.gyroscopic.clone(),
-        constant_force: cb.reduce_vector(&gravity_force(&model, &full)),
-        unbalance_re: cb.reduce_vector(&re),
-        unbalance_im: cb.reduce_vector(&im),
-        nonlinear,
-        speed: SpeedProfile::Constant(2.0 * PI * SPEED_HZ),
-    };
-    (p, cb)
+    let built = build(&model, Some(12), Bearings::NonlinearApart, forces).unwrap();
+    let cb = built
+        .coordinates
+        .reduction
+        .expect("a reduction was asked for");
+    (built.system, cb)
 }
 
 /// Runs from rest with the given contacts; returns the disk's settled uy history and the
 /// shaft angles.
 fn run(
-    p: &mut TimeProblem,
+    p: &mut System,
     cb: &CraigBampton,
     h: f64,
     contacts: Option<&mut LagrangeContacts>,
@@ -63,6 +52,7 @@ fn run(
     let n = p.size();
     let row = cb.recovery_row(whirl::fe::dof(10, Direction::Uy));
     let options = MarchOptions {
+        speed: SpeedProfile::Constant(2.0 * PI * SPEED_HZ),
         step: h,
         steps: (DURATION / h) as usize,
         divergence_bound: 1.0,

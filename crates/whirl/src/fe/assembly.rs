@@ -40,6 +40,11 @@ impl SystemMatrices {
     pub fn dofs(&self) -> usize {
         self.mass.nrows()
     }
+
+    /// M, K, C and G, for what looks at all four (their sizes, their band structure).
+    pub fn all(&self) -> [&Mat<f64>; 4] {
+        [&self.mass, &self.stiffness, &self.damping, &self.gyroscopic]
+    }
 }
 
 fn add_element(global: &mut Mat<f64>, local: &Mat8, first_dof: usize, scale: f64) {

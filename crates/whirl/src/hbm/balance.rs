@@ -19,9 +19,10 @@
 use faer::Mat;
 
 use super::fourier::{cos_slot, sin_slot, slot_basis, Aft};
-use super::{HbOptions, HbProblem};
+use super::HbOptions;
 use crate::error::{Error, Result};
 use crate::force::Kinematics;
+use crate::system::System;
 
 /// A converged periodic solution.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -58,7 +59,7 @@ pub(crate) struct Residual {
 /// Residual, Jacobian and Newton-Raphson for one problem and discretisation, with the work
 /// buffers of the AFT made once.
 pub struct HarmonicBalance {
-    problem: HbProblem,
+    problem: System,
     options: HbOptions,
     aft: Aft,
     /// The coordinates some nonlinear force acts on, ascending.
@@ -87,19 +88,13 @@ impl HarmonicBalance {
     /// Sets up harmonic balance for `problem`.
     ///
     /// # Errors
-    /// [`Error::InvalidOption`] from [`HbProblem::check`] (sizes that differ, a nonlinear
+    /// [`Error::InvalidOption`] from [`System::check`] (sizes that differ, a nonlinear
     /// force on a coordinate outside the problem) and from the set-up of the transforms
     /// (`options.samples` not above twice `options.harmonics`).
-    pub fn new(problem: HbProblem, options: HbOptions) -> Result<HarmonicBalance> {
+    pub fn new(problem: System, options: HbOptions) -> Result<HarmonicBalance> {
         problem.check()?;
         let aft = Aft::new(options.harmonics, options.samples)?;
-        let mut nl_dofs: Vec<usize> = problem
-            .nonlinear
-            .iter()
-            .flat_map(|f| f.dofs().iter().copied())
-            .collect();
-        nl_dofs.sort_unstable();
-        nl_dofs.dedup();
+        let nl_dofs = problem.nonlinear_dofs();
         let local = problem
             .nonlinear
             .iter()
@@ -141,7 +136,7 @@ impl HarmonicBalance {
     }
 
     /// The problem.
-    pub fn problem(&self) -> &HbProblem {
+    pub fn problem(&self) -> &System {
         &self.problem
     }
 
@@ -279,7 +274,7 @@ impl HarmonicBalance {
 
     /// The damping operator D = C + w G.
     pub(crate) fn damping_operator(&self, frequency: f64) -> Mat<f64> {
-        &self.problem.damping + &self.problem.gyroscopic * faer::Scale(frequency)
+        &self.problem.matrices.damping + &self.problem.matrices.gyroscopic * faer::Scale(frequency)
     }
 
     /// L(w) as a matrix.
@@ -290,10 +285,10 @@ impl HarmonicBalance {
         let mut l = Mat::zeros(self.unknowns(), self.unknowns());
         for i in 0..n {
             for j in 0..n {
-                l[(i, j)] = p.stiffness[(i, j)];
+                l[(i, j)] = p.matrices.stiffness[(i, j)];
                 for r in 1..=self.options.harmonics {
                     let rw = r as f64 * frequency;
-                    let z = p.stiffness[(i, j)] - rw * rw * p.mass[(i, j)];
+                    let z = p.matrices.stiffness[(i, j)] - rw * rw * p.matrices.mass[(i, j)];
                     let (c, s) = (cos_slot(r) * n, sin_slot(r) * n);
                     l[(c + i, c + j)] = z;
                     l[(s + i, s + j)] = z;
@@ -331,14 +326,14 @@ impl HarmonicBalance {
         let p = &self.problem;
         let d = self.damping_operator(frequency);
         let block = |slot: usize| &x[slot * n..(slot + 1) * n];
-        add_product(&p.stiffness, 1.0, block(0), &mut out[..n]);
+        add_product(&p.matrices.stiffness, 1.0, block(0), &mut out[..n]);
         for r in 1..=self.options.harmonics {
             let rw = r as f64 * frequency;
             let (c, s) = (cos_slot(r), sin_slot(r));
             for (row, own, other, sign) in [(c, c, s, 1.0), (s, s, c, -1.0)] {
                 let out = &mut out[row * n..(row + 1) * n];
-                add_product(&p.stiffness, 1.0, block(own), out);
-                add_product(&p.mass, -rw * rw, block(own), out);
+                add_product(&p.matrices.stiffness, 1.0, block(own), out);
+                add_product(&p.matrices.mass, -rw * rw, block(own), out);
                 add_product(&d, sign * rw, block(other), out);
             }
         }
@@ -349,14 +344,19 @@ impl HarmonicBalance {
         let n = self.problem.size();
         let p = &self.problem;
         // d(r w D(w))/dw = r (D + w G) = r (C + 2 w G).
-        let d_rwd = &p.damping + &p.gyroscopic * faer::Scale(2.0 * frequency);
+        let d_rwd = &p.matrices.damping + &p.matrices.gyroscopic * faer::Scale(2.0 * frequency);
         let block = |slot: usize| &x[slot * n..(slot + 1) * n];
         for r in 1..=self.options.harmonics {
             let rf = r as f64;
             let (c, s) = (cos_slot(r), sin_slot(r));
             for (row, own, other, sign) in [(c, c, s, 1.0), (s, s, c, -1.0)] {
                 let out = &mut out[row * n..(row + 1) * n];
-                add_product(&p.mass, -2.0 * rf * rf * frequency, block(own), out);
+                add_product(
+                    &p.matrices.mass,
+                    -2.0 * rf * rf * frequency,
+                    block(own),
+                    out,
+                );
                 add_product(&d_rwd, sign * rf, block(other), out);
             }
         }
@@ -594,6 +594,7 @@ pub(crate) fn solve_dense(a: &Mat<f64>, b: &[f64]) -> Option<Vec<f64>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fe::SystemMatrices;
     use crate::force::NonlinearForce;
 
     /// A force coupling two coordinates through displacements and velocities, so every
@@ -637,18 +638,20 @@ mod tests {
         ((i * 7 + j * 13) as f64 * 0.618).sin()
     }
 
-    fn three_dof_problem() -> HbProblem {
+    fn three_dof_problem() -> System {
         let n = 3;
         let symmetric = |scale: f64, diagonal: f64| {
             Mat::from_fn(n, n, |i, j| {
                 scale * (entry(i, j) + entry(j, i)) + if i == j { diagonal } else { 0.0 }
             })
         };
-        HbProblem {
-            mass: symmetric(0.05, 1.0),
-            stiffness: symmetric(0.3, 4.0),
-            damping: symmetric(0.02, 0.1),
-            gyroscopic: Mat::from_fn(n, n, |i, j| 0.1 * (entry(i, j) - entry(j, i))),
+        System {
+            matrices: SystemMatrices {
+                mass: symmetric(0.05, 1.0),
+                stiffness: symmetric(0.3, 4.0),
+                damping: symmetric(0.02, 0.1),
+                gyroscopic: Mat::from_fn(n, n, |i, j| 0.1 * (entry(i, j) - entry(j, i))),
+            },
             constant_force: vec![0.1, -0.2, 0.05],
             unbalance_re: vec![0.01, 0.0, 0.02],
             unbalance_im: vec![0.0, 0.03, -0.01],
@@ -736,11 +739,13 @@ mod tests {
         // the periodic solution is q = 0. The damping keeps the harmonic blocks regular
         // (w c = 0.5) wherever Newton goes.
         let one = |v: f64| Mat::from_fn(1, 1, |_, _| v);
-        let problem = HbProblem {
-            mass: one(1.0),
-            stiffness: one(0.0),
-            damping: one(1.0),
-            gyroscopic: one(0.0),
+        let problem = System {
+            matrices: SystemMatrices {
+                mass: one(1.0),
+                stiffness: one(0.0),
+                damping: one(1.0),
+                gyroscopic: one(0.0),
+            },
             constant_force: vec![0.0],
             unbalance_re: vec![0.0],
             unbalance_im: vec![0.0],

@@ -29,12 +29,13 @@ use super::balance::{
 };
 use super::fourier::{cos_slot, sin_slot};
 use super::stability::{hill_problem, HillProblem, Stability};
-use super::{HarmonicBalance, HbOptions, HbProblem, HbSolution};
+use super::{HarmonicBalance, HbOptions, HbSolution};
 use crate::error::{Error, Result};
 use crate::fe::SystemMatrices;
 use crate::force::{Kinematics, NonlinearForce};
 use crate::linalg::banded::BandedLu;
 use crate::reduce::CraigBampton;
+use crate::system::System;
 
 /// A nonlinear force renumbered onto the condensed coordinates.
 struct Renumbered {
@@ -94,7 +95,7 @@ pub struct Condensed {
 /// condensed exactly. Unknowns x_a[slot * m + i] for the i-th of [`Self::kept`].
 pub struct CondensedBalance {
     /// The linear part (its `nonlinear` is empty: the forces live in `reduced`).
-    linear: HbProblem,
+    linear: System,
     /// The nonlinear forces on the kept coordinates, with zero linear part: its residual is
     /// -F_nl,a and its Jacobian -dF_nl,a/dx_a.
     reduced: HarmonicBalance,
@@ -121,16 +122,14 @@ impl CondensedBalance {
     /// Sets up condensed harmonic balance for `problem`.
     ///
     /// # Errors
-    /// The errors of [`HbProblem::check`] and of [`HarmonicBalance::new`] for the
+    /// The errors of [`System::check`] and of [`HarmonicBalance::new`] for the
     /// condensed problem: [`Error::InvalidOption`] for sizes that differ, a nonlinear force
     /// on a coordinate outside the problem, or `options.samples` not above twice
     /// `options.harmonics`.
-    pub fn new(mut problem: HbProblem, options: HbOptions) -> Result<CondensedBalance> {
+    pub fn new(mut problem: System, options: HbOptions) -> Result<CondensedBalance> {
         problem.check()?;
+        let kept = problem.nonlinear_dofs();
         let forces = std::mem::take(&mut problem.nonlinear);
-        let mut kept: Vec<usize> = forces.iter().flat_map(|f| f.dofs().to_vec()).collect();
-        kept.sort_unstable();
-        kept.dedup();
         let rest: Vec<usize> = (0..problem.size())
             .filter(|d| kept.binary_search(d).is_err())
             .collect();
@@ -149,17 +148,14 @@ impl CondensedBalance {
                 Box::new(Renumbered { force, dofs }) as Box<dyn NonlinearForce>
             })
             .collect();
-        let reduced = HbProblem {
-            mass: Mat::zeros(m, m),
-            stiffness: Mat::zeros(m, m),
-            damping: Mat::zeros(m, m),
-            gyroscopic: Mat::zeros(m, m),
-            constant_force: vec![0.0; m],
-            unbalance_re: vec![0.0; m],
-            unbalance_im: vec![0.0; m],
-            harmonic_re: vec![0.0; m],
-            harmonic_im: vec![0.0; m],
+        let reduced = System {
             nonlinear: renumbered,
+            ..System::unloaded(SystemMatrices {
+                mass: Mat::zeros(m, m),
+                stiffness: Mat::zeros(m, m),
+                damping: Mat::zeros(m, m),
+                gyroscopic: Mat::zeros(m, m),
+            })
         };
         Ok(CondensedBalance {
             linear: problem,
@@ -229,28 +225,8 @@ impl CondensedBalance {
     /// The linear part reduced by Craig-Bampton onto the kept coordinates and the lowest
     /// fixed-interface modes, as a harmonic balance without nonlinear forces.
     fn stability_basis(&self) -> Result<HarmonicBalance> {
-        let p = &self.linear;
-        let system = SystemMatrices {
-            mass: p.mass.clone(),
-            stiffness: p.stiffness.clone(),
-            gyroscopic: p.gyroscopic.clone(),
-            damping: p.damping.clone(),
-        };
-        let cb = CraigBampton::new(&system, &self.kept, self.stability_modes)?;
-        let size = cb.size();
-        let problem = HbProblem {
-            mass: cb.reduced.mass,
-            stiffness: cb.reduced.stiffness,
-            damping: cb.reduced.damping,
-            gyroscopic: cb.reduced.gyroscopic,
-            constant_force: vec![0.0; size],
-            unbalance_re: vec![0.0; size],
-            unbalance_im: vec![0.0; size],
-            harmonic_re: vec![0.0; size],
-            harmonic_im: vec![0.0; size],
-            nonlinear: Vec::new(),
-        };
-        HarmonicBalance::new(problem, *self.options())
+        let cb = CraigBampton::new(&self.linear.matrices, &self.kept, self.stability_modes)?;
+        HarmonicBalance::new(System::unloaded(cb.reduced), *self.options())
     }
 
     /// The coordinates kept (those carrying nonlinear forces), ascending.
@@ -659,28 +635,23 @@ struct PlainMatrices {
 }
 
 impl PlainMatrices {
-    fn new(p: &HbProblem) -> PlainMatrices {
+    fn new(p: &System) -> PlainMatrices {
         let n = p.size();
         let plain = |m: &Mat<f64>| (0..n * n).map(|k| m[(k / n, k % n)]).collect::<Vec<f64>>();
         PlainMatrices {
             n,
-            mass: plain(&p.mass),
-            stiffness: plain(&p.stiffness),
-            damping: plain(&p.damping),
-            gyroscopic: plain(&p.gyroscopic),
+            mass: plain(&p.matrices.mass),
+            stiffness: plain(&p.matrices.stiffness),
+            damping: plain(&p.matrices.damping),
+            gyroscopic: plain(&p.matrices.gyroscopic),
         }
     }
 }
 
 /// The largest |i - j| over nonzero entries (i, j) of M, K, C and G among `dofs` (indices
 /// into `dofs`).
-fn bandwidth(problem: &HbProblem, dofs: &[usize]) -> usize {
-    let matrices = [
-        &problem.mass,
-        &problem.stiffness,
-        &problem.damping,
-        &problem.gyroscopic,
-    ];
+fn bandwidth(problem: &System, dofs: &[usize]) -> usize {
+    let matrices = problem.matrices.all();
     let mut width = 0;
     for (i, &r) in dofs.iter().enumerate() {
         for (j, &c) in dofs.iter().enumerate().skip(i + width + 1) {

@@ -63,7 +63,7 @@ pub(crate) fn hill_problem(
     let size = hb.unknowns();
     let mass_inverse = block_inverse_mass(hb, size)?;
     let d = hb.damping_operator(frequency);
-    let mass = block_diagonal(&hb.problem().mass, size);
+    let mass = block_diagonal(&hb.problem().matrices.mass, size);
     let mut delta_1 =
         block_diagonal(&d, size) + hb.times_derivative(&mass, frequency) * faer::Scale(2.0);
     delta_1 -= velocity_galerkin;
@@ -149,7 +149,7 @@ fn floquet_exponents(values: &mut [(f64, f64)], count: usize, frequency: f64) ->
 
 /// blockdiag(M^-1) over the 2H + 1 slots.
 fn block_inverse_mass(hb: &HarmonicBalance, size: usize) -> Result<Mat<f64>> {
-    let mass = &hb.problem().mass;
+    let mass = &hb.problem().matrices.mass;
     let n = mass.nrows();
     let mut inverse = Mat::<f64>::identity(n, n);
     faer::linalg::solvers::Solve::solve_in_place(&mass.partial_piv_lu(), inverse.as_mut());
@@ -177,7 +177,9 @@ fn block_diagonal(a: &Mat<f64>, size: usize) -> Mat<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::hbm::{HbOptions, HbProblem};
+    use crate::fe::SystemMatrices;
+    use crate::hbm::HbOptions;
+    use crate::system::System;
 
     #[test]
     fn linear_system_exponents_are_its_eigenvalues_shifted_into_the_strip() {
@@ -189,11 +191,13 @@ mod tests {
         let damping = Mat::from_fn(2, 2, |i, j| if i == j { 0.05 } else { 0.0 });
         let gyroscopic = Mat::from_fn(2, 2, |i, j| [[0.0, 0.4], [-0.4, 0.0]][i][j]);
         let d = &damping + &gyroscopic * faer::Scale(w);
-        let problem = HbProblem {
-            mass: mass.clone(),
-            stiffness: stiffness.clone(),
-            damping,
-            gyroscopic,
+        let problem = System {
+            matrices: SystemMatrices {
+                mass: mass.clone(),
+                stiffness: stiffness.clone(),
+                damping,
+                gyroscopic,
+            },
             constant_force: vec![0.0; 2],
             unbalance_re: vec![0.1, 0.0],
             unbalance_im: vec![0.0, 0.1],

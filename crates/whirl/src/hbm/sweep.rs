@@ -15,14 +15,16 @@ use super::continuation::{
 };
 use super::fourier::{cos_slot, sin_slot};
 use super::stability::{HillProblem, Stability};
-use super::{aliasing_free_samples, CondensedBalance, HbOptions, HbProblem, HbSolution};
+use super::{aliasing_free_samples, CondensedBalance, HbOptions, HbSolution};
 use crate::bearing::forcing_bearings;
 use crate::bearing::ContactLaw;
 use crate::error::{Error, Result};
 use crate::fe::Bearings;
 use crate::model::Model;
 use crate::reduce::CraigBampton;
-use crate::time::{model_problem as time_problem, static_equilibrium};
+use crate::system::build;
+use crate::system::System;
+use crate::time::static_equilibrium;
 
 /// What to solve.
 #[derive(Debug, Clone, Serialize)]
@@ -182,7 +184,7 @@ pub fn model_problem(
     speed: f64,
     contact: ContactLaw,
     cage: CageModel,
-) -> Result<(HbProblem, Vec<f64>, Option<CraigBampton>)> {
+) -> Result<(System, Vec<f64>, Option<CraigBampton>)> {
     if model.roller_bearings.is_empty() {
         return Err(Error::Unsupported(
             "the model has no roller bearing: its periodic response is linear; use `whirl \
@@ -192,9 +194,9 @@ pub fn model_problem(
     }
     let hertz = move |m: &Model, c: &dyn Fn(usize) -> Option<usize>| caged_bearings(m, c, cage);
     let apart = Bearings::NonlinearApart;
-    let (mut problem, reduced) = match contact {
-        ContactLaw::Hertz => time_problem(model, reduction, speed, apart, &hertz)?,
-        ContactLaw::Forcing => time_problem(model, reduction, speed, apart, &forcing_bearings)?,
+    let built = match contact {
+        ContactLaw::Hertz => build(model, reduction, apart, &hertz)?,
+        ContactLaw::Forcing => build(model, reduction, apart, &forcing_bearings)?,
         ContactLaw::Linear => {
             return Err(Error::Unsupported(
                 "linear bearings give a linear periodic response: use `whirl unbalance`".into(),
@@ -208,9 +210,10 @@ pub fn model_problem(
             ))
         }
     };
+    let mut problem = built.system;
     let rest = vec![0.0; problem.size()];
-    let equilibrium = static_equilibrium(&mut problem, &rest)?;
-    Ok((HbProblem::from_time_problem(problem), equilibrium, reduced))
+    let equilibrium = static_equilibrium(&mut problem, &rest, speed)?;
+    Ok((problem, equilibrium, built.coordinates.reduction))
 }
 
 /// Follows the periodic response of `model` from `options.from` to `options.to`.

@@ -37,7 +37,8 @@ use crate::error::{Error, Result};
 use crate::fe::{dof, Bearings, Direction};
 use crate::force::{no_forces, ForceBuilder};
 use crate::model::Model;
-use crate::time::{model_problem, static_equilibrium};
+use crate::system::build;
+use crate::time::static_equilibrium;
 
 /// How roller bearings carry the load.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -98,9 +99,9 @@ pub fn static_response(model: &Model, rollers: RollerSupport) -> Result<StaticRe
         RollerSupport::Hertz => (Bearings::NonlinearApart, &hertz_bearings),
         RollerSupport::Linear => (Bearings::Linearised, &no_forces),
     };
-    let (mut problem, _) = model_problem(model, None, 0.0, bearings, forces)?;
+    let mut problem = build(model, None, bearings, forces)?.system;
     let n = problem.size();
-    let q = static_equilibrium(&mut problem, &vec![0.0; n])?;
+    let q = static_equilibrium(&mut problem, &vec![0.0; n], 0.0)?;
     if q.iter().any(|v| !v.is_finite()) {
         return Err(Error::singular(
             "stiffness matrix",

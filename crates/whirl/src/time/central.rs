@@ -28,22 +28,22 @@
 
 use faer::Mat;
 
-use super::problem::{NlScratch, TimeProblem};
-use super::{check_state, MarchOptions, Observer};
+use super::{check_marchable, check_state, MarchOptions, Observer};
 use crate::bearing::LagrangeContacts;
 use crate::error::{Error, Result};
 use crate::linalg::{axpy, vectorised, Band, BandLu, Columns, Layout};
 use crate::reduce::explicit_stability_limit;
+use crate::system::{NlScratch, SpeedProfile, System};
 
 /// The cheaper step form for this problem (see the module documentation): per row the
 /// dense step multiplies 2 n times, the banded one makes two band products and a solve.
-fn choose_layout(problem: &TimeProblem) -> Layout {
-    Layout::choose(problem.matrices(), 2, 2 * problem.size())
+fn choose_layout(problem: &System) -> Layout {
+    Layout::choose(problem.matrices.all(), 2, 2 * problem.size())
 }
 
 /// The force of one step, F_n = F_0 + c_re u_re + c_im u_im + `extra`.
 struct Load<'a> {
-    /// [c_re, c_im] from [`TimeProblem::unbalance_coefficients`].
+    /// [c_re, c_im] from [`SpeedProfile::unbalance_coefficients`].
     unbalance: [f64; 2],
     /// Nonlinear forces, and during a speed ramp the change of the gyroscopic force.
     extra: &'a [f64],
@@ -61,7 +61,7 @@ struct DenseStep {
 }
 
 impl DenseStep {
-    fn new(problem: &TimeProblem, lhs: &Mat<f64>, a: &Mat<f64>, b: &Mat<f64>) -> Result<Self> {
+    fn new(problem: &System, lhs: &Mat<f64>, a: &Mat<f64>, b: &Mat<f64>) -> Result<Self> {
         let n = problem.size();
         let mut s = Mat::<f64>::identity(n, n);
         faer::linalg::solvers::Solve::solve_in_place(&lhs.partial_piv_lu(), s.as_mut());
@@ -130,7 +130,7 @@ impl BandedStep {
     /// positive semi-definite damping; the gyroscopic part Omega G/2h is skew and smaller
     /// than M/h^2 by a factor of order Omega h.
     fn new(
-        problem: &TimeProblem,
+        problem: &System,
         widths: (usize, usize),
         lhs: &Mat<f64>,
         a: &Mat<f64>,
@@ -220,15 +220,17 @@ impl ContactColumns {
 
 impl Step {
     fn new(
-        problem: &TimeProblem,
+        problem: &System,
         layout: Layout,
         speed: f64,
         h: f64,
         constrained: &[usize],
     ) -> Result<Step> {
         let n = problem.size();
-        let (m, k) = (&problem.mass, &problem.stiffness);
-        let d = |i: usize, j: usize| problem.damping[(i, j)] + speed * problem.gyroscopic[(i, j)];
+        let (m, k) = (&problem.matrices.mass, &problem.matrices.stiffness);
+        let d = |i: usize, j: usize| {
+            problem.matrices.damping[(i, j)] + speed * problem.matrices.gyroscopic[(i, j)]
+        };
         let lhs = Mat::<f64>::from_fn(n, n, |i, j| m[(i, j)] / (h * h) + d(i, j) / (2.0 * h));
         let a = Mat::<f64>::from_fn(n, n, |i, j| 2.0 * m[(i, j)] / (h * h) - k[(i, j)]);
         let b = Mat::<f64>::from_fn(n, n, |i, j| d(i, j) / (2.0 * h) - m[(i, j)] / (h * h));
@@ -282,30 +284,24 @@ fn singular() -> Error {
 /// [`Error::Singular`] for a mass matrix that is not positive definite and
 /// [`Error::NotConverged`] when the eigen-solver fails: the errors of
 /// [`crate::reduce::explicit_stability_limit`].
-pub fn central_difference_limit(problem: &TimeProblem) -> Result<f64> {
+pub fn central_difference_limit(problem: &System) -> Result<f64> {
     let n = problem.size();
     let all: Vec<usize> = (0..n).collect();
     let bound = problem.nonlinear_stiffness_bound();
-    let system = crate::fe::SystemMatrices {
-        mass: problem.mass.clone(),
-        stiffness: problem.stiffness.clone(),
-        gyroscopic: problem.gyroscopic.clone(),
-        damping: problem.damping.clone(),
-    };
-    explicit_stability_limit(&system, Some((&all, &bound)))
+    explicit_stability_limit(&problem.matrices, Some((&all, &bound)))
 }
 
 /// Marches `problem` from (q0, v0) with the central difference; `observe` sees every step.
 ///
 /// # Errors
 /// [`Error::InvalidOption`] when the matrices and vectors of `problem` differ in size, a
-/// nonlinear force acts on a coordinate outside it ([`TimeProblem::check`]), or
+/// nonlinear force acts on a coordinate outside it ([`System::check`]), or
 /// `options.step` is at or above the stability limit (the limit is in the message); the
 /// errors of [`central_difference_limit`]; [`Error::Singular`] when M/h^2 + D/2h is
 /// singular; [`Error::Diverged`] when a coordinate leaves `options.divergence_bound` or is
 /// not finite (checked every 64 steps).
 pub fn central_difference(
-    problem: &mut TimeProblem,
+    problem: &mut System,
     q0: &[f64],
     v0: &[f64],
     options: &MarchOptions,
@@ -332,7 +328,7 @@ pub fn central_difference(
 /// [`LagrangeContacts::correct`]: [`Error::Singular`] for a roller with no compliance,
 /// [`Error::NotConverged`] when the contact forces are not found.
 pub fn central_difference_constrained(
-    problem: &mut TimeProblem,
+    problem: &mut System,
     q0: &[f64],
     v0: &[f64],
     options: &MarchOptions,
@@ -344,7 +340,7 @@ pub fn central_difference_constrained(
 }
 
 fn march(
-    problem: &mut TimeProblem,
+    problem: &mut System,
     layout: Layout,
     q0: &[f64],
     v0: &[f64],
@@ -352,23 +348,26 @@ fn march(
     mut contacts: Option<&mut LagrangeContacts>,
     observe: Observer<'_>,
 ) -> Result<()> {
-    problem.check()?;
+    check_marchable(problem)?;
     let h = options.step;
     check_step(problem, h)?;
     let n = problem.size();
     let mut scratch = problem.scratch();
     let nonlinear_dofs = problem.nonlinear_dofs();
-    let constant_speed = problem.speed.is_constant();
+    let speed_profile = options.speed;
+    let constant_speed = speed_profile.is_constant();
     let needs_velocity = !(nonlinear_dofs.is_empty() && constant_speed);
-    let gyroscopic = Band::from_fn(n, layout.widths(n), |i, j| problem.gyroscopic[(i, j)]);
-    let (mut history, speed) = start(problem, q0, v0, h, &mut scratch)?;
+    let gyroscopic = Band::from_fn(n, layout.widths(n), |i, j| {
+        problem.matrices.gyroscopic[(i, j)]
+    });
+    let (mut history, speed) = start(problem, &speed_profile, q0, v0, h, &mut scratch)?;
     let mut extra = vec![0.0; n];
     let mut gyroscopic_force = vec![0.0; n];
     let mut q_next = vec![0.0; n];
     let mut v_back = v0.to_vec();
     let mut v_central = vec![0.0; n];
 
-    let top = problem.speed.max_speed().max(1.0);
+    let top = speed_profile.max_speed().max(1.0);
     // A multiplication instead of a division per coordinate: the same to an ulp, and
     // division is one of the slowest instructions.
     let over_2h = 1.0 / (2.0 * h);
@@ -381,7 +380,7 @@ fn march(
     let mut step_now = Step::new(problem, layout, speed, h, &constrained)?;
     for step in 0..options.steps {
         let t = step as f64 * h;
-        let (at, unbalance) = problem.unbalance_coefficients(t);
+        let (at, unbalance) = speed_profile.unbalance_coefficients(t);
         let (q_cur, q_prev) = history.split_at(n);
         if step > 0 && needs_velocity {
             for i in 0..n {
@@ -411,7 +410,7 @@ fn march(
         step_now.advance(&history, &load, &mut q_next);
         if let (Some(c), Some(columns)) = (contacts.as_deref_mut(), &step_now.contact) {
             c.record();
-            let (next, _) = problem.speed.at(t + h);
+            let (next, _) = speed_profile.at(t + h);
             c.correct(&next, &mut q_next, &columns.block, |k, factor, q| {
                 axpy(factor, &columns.columns[k * n..(k + 1) * n], q)
             })
@@ -436,7 +435,8 @@ fn march(
 /// [q_0; q_{-1}] with q_{-1} from eq. 4.2 and the initial acceleration from the equation of
 /// motion, and the speed at t = 0.
 fn start(
-    problem: &mut TimeProblem,
+    problem: &mut System,
+    speed: &SpeedProfile,
     q0: &[f64],
     v0: &[f64],
     h: f64,
@@ -444,7 +444,7 @@ fn start(
 ) -> Result<(Vec<f64>, f64)> {
     let n = problem.size();
     let mut force = vec![0.0; n];
-    let at = problem.external_force(0.0, &mut force);
+    let at = problem.external_force(speed, 0.0, &mut force);
     problem.add_nonlinear(&at, q0, v0, &mut force, scratch);
     let a0 = problem.acceleration(q0, v0, &force, at.speed);
     let q_before = (0..n).map(|i| q0[i] - h * v0[i] + 0.5 * h * h * a0[i]);
@@ -452,7 +452,7 @@ fn start(
 }
 
 /// Refuses a step at or above the stability limit, with the limit in the message.
-fn check_step(problem: &TimeProblem, h: f64) -> Result<()> {
+fn check_step(problem: &System, h: f64) -> Result<()> {
     let limit = central_difference_limit(problem)?;
     if h >= limit {
         return Err(Error::InvalidOption(format!(
@@ -472,13 +472,19 @@ mod tests {
 
     use super::*;
     use crate::time::fixtures::{self, full_rotor};
-    use crate::time::SpeedProfile;
 
     /// Every (q, v) of a run, one step after another.
-    fn run(problem: &mut TimeProblem, layout: Layout, h: f64, steps: usize) -> Vec<f64> {
+    fn run(
+        problem: &mut System,
+        speed: SpeedProfile,
+        layout: Layout,
+        h: f64,
+        steps: usize,
+    ) -> Vec<f64> {
         let n = problem.size();
         let (q0, v0) = fixtures::start(n);
         let options = MarchOptions {
+            speed,
             step: h,
             steps,
             divergence_bound: 1.0,
@@ -495,18 +501,21 @@ mod tests {
 
     /// Eq. 4.1 as written, with a dense solve per step: the slow, obviously-correct
     /// reference (constant speed).
-    fn reference(problem: &mut TimeProblem, h: f64, steps: usize) -> Vec<f64> {
+    fn reference(problem: &mut System, profile: SpeedProfile, h: f64, steps: usize) -> Vec<f64> {
         let n = problem.size();
         let q0: Vec<f64> = (0..n).map(|i| 1e-5 * ((i as f64) * 0.7).sin()).collect();
         let v0: Vec<f64> = (0..n).map(|i| 1e-3 * ((i as f64) * 1.3).cos()).collect();
-        let speed = problem.speed.max_speed();
-        let (m, k) = (problem.mass.clone(), problem.stiffness.clone());
-        let d = &problem.damping + speed * &problem.gyroscopic;
+        let speed = profile.max_speed();
+        let (m, k) = (
+            problem.matrices.mass.clone(),
+            problem.matrices.stiffness.clone(),
+        );
+        let d = &problem.matrices.damping + speed * &problem.matrices.gyroscopic;
         let lhs = &m * (1.0 / (h * h)) + &d * (0.5 / h);
         let lu = lhs.partial_piv_lu();
         let mut scratch = problem.scratch();
         let mut force = vec![0.0; n];
-        let at = problem.external_force(0.0, &mut force);
+        let at = problem.external_force(&profile, 0.0, &mut force);
         problem.add_nonlinear(&at, &q0, &v0, &mut force, &mut scratch);
         let a0 = problem.acceleration(&q0, &v0, &force, speed);
         let mut q_prev: Vec<f64> = (0..n)
@@ -516,7 +525,7 @@ mod tests {
         let mut v_back = v0.clone();
         let mut history = Vec::with_capacity(2 * n * steps);
         for step in 0..steps {
-            let at = problem.external_force(step as f64 * h, &mut force);
+            let at = problem.external_force(&profile, step as f64 * h, &mut force);
             if step > 0 {
                 v_back = (0..n).map(|i| (q[i] - q_prev[i]) / h).collect();
             }
@@ -566,7 +575,7 @@ mod tests {
 
     #[test]
     fn the_full_model_is_marched_banded() {
-        let problem = full_rotor(SpeedProfile::Constant(2.0 * PI * 50.0), false);
+        let problem = full_rotor(false);
         assert_eq!(choose_layout(&problem), Layout::Banded(7, 7));
     }
 
@@ -574,11 +583,12 @@ mod tests {
     fn dense_and_banded_steps_match_the_plain_equation() {
         let h = 3.8e-6;
         for nonlinear in [false, true] {
-            let mut problem = full_rotor(SpeedProfile::Constant(2.0 * PI * 50.0), nonlinear);
+            let speed = SpeedProfile::Constant(2.0 * PI * 50.0);
+            let mut problem = full_rotor(nonlinear);
             let n = problem.size();
-            let plain = reference(&mut problem, h, STEPS);
+            let plain = reference(&mut problem, speed, h, STEPS);
             for layout in [Layout::Dense, Layout::Banded(7, 7)] {
-                let fast = run(&mut problem, layout, h, STEPS);
+                let fast = run(&mut problem, speed, layout, h, STEPS);
                 let e = difference(&plain, &fast, n);
                 assert!(e < TOLERANCE, "{layout:?}, nonlinear {nonlinear}: {e:e}");
             }
@@ -593,10 +603,10 @@ mod tests {
             duration: 2e-3,
         };
         let h = 3.8e-6;
-        let mut problem = full_rotor(ramp, true);
+        let mut problem = full_rotor(true);
         let n = problem.size();
-        let dense = run(&mut problem, Layout::Dense, h, STEPS);
-        let banded = run(&mut problem, Layout::Banded(7, 7), h, STEPS);
+        let dense = run(&mut problem, ramp, Layout::Dense, h, STEPS);
+        let banded = run(&mut problem, ramp, Layout::Banded(7, 7), h, STEPS);
         // The ramp crosses many rebuilds of the step (every 1 % of the top speed).
         let e = difference(&dense, &banded, n);
         assert!(e < TOLERANCE, "{e:e}");
@@ -605,8 +615,8 @@ mod tests {
     #[test]
     fn a_matrix_unsafe_without_row_swaps_falls_back_to_the_dense_form() {
         // A negative mass entry makes the symmetric part indefinite.
-        let mut problem = full_rotor(SpeedProfile::Constant(0.0), false);
-        problem.mass[(0, 0)] = -problem.mass[(0, 0)];
+        let mut problem = full_rotor(false);
+        problem.matrices.mass[(0, 0)] = -problem.matrices.mass[(0, 0)];
         let step = Step::new(&problem, Layout::Banded(7, 7), 0.0, 3.8e-6, &[]).unwrap();
         assert!(matches!(step.form, StepForm::Dense(_)));
     }

@@ -1,27 +1,17 @@
 //! Test fixtures shared by the integrators' tests.
 
-use crate::fe::{assemble, gravity_force, unbalance_force, Bearings};
-use crate::force::{CubicSpring, LinearSupport};
+use crate::fe::Bearings;
+use crate::force::{no_forces, CubicSpring, LinearSupport};
 use crate::model::Model;
-use crate::time::{SpeedProfile, TimeProblem};
+use crate::system::{build, System};
 
-/// The reference rotor's full model (84 DOFs, half-bandwidth 7) with unbalance at `speed`,
+/// The reference rotor's full model (84 DOFs, half-bandwidth 7) with gravity and unbalance,
 /// and a stiff cubic spring and a cross-coupled linear support on node 10 when `nonlinear`.
-pub(crate) fn full_rotor(speed: SpeedProfile, nonlinear: bool) -> TimeProblem {
+pub(crate) fn full_rotor(nonlinear: bool) -> System {
     let model = Model::from_toml_str(crate::examples::REFERENCE_ROTOR, None).unwrap();
-    let full = assemble(&model, Bearings::Linearised);
-    let unbalance = unbalance_force(&model, full.dofs());
-    let mut problem = TimeProblem {
-        mass: full.mass.clone(),
-        stiffness: full.stiffness.clone(),
-        damping: full.damping.clone(),
-        gyroscopic: full.gyroscopic.clone(),
-        constant_force: gravity_force(&model, &full),
-        unbalance_re: unbalance.iter().map(|c| c.re).collect(),
-        unbalance_im: unbalance.iter().map(|c| c.im).collect(),
-        nonlinear: Vec::new(),
-        speed,
-    };
+    let mut problem = build(&model, None, Bearings::Linearised, &no_forces)
+        .unwrap()
+        .system;
     if nonlinear {
         let (ux, uy) = (40, 41);
         problem

@@ -9,8 +9,8 @@
 //! - [`static_equilibrium`]: Newton on the nonlinear forces under gravity, condensed onto
 //!   the coordinates they act on.
 //!
-//! Every integrator works on a [`TimeProblem`] (matrices in the integrator's coordinates,
-//! full or Craig-Bampton reduced) and sees nonlinear forces only through
+//! Every integrator works on a [`crate::system::System`] (matrices in the integrator's
+//! coordinates, full or Craig-Bampton reduced, built by [`crate::system::build`]) and sees nonlinear forces only through
 //! [`crate::force::NonlinearForce`], so contact laws plug in without changing the
 //! integrators. Each
 //! calls an observer with (t, q, q') at every step; [`simulate`] builds the problem from a
@@ -21,19 +21,17 @@ mod central;
 mod fixtures;
 pub mod forcing_fit;
 mod newmark;
-mod problem;
 mod rk;
 mod rollers;
 mod simulate;
 mod statics;
 
+pub use crate::system::SpeedProfile;
 pub use central::{central_difference, central_difference_constrained, central_difference_limit};
 pub use forcing_fit::{fit_forcing, ForcingFit, ForcingFitOptions, SpeedFit};
 pub use newmark::{newmark, NewmarkScheme};
-pub use problem::{NlScratch, SpeedProfile, TimeProblem};
 pub use rk::{runge_kutta, RkStats, RkTolerances};
 pub use rollers::{peak_near, ContactSummary, RollerRecord};
-pub(crate) use simulate::model_problem;
 pub use simulate::{
     simulate, simulate_with, stable_step, stable_step_with, Channel, Initial, Method, Progress,
     RunStatus, SimulationOptions, SimulationResult,
@@ -44,10 +42,27 @@ pub use statics::static_equilibrium;
 use std::ops::ControlFlow;
 
 use crate::error::{Error, Result};
+use crate::system::System;
 
-/// Step size and length of a run.
+/// The system's checks, and a refusal of the fixed-amplitude force h, which only harmonic
+/// balance (where it turns at the solution's frequency) includes.
+pub(crate) fn check_marchable(system: &System) -> Result<()> {
+    system.check()?;
+    if system.has_harmonic_force() {
+        return Err(Error::Unsupported(
+            "time marching has no fixed-amplitude harmonic force h: set `harmonic_re` and \
+             `harmonic_im` to zero, or solve by harmonic balance"
+                .into(),
+        ));
+    }
+    Ok(())
+}
+
+/// Spin speed, step size and length of a run.
 #[derive(Debug, Clone, Copy)]
 pub struct MarchOptions {
+    /// Spin speed over time.
+    pub speed: SpeedProfile,
     /// Time step (output interval for Runge-Kutta), s.
     pub step: f64,
     /// Number of steps.

@@ -34,11 +34,11 @@
 
 use faer::Mat;
 
-use super::problem::TimeProblem;
-use super::{check_state, MarchOptions, NlScratch, Observer};
+use super::{check_marchable, check_state, MarchOptions, Observer};
 use crate::error::{Error, Result};
 use crate::force::Kinematics;
 use crate::linalg::{axpy, solve_small, vectorised, Band, Columns, Factors, Layout};
+use crate::system::{NlScratch, SpeedProfile, System};
 
 /// Which member of the Newmark family.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -90,8 +90,8 @@ impl Coefficients {
 /// How the step's matrices are stored and J0 solved: per row a linear step multiplies
 /// 6 n times dense (five products and the inverse), banded it makes five band products
 /// and a solve.
-fn choose_layout(problem: &TimeProblem) -> Layout {
-    Layout::choose(problem.matrices(), 5, 6 * problem.size())
+fn choose_layout(problem: &System) -> Layout {
+    Layout::choose(problem.matrices.all(), 5, 6 * problem.size())
 }
 
 /// A matrix of the residual's products, in the layout's fast form.
@@ -119,7 +119,7 @@ impl Matrix {
 }
 
 /// J0 = M/(beta h^2) + (1+alpha)(D gamma/(beta h) + K) at `speed`.
-fn effective_matrix(problem: &TimeProblem, speed: f64, c: Coefficients) -> Mat<f64> {
+fn effective_matrix(problem: &System, speed: f64, c: Coefficients) -> Mat<f64> {
     let Coefficients {
         alpha,
         gamma,
@@ -127,11 +127,12 @@ fn effective_matrix(problem: &TimeProblem, speed: f64, c: Coefficients) -> Mat<f
         h,
     } = c;
     Mat::from_fn(problem.size(), problem.size(), |i, j| {
-        problem.mass[(i, j)] / (beta * h * h)
+        problem.matrices.mass[(i, j)] / (beta * h * h)
             + (1.0 + alpha)
-                * ((problem.damping[(i, j)] + speed * problem.gyroscopic[(i, j)]) * gamma
+                * ((problem.matrices.damping[(i, j)] + speed * problem.matrices.gyroscopic[(i, j)])
+                    * gamma
                     / (beta * h)
-                    + problem.stiffness[(i, j)])
+                    + problem.matrices.stiffness[(i, j)])
     })
 }
 
@@ -149,7 +150,7 @@ struct AtSpeed {
 
 impl AtSpeed {
     fn new(
-        problem: &TimeProblem,
+        problem: &System,
         layout: Layout,
         speed: f64,
         c: Coefficients,
@@ -157,7 +158,7 @@ impl AtSpeed {
     ) -> Result<AtSpeed> {
         let n = problem.size();
         let damping = Matrix::new(layout, n, |i, j| {
-            problem.damping[(i, j)] + speed * problem.gyroscopic[(i, j)]
+            problem.matrices.damping[(i, j)] + speed * problem.matrices.gyroscopic[(i, j)]
         });
         let mut factors = Factors::new(layout.band(), &effective_matrix(problem, speed, c))
             .ok_or_else(|| {
@@ -194,7 +195,7 @@ impl AtSpeed {
 /// J^-1 r = y - X (I + T P^T X)^-1 T P^T y, y = J0^-1 r. Buffers sized once.
 struct Tangent {
     dofs: Vec<usize>,
-    /// Full-size tangents for [`TimeProblem::add_nonlinear_tangent`]; only the block on
+    /// Full-size tangents for [`System::add_nonlinear_tangent`]; only the block on
     /// `dofs` is ever nonzero.
     kt: Mat<f64>,
     ct: Mat<f64>,
@@ -221,7 +222,7 @@ impl Tangent {
     #[allow(clippy::too_many_arguments)]
     fn correct(
         &mut self,
-        problem: &mut TimeProblem,
+        problem: &mut System,
         at: &Kinematics,
         q1: &[f64],
         v1: &[f64],
@@ -316,7 +317,7 @@ fn linear_force(speed: &AtSpeed, stiffness: &Matrix, q: &[f64], v: &[f64], out: 
 /// Replaces `nl` by the nonlinear forces at (q, v). Only `dofs` are reset: `nl` stays zero
 /// elsewhere, so a step touches k entries, not n.
 fn nonlinear_force(
-    problem: &mut TimeProblem,
+    problem: &mut System,
     at: &Kinematics,
     q: &[f64],
     v: &[f64],
@@ -374,7 +375,7 @@ impl Levels {
     /// The matrices of sub-step `depth` at `speed`.
     fn get(
         &mut self,
-        problem: &TimeProblem,
+        problem: &System,
         depth: u32,
         speed: f64,
         dofs: &[usize],
@@ -392,7 +393,8 @@ impl Levels {
 /// One march: the state at the start of the next step and everything a step needs but
 /// the [`Levels`], which the march lends to each step.
 struct Stepper<'p> {
-    problem: &'p mut TimeProblem,
+    problem: &'p mut System,
+    profile: SpeedProfile,
     dofs: Vec<usize>,
     mass: Matrix,
     stiffness: Matrix,
@@ -446,7 +448,9 @@ impl Stepper<'_> {
     /// search. On convergence the state moves to t1; otherwise it stays where it was.
     fn attempt(&mut self, levels: &mut Levels, t1: f64, depth: u32) -> Result<Attempt> {
         let c = levels.coefficients(depth);
-        let at1 = self.problem.external_force(t1, &mut self.w.force);
+        let at1 = self
+            .problem
+            .external_force(&self.profile, t1, &mut self.w.force);
         let speed = levels.get(self.problem, depth, at1.speed, &self.dofs)?;
         let Stepper {
             problem,
@@ -469,14 +473,12 @@ impl Stepper<'_> {
             // Predictor: constant acceleration.
             w.q1[i] = q[i] + h * v[i] + 0.5 * h * h * a[i];
         }
-        let evaluate = |problem: &mut TimeProblem,
-                        scratch: &mut NlScratch,
-                        speed: &AtSpeed,
-                        w: &mut Workspace| {
-            c.kinematics(q, v, a, &w.q1, &mut w.a1, &mut w.v1);
-            nonlinear_force(problem, &at1, &w.q1, &w.v1, dofs, &mut w.nl, scratch);
-            vectorised(|| residual(speed, mass, stiffness, alpha, w))
-        };
+        let evaluate =
+            |problem: &mut System, scratch: &mut NlScratch, speed: &AtSpeed, w: &mut Workspace| {
+                c.kinematics(q, v, a, &w.q1, &mut w.a1, &mut w.v1);
+                nonlinear_force(problem, &at1, &w.q1, &w.v1, dofs, &mut w.nl, scratch);
+                vectorised(|| residual(speed, mass, stiffness, alpha, w))
+            };
         let mut norm_r = evaluate(problem, scratch, speed, w);
         for _ in 0..NEWTON_ITERATIONS {
             if !norm_r.is_finite() {
@@ -567,21 +569,21 @@ fn line_search(
 ///
 /// # Errors
 /// [`Error::InvalidOption`] when the matrices and vectors of `problem` differ in size or a
-/// nonlinear force acts on a coordinate outside it ([`TimeProblem::check`]), or when the HHT
+/// nonlinear force acts on a coordinate outside it ([`System::check`]), or when the HHT
 /// alpha of `scheme` lies outside [-1/3, 0]; [`Error::Singular`] when the Newmark matrix
 /// M/(beta h^2) + (1+alpha)(D gamma/(beta h) + K) is singular at a speed the run reaches;
 /// [`Error::NotConverged`] when a step's Newton iteration fails even with the step halved
 /// `MAX_HALVINGS` times (the time and residual are in the error); [`Error::Diverged`] when a
 /// coordinate leaves `options.divergence_bound` or is not finite (checked every 64 steps).
 pub fn newmark(
-    problem: &mut TimeProblem,
+    problem: &mut System,
     q0: &[f64],
     v0: &[f64],
     scheme: NewmarkScheme,
     options: &MarchOptions,
     observe: Observer<'_>,
 ) -> Result<()> {
-    problem.check()?;
+    check_marchable(problem)?;
     let alpha = scheme.alpha();
     if !(-1.0 / 3.0..=0.0).contains(&alpha) {
         return Err(Error::InvalidOption(format!(
@@ -599,7 +601,7 @@ pub fn newmark(
 
 /// [`newmark`] in a given layout, so that tests can run both on one problem.
 fn march(
-    problem: &mut TimeProblem,
+    problem: &mut System,
     layout: Layout,
     q0: &[f64],
     v0: &[f64],
@@ -611,7 +613,7 @@ fn march(
     let dofs = problem.nonlinear_dofs();
     let mut w = Workspace::new(n);
     let mut scratch = problem.scratch();
-    let at = problem.external_force(0.0, &mut w.force_prev);
+    let at = problem.external_force(&options.speed, 0.0, &mut w.force_prev);
     let (q, v) = (q0.to_vec(), v0.to_vec());
     nonlinear_force(problem, &at, &q, &v, &dofs, &mut w.nl_prev, &mut scratch);
     let a = problem.acceleration(&q, &v, &sum(&w.force_prev, &w.nl_prev), at.speed);
@@ -620,14 +622,15 @@ fn march(
         base: c,
         at: (0..=MAX_HALVINGS).map(|_| None).collect(),
     };
-    let stiffness = Matrix::new(layout, n, |i, j| problem.stiffness[(i, j)]);
+    let stiffness = Matrix::new(layout, n, |i, j| problem.matrices.stiffness[(i, j)]);
     let speed = levels.get(problem, 0, at.speed, &dofs)?;
     vectorised(|| linear_force(speed, &stiffness, &q, &v, &mut w.linear));
     let mut stepper = Stepper {
-        mass: Matrix::new(layout, n, |i, j| problem.mass[(i, j)]),
+        mass: Matrix::new(layout, n, |i, j| problem.matrices.mass[(i, j)]),
         stiffness,
         tangent: Tangent::new(n, dofs.clone()),
         problem,
+        profile: options.speed,
         dofs,
         scratch,
         w,
@@ -681,7 +684,6 @@ mod tests {
 
     use super::*;
     use crate::time::fixtures::{full_rotor, start};
-    use crate::time::SpeedProfile;
 
     fn coefficients(alpha: f64, h: f64) -> Coefficients {
         Coefficients {
@@ -693,9 +695,16 @@ mod tests {
     }
 
     /// Every (q, v) of a run, one step after another.
-    fn run(problem: &mut TimeProblem, layout: Layout, c: Coefficients, steps: usize) -> Vec<f64> {
+    fn run(
+        problem: &mut System,
+        speed: SpeedProfile,
+        layout: Layout,
+        c: Coefficients,
+        steps: usize,
+    ) -> Vec<f64> {
         let (q0, v0) = start(problem.size());
         let options = MarchOptions {
+            speed,
             step: c.h,
             steps,
             divergence_bound: 1.0,
@@ -713,7 +722,12 @@ mod tests {
     /// The balance of the module documentation solved as written: a dense residual and a
     /// dense Jacobian with the full tangent, factorised at every Newton iteration. The slow,
     /// obviously-correct reference.
-    fn reference(problem: &mut TimeProblem, c: Coefficients, steps: usize) -> Vec<f64> {
+    fn reference(
+        problem: &mut System,
+        speed: SpeedProfile,
+        c: Coefficients,
+        steps: usize,
+    ) -> Vec<f64> {
         let Coefficients {
             alpha,
             gamma,
@@ -723,9 +737,9 @@ mod tests {
         let n = problem.size();
         let (mut q, mut v) = start(n);
         let mut scratch = problem.scratch();
-        let d = |p: &TimeProblem, s: f64| &p.damping + s * &p.gyroscopic;
+        let d = |p: &System, s: f64| &p.matrices.damping + s * &p.matrices.gyroscopic;
         let (mut f0, mut f1, mut nl) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-        let mut at = problem.external_force(0.0, &mut f0);
+        let mut at = problem.external_force(&speed, 0.0, &mut f0);
         problem.add_nonlinear(&at, &q, &v, &mut nl, &mut scratch);
         let mut a = problem.acceleration(&q, &v, &sum(&f0, &nl), at.speed);
         let mut history = Vec::new();
@@ -733,8 +747,9 @@ mod tests {
         history.extend_from_slice(&v);
         let column = |x: &[f64]| Mat::<f64>::from_fn(n, 1, |i, _| x[i]);
         for step in 1..steps {
-            let at1 = problem.external_force(step as f64 * h, &mut f1);
-            let lin0 = &d(problem, at.speed) * column(&v) + &problem.stiffness * column(&q);
+            let at1 = problem.external_force(&speed, step as f64 * h, &mut f1);
+            let lin0 =
+                &d(problem, at.speed) * column(&v) + &problem.matrices.stiffness * column(&q);
             let known: Vec<f64> = (0..n)
                 .map(|i| (1.0 + alpha) * f1[i] - alpha * (f0[i] + nl[i] - lin0[(i, 0)]))
                 .collect();
@@ -748,15 +763,15 @@ mod tests {
                 nl.iter_mut().for_each(|x| *x = 0.0);
                 problem.add_nonlinear(&at1, &q1, &v1, &mut nl, &mut scratch);
                 let d1 = d(problem, at1.speed);
-                let lin1 = &d1 * column(&v1) + &problem.stiffness * column(&q1);
-                let mut r = &problem.mass * column(&a1);
+                let lin1 = &d1 * column(&v1) + &problem.matrices.stiffness * column(&q1);
+                let mut r = &problem.matrices.mass * column(&a1);
                 for i in 0..n {
                     r[(i, 0)] += (1.0 + alpha) * (lin1[(i, 0)] - nl[i]) - known[i];
                 }
                 let (mut kt, mut ct) = (Mat::<f64>::zeros(n, n), Mat::<f64>::zeros(n, n));
                 problem.add_nonlinear_tangent(&at1, &q1, &v1, &mut kt, &mut ct, &mut scratch);
-                let j = &problem.mass * (1.0 / (beta * h * h))
-                    + ((&d1 + &ct) * (gamma / (beta * h)) + &problem.stiffness + &kt)
+                let j = &problem.matrices.mass * (1.0 / (beta * h * h))
+                    + ((&d1 + &ct) * (gamma / (beta * h)) + &problem.matrices.stiffness + &kt)
                         * (1.0 + alpha);
                 faer::linalg::solvers::Solve::solve_in_place(&j.partial_piv_lu(), r.as_mut());
                 let (mut norm_dq, mut norm_q) = (0.0f64, 0.0f64);
@@ -800,14 +815,16 @@ mod tests {
 
     #[test]
     fn the_full_model_is_marched_banded_and_a_reduced_one_dense() {
-        let problem = full_rotor(SpeedProfile::Constant(2.0 * PI * 50.0), false);
+        let problem = full_rotor(false);
         assert_eq!(choose_layout(&problem), Layout::Banded(7, 7));
-        let mut small = full_rotor(SpeedProfile::Constant(0.0), false);
         let keep = |m: &Mat<f64>| Mat::from_fn(20, 20, |i, j| m[(i, j)]);
-        small.mass = keep(&small.mass);
-        small.stiffness = keep(&small.stiffness);
-        small.damping = keep(&small.damping);
-        small.gyroscopic = keep(&small.gyroscopic);
+        let m = &problem.matrices;
+        let small = System::unloaded(crate::fe::SystemMatrices {
+            mass: keep(&m.mass),
+            stiffness: keep(&m.stiffness),
+            damping: keep(&m.damping),
+            gyroscopic: keep(&m.gyroscopic),
+        });
         assert_eq!(choose_layout(&small), Layout::Dense);
     }
 
@@ -827,10 +844,10 @@ mod tests {
             (ramp, false, -0.1),
         ] {
             let c = coefficients(alpha, 1e-5);
-            let mut problem = full_rotor(speed, nonlinear);
-            let plain = reference(&mut problem, c, STEPS);
+            let mut problem = full_rotor(nonlinear);
+            let plain = reference(&mut problem, speed, c, STEPS);
             for layout in [Layout::Dense, Layout::Banded(7, 7)] {
-                let fast = run(&mut problem, layout, c, STEPS);
+                let fast = run(&mut problem, speed, layout, c, STEPS);
                 let e = difference(&plain, &fast);
                 assert!(
                     e < TOLERANCE,
@@ -843,8 +860,8 @@ mod tests {
     #[test]
     fn a_matrix_unsafe_without_row_swaps_is_inverted_densely() {
         // A negative mass entry makes the symmetric part indefinite.
-        let mut problem = full_rotor(SpeedProfile::Constant(0.0), false);
-        problem.mass[(0, 0)] = -problem.mass[(0, 0)];
+        let mut problem = full_rotor(false);
+        problem.matrices.mass[(0, 0)] = -problem.matrices.mass[(0, 0)];
         let j0 = effective_matrix(&problem, 0.0, coefficients(0.0, 1e-5));
         let factors = Factors::new(Some((7, 7)), &j0).unwrap();
         assert!(matches!(factors, Factors::Inverse(_)));
@@ -852,7 +869,8 @@ mod tests {
 
     #[test]
     fn the_woodbury_correction_applies_the_full_jacobian() {
-        let mut problem = full_rotor(SpeedProfile::Constant(2.0 * PI * 50.0), true);
+        let profile = SpeedProfile::Constant(2.0 * PI * 50.0);
+        let mut problem = full_rotor(true);
         let n = problem.size();
         let c = coefficients(-0.1, 1e-4);
         let dofs = problem.nonlinear_dofs();
@@ -861,7 +879,7 @@ mod tests {
             let (mut q, v) = start(n);
             // Engage the cubic spring beyond its clearance.
             q[41] = 3e-4;
-            let (at, _) = problem.speed.at(0.0);
+            let (at, _) = profile.at(0.0);
             let r: Vec<f64> = (0..n).map(|i| ((i as f64) * 0.3).cos()).collect();
             let mut y = vec![0.0; n];
             speed.factors.solve(&r, &mut y);

@@ -12,10 +12,10 @@
 
 use faer::Mat;
 
-use super::problem::{NlScratch, TimeProblem};
-use super::{check_state, MarchOptions, Observer};
+use super::{check_marchable, check_state, MarchOptions, Observer};
 use crate::error::{Error, Result};
 use crate::linalg::Dense;
+use crate::system::{NlScratch, SpeedProfile, System};
 
 /// Error tolerances: a component passes when |error| <= atol + rtol |y|.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -99,13 +99,14 @@ struct Rhs {
     minv_g: Dense,
     force: Vec<f64>,
     scratch: NlScratch,
+    speed: SpeedProfile,
     evaluations: usize,
 }
 
 impl Rhs {
-    fn new(problem: &TimeProblem) -> Result<Rhs> {
+    fn new(problem: &System, speed: SpeedProfile) -> Result<Rhs> {
         let n = problem.size();
-        let lu = problem.mass.partial_piv_lu();
+        let lu = problem.matrices.mass.partial_piv_lu();
         let mut minv = Mat::<f64>::identity(n, n);
         faer::linalg::solvers::Solve::solve_in_place(&lu, minv.as_mut());
         if minv.col_iter().any(|c| c.iter().any(|v| !v.is_finite())) {
@@ -115,24 +116,25 @@ impl Rhs {
             ));
         }
         Ok(Rhs {
-            minv_k: Dense::from_mat(&(&minv * &problem.stiffness)),
-            minv_c: Dense::from_mat(&(&minv * &problem.damping)),
-            minv_g: Dense::from_mat(&(&minv * &problem.gyroscopic)),
+            minv_k: Dense::from_mat(&(&minv * &problem.matrices.stiffness)),
+            minv_c: Dense::from_mat(&(&minv * &problem.matrices.damping)),
+            minv_g: Dense::from_mat(&(&minv * &problem.matrices.gyroscopic)),
             minv: Dense::from_mat(&minv),
             force: vec![0.0; n],
             scratch: problem.scratch(),
+            speed,
             evaluations: 0,
         })
     }
 
     /// dy = f(t, y) for y = (q, v).
-    fn eval(&mut self, problem: &mut TimeProblem, t: f64, y: &[f64], dy: &mut [f64]) {
+    fn eval(&mut self, problem: &mut System, t: f64, y: &[f64], dy: &mut [f64]) {
         self.evaluations += 1;
         let n = problem.size();
         let (q, v) = y.split_at(n);
         let (dq, dv) = dy.split_at_mut(n);
         dq.copy_from_slice(v);
-        let at = problem.external_force(t, &mut self.force);
+        let at = problem.external_force(&self.speed, t, &mut self.force);
         problem.add_nonlinear(&at, q, v, &mut self.force, &mut self.scratch);
         dv.iter_mut().for_each(|x| *x = 0.0);
         self.minv.mul_add(&self.force, dv);
@@ -153,23 +155,23 @@ impl Rhs {
 /// Integrates `problem` from (q0, v0), calling `observe` at t = k * options.step.
 ///
 /// # Errors
-/// [`Error::InvalidOption`] from [`TimeProblem::check`] (sizes that differ, a nonlinear
+/// [`Error::InvalidOption`] from [`System::check`] (sizes that differ, a nonlinear
 /// force on a coordinate outside the problem); [`Error::Singular`] for a singular mass
 /// matrix; [`Error::Diverged`] when the error estimate is not finite or a coordinate leaves
 /// `options.divergence_bound` (checked every 64 outputs); [`Error::NotConverged`] when the
 /// step falls below round-off (a problem too stiff for an explicit method).
 pub fn runge_kutta(
-    problem: &mut TimeProblem,
+    problem: &mut System,
     q0: &[f64],
     v0: &[f64],
     tolerances: &RkTolerances,
     options: &MarchOptions,
     observe: Observer<'_>,
 ) -> Result<RkStats> {
-    problem.check()?;
+    check_marchable(problem)?;
     let n = problem.size();
     let m = 2 * n;
-    let mut rhs = Rhs::new(problem)?;
+    let mut rhs = Rhs::new(problem, options.speed)?;
     let mut y: Vec<f64> = q0.iter().chain(v0).copied().collect();
     let mut k: Vec<Vec<f64>> = vec![vec![0.0; m]; 7];
     let mut stage = vec![0.0; m];

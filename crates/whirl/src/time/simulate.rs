@@ -47,19 +47,16 @@ use super::central::{
     central_difference, central_difference_constrained, central_difference_limit,
 };
 use super::newmark::{newmark, NewmarkScheme};
-use super::problem::{SpeedProfile, TimeProblem};
 use super::rk::{runge_kutta, RkStats, RkTolerances};
 use super::rollers::RollerRecord;
 use super::statics::static_equilibrium;
 use super::MarchOptions;
 use crate::bearing::ContactLaw;
 use crate::error::{Error, Result};
-use crate::fe::{
-    assemble, dof, dof_name, gravity_force, unbalance_force, Bearings, Direction, SystemMatrices,
-};
+use crate::fe::{dof, dof_name, Bearings, Direction};
 use crate::force::{no_forces, ForceBuilder};
 use crate::model::Model;
-use crate::reduce::{boundary_dofs, CraigBampton};
+use crate::system::{build, Built, SparseRow, SpeedProfile, System};
 use contacts::{
     fill_multipliers, lagrange_contacts, recorded_nodes, rigid_static_equilibrium, RollerProbe,
 };
@@ -253,63 +250,6 @@ impl SimulationResult {
     }
 }
 
-/// The integrated system and how it maps to physical DOFs.
-struct Coordinates {
-    system: SystemMatrices,
-    reduction: Option<CraigBampton>,
-}
-
-impl Coordinates {
-    fn coordinate_of(&self, physical: usize) -> Option<usize> {
-        match &self.reduction {
-            None => Some(physical),
-            Some(cb) => cb.reduced_index(physical),
-        }
-    }
-
-    fn vector(&self, physical: &[f64]) -> Vec<f64> {
-        match &self.reduction {
-            None => physical.to_vec(),
-            Some(cb) => cb.reduce_vector(physical),
-        }
-    }
-
-    /// The nonzero entries of the row that recovers physical DOF `physical`.
-    fn recovery_row(&self, physical: usize) -> SparseRow {
-        match &self.reduction {
-            None => SparseRow(vec![(physical, 1.0)]),
-            Some(cb) => SparseRow(
-                cb.recovery_row(physical)
-                    .into_iter()
-                    .enumerate()
-                    .filter(|(_, a)| *a != 0.0)
-                    .collect(),
-            ),
-        }
-    }
-
-    /// What integrator coordinate `c` is: a DOF (`n7.tx`) or a fixed-interface mode.
-    fn coordinate_name(&self, c: usize) -> String {
-        match &self.reduction {
-            None => dof_name(c),
-            Some(cb) if c < cb.boundary.len() => dof_name(cb.boundary[c]),
-            Some(cb) => format!(
-                "the amplitude of fixed-interface mode {} of the reduction",
-                c - cb.boundary.len() + 1
-            ),
-        }
-    }
-}
-
-/// A physical DOF as a combination of integrator coordinates (one entry unreduced).
-struct SparseRow(Vec<(usize, f64)>);
-
-impl SparseRow {
-    fn dot(&self, q: &[f64]) -> f64 {
-        self.0.iter().map(|&(j, a)| a * q[j]).sum()
-    }
-}
-
 fn check_options(model: &Model, o: &SimulationOptions) -> Result<()> {
     let bad = |m: String| Err(Error::InvalidOption(m));
     if !(o.step.is_finite() && o.step > 0.0) {
@@ -360,8 +300,8 @@ fn check_options(model: &Model, o: &SimulationOptions) -> Result<()> {
 /// [`Error::InvalidOption`] for a step that is not positive, a duration not above one step,
 /// a settling time outside [0, duration), more than 5e8 steps, a node not on the shaft, a
 /// speed ramp without a positive duration or a divergence bound that is not positive.
-/// Then the errors of building the problem: those of [`CraigBampton::new`] with
-/// `options.reduction`, of [`TimeProblem::check`] and of
+/// Then the errors of building the problem: those of [`crate::reduce::CraigBampton::new`] with
+/// `options.reduction`, of [`System::check`] and of
 /// [`central_difference_limit`].
 /// Then those of the integrator that `options.method` names ([`central_difference`],
 /// [`newmark`], [`runge_kutta`]), but not
@@ -385,8 +325,8 @@ pub fn stable_step(model: &Model, reduction: Option<usize>) -> Result<f64> {
 /// it with these bearings and forces (their largest tangent stiffness included).
 ///
 /// # Errors
-/// The errors of [`CraigBampton::new`] with `reduction`, of `forces`, of
-/// [`TimeProblem::check`] ([`Error::InvalidOption`]) and of [`central_difference_limit`]
+/// The errors of [`crate::reduce::CraigBampton::new`] with `reduction`, of `forces`, of
+/// [`System::check`] ([`Error::InvalidOption`]) and of [`central_difference_limit`]
 /// ([`Error::Singular`] for a mass that is not positive definite, [`Error::NotConverged`]
 /// when the eigen-solver fails).
 pub fn stable_step_with(
@@ -395,79 +335,8 @@ pub fn stable_step_with(
     bearings: Bearings,
     forces: ForceBuilder<'_>,
 ) -> Result<f64> {
-    // The limit depends on neither speed nor loads: any speed builds the same matrices.
-    let (_, problem) = integrated(
-        model,
-        reduction,
-        SpeedProfile::Constant(0.0),
-        bearings,
-        forces,
-    )?;
-    central_difference_limit(&problem)
-}
-
-/// The full (unreduced) problem of `model` at constant speed `speed` (rad/s), for solvers
-/// other than the integrators (harmonic balance).
-/// The problem of `model` at constant speed `speed` (rad/s), full or Craig-Bampton reduced
-/// with `reduction` fixed-interface modes, for solvers other than the integrators
-/// (harmonic balance), with the reduction's map back to physical DOFs.
-pub(crate) fn model_problem(
-    model: &Model,
-    reduction: Option<usize>,
-    speed: f64,
-    bearings: Bearings,
-    forces: ForceBuilder<'_>,
-) -> Result<(TimeProblem, Option<CraigBampton>)> {
-    integrated(
-        model,
-        reduction,
-        SpeedProfile::Constant(speed),
-        bearings,
-        forces,
-    )
-    .map(|(coordinates, problem)| (problem, coordinates.reduction))
-}
-
-/// The coordinates integrated and the problem in them.
-fn integrated(
-    model: &Model,
-    reduction: Option<usize>,
-    speed: SpeedProfile,
-    bearings: Bearings,
-    forces: ForceBuilder<'_>,
-) -> Result<(Coordinates, TimeProblem)> {
-    let full = assemble(model, bearings);
-    let coords = match reduction {
-        None => Coordinates {
-            system: full.clone(),
-            reduction: None,
-        },
-        Some(modes) => {
-            let cb = CraigBampton::new(&full, &boundary_dofs(model, &[]), modes)?;
-            Coordinates {
-                system: cb.reduced.clone(),
-                reduction: Some(cb),
-            }
-        }
-    };
-    let unbalance = unbalance_force(model, full.dofs());
-    let ub_re: Vec<f64> = unbalance.iter().map(|c| c.re).collect();
-    let ub_im: Vec<f64> = unbalance.iter().map(|c| c.im).collect();
-    let map = |physical: usize| coords.coordinate_of(physical);
-    let nonlinear = forces(model, &map)?;
-    let problem = TimeProblem {
-        mass: coords.system.mass.clone(),
-        stiffness: coords.system.stiffness.clone(),
-        damping: coords.system.damping.clone(),
-        gyroscopic: coords.system.gyroscopic.clone(),
-        constant_force: coords.vector(&gravity_force(model, &full)),
-        unbalance_re: coords.vector(&ub_re),
-        unbalance_im: coords.vector(&ub_im),
-        nonlinear,
-        speed,
-    };
-    problem.check()?;
-    Ok((coords, problem))
+    // The limit depends on neither speed nor loads.
+    central_difference_limit(&build(model, reduction, bearings, forces)?.system)
 }
 
 /// Calls a [`Progress`] each time another 1/[`PROGRESS_REPORTS`] of the run is done.
@@ -497,8 +366,8 @@ impl ProgressTicker<'_> {
 /// [`Error::InvalidOption`] for a step that is not positive, a duration not above one step,
 /// a settling time outside [0, duration), more than 5e8 steps, a node not on the shaft, a
 /// speed ramp without a positive duration or a divergence bound that is not positive.
-/// Then the errors of building the problem: those of [`CraigBampton::new`] with
-/// `options.reduction`, of `forces`, of [`TimeProblem::check`] and of
+/// Then the errors of building the problem: those of [`crate::reduce::CraigBampton::new`] with
+/// `options.reduction`, of `forces`, of [`System::check`] and of
 /// [`central_difference_limit`].
 /// Then those of the integrator that `options.method` names ([`central_difference`],
 /// [`newmark`], [`runge_kutta`]), but not
@@ -546,7 +415,7 @@ enum Records {
 /// `record_every` of 0.
 /// [`Error::Unsupported`] for Lagrange-multiplier contacts with a method other than the
 /// central difference. Then the errors of building the problem: those of
-/// [`CraigBampton::new`] with `options.reduction`; [`Error::Unsupported`] when a bearing's
+/// [`crate::reduce::CraigBampton::new`] with `options.reduction`; [`Error::Unsupported`] when a bearing's
 /// DOFs are not kept by the reduction; [`Error::Input`] for a bearing without a
 /// `forcing_function` under the forcing law, or with roller tilt or skew under Lagrange
 /// contacts; [`Error::Unsupported`] for more bearings than Lagrange contacts can
@@ -582,7 +451,7 @@ pub fn simulate_contacts(
 /// `record_every` of 0 or an `until` that looks every 0 samples.
 /// [`Error::Unsupported`] for Lagrange-multiplier contacts with a method other than the
 /// central difference. Then the errors of building the problem: those of
-/// [`CraigBampton::new`] with `options.reduction`; [`Error::Unsupported`] when a bearing's
+/// [`crate::reduce::CraigBampton::new`] with `options.reduction`; [`Error::Unsupported`] when a bearing's
 /// DOFs are not kept by the reduction; [`Error::Input`] for a bearing without a
 /// `forcing_function` under the forcing law, or with roller tilt or skew under Lagrange
 /// contacts; [`Error::Unsupported`] for more bearings than Lagrange contacts can
@@ -694,8 +563,10 @@ fn march_and_record(
             options.method.name()
         )));
     }
-    let (coords, mut problem) =
-        integrated(model, options.reduction, options.speed, bearings, forces)?;
+    let Built {
+        system: mut problem,
+        coordinates: coords,
+    } = build(model, options.reduction, bearings, forces)?;
     let n = problem.size();
     let (q0, start_fallback) = starting_point(model, options, &mut problem, lagrange)?;
     let mut contacts = if lagrange {
@@ -774,6 +645,7 @@ fn march_and_record(
         }
     };
     let march = MarchOptions {
+        speed,
         step: options.step,
         steps,
         divergence_bound: DIVERGENCE_NET * bound,
@@ -851,14 +723,16 @@ fn march_and_record(
 fn starting_point(
     model: &Model,
     options: &SimulationOptions,
-    problem: &mut TimeProblem,
+    problem: &mut System,
     lagrange: bool,
 ) -> Result<(Vec<f64>, Option<String>)> {
     let rest = vec![0.0; problem.size()];
     let found = match options.initial {
         Initial::Rest => return Ok((rest, None)),
         Initial::StaticEquilibrium if lagrange => rigid_static_equilibrium(model, options),
-        Initial::StaticEquilibrium => static_equilibrium(problem, &rest),
+        Initial::StaticEquilibrium => {
+            static_equilibrium(problem, &rest, options.speed.at(0.0).0.speed)
+        }
     };
     match found {
         Ok(q) => Ok((q, None)),
@@ -874,27 +748,5 @@ fn starting_point(
             )),
         )),
         Err(e) => Err(e),
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn coordinates_are_named_by_dof_or_mode() {
-        let model = Model::from_toml_str(crate::examples::REFERENCE_ROTOR, None).unwrap();
-        let speed = SpeedProfile::Constant(0.0);
-        let (full, _) = integrated(&model, None, speed, Bearings::Linearised, &no_forces).unwrap();
-        assert_eq!(full.coordinate_name(dof(10, Direction::Uy)), "n10.uy");
-        let (reduced, _) =
-            integrated(&model, Some(4), speed, Bearings::Linearised, &no_forces).unwrap();
-        // Boundary: every DOF of nodes 0 and 20, then the modes.
-        assert_eq!(reduced.coordinate_name(2), "n0.tx");
-        assert_eq!(reduced.coordinate_name(4), "n20.ux");
-        assert_eq!(
-            reduced.coordinate_name(8),
-            "the amplitude of fixed-interface mode 1 of the reduction"
-        );
     }
 }

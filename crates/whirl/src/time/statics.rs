@@ -30,10 +30,10 @@
 
 use faer::Mat;
 
-use super::problem::{NlScratch, TimeProblem};
 use crate::error::{Error, Result};
 use crate::force::Kinematics;
 use crate::linalg::{bandwidths, dot_in_order as dot, solve_small, Factors};
+use crate::system::{NlScratch, System};
 
 /// Scale of mu, a squared circular frequency, (rad/s)^2. The first regularised step uses
 /// 1e-6 of it: a free rotor's trial fall g / mu is then far past any clearance and the
@@ -47,21 +47,21 @@ const ITERATIONS: usize = 400;
 /// Armijo's sufficient decrease of |R|^2 for a whole step (see the Newmark module).
 const ARMIJO: f64 = 1e-4;
 
-/// Static equilibrium of `problem` at its initial speed, starting from `guess` (only its
-/// entries on the nonlinear forces' coordinates matter: the rest follow from them).
+/// Static equilibrium of `problem` with the shaft spinning at `speed` (rad/s; the contact
+/// laws' cage and roller positions follow it), starting from `guess` (only its entries on
+/// the nonlinear forces' coordinates matter: the rest follow from them).
 ///
 /// # Errors
-/// [`Error::InvalidOption`] from [`TimeProblem::check`] (sizes that differ, a nonlinear
+/// [`Error::InvalidOption`] from [`System::check`] (sizes that differ, a nonlinear
 /// force on a coordinate outside the problem); [`Error::Singular`] when the stiffness
 /// without the nonlinear forces' coordinates is singular (part of the structure is free);
 /// [`Error::NotConverged`] when the Levenberg-Marquardt iteration does not bring the
 /// residual below its tolerance.
-pub fn static_equilibrium(problem: &mut TimeProblem, guess: &[f64]) -> Result<Vec<f64>> {
+pub fn static_equilibrium(problem: &mut System, guess: &[f64], speed: f64) -> Result<Vec<f64>> {
     problem.check()?;
-    let (start, _) = problem.speed.at(0.0);
     let at = Kinematics {
         time: 0.0,
-        speed: start.speed,
+        speed,
         angle: 0.0,
     };
     let mut condensed = Condensed::new(problem)?;
@@ -128,7 +128,7 @@ struct Condensed {
     q: Vec<f64>,
     zero: Vec<f64>,
     force: Vec<f64>,
-    /// Full-size tangents for [`TimeProblem::add_nonlinear_tangent`]; only the block on
+    /// Full-size tangents for [`System::add_nonlinear_tangent`]; only the block on
     /// `dofs` is ever nonzero.
     kt: Mat<f64>,
     ct: Mat<f64>,
@@ -136,9 +136,9 @@ struct Condensed {
 }
 
 impl Condensed {
-    fn new(problem: &TimeProblem) -> Result<Condensed> {
+    fn new(problem: &System) -> Result<Condensed> {
         let n = problem.size();
-        let k_full = &problem.stiffness;
+        let k_full = &problem.matrices.stiffness;
         let dofs = problem.nonlinear_dofs();
         let others: Vec<usize> = (0..n).filter(|i| dofs.binary_search(i).is_err()).collect();
         let m = others.len();
@@ -180,7 +180,7 @@ impl Condensed {
             }
             g[a] = problem.constant_force[dofs[a]] - coupled(a, &w0);
         }
-        let mass = condensed_mass(&problem.mass, &dofs, &others, &columns);
+        let mass = condensed_mass(&problem.matrices.mass, &dofs, &others, &columns);
         Ok(Condensed {
             dofs,
             others,
@@ -199,7 +199,7 @@ impl Condensed {
     }
 
     /// R(u) = S u - g - F_nl(u).
-    fn residual(&mut self, problem: &mut TimeProblem, at: &Kinematics, u: &[f64]) -> Vec<f64> {
+    fn residual(&mut self, problem: &mut System, at: &Kinematics, u: &[f64]) -> Vec<f64> {
         let k = u.len();
         for (&d, &x) in self.dofs.iter().zip(u) {
             self.q[d] = x;
@@ -215,7 +215,7 @@ impl Condensed {
     }
 
     /// dR/du = S + K_t, row-major.
-    fn tangent(&mut self, problem: &mut TimeProblem, at: &Kinematics, u: &[f64]) -> Vec<f64> {
+    fn tangent(&mut self, problem: &mut System, at: &Kinematics, u: &[f64]) -> Vec<f64> {
         for (&d, &x) in self.dofs.iter().zip(u) {
             self.q[d] = x;
             for &e in &self.dofs {
@@ -268,7 +268,7 @@ impl Condensed {
 /// direction or not finite.
 fn descend(
     condensed: &mut Condensed,
-    problem: &mut TimeProblem,
+    problem: &mut System,
     at: &Kinematics,
     tangent: &[f64],
     mu: f64,

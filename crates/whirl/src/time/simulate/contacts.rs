@@ -2,7 +2,7 @@
 //! constraints of the Lagrange law, and the probes that evaluate each roller from the
 //! recorded motion of its bearing's node.
 
-use super::{integrated, Coordinates, SimulationOptions, SparseRow};
+use super::SimulationOptions;
 use crate::bearing::{
     contact_coordinates_of, hertz_bearings, ContactLaw, HertzBearing, LagrangeContacts,
 };
@@ -10,6 +10,7 @@ use crate::error::Result;
 use crate::fe::{dof, Bearings, Direction};
 use crate::force::Kinematics;
 use crate::model::{Model, RollerBearing};
+use crate::system::{build, Coordinates, SparseRow};
 use crate::time::statics::static_equilibrium;
 use crate::time::RollerRecord;
 
@@ -29,15 +30,15 @@ pub(super) fn rigid_static_equilibrium(
     for b in &mut stiff.roller_bearings {
         b.contact_stiffness *= RIGID_STIFFENING;
     }
-    let (_, mut problem) = integrated(
+    let mut problem = build(
         &stiff,
         options.reduction,
-        options.speed,
         Bearings::NonlinearApart,
         &hertz_bearings,
-    )?;
+    )?
+    .system;
     let n = problem.size();
-    static_equilibrium(&mut problem, &vec![0.0; n])
+    static_equilibrium(&mut problem, &vec![0.0; n], options.speed.at(0.0).0.speed)
 }
 
 /// Every roller bearing's rollers as Lagrange-multiplier constraints.

@@ -1,151 +1,119 @@
-//! A second-order system ready to march in time, in the integrator's coordinates:
+//! The linear system every solver works on, with its loads and nonlinear forces:
 //!
 //! ```text
-//! M q'' + (C + Omega(t) G) q' + K q = F_0 + Re(f (Omega^2 - i Omega') e^{i phi(t)}) + sum F_nl
+//! M q'' + (C + Omega G) q' + K q = F_0 + Re((f (Omega^2 - i Omega') + h) e^{i phi}) + sum F_nl(q, q', t)
 //! ```
 //!
-//! F_0 is constant (gravity), f the unbalance phasor per Omega^2 (see
-//! [`crate::fe::unbalance_force`]); the Omega' term is the tangential force of an unbalance
-//! on a shaft that speeds up. The gyroscopic effect of angular acceleration (a stiffness
-//! proportional to Omega') is neglected, as is usual for run-ups.
+//! in the solver's coordinates (physical DOFs, or Craig-Bampton reduced). F_0 is constant
+//! (gravity), f the unbalance phasor per Omega^2 (see [`crate::fe::unbalance_force`]) and h a
+//! force phasor of fixed amplitude (a shaker, or the Duffing test's F cos(w t)); the Omega'
+//! term is the tangential force of an unbalance on a shaft that speeds up. The gyroscopic
+//! effect of angular acceleration (a stiffness proportional to Omega') is neglected, as is
+//! usual for run-ups.
+//!
+//! [`build`] makes the [`System`] of a model (full or reduced, with the contact forces);
+//! time marching ([`crate::time`]) and harmonic balance ([`crate::hbm`]) both start from it.
+//! Data flows one way: [`crate::model::Model`] -> [`crate::fe::assemble`] -> [`build`] ->
+//! [`System`] -> solver.
+
+mod build;
+mod speed;
+
+pub(crate) use build::SparseRow;
+pub use build::{build, Built, Coordinates};
+pub use speed::SpeedProfile;
 
 use faer::Mat;
 
 use crate::error::{Error, Result};
+use crate::fe::SystemMatrices;
 use crate::force::{Kinematics, NonlinearForce};
 
-/// Spin speed over time.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum SpeedProfile {
-    /// Constant speed, rad/s.
-    Constant(f64),
-    /// Linear ramp from `from` to `to` (rad/s) over `duration` (s), then constant.
-    Ramp {
-        /// Starting speed, rad/s.
-        from: f64,
-        /// Final speed, rad/s.
-        to: f64,
-        /// Time to reach it, s.
-        duration: f64,
-    },
-}
-
-impl SpeedProfile {
-    /// Speed, angle and acceleration at time t.
-    pub fn at(&self, t: f64) -> (Kinematics, f64) {
-        match *self {
-            SpeedProfile::Constant(w) => (
-                Kinematics {
-                    time: t,
-                    speed: w,
-                    angle: w * t,
-                },
-                0.0,
-            ),
-            SpeedProfile::Ramp { from, to, duration } => {
-                let rate = (to - from) / duration;
-                if t <= duration {
-                    let k = Kinematics {
-                        time: t,
-                        speed: from + rate * t,
-                        angle: from * t + 0.5 * rate * t * t,
-                    };
-                    (k, rate)
-                } else {
-                    let end = from * duration + 0.5 * rate * duration * duration;
-                    (
-                        Kinematics {
-                            time: t,
-                            speed: to,
-                            angle: end + to * (t - duration),
-                        },
-                        0.0,
-                    )
-                }
-            }
-        }
-    }
-
-    /// Largest speed, rad/s.
-    pub fn max_speed(&self) -> f64 {
-        match *self {
-            SpeedProfile::Constant(w) => w.abs(),
-            SpeedProfile::Ramp { from, to, .. } => from.abs().max(to.abs()),
-        }
-    }
-
-    /// True for a constant speed.
-    pub fn is_constant(&self) -> bool {
-        matches!(self, SpeedProfile::Constant(_))
-    }
-}
-
-/// The system to integrate.
-pub struct TimeProblem {
-    /// Mass matrix.
-    pub mass: Mat<f64>,
-    /// Stiffness matrix (without the nonlinear forces).
-    pub stiffness: Mat<f64>,
-    /// Damping matrix.
-    pub damping: Mat<f64>,
-    /// Gyroscopic matrix (times the spin speed).
-    pub gyroscopic: Mat<f64>,
-    /// Constant force (gravity).
+/// The linear system M, C, G, K with its loads and nonlinear forces (see the module
+/// documentation), in the solver's coordinates.
+pub struct System {
+    /// M, K, G and C (without the nonlinear forces).
+    pub matrices: SystemMatrices,
+    /// Constant force F_0 (gravity), N.
     pub constant_force: Vec<f64>,
-    /// Real part of the unbalance phasor per Omega^2.
+    /// Real part of the unbalance phasor f per Omega^2, kg m.
     pub unbalance_re: Vec<f64>,
-    /// Imaginary part of the unbalance phasor per Omega^2.
+    /// Imaginary part of the unbalance phasor f per Omega^2, kg m.
     pub unbalance_im: Vec<f64>,
+    /// Real part of the fixed-amplitude force phasor h, N (harmonic balance only: time
+    /// marching refuses a nonzero h).
+    pub harmonic_re: Vec<f64>,
+    /// Imaginary part of the fixed-amplitude force phasor h, N.
+    pub harmonic_im: Vec<f64>,
     /// Nonlinear forces.
     pub nonlinear: Vec<Box<dyn NonlinearForce>>,
-    /// Spin speed over time.
-    pub speed: SpeedProfile,
 }
 
-impl TimeProblem {
-    /// M, K, C and G, for what looks at all four (their band structure).
-    pub(crate) fn matrices(&self) -> [&Mat<f64>; 4] {
-        [&self.mass, &self.stiffness, &self.damping, &self.gyroscopic]
+impl System {
+    /// The system of `matrices` with no loads and no nonlinear forces.
+    pub fn unloaded(matrices: SystemMatrices) -> System {
+        let n = matrices.dofs();
+        System {
+            matrices,
+            constant_force: vec![0.0; n],
+            unbalance_re: vec![0.0; n],
+            unbalance_im: vec![0.0; n],
+            harmonic_re: vec![0.0; n],
+            harmonic_im: vec![0.0; n],
+            nonlinear: Vec::new(),
+        }
+    }
+
+    /// True when the fixed-amplitude force h is nonzero somewhere.
+    pub fn has_harmonic_force(&self) -> bool {
+        self.harmonic_re
+            .iter()
+            .chain(&self.harmonic_im)
+            .any(|&h| h != 0.0)
     }
 
     /// The acceleration M^-1 (F - (C + Omega G) v - K q) under the total force `force`
     /// (external and nonlinear), used to start the integrators.
     pub(crate) fn acceleration(&self, q: &[f64], v: &[f64], force: &[f64], speed: f64) -> Vec<f64> {
         let n = self.size();
+        let m = &self.matrices;
         let mut rhs = Mat::<f64>::from_fn(n, 1, |i, _| {
             force[i]
                 - (0..n)
                     .map(|j| {
-                        self.stiffness[(i, j)] * q[j]
-                            + (self.damping[(i, j)] + speed * self.gyroscopic[(i, j)]) * v[j]
+                        m.stiffness[(i, j)] * q[j]
+                            + (m.damping[(i, j)] + speed * m.gyroscopic[(i, j)]) * v[j]
                     })
                     .sum::<f64>()
         });
-        faer::linalg::solvers::Solve::solve_in_place(&self.mass.partial_piv_lu(), rhs.as_mut());
+        faer::linalg::solvers::Solve::solve_in_place(&m.mass.partial_piv_lu(), rhs.as_mut());
         (0..n).map(|i| rhs[(i, 0)]).collect()
     }
 
     /// Number of coordinates.
     pub fn size(&self) -> usize {
-        self.mass.nrows()
+        self.matrices.dofs()
     }
 
     /// Checks sizes and the nonlinear forces' coordinates.
     ///
     /// # Errors
-    /// [`Error::InvalidOption`] when the stiffness, damping or gyroscopic matrix is not square
-    /// of the mass matrix's size, a force vector has another length, or a nonlinear force acts
-    /// on a coordinate outside the problem.
+    /// [`Error::InvalidOption`] when a matrix is not square of the mass matrix's size, a force
+    /// vector has another length, or a nonlinear force acts on a coordinate outside the
+    /// system.
     pub fn check(&self) -> Result<()> {
         let n = self.size();
         let square = |m: &Mat<f64>| m.nrows() == n && m.ncols() == n;
-        if !(square(&self.stiffness) && square(&self.damping) && square(&self.gyroscopic))
-            || self.constant_force.len() != n
-            || self.unbalance_re.len() != n
-            || self.unbalance_im.len() != n
-        {
+        let vectors = [
+            &self.constant_force,
+            &self.unbalance_re,
+            &self.unbalance_im,
+            &self.harmonic_re,
+            &self.harmonic_im,
+        ];
+        if !self.matrices.all().into_iter().all(square) || vectors.iter().any(|v| v.len() != n) {
             return Err(Error::InvalidOption(
-                "time problem matrices and vectors differ in size".into(),
+                "the system's matrices and vectors differ in size".into(),
             ));
         }
         for f in &self.nonlinear {
@@ -159,25 +127,11 @@ impl TimeProblem {
         Ok(())
     }
 
-    /// The spin kinematics at time t and the coefficients [c_re, c_im] that give the
-    /// unbalance force as c_re u_re + c_im u_im (u = `unbalance_re`, `unbalance_im`):
-    ///
-    /// ```text
-    /// Re(f (w^2 - i w') e^{i phi}) = (w^2 cos phi + w' sin phi) u_re + (-w^2 sin phi + w' cos phi) u_im
-    /// ```
-    ///
-    /// The one definition of the time dependence of the linear force: integrators that keep
-    /// products with u_re and u_im precomputed scale them by these coefficients.
-    pub fn unbalance_coefficients(&self, t: f64) -> (Kinematics, [f64; 2]) {
-        let (k, accel) = self.speed.at(t);
-        let (s, c) = k.angle.sin_cos();
-        let w2 = k.speed * k.speed;
-        (k, [w2 * c + accel * s, accel * c - w2 * s])
-    }
-
-    /// Linear external force at time t (gravity and unbalance) into `out`.
-    pub fn external_force(&self, t: f64, out: &mut [f64]) -> Kinematics {
-        let (k, [c_re, c_im]) = self.unbalance_coefficients(t);
+    /// Linear external force at time t (gravity and unbalance) under the spin `speed`, into
+    /// `out`. The fixed-amplitude force h is left out: only harmonic balance, which sets the
+    /// frequency it turns at, includes it.
+    pub fn external_force(&self, speed: &SpeedProfile, t: f64, out: &mut [f64]) -> Kinematics {
+        let (k, [c_re, c_im]) = speed.unbalance_coefficients(t);
         for i in 0..out.len() {
             out[i] =
                 self.constant_force[i] + c_re * self.unbalance_re[i] + c_im * self.unbalance_im[i];
@@ -309,25 +263,26 @@ mod tests {
 
     #[test]
     fn unbalance_coefficients_give_the_complex_force() {
-        let problem = TimeProblem {
-            mass: Mat::identity(2, 2),
-            stiffness: Mat::zeros(2, 2),
-            damping: Mat::zeros(2, 2),
-            gyroscopic: Mat::zeros(2, 2),
+        let problem = System {
             constant_force: vec![1.0, -2.0],
             unbalance_re: vec![0.3, -0.1],
             unbalance_im: vec![0.2, 0.5],
-            nonlinear: Vec::new(),
-            speed: SpeedProfile::Ramp {
-                from: 10.0,
-                to: 300.0,
-                duration: 2.0,
-            },
+            ..System::unloaded(SystemMatrices {
+                mass: Mat::identity(2, 2),
+                stiffness: Mat::zeros(2, 2),
+                damping: Mat::zeros(2, 2),
+                gyroscopic: Mat::zeros(2, 2),
+            })
+        };
+        let speed = SpeedProfile::Ramp {
+            from: 10.0,
+            to: 300.0,
+            duration: 2.0,
         };
         let mut out = [0.0; 2];
         for t in [0.0, 0.7, 1.9, 2.5] {
-            let (k, accel) = problem.speed.at(t);
-            problem.external_force(t, &mut out);
+            let (k, accel) = speed.at(t);
+            problem.external_force(&speed, t, &mut out);
             let spin = num_complex::Complex64::new(k.speed * k.speed, -accel)
                 * num_complex::Complex64::from_polar(1.0, k.angle);
             for i in 0..2 {

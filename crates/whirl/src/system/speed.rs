@@ -1,0 +1,85 @@
+//! The spin speed over time and the unbalance force's time dependence.
+
+use crate::force::Kinematics;
+
+/// Spin speed over time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SpeedProfile {
+    /// Constant speed, rad/s.
+    Constant(f64),
+    /// Linear ramp from `from` to `to` (rad/s) over `duration` (s), then constant.
+    Ramp {
+        /// Starting speed, rad/s.
+        from: f64,
+        /// Final speed, rad/s.
+        to: f64,
+        /// Time to reach it, s.
+        duration: f64,
+    },
+}
+
+impl SpeedProfile {
+    /// Speed, angle and acceleration at time t.
+    pub fn at(&self, t: f64) -> (Kinematics, f64) {
+        match *self {
+            SpeedProfile::Constant(w) => (
+                Kinematics {
+                    time: t,
+                    speed: w,
+                    angle: w * t,
+                },
+                0.0,
+            ),
+            SpeedProfile::Ramp { from, to, duration } => {
+                let rate = (to - from) / duration;
+                if t <= duration {
+                    let k = Kinematics {
+                        time: t,
+                        speed: from + rate * t,
+                        angle: from * t + 0.5 * rate * t * t,
+                    };
+                    (k, rate)
+                } else {
+                    let end = from * duration + 0.5 * rate * duration * duration;
+                    (
+                        Kinematics {
+                            time: t,
+                            speed: to,
+                            angle: end + to * (t - duration),
+                        },
+                        0.0,
+                    )
+                }
+            }
+        }
+    }
+
+    /// Largest speed, rad/s.
+    pub fn max_speed(&self) -> f64 {
+        match *self {
+            SpeedProfile::Constant(w) => w.abs(),
+            SpeedProfile::Ramp { from, to, .. } => from.abs().max(to.abs()),
+        }
+    }
+
+    /// True for a constant speed.
+    pub fn is_constant(&self) -> bool {
+        matches!(self, SpeedProfile::Constant(_))
+    }
+
+    /// The spin kinematics at time t and the coefficients [c_re, c_im] that give the
+    /// unbalance force as c_re u_re + c_im u_im (u = [`super::System::unbalance_re`], [`super::System::unbalance_im`]):
+    ///
+    /// ```text
+    /// Re(f (w^2 - i w') e^{i phi}) = (w^2 cos phi + w' sin phi) u_re + (-w^2 sin phi + w' cos phi) u_im
+    /// ```
+    ///
+    /// The one definition of the time dependence of the linear force: integrators that keep
+    /// products with u_re and u_im precomputed scale them by these coefficients.
+    pub fn unbalance_coefficients(&self, t: f64) -> (Kinematics, [f64; 2]) {
+        let (k, accel) = self.at(t);
+        let (s, c) = k.angle.sin_cos();
+        let w2 = k.speed * k.speed;
+        (k, [w2 * c + accel * s, accel * c - w2 * s])
+    }
+}
