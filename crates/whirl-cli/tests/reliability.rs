@@ -277,3 +277,99 @@ fn long_work_says_how_far_it_is_also_into_a_pipe() {
     assert!(line.starts_with("hbm (H = 200): "), "{line}");
     assert!(line.contains("Hz of 900.0 Hz"), "{line}");
 }
+
+/// A study of three quick cascades (4 speeds of 0.1 s each), written into `dir`.
+fn quick_study(dir: &Path) -> PathBuf {
+    let path = dir.join("study.toml");
+    let text = format!(
+        "title = \"quick\"\nmodel = {:?}\n\n[cascade]\nspeeds = \"40Hz:400Hz:4\"\n\
+         settle = \"0.1 s\"\nsettle_max = \"0.1 s\"\nrecord = \"0.1 s\"\nrefine = false\n\n\
+         [[sweep]]\nname = \"unbalance\"\nparameter = \"unbalance[0].eccentricity\"\n\
+         values = [\"10 um\", \"20 um\", \"40 um\"]\n",
+        reference_path().display().to_string()
+    );
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn study(file: &Path, out: &Path) -> Command {
+    let mut c = whirl();
+    c.arg("study").arg(file).arg("--out").arg(out);
+    c
+}
+
+/// Ctrl-C during a study keeps its finished points, and the rerun computes the rest and
+/// writes what an uninterrupted study writes, with no temporary folder left.
+#[test]
+fn ctrl_c_during_a_study_keeps_its_points_and_a_rerun_ends_with_the_same_bytes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = quick_study(tmp.path());
+    let out = tmp.path().join("study");
+    let run = study(&file, &out)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let points = tmp.path().join("study.points").join("points");
+    let start = Instant::now();
+    while std::fs::read_dir(&points).map_or(0, |d| d.count()) == 0 {
+        assert!(start.elapsed() < Duration::from_secs(120), "no point saved");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let sent = Command::new("kill")
+        .args(["-INT", &run.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(sent.success());
+    let stopped = run.wait_with_output().unwrap();
+    let message = text(&stopped);
+    assert_eq!(stopped.status.code(), Some(130), "{message}");
+    assert!(message.contains("the study was stopped"), "{message}");
+    assert!(!out.exists(), "an interrupted study writes no result");
+    let kept = std::fs::read_dir(&points).unwrap().count();
+    assert!((1..3).contains(&kept), "{kept} points kept");
+
+    let resumed = study(&file, &out).output().unwrap();
+    assert!(resumed.status.success(), "{}", text(&resumed));
+    let reference = tmp.path().join("uninterrupted");
+    let whole = study(&file, &reference).output().unwrap();
+    assert!(whole.status.success(), "{}", text(&whole));
+    for entry in std::fs::read_dir(&reference).unwrap().flatten() {
+        let name = entry.file_name();
+        if name.to_string_lossy().ends_with(".csv") {
+            assert_eq!(
+                untimed(&out.join(&name)),
+                untimed(&entry.path()),
+                "{name:?}"
+            );
+        }
+    }
+    assert_eq!(
+        hidden(tmp.path()),
+        Vec::<String>::new(),
+        "hidden files left"
+    );
+}
+
+/// A CSV's cells without its `wall_time_s` column (the one thing two runs may differ in).
+fn untimed(path: &Path) -> Vec<Vec<String>> {
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .from_path(path)
+        .unwrap();
+    let rows: Vec<Vec<String>> = reader
+        .records()
+        .map(|r| r.unwrap().iter().map(String::from).collect())
+        .collect();
+    let timed = rows
+        .first()
+        .and_then(|header| header.iter().position(|h| h == "wall_time_s"));
+    rows.into_iter()
+        .map(|mut row| {
+            if let Some(i) = timed {
+                row.remove(i);
+            }
+            row
+        })
+        .collect()
+}

@@ -74,12 +74,15 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let store = Store::open(&checkpoint, &study.fingerprint, &args.study, args.restart)
         .map_err(|e| from_whirl(e, ""))?;
     let start = Instant::now();
-    let results = lib(run_points(
+    interrupt::stoppable();
+    let results = run_points(
         &study,
         &store,
         |p| compute_point(p, &store),
         |k, p, source, r| tell(k, study.points.len(), p, source, r),
-    ))?;
+    );
+    // A point stopped by Ctrl-C ends the run with its own "interrupted": say instead what
+    // was kept and how to go on.
     if interrupt::requested() {
         return Err(Diag::new(format!(
             "the study was stopped; its finished points are kept in `{}`",
@@ -88,6 +91,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         .help("run the same command again to continue")
         .into());
     }
+    let results = lib(results)?;
     check_failures(&study, &results)?;
     let outcome = analyse(&study, &results);
     let mut out = Output::begin(&out_dir)?;
