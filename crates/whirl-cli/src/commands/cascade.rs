@@ -579,6 +579,7 @@ fn summary(
             "started_from_rest_hz: speeds where no static equilibrium was found, so the run started from rest (nsv.csv: start_fallback)",
             "speeds are refined where the NSV changes sharply, around the largest NSV and below each onset level (nsv.csv: added = 1); largest.neighbours and largest.spacing_hz say how finely the largest NSV is resolved",
             "statistics: each settled speed weighed by the stretch of speed it stands for, so they do not depend on how many speeds a region holds",
+            "onsets[].sustained_hz: the lowest speed from which the NSV reaches the level over at least half of the next 5 % of the speed range (a narrow resonance below it does not count)",
             "direction: forward when the full spectrum of x + i y is larger at +f than at -f",
         ]),
     );
@@ -623,9 +624,12 @@ fn text(model: &Model, c: &Cascade, nsv: &NsvSummary, checkpoint: &Path) -> Stri
         let below = o
             .below_hz
             .map_or(String::new(), |b| format!(" (below it {b:.1} Hz)"));
+        let sustained = o.sustained_hz.map_or("; never sustained".to_string(), |s| {
+            format!("; sustained from {s:.1} Hz")
+        });
         let _ = writeln!(
             t,
-            "NSV onset (>= {:.2} um): {:.1} Hz{below}",
+            "NSV onset (>= {:.2} um): {:.1} Hz{below}{sustained}",
             1e6 * o.level_m,
             o.speed_hz
         );

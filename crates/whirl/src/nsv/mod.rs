@@ -87,6 +87,7 @@ pub use starts::{
 };
 pub use summary::{
     ClassCount, LargestNsv, NsvStatistics, NsvSummary, Onset, SpeedLevel, DEFAULT_THRESHOLD_M,
+    SUSTAINED_FRACTION, SUSTAINED_WINDOW,
 };
 
 use crate::bearing::contact_frequencies;

@@ -63,7 +63,19 @@ pub struct Onset {
     pub speed_hz: f64,
     /// The settled speed just below it (whose NSV stays under the level), Hz.
     pub below_hz: Option<f64>,
+    /// The lowest settled speed from which the NSV stays at or above the level over at
+    /// least [`SUSTAINED_FRACTION`] of the next [`SUSTAINED_WINDOW`] of the speed range,
+    /// Hz: where the NSV sets in for good, not a narrow resonance below it. `None` when no
+    /// stretch holds it.
+    pub sustained_hz: Option<f64>,
 }
+
+/// Length of the stretch over which a sustained onset must hold, as a share of the
+/// cascade's speed range (37 Hz of 1-750 Hz).
+pub const SUSTAINED_WINDOW: f64 = 0.05;
+
+/// Share of that stretch (weighed by speed) over which the NSV must reach the level.
+pub const SUSTAINED_FRACTION: f64 = 0.5;
 
 /// How large the NSV is over the speed range (settled speeds, each weighed by the stretch
 /// of speed it stands for).
@@ -223,14 +235,49 @@ pub(super) fn summarise(
     }
 }
 
-/// The lowest settled speed reaching `level_m`, with the one below it.
+/// The lowest settled speed reaching `level_m`, with the one below it and the sustained
+/// onset.
 fn onset_at(settled: &[(usize, SpeedLevel)], level_m: f64) -> Option<Onset> {
     let k = settled.iter().position(|(_, s)| s.amplitude_m >= level_m)?;
     Some(Onset {
         level_m,
         speed_hz: settled[k].1.speed_hz,
         below_hz: k.checked_sub(1).map(|j| settled[j].1.speed_hz),
+        sustained_hz: sustained_onset(settled, level_m),
     })
+}
+
+/// The lowest settled speed at or above `level_m` from which the NSV reaches the level
+/// over [`SUSTAINED_FRACTION`] of the next [`SUSTAINED_WINDOW`] of the range. Each gap
+/// between neighbouring speeds counts by the trapezoid rule on "reaches the level" (whole
+/// when both ends do, half when one does), so the share converges as the grid is refined
+/// instead of depending on how many speeds a burst holds.
+fn sustained_onset(settled: &[(usize, SpeedLevel)], level_m: f64) -> Option<f64> {
+    let levels: Vec<&SpeedLevel> = settled.iter().map(|(_, s)| s).collect();
+    let (first, last) = (levels.first()?.speed_hz, levels.last()?.speed_hz);
+    let window = SUSTAINED_WINDOW * (last - first);
+    let reaches = |s: &SpeedLevel| f64::from(u8::from(s.amplitude_m >= level_m));
+    for (k, start) in levels.iter().enumerate() {
+        if start.amplitude_m < level_m {
+            continue;
+        }
+        let end = start.speed_hz + window;
+        if end > last {
+            return None;
+        }
+        let covered: f64 = levels[k..]
+            .windows(2)
+            .take_while(|pair| pair[0].speed_hz < end)
+            .map(|pair| {
+                let width = pair[1].speed_hz.min(end) - pair[0].speed_hz;
+                0.5 * (reaches(pair[0]) + reaches(pair[1])) * width
+            })
+            .sum();
+        if covered >= SUSTAINED_FRACTION * window {
+            return Some(start.speed_hz);
+        }
+    }
+    None
 }
 
 /// The largest settled NSV with its neighbours in speed.
@@ -375,5 +422,26 @@ mod tests {
         let o = onset_at(&indexed(&levels), 1e-5).unwrap();
         assert_eq!((o.speed_hz, o.below_hz), (30.0, Some(20.0)));
         assert!(onset_at(&indexed(&levels), 1e-4).is_none());
+    }
+
+    /// A narrow burst at 12 Hz reaches the level first; the NSV sets in for good from
+    /// 300 Hz. On a 1-1000 Hz range the window is 50 Hz: the burst covers 2 Hz of it
+    /// (under half), the stretch from 300 Hz all of it. Refining the grid inside the burst
+    /// does not move the answer.
+    #[test]
+    fn the_sustained_onset_skips_a_narrow_burst_whatever_the_grid() {
+        let mut levels = vec![at(1.0, 0.0), at(10.0, 0.0), at(12.0, 5e-6), at(14.0, 0.0)];
+        levels.extend((0..4).map(|k| at(100.0 + 50.0 * k as f64, 0.0)));
+        levels.extend((0..15).map(|k| at(300.0 + 50.0 * k as f64, 3e-6)));
+        let onset = onset_at(&indexed(&levels), 1e-6).unwrap();
+        assert_eq!(onset.speed_hz, 12.0);
+        assert_eq!(onset.sustained_hz, Some(300.0));
+        let mut refined = levels.clone();
+        // Nine speeds at 11-13 Hz instead of the one at 12 Hz.
+        refined.splice(2..3, (0..9).map(|k| at(11.0 + 0.25 * k as f64, 5e-6)));
+        assert_eq!(
+            onset_at(&indexed(&refined), 1e-6).unwrap().sustained_hz,
+            Some(300.0)
+        );
     }
 }
