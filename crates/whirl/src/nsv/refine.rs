@@ -8,7 +8,10 @@
 //!    (a narrow lock-in burst that a coarse grid only grazes is found by bisecting towards
 //!    its top);
 //! 2. below the onset at each level of [`Refinement::onset_levels_m`] (the stretch from the
-//!    last speed under the level to the first above);
+//!    last speed under the level to the first above), and within one sustained-onset window
+//!    ([`SUSTAINED_WINDOW`] of the range) either side of each level's sustained onset, every
+//!    stretch wider than a quarter of that window (the share of the window the NSV covers
+//!    is only measured as finely as the grid resolves it);
 //! 3. sharp changes between neighbours where either reaches the smallest onset level and
 //!    a tenth of the largest NSV: the NSV changes by more than [`SHARP_RATIO`] times, or
 //!    its class changes, or its frequency jumps by more than the lock tolerance; larger NSV
@@ -28,7 +31,7 @@
 use super::classify::{lock_tolerance, NamedFrequency, Nsv};
 use super::options::Refinement;
 use super::point::CascadePoint;
-use super::summary::level;
+use super::summary::{level, sustained_onset, SpeedLevel, SUSTAINED_WINDOW};
 
 /// Neighbours whose NSV differ by more than this factor are a sharp change.
 pub const SHARP_RATIO: f64 = 2.0;
@@ -96,6 +99,9 @@ pub(super) fn next_speeds(
         if let Some(k) = settled.iter().position(|&(_, l)| l >= level) {
             add(&mut stretches, k.checked_sub(1), 1);
         }
+        for k in around_sustained_onset(points, &settled, level) {
+            add(&mut stretches, Some(k), 1);
+        }
     }
     if stretches.is_empty() {
         let top = settled.iter().map(|s| s.1).fold(0.0, f64::max);
@@ -117,6 +123,41 @@ pub(super) fn next_speeds(
         .iter()
         .take(room)
         .map(|s| 0.5 * (points[s.low].speed + points[s.high].speed))
+        .collect()
+}
+
+/// Positions (in `settled`) of the stretches within one sustained-onset window either side
+/// of the sustained onset at `level` that are wider than a quarter of the window.
+fn around_sustained_onset(
+    points: &[CascadePoint],
+    settled: &[(usize, f64)],
+    level: f64,
+) -> Vec<usize> {
+    let levels: Vec<(usize, SpeedLevel)> = settled
+        .iter()
+        .map(|&(i, amplitude_m)| {
+            let speed_hz = points[i].speed_hz;
+            (
+                i,
+                SpeedLevel {
+                    speed_hz,
+                    amplitude_m,
+                },
+            )
+        })
+        .collect();
+    let (Some(first), Some(last)) = (levels.first(), levels.last()) else {
+        return Vec::new();
+    };
+    let window = SUSTAINED_WINDOW * (last.1.speed_hz - first.1.speed_hz);
+    let Some(onset) = sustained_onset(&levels, level) else {
+        return Vec::new();
+    };
+    (0..levels.len().saturating_sub(1))
+        .filter(|&k| {
+            let (low, high) = (levels[k].1.speed_hz, levels[k + 1].1.speed_hz);
+            high > onset - window && low < onset + window && high - low > 0.25 * window
+        })
         .collect()
 }
 
@@ -275,6 +316,37 @@ mod tests {
         assert!((best - 594.0).abs() < 1.0, "{best}");
         assert!(burst(best) > 0.97 * burst(594.0));
         assert!(speeds.len() - 30 <= refine.max_added);
+    }
+
+    /// A step: no NSV below 300 Hz, 3 um from 300 Hz on, sampled every 100 Hz over
+    /// 0-1000 Hz (a sustained-onset window of 50 Hz). The stretches within 50 Hz of the
+    /// sustained onset are wider than a quarter window, so they are halved; the plateau
+    /// beyond is not.
+    #[test]
+    fn stretches_around_the_sustained_onset_are_halved() {
+        let refine = Refinement {
+            onset_levels_m: vec![1e-6],
+            ..Refinement::default()
+        };
+        // Rising slowly above the step, so the only local maximum (bisected towards by the
+        // first rule) is the last speed.
+        let step = |f: f64| if f >= 300.0 { 3e-6 + 1e-9 * f } else { 0.0 };
+        let (points, nsv): (Vec<_>, Vec<_>) = (0..=10)
+            .map(|k| 100.0 * k as f64)
+            .map(|f| point(f.max(1.0), step(f)))
+            .unzip();
+        let next: Vec<f64> = next_speeds(&points, &nsv, &refine, 4.0, 100)
+            .iter()
+            .map(|w| w / std::f64::consts::TAU)
+            .collect();
+        // 250 Hz: below the onset (200-300) and beside it; 350 Hz: after it (300-400).
+        assert!(next.iter().any(|f| (f - 250.0).abs() < 1e-9), "{next:?}");
+        assert!(next.iter().any(|f| (f - 350.0).abs() < 1e-9), "{next:?}");
+        // Nothing else but beside the largest NSV (900-1000 Hz).
+        assert!(
+            next.iter().all(|f| (200.0..=400.0).contains(f) || *f > 900.0),
+            "{next:?}"
+        );
     }
 
     #[test]

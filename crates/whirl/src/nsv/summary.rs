@@ -252,7 +252,7 @@ fn onset_at(settled: &[(usize, SpeedLevel)], level_m: f64) -> Option<Onset> {
 /// between neighbouring speeds counts by the trapezoid rule on "reaches the level" (whole
 /// when both ends do, half when one does), so the share converges as the grid is refined
 /// instead of depending on how many speeds a burst holds.
-fn sustained_onset(settled: &[(usize, SpeedLevel)], level_m: f64) -> Option<f64> {
+pub(super) fn sustained_onset(settled: &[(usize, SpeedLevel)], level_m: f64) -> Option<f64> {
     let levels: Vec<&SpeedLevel> = settled.iter().map(|(_, s)| s).collect();
     let (first, last) = (levels.first()?.speed_hz, levels.last()?.speed_hz);
     let window = SUSTAINED_WINDOW * (last - first);
