@@ -23,7 +23,9 @@ mod reduce;
 mod statics;
 mod time;
 
-pub use cascade::{cascade_map, full_map, nsv_amplitude, nsv_from_both_starts, waterfall};
+pub use cascade::{
+    cascade_map, default_map_top_hz, full_map, nsv_amplitude, nsv_from_both_starts, waterfall,
+};
 pub use frf::{critical_speed_map, frf};
 pub use reduce::{reduction_error, stable_steps};
 pub use statics::{roller_loads, static_response};

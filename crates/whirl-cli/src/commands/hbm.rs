@@ -789,6 +789,21 @@ fn harmonics_plot(result: &Sweep, node: usize, comparisons: &[Comparison]) -> Fi
     if top > 0.0 {
         figure.y_range = Some((1e-4 * top, 3.0 * top));
     }
+    // The line style, not the colour, tells stability: say so in the legend, in grey,
+    // when stability was computed.
+    if result.branch.points.iter().any(|p| p.stability.is_some()) {
+        let grey = Colour::Rgb(90, 90, 90);
+        for (label, style) in [
+            ("stable", Style::solid(grey)),
+            ("unstable (dashed)", Style::dashed(grey)),
+        ] {
+            figure.series.push(
+                Series::new(Vec::new(), Vec::new())
+                    .label(label)
+                    .style(style),
+            );
+        }
+    }
     if !comparisons.is_empty() {
         figure.series.push(
             Series::new(
