@@ -42,6 +42,8 @@ use whirl::post::Window;
 use whirl::time::Initial;
 use whirl::units::{parse_quantity, parse_range, Dimension};
 
+use whirl_plot::SpeedAxis;
+
 use super::{
     finish, hz, load, mode_count, node_index, positive_length, speeds, summary_head, time,
 };
@@ -213,27 +215,32 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let mut text = text(model, &result, &nsv, &checkpoint);
     let mut out = Output::begin(&out_dir)?;
     write_tables(&mut out, &result)?;
+    let common = &args.common;
     if let Some(starts) = &starts {
         summary["starts"] = starts_summary(starts, args.threshold);
         text.push_str(&starts_text(starts));
         write_starts(&mut out, starts)?;
+        let figure = plots::nsv_from_both_starts(&result, starts, args.threshold);
         out.plot("starts", |stem| {
-            plots::nsv_from_both_starts(&result, starts, args.threshold).save(stem)
+            common.speed_axis(figure, SpeedAxis::X).save(stem)
         })?;
     }
     out.plot("waterfall", |stem| plots::waterfall(&result).save(stem))?;
     let map_top = args
         .map_max_frequency
         .unwrap_or_else(|| plots::default_map_top_hz(&result));
+    let figure = plots::cascade_map(&result, args.threshold, map_top);
     out.plot("cascade_map", |stem| {
-        plots::cascade_map(&result, args.threshold, map_top).save(stem)
+        common.speed_axis(figure, SpeedAxis::X).save(stem)
     })?;
+    let figure = plots::nsv_amplitude(&result, args.threshold);
     out.plot("nsv", |stem| {
-        plots::nsv_amplitude(&result, args.threshold).save(stem)
+        common.speed_axis(figure, SpeedAxis::X).save(stem)
     })?;
     if args.full {
+        let figure = plots::full_map(&result, map_top);
         out.plot("full_map", |stem| {
-            plots::full_map(&result, map_top).save(stem)
+            common.speed_axis(figure, SpeedAxis::X).save(stem)
         })?;
     }
     finish(out, summary, text, &args.common)

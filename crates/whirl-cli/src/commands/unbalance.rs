@@ -17,6 +17,8 @@ use serde::Serialize;
 use whirl::fe::{assemble, Bearings};
 use whirl::response::{unbalance_response_refined, ResponsePeak, UnbalanceResult};
 
+use whirl_plot::SpeedAxis;
+
 use super::{
     finish, lib, load, node_index, report_nodes, speeds, Common, Head, Loaded, Outcome, Speeds,
 };
@@ -100,9 +102,18 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     ))?;
     let mut out = Output::begin(&args.common.out_dir("unbalance"))?;
     write_tables(&mut out, &result)?;
-    out.plot("bode", |stem| plots::bode(&result).save(stem))?;
+    let common = &args.common;
+    out.plot("bode", |stem| {
+        common
+            .speed_axis(plots::bode(&result), SpeedAxis::X)
+            .save(stem)
+    })?;
     out.plot("polar", |stem| plots::polar(&result).save(stem))?;
-    out.plot("orbit_major", |stem| plots::orbit_major(&result).save(stem))?;
+    out.plot("orbit_major", |stem| {
+        common
+            .speed_axis(plots::orbit_major(&result), SpeedAxis::X)
+            .save(stem)
+    })?;
     let text = text(&model.name, &nodes, &result);
     finish(out, summary(&loaded, &result), text, &args.common)
 }
