@@ -31,7 +31,7 @@ pub use cascade::{
 pub use frf::{critical_speed_map, frf};
 pub use reduce::{reduction_error, stable_steps};
 pub use statics::{roller_loads, static_response};
-pub use time::{contact_line, contact_zone};
+pub use time::{contact_line, contact_zone, load_zone};
 pub use time::{orbits, spectrum, time_history};
 
 /// At most this many panels of modes (a grid of 4 x 3).
