@@ -344,7 +344,8 @@ mod tests {
         assert!(next.iter().any(|f| (f - 350.0).abs() < 1e-9), "{next:?}");
         // Nothing else but beside the largest NSV (900-1000 Hz).
         assert!(
-            next.iter().all(|f| (200.0..=400.0).contains(f) || *f > 900.0),
+            next.iter()
+                .all(|f| (200.0..=400.0).contains(f) || *f > 900.0),
             "{next:?}"
         );
     }
