@@ -8,7 +8,9 @@
 use std::f64::consts::PI;
 
 use whirl::fe::{dof, Direction};
-use whirl::modal::{CampbellResult, ComplexMode, ConvergenceResult, UndampedModes, Whirl};
+use whirl::modal::{
+    CampbellResult, ComplexMode, ConvergenceResult, CriticalSpeed, UndampedModes, Whirl,
+};
 use whirl::model::Model;
 use whirl::response::UnbalanceResult;
 use whirl_plot::{
@@ -23,11 +25,13 @@ mod reduce;
 mod statics;
 mod time;
 
-pub use cascade::{cascade_map, full_map, nsv_amplitude, nsv_from_both_starts, waterfall};
+pub use cascade::{
+    cascade_map, default_map_top_hz, full_map, nsv_amplitude, nsv_from_both_starts, waterfall,
+};
 pub use frf::{critical_speed_map, frf};
 pub use reduce::{reduction_error, stable_steps};
 pub use statics::{roller_loads, static_response};
-pub use time::{contact_line, contact_zone};
+pub use time::{contact_line, contact_zone, load_zone};
 pub use time::{orbits, spectrum, time_history};
 
 /// At most this many panels of modes (a grid of 4 x 3).
@@ -357,61 +361,68 @@ pub fn campbell(model: &Model, result: &CampbellResult, labels: &[String]) -> Fi
         );
     }
     let top = if top > 0.0 { 1.08 * top } else { 1.0 };
+    let (x_lo, x_hi) = match (speeds.first(), speeds.last()) {
+        (Some(&a), Some(&b)) => (a, b),
+        _ => (0.0, 0.0),
+    };
     for (k, &order) in result.orders.iter().enumerate() {
-        let grey = 60 + 40 * (k as u8 % 4);
         fig.series.push(
             Series::new(speeds.clone(), speeds.iter().map(|s| order * s).collect())
                 .label(order_name(order))
-                .style(Style::solid(Colour::Rgb(grey, grey, grey)).width(1)),
+                .style(order_style(k)),
         );
+        // The name where the line leaves the plot, so it is read off the line itself.
+        let end = x_hi.min(0.97 * top / order);
+        if end > x_lo {
+            fig.annotations
+                .push(Annotation::new(end, order * end, order_name(order)));
+        }
     }
-    if !result.critical_speeds.is_empty() {
+    for (whirl, marker, label) in [
+        (
+            Whirl::Forward,
+            Marker::OpenCircle,
+            "critical speed, forward",
+        ),
+        (Whirl::Backward, Marker::Square, "critical speed, backward"),
+        (Whirl::Mixed, Marker::Cross, "critical speed, mixed whirl"),
+    ] {
         let (x, y): (Vec<f64>, Vec<f64>) = result
             .critical_speeds
             .iter()
+            .filter(|c| c.whirl == whirl)
             .map(|c| (c.speed_hz, c.frequency_hz))
             .unzip();
-        fig.series.push(
-            Series::new(x, y)
-                .label("critical speed")
-                .style(Style::markers(Colour::BLACK, Marker::OpenCircle).marker_size(6)),
-        );
-    }
-    // One label per cluster of nearby crossings (a forward and a backward branch crossing
-    // 1X a few Hz apart), so that labels do not print over each other.
-    let span = match (speeds.first(), speeds.last()) {
-        (Some(a), Some(b)) => b - a,
-        _ => 0.0,
-    };
-    let mut visible: Vec<_> = result
-        .critical_speeds
-        .iter()
-        .filter(|c| c.frequency_hz <= top)
-        .collect();
-    visible.sort_by(|a, b| a.speed_hz.total_cmp(&b.speed_hz));
-    let mut k = 0;
-    while k < visible.len() {
-        let first = visible[k];
-        let mut texts = vec![format!("{:.1}", first.speed_hz)];
-        let mut end = k + 1;
-        while end < visible.len() && visible[end].speed_hz - visible[end - 1].speed_hz < 0.04 * span
-        {
-            let t = format!("{:.1}", visible[end].speed_hz);
-            if !texts.contains(&t) {
-                texts.push(t);
-            }
-            end += 1;
+        if !x.is_empty() {
+            fig.series.push(
+                Series::new(x, y)
+                    .label(label)
+                    .style(Style::markers(Colour::BLACK, marker).marker_size(6)),
+            );
         }
-        let last = visible[end - 1];
+    }
+    for cluster in crossing_clusters(&result.critical_speeds, x_hi - x_lo, top) {
+        // One entry per printed speed, its whirl letters joined: "24.9 B/F".
+        let mut texts: Vec<(String, String)> = Vec::new();
+        for c in &cluster {
+            let (speed, letter) = (format!("{:.1}", c.speed_hz), whirl_letter(c.whirl));
+            match texts.iter_mut().find(|(s, _)| *s == speed) {
+                Some((_, letters)) if !letters.contains(letter) => {
+                    letters.push('/');
+                    letters.push_str(letter);
+                }
+                Some(_) => {}
+                None => texts.push((speed, letter.to_string())),
+            }
+        }
+        let texts: Vec<String> = texts.iter().map(|(s, l)| format!("{s} {l}")).collect();
+        let last = cluster[cluster.len() - 1];
+        let y = cluster.iter().map(|c| c.frequency_hz).fold(0.0, f64::max);
         fig.annotations.push(Annotation::new(
             last.speed_hz,
-            visible[k..end]
-                .iter()
-                .map(|c| c.frequency_hz)
-                .fold(0.0, f64::max),
+            y,
             format!("{} Hz", texts.join(" / ")),
         ));
-        k = end;
     }
     if let Some((_, hi)) = model.operating {
         let hi = hi / (2.0 * PI);
@@ -426,6 +437,50 @@ pub fn campbell(model: &Model, result: &CampbellResult, labels: &[String]) -> Fi
     }
     fig.legend = LegendPosition::UpperLeft;
     fig
+}
+
+/// The first order line (1X) solid and dark; higher orders dotted and lighter, so 1X and
+/// 2X differ in more than a shade of grey.
+fn order_style(k: usize) -> Style {
+    if k == 0 {
+        Style::solid(Colour::Rgb(30, 30, 30))
+    } else {
+        let grey = 70 + 30 * (k as u8 % 4);
+        Style {
+            line: Line::Dotted,
+            ..Style::solid(Colour::Rgb(grey, grey, grey))
+        }
+    }
+}
+
+fn whirl_letter(whirl: Whirl) -> &'static str {
+    match whirl {
+        Whirl::Forward => "F",
+        Whirl::Backward => "B",
+        Whirl::Mixed => "M",
+    }
+}
+
+/// Critical speeds below `top` (Hz) grouped for one label each: crossings within 4 % of the
+/// speed span and 4 % of the frequency axis of the previous one (a forward and a backward
+/// branch crossing 1X a few Hz apart), sorted by speed. Crossings near in speed but far
+/// apart in frequency (2X at 470 Hz, 1X at 250 Hz) get labels of their own.
+fn crossing_clusters(critical: &[CriticalSpeed], span: f64, top: f64) -> Vec<Vec<&CriticalSpeed>> {
+    let mut visible: Vec<&CriticalSpeed> =
+        critical.iter().filter(|c| c.frequency_hz <= top).collect();
+    visible.sort_by(|a, b| a.speed_hz.total_cmp(&b.speed_hz));
+    let mut clusters: Vec<Vec<&CriticalSpeed>> = Vec::new();
+    for c in visible {
+        let near = |d: &&CriticalSpeed| {
+            (c.speed_hz - d.speed_hz).abs() < 0.04 * span
+                && (c.frequency_hz - d.frequency_hz).abs() < 0.04 * top
+        };
+        match clusters.iter_mut().find(|cl| cl.iter().any(near)) {
+            Some(cluster) => cluster.push(c),
+            None => clusters.push(vec![c]),
+        }
+    }
+    clusters
 }
 
 /// Logarithmic decrement of each branch over speed.
@@ -644,4 +699,45 @@ pub fn orbit_major(result: &UnbalanceResult) -> Figure2d {
     }
     fig.legend = LegendPosition::MiddleRight;
     fig
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn crossing(speed_hz: f64, frequency_hz: f64, whirl: Whirl) -> CriticalSpeed {
+        CriticalSpeed {
+            speed_hz,
+            speed_rpm: 60.0 * speed_hz,
+            frequency_hz,
+            order: frequency_hz / speed_hz,
+            branch: 0,
+            whirl,
+            damping_ratio: 0.02,
+        }
+    }
+
+    #[test]
+    fn crossings_share_a_label_only_when_near_on_both_axes() {
+        // The reference rotor's Campbell diagram over 0-800 Hz up to 1000 Hz: 3B and 3F
+        // cross 2X at 233 and 235 Hz (470 Hz whirl); 2B and 2F cross 1X at 242 and 266 Hz
+        // (250 Hz whirl), 2 % and 3 % of the span further: near in speed, far in frequency.
+        let critical = [
+            crossing(233.3, 466.7, Whirl::Backward),
+            crossing(234.6, 469.1, Whirl::Forward),
+            crossing(242.5, 242.5, Whirl::Backward),
+            crossing(266.5, 266.5, Whirl::Forward),
+            crossing(727.8, 727.8, Whirl::Backward),
+            crossing(900.0, 1100.0, Whirl::Forward),
+        ];
+        let clusters = crossing_clusters(&critical, 800.0, 1000.0);
+        let speeds: Vec<Vec<f64>> = clusters
+            .iter()
+            .map(|c| c.iter().map(|x| x.speed_hz).collect())
+            .collect();
+        assert_eq!(
+            speeds,
+            vec![vec![233.3, 234.6], vec![242.5, 266.5], vec![727.8]]
+        );
+    }
 }

@@ -64,6 +64,42 @@ pub fn cascade_grid(sweep: &SweepResult, maps: &[Option<&CascadeMap>]) -> HeatMa
     grid
 }
 
+/// A swept model path in words for an axis, with the SI unit of its plain numbers (empty for
+/// counts and words): `roller_bearing[*].clearance` is "Radial clearance, every roller
+/// bearing", m.
+fn parameter_words(path: &str) -> (String, &'static str) {
+    let (owner, field) = path.rsplit_once('.').unwrap_or(("", path));
+    let (what, unit) = match field {
+        "clearance" => ("Radial clearance".to_string(), "m"),
+        "rollers" => ("Number of rollers".to_string(), ""),
+        "eccentricity" => ("Unbalance eccentricity".to_string(), "m"),
+        "mass_radius" => ("Unbalance (mass x radius)".to_string(), "kg m"),
+        "contact" => ("Contact law".to_string(), ""),
+        "contact_stiffness" => ("Contact stiffness".to_string(), "N/m^(10/9)"),
+        "density" => ("Density".to_string(), "kg/m^3"),
+        "young_modulus" => ("Young's modulus".to_string(), "Pa"),
+        other => (capitalised(&other.replace('_', " ")), "SI"),
+    };
+    let whose = match owner.split_once('[') {
+        Some((kind, "*]")) => format!(", every {}", kind.replace('_', " ")),
+        Some((kind, index)) => format!(
+            ", {} {}",
+            kind.replace('_', " "),
+            index.trim_end_matches(']')
+        ),
+        None if owner == "cascade" => ", cascade".to_string(),
+        None => String::new(),
+    };
+    (format!("{what}{whose}"), unit)
+}
+
+fn capitalised(text: &str) -> String {
+    let mut chars = text.chars();
+    chars
+        .next()
+        .map_or_else(String::new, |c| c.to_uppercase().chain(chars).collect())
+}
+
 /// The study's NSV metric versus the swept parameter, with the fitted polynomial, and the
 /// largest NSV beside it. Lengths are drawn in µm; other numbers in SI; words (contact
 /// laws) at positions 1, 2, ... with their names.
@@ -74,12 +110,13 @@ pub fn nsv_versus_parameter(sweep: &SweepResult, metric: Metric) -> Figure2d {
         .iter()
         .all(|v| parse_quantity(v, Dimension::Length).is_ok() && v.parse::<f64>().is_err());
     let numeric = sweep.values_si.iter().all(Option::is_some);
+    let (words, si_unit) = parameter_words(&sweep.parameter);
     let (scale, x_label) = if lengths {
-        (1e6, format!("{} [µm]", sweep.parameter))
-    } else if numeric {
-        (1.0, format!("{} [SI]", sweep.parameter))
+        (1e6, format!("{words} [µm]"))
+    } else if numeric && !si_unit.is_empty() {
+        (1.0, format!("{words} [{si_unit}]"))
     } else {
-        (1.0, sweep.parameter.clone())
+        (1.0, words)
     };
     let x: Vec<f64> = if numeric {
         sweep
@@ -138,4 +175,29 @@ pub fn nsv_versus_parameter(sweep: &SweepResult, metric: Metric) -> Figure2d {
         }
     }
     fig
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parameter_words;
+
+    #[test]
+    fn swept_paths_read_as_words() {
+        assert_eq!(
+            parameter_words("roller_bearing[*].clearance"),
+            ("Radial clearance, every roller bearing".to_string(), "m")
+        );
+        assert_eq!(
+            parameter_words("unbalance[0].eccentricity"),
+            ("Unbalance eccentricity, unbalance 0".to_string(), "m")
+        );
+        assert_eq!(
+            parameter_words("roller_bearing[1].rollers"),
+            ("Number of rollers, roller bearing 1".to_string(), "")
+        );
+        assert_eq!(
+            parameter_words("cascade.settle_max"),
+            ("Settle max, cascade".to_string(), "SI")
+        );
+    }
 }

@@ -53,6 +53,7 @@ mod heatmap;
 mod heatmap_grid;
 mod marker;
 mod render;
+mod rpm;
 mod series;
 mod style;
 
@@ -62,6 +63,7 @@ pub use font::{FONT_BYTES, FONT_FAMILY};
 pub use grid::Grid;
 pub use heatmap::HeatMap;
 pub use heatmap_grid::HeatMapGrid;
+pub use rpm::{SpeedAxis, SpeedInRpm, RPM_PER_HZ};
 pub use series::{LegendPosition, Series};
 pub use style::{Colour, Line, Marker, Style, PALETTE};
 

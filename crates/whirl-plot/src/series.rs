@@ -5,7 +5,7 @@ use plotters::prelude::*;
 
 use crate::axis::Axis;
 use crate::chart::{draw_error, font, Built};
-use crate::clip::{clip_polyline, Point};
+use crate::clip::{clip_polyline, split_sharp_turns, Point};
 use crate::marker::{LegendSample, MarkerElement, LEGEND_SAMPLE};
 use crate::style::{Line, Marker, Style};
 use crate::PlotError;
@@ -130,7 +130,17 @@ pub(crate) fn draw_all<'a, DB: DrawingBackend + 'a>(
             }
         };
         if style.line != Line::None {
-            for run in clip_polyline(points.iter().copied(), &rect) {
+            let clipped = clip_polyline(points.iter().copied(), &rect);
+            let coords = built.chart.as_coord_spec();
+            let to_px = |p: Point| {
+                let (x, y) = coords.translate(&p);
+                (f64::from(x), f64::from(y))
+            };
+            let runs: Vec<Vec<Point>> = clipped
+                .iter()
+                .flat_map(|run| split_sharp_turns(run, to_px))
+                .collect();
+            for run in runs {
                 let chart = &mut built.chart;
                 let anno = match style.line {
                     Line::Dashed => {

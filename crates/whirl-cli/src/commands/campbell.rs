@@ -15,6 +15,8 @@ use whirl::fe::{assemble, Bearings};
 use whirl::modal::{campbell, CampbellOptions, CampbellResult, Whirl};
 use whirl::model::Model;
 
+use whirl_plot::SpeedAxis;
+
 use super::{
     finish, lib, load, mode_count, speeds, whirl_labels, Common, Head, Loaded, Outcome, Speeds,
 };
@@ -117,7 +119,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let diagram = solve(&loaded.model, args)?;
     let mut out = Output::begin(&args.common.out_dir("campbell"))?;
     write_tables(&mut out, &diagram)?;
-    write_plots(&mut out, &loaded.model, &diagram)?;
+    write_plots(&mut out, &loaded.model, &diagram, &args.common)?;
     let text = text(&loaded.model, &diagram);
     finish(out, summary(&loaded, &diagram), text, &args.common)
 }
@@ -274,11 +276,18 @@ fn write_tables(out: &mut Output, diagram: &Diagram) -> miette::Result<()> {
     out.csv("critical_speeds.csv", &h, &rows)
 }
 
-fn write_plots(out: &mut Output, model: &Model, diagram: &Diagram) -> miette::Result<()> {
+fn write_plots(
+    out: &mut Output,
+    model: &Model,
+    diagram: &Diagram,
+    common: &Common,
+) -> miette::Result<()> {
+    let campbell = plots::campbell(model, &diagram.result, &diagram.labels);
     out.plot("campbell", |stem| {
-        plots::campbell(model, &diagram.result, &diagram.labels).save(stem)
+        common.speed_axis(campbell, SpeedAxis::X).save(stem)
     })?;
+    let log_decrement = plots::log_decrement(&diagram.result, &diagram.labels);
     out.plot("log_decrement", |stem| {
-        plots::log_decrement(&diagram.result, &diagram.labels).save(stem)
+        common.speed_axis(log_decrement, SpeedAxis::X).save(stem)
     })
 }

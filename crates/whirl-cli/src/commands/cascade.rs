@@ -10,7 +10,8 @@
 //! with `--full` also `full_cascade.csv` (signed frequency: forward whirl positive), and
 //! the plots `waterfall` (spectra stacked along speed, log amplitude), `cascade_map`
 //! (frequency over speed, colour = log amplitude, NSV peaks above the threshold marked),
-//! `nsv` (1X and NSV amplitude over speed by class) and with `--full` `full_map`; 1X, 2X,
+//! `nsv` (1X and NSV amplitude over speed by class) and with `--full` `full_map` (the maps
+//! up to `--map-max-frequency`, default twice the highest speed); 1X, 2X,
 //! 0.5X and N_b w_c lines are drawn on the maps and the waterfall. summary.json holds the
 //! NSV summary: onset speed above `--threshold`, largest NSV and where, dominant class.
 //!
@@ -40,6 +41,8 @@ use whirl::nsv::{
 use whirl::post::Window;
 use whirl::time::Initial;
 use whirl::units::{parse_quantity, parse_range, Dimension};
+
+use whirl_plot::SpeedAxis;
 
 use super::{
     finish, hz, load, mode_count, node_index, positive_length, speeds, summary_head, time,
@@ -128,6 +131,11 @@ pub struct Args {
     /// classes.
     #[arg(long, value_name = "LENGTH", default_value_t = DEFAULT_THRESHOLD_M, value_parser = positive_length, allow_hyphen_values = true)]
     pub threshold: f64,
+    /// Top of the frequency axis of the plots `cascade_map` and `full_map` (the CSV files
+    /// keep the whole band): `800Hz`, or a plain number in rad/s [default: 2 x the highest
+    /// speed, so 1X and 2X and the sub-synchronous whirl below them fill the map].
+    #[arg(long, value_name = "FREQ", value_parser = frequency, allow_hyphen_values = true)]
+    pub map_max_frequency: Option<f64>,
     /// Also the full spectrum of x + i y (forward whirl at positive, backward at negative
     /// frequency): full_cascade.csv and the plot full_map.
     #[arg(long)]
@@ -207,23 +215,33 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let mut text = text(model, &result, &nsv, &checkpoint);
     let mut out = Output::begin(&out_dir)?;
     write_tables(&mut out, &result)?;
+    let common = &args.common;
     if let Some(starts) = &starts {
         summary["starts"] = starts_summary(starts, args.threshold);
         text.push_str(&starts_text(starts));
         write_starts(&mut out, starts)?;
+        let figure = plots::nsv_from_both_starts(&result, starts, args.threshold);
         out.plot("starts", |stem| {
-            plots::nsv_from_both_starts(&result, starts, args.threshold).save(stem)
+            common.speed_axis(figure, SpeedAxis::X).save(stem)
         })?;
     }
     out.plot("waterfall", |stem| plots::waterfall(&result).save(stem))?;
+    let map_top = args
+        .map_max_frequency
+        .unwrap_or_else(|| plots::default_map_top_hz(&result));
+    let figure = plots::cascade_map(&result, args.threshold, map_top);
     out.plot("cascade_map", |stem| {
-        plots::cascade_map(&result, args.threshold).save(stem)
+        common.speed_axis(figure, SpeedAxis::X).save(stem)
     })?;
+    let figure = plots::nsv_amplitude(&result, args.threshold);
     out.plot("nsv", |stem| {
-        plots::nsv_amplitude(&result, args.threshold).save(stem)
+        common.speed_axis(figure, SpeedAxis::X).save(stem)
     })?;
     if args.full {
-        out.plot("full_map", |stem| plots::full_map(&result).save(stem))?;
+        let figure = plots::full_map(&result, map_top);
+        out.plot("full_map", |stem| {
+            common.speed_axis(figure, SpeedAxis::X).save(stem)
+        })?;
     }
     finish(out, summary, text, &args.common)
 }

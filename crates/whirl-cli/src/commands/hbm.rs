@@ -34,7 +34,7 @@ use whirl::hbm::{
 };
 use whirl::model::Model;
 
-use whirl_plot::{Colour, Figure2d, LegendPosition, Marker, RefLine, Series, Style};
+use whirl_plot::{Colour, Figure2d, LegendPosition, Marker, RefLine, Series, SpeedAxis, Style};
 
 use super::{
     finish, hz, lib, load, mode_count, report_nodes, speed, speeds, summary_head, time, Common,
@@ -221,11 +221,16 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let mut out = Output::begin(&args.common.out_dir("hbm"))?;
     write_branch(&mut out, &result, &nodes)?;
     write_bifurcations(&mut out, &result)?;
+    let common = &args.common;
     let figure = harmonics_plot(&result, nodes[0], &comparisons);
-    out.plot("harmonics", |p| figure.save(p))?;
+    out.plot("harmonics", |p| {
+        common.speed_axis(figure, SpeedAxis::X).save(p)
+    })?;
     if options.stability {
         let figure = stability_plot(&result);
-        out.plot("stability", |p| figure.save(p))?;
+        out.plot("stability", |p| {
+            common.speed_axis(figure, SpeedAxis::X).save(p)
+        })?;
     }
     if !comparisons.is_empty() {
         write_comparisons(&mut out, &result, &comparisons)?;
@@ -233,7 +238,9 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     if !study.is_empty() {
         write_study(&mut out, &study, nodes[0])?;
         let figure = study_plot(&study, nodes[0]);
-        out.plot("harmonics_study", |p| figure.save(p))?;
+        out.plot("harmonics_study", |p| {
+            common.speed_axis(figure, SpeedAxis::X).save(p)
+        })?;
     }
     finish(out, summary, text, &args.common)
 }
@@ -788,6 +795,21 @@ fn harmonics_plot(result: &Sweep, node: usize, comparisons: &[Comparison]) -> Fi
         .fold(0.0f64, f64::max);
     if top > 0.0 {
         figure.y_range = Some((1e-4 * top, 3.0 * top));
+    }
+    // The line style, not the colour, tells stability: say so in the legend, in grey,
+    // when stability was computed.
+    if result.branch.points.iter().any(|p| p.stability.is_some()) {
+        let grey = Colour::Rgb(90, 90, 90);
+        for (label, style) in [
+            ("stable", Style::solid(grey)),
+            ("unstable (dashed)", Style::dashed(grey)),
+        ] {
+            figure.series.push(
+                Series::new(Vec::new(), Vec::new())
+                    .label(label)
+                    .style(style),
+            );
+        }
     }
     if !comparisons.is_empty() {
         figure.series.push(

@@ -25,6 +25,7 @@ use serde_json::Value;
 use whirl::modal::Whirl;
 use whirl::model::Model;
 use whirl::units::{parse_quantity, parse_range, Dimension};
+use whirl_plot::{SpeedAxis, SpeedInRpm};
 
 use crate::error::{from_whirl, Diag};
 use crate::output::Output;
@@ -42,12 +43,24 @@ pub struct Common {
     /// Print summary.json to stdout instead of the text summary (the folder is still written).
     #[arg(long)]
     pub json: bool,
+    /// Speed axes of the plots in rpm instead of Hz (the tables keep Hz).
+    #[arg(long)]
+    pub rpm: bool,
 }
 
 impl Common {
     /// The output folder of `command`.
     pub fn out_dir(&self, command: &str) -> PathBuf {
         out_or_default(&self.out, command)
+    }
+
+    /// `figure` with its speed axis `axis` in rpm when `--rpm` was given.
+    pub fn speed_axis<F: SpeedInRpm>(&self, figure: F, axis: SpeedAxis) -> F {
+        if self.rpm {
+            figure.speed_in_rpm(axis)
+        } else {
+            figure
+        }
     }
 }
 

@@ -13,6 +13,8 @@ use serde_json::{json, Value};
 use whirl::modal::critical_speed_map;
 use whirl::model::Model;
 
+use whirl_plot::SpeedAxis;
+
 use super::{finish, lib, load, mode_count, summary_head, Common, Outcome};
 use crate::output::{header, num, opt, Output};
 use crate::plots;
@@ -192,7 +194,9 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         .collect();
     out.csv("bearings.csv", &h, &rows)?;
     out.plot("ucs", |stem| {
-        plots::critical_speed_map(model, &map).save(stem)
+        args.common
+            .speed_axis(plots::critical_speed_map(model, &map), SpeedAxis::Y)
+            .save(stem)
     })?;
     finish(out, Value::Object(s), text, &args.common)
 }

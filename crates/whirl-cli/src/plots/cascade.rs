@@ -129,12 +129,35 @@ pub fn waterfall(c: &Cascade) -> Figure2d {
     fig
 }
 
-/// A heat map of `column(point)` over the completed speeds, log colour over [`DECADES`].
-fn map(c: &Cascade, frequency_hz: &[f64], column: impl Fn(&CascadePoint) -> &[f64]) -> HeatMap {
+/// Top of the maps' frequency axis as a multiple of the highest speed: the band the
+/// cascade searches reaches to the contact frequencies (3.4 kHz on the reference rotor),
+/// where a 50 Hz whip is a sliver at the bottom edge; twice the speed keeps 1X, 2X and
+/// everything below them.
+const MAP_TOP_ORDER: f64 = 2.0;
+
+/// The default top of the maps' frequency axis, Hz: [`MAP_TOP_ORDER`] times the highest
+/// speed, within the band computed.
+pub fn default_map_top_hz(c: &Cascade) -> f64 {
+    let fastest = c.points.iter().map(|p| p.speed_hz).fold(0.0, f64::max);
+    (MAP_TOP_ORDER * fastest).min(c.resolved.max_frequency_hz)
+}
+
+/// A heat map of `column(point)` over the completed speeds, log colour over [`DECADES`],
+/// for the frequencies within `top_hz` of zero.
+fn map(
+    c: &Cascade,
+    frequency_hz: &[f64],
+    top_hz: f64,
+    column: impl Fn(&CascadePoint) -> &[f64],
+) -> HeatMap {
     let points = ascending(c);
     let speeds: Vec<f64> = points.iter().map(|p| p.speed_hz).collect();
-    let z: Vec<Vec<f64>> = (0..frequency_hz.len())
-        .map(|j| {
+    let rows: Vec<usize> = (0..frequency_hz.len())
+        .filter(|&j| frequency_hz[j].abs() <= top_hz)
+        .collect();
+    let z: Vec<Vec<f64>> = rows
+        .iter()
+        .map(|&j| {
             points
                 .iter()
                 .map(|p| column(p).get(j).copied().unwrap_or(f64::NAN))
@@ -155,7 +178,7 @@ fn map(c: &Cascade, frequency_hz: &[f64], column: impl Fn(&CascadePoint) -> &[f6
         "Frequency [Hz]",
         "Amplitude [m]",
     )
-    .with_data(speeds, frequency_hz.to_vec(), z);
+    .with_data(speeds, rows.iter().map(|&j| frequency_hz[j]).collect(), z);
     m.log_colour = true;
     if top > 0.0 {
         m.z_range = Some((top * 10f64.powf(-DECADES), top));
@@ -164,10 +187,10 @@ fn map(c: &Cascade, frequency_hz: &[f64], column: impl Fn(&CascadePoint) -> &[f6
     m
 }
 
-/// Frequency over speed, colour = log amplitude; order lines; the NSV peaks at or above
-/// `threshold` (m) marked.
-pub fn cascade_map(c: &Cascade, threshold: f64) -> HeatMap {
-    let mut m = map(c, &c.frequency_hz, |p| &p.amplitude);
+/// Frequency up to `top_hz` over speed, colour = log amplitude; order lines; the NSV peaks
+/// at or above `threshold` (m) marked.
+pub fn cascade_map(c: &Cascade, threshold: f64, top_hz: f64) -> HeatMap {
+    let mut m = map(c, &c.frequency_hz, top_hz, |p| &p.amplitude);
     m.overlays = order_lines(c, &m.x, 1.0, false);
     let (x, y): (Vec<f64>, Vec<f64>) = c
         .nsv
@@ -184,9 +207,10 @@ pub fn cascade_map(c: &Cascade, threshold: f64) -> HeatMap {
     m
 }
 
-/// The full spectrum of x + i y over speed: forward whirl above zero, backward below.
-pub fn full_map(c: &Cascade) -> HeatMap {
-    let mut m = map(c, &c.full_frequency_hz, |p| &p.full_amplitude);
+/// The full spectrum of x + i y over speed, frequencies within `top_hz` of zero: forward
+/// whirl above zero, backward below.
+pub fn full_map(c: &Cascade, top_hz: f64) -> HeatMap {
+    let mut m = map(c, &c.full_frequency_hz, top_hz, |p| &p.full_amplitude);
     m.title = format!(
         "Full spectrum of node {}: forward whirl above 0 Hz, backward below",
         c.options.node

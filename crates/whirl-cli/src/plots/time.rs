@@ -5,7 +5,9 @@ use std::f64::consts::PI;
 use std::ops::Range;
 
 use whirl::time::{RollerRecord, SimulationResult};
-use whirl_plot::{Colour, Figure2d, Grid, LegendPosition, Line, Marker, RefLine, Series, Style};
+use whirl_plot::{
+    Annotation, Colour, Figure2d, Grid, LegendPosition, Line, Marker, RefLine, Series, Style,
+};
 
 use super::{grid_shape, um};
 use crate::commands::campbell::order_name;
@@ -274,22 +276,7 @@ pub fn contact_zone(record: &RollerRecord, range: Range<usize>, clearance: f64) 
             1e6 * clearance
         );
     }
-    let stride = (range.len() * record.rollers).div_ceil(ZONE_POINTS).max(1);
-    let (mut x, mut y) = (Vec::new(), Vec::new());
-    for i in range.step_by(stride) {
-        for j in 0..record.rollers {
-            if !record.in_contact(i, j) {
-                continue;
-            }
-            let k = i * record.rollers + j;
-            x.push(record.angle[k].to_degrees().rem_euclid(360.0));
-            y.push(if forces {
-                record.force[k]
-            } else {
-                1e6 * record.approach[k]
-            });
-        }
-    }
+    let (x, y) = zone_samples(record, range);
     fig.series.push(Series::new(x, y).style(Style {
         line: Line::None,
         ..Style::markers(Colour::Palette(0), Marker::Circle).marker_size(2)
@@ -301,9 +288,146 @@ pub fn contact_zone(record: &RollerRecord, range: Range<usize>, clearance: f64) 
     fig
 }
 
+/// Angles (degrees in 0-360) and loads (roller force, N, or without per-roller forces the
+/// penetration, µm) of the rollers in contact over `range`, at most about [`ZONE_POINTS`].
+fn zone_samples(record: &RollerRecord, range: Range<usize>) -> (Vec<f64>, Vec<f64>) {
+    let forces = record.has_forces();
+    let stride = (range.len() * record.rollers).div_ceil(ZONE_POINTS).max(1);
+    let (mut angle, mut load) = (Vec::new(), Vec::new());
+    for i in range.step_by(stride) {
+        for j in 0..record.rollers {
+            if !record.in_contact(i, j) {
+                continue;
+            }
+            let k = i * record.rollers + j;
+            angle.push(record.angle[k].to_degrees().rem_euclid(360.0));
+            load.push(if forces {
+                record.force[k]
+            } else {
+                1e6 * record.approach[k]
+            });
+        }
+    }
+    (angle, load)
+}
+
+/// Width of the sectors whose largest load draws the load zone's outline, degrees.
+const ZONE_SECTOR_DEG: f64 = 5.0;
+
+/// The load zone as bearing engineers draw it: around the bearing (x horizontal, y up, so
+/// 270 degrees is the bottom) each roller contact at the distance of its load from the
+/// centre, the largest load of each 5-degree sector joined into an outline, circles of
+/// equal load and the four quadrant directions.
+pub fn load_zone(record: &RollerRecord, range: Range<usize>) -> Figure2d {
+    let forces = record.has_forces();
+    let unit = if forces { "N" } else { "µm" };
+    let (angle, load) = zone_samples(record, range);
+    let mut fig = Figure2d::new(
+        format!(
+            "Load zone of {}: roller {} by angle (x horizontal, y up)",
+            record.name,
+            if forces { "force" } else { "penetration" }
+        ),
+        format!("Horizontal [{unit}]"),
+        format!("Vertical [{unit}]"),
+    );
+    fig.equal_aspect = true;
+    let polar = |deg: f64, r: f64| {
+        let t = deg.to_radians();
+        (r * t.cos(), r * t.sin())
+    };
+    let sectors = (360.0 / ZONE_SECTOR_DEG).round() as usize;
+    let mut largest = vec![0.0f64; sectors];
+    for (&a, &l) in angle.iter().zip(&load) {
+        let k = ((a / ZONE_SECTOR_DEG) as usize).min(sectors - 1);
+        largest[k] = largest[k].max(l);
+    }
+    let top = largest.iter().copied().fold(0.0, f64::max);
+    let step = round_step(top);
+    let grey = Colour::Rgb(150, 150, 150);
+    let decimals = (-step.log10().floor()).max(0.0) as usize;
+    for level in (1..)
+        .map(|k| k as f64 * step)
+        .take_while(|&l| l <= top * 1.0001)
+    {
+        let (x, y) = (0..=72).map(|k| polar(5.0 * k as f64, level)).unzip();
+        fig.series
+            .push(Series::new(x, y).style(Style::solid(grey).width(1)));
+        fig.annotations.push(Annotation::new(
+            0.0,
+            level,
+            format!("{level:.decimals$} {unit}"),
+        ));
+    }
+    let reach = top.max(step) * 1.1;
+    for (deg, name) in [
+        (0.0, "0°"),
+        (90.0, "90°"),
+        (180.0, "180°"),
+        (270.0, "270° bottom"),
+    ] {
+        let (x, y) = polar(deg, reach);
+        fig.series
+            .push(Series::new(vec![0.0, x], vec![0.0, y]).style(Style::dashed(grey).width(1)));
+        fig.annotations.push(Annotation::new(x, y, name));
+    }
+    let (x, y) = angle.iter().zip(&load).map(|(&a, &l)| polar(a, l)).unzip();
+    fig.series.push(
+        Series::new(x, y)
+            .label("each roller contact")
+            .style(Style::markers(Colour::Palette(0), Marker::Circle).marker_size(2)),
+    );
+    let (x, y) = (0..=sectors)
+        .map(|k| {
+            polar(
+                (k % sectors) as f64 * ZONE_SECTOR_DEG + 0.5 * ZONE_SECTOR_DEG,
+                largest[k % sectors],
+            )
+        })
+        .unzip();
+    fig.series.push(
+        Series::new(x, y)
+            .label(format!("largest in each {ZONE_SECTOR_DEG}° sector"))
+            .style(Style::solid(Colour::Palette(1))),
+    );
+    fig.x_range = Some((-reach * 1.15, reach * 1.15));
+    fig.y_range = Some((-reach * 1.15, reach * 1.15));
+    fig.legend = LegendPosition::UpperRight;
+    fig
+}
+
+/// A round spacing (1, 2 or 5 times a power of ten) that puts two to five circles up to
+/// `top`.
+fn round_step(top: f64) -> f64 {
+    if !(top > 0.0 && top.is_finite()) {
+        return 1.0;
+    }
+    let decade = 10f64.powf((top / 2.0).log10().floor());
+    [5.0, 2.0, 1.0]
+        .into_iter()
+        .map(|m| m * decade)
+        .find(|&s| top / s >= 2.0)
+        .unwrap_or(decade)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn load_circles_are_round_and_two_to_five() {
+        for (top, step) in [
+            (1.0, 0.5),
+            (171.0, 50.0),
+            (9.0, 2.0),
+            (2.0, 1.0),
+            (4.5, 2.0),
+        ] {
+            assert_eq!(round_step(top), step, "{top}");
+            let circles = (top / step).floor();
+            assert!((2.0..=5.0).contains(&circles), "{top}: {circles}");
+        }
+    }
 
     #[test]
     fn envelope_keeps_extremes_in_time_order() {

@@ -3,7 +3,8 @@
 //! - [`frf`]: receptance, mobility and accelerance between any two DOFs at a spin speed,
 //!   and [`harmonic_response`] to harmonic forces of any frequency.
 //! - [`unbalance_response`]: the steady synchronous response to unbalance over a speed
-//!   range, with peaks, amplification factors and API 617 separation margins.
+//!   range, with peaks, amplification factors and API 617 separation margins;
+//!   [`unbalance_response_refined`] adds speeds near the peaks so they are resolved.
 
 mod frf;
 mod peaks;
@@ -11,4 +12,6 @@ mod unbalance;
 
 pub use frf::{frf, harmonic_response, FrfChannel, FrfKind, FrfResult};
 pub use peaks::{margins_not_applicable, separation_margin, ResponsePeak, API617_MIN_SPEED_RATIO};
-pub use unbalance::{unbalance_response, NodeResponse, UnbalanceResult};
+pub use unbalance::{
+    unbalance_response, unbalance_response_refined, NodeResponse, UnbalanceResult, BAND_SAMPLES,
+};

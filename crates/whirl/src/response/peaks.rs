@@ -76,6 +76,19 @@ fn crossing(x: &[f64], y: &[f64], a: usize, b: usize, level: f64) -> f64 {
     x[a] + t * (x[b] - x[a])
 }
 
+/// Whether sample `k` (not the first or last) is a local maximum: strictly higher than its
+/// left neighbour and not lower than its right one.
+pub(crate) fn is_peak(y: &[f64], k: usize) -> bool {
+    y[k] > y[k - 1] && y[k] >= y[k + 1]
+}
+
+/// The nearest samples on either side of the peak at `k` that lie below `level`, if any.
+pub(crate) fn samples_below(y: &[f64], k: usize, level: f64) -> (Option<usize>, Option<usize>) {
+    let below = (0..k).rev().find(|&j| y[j] < level);
+    let above = (k + 1..y.len()).find(|&j| y[j] < level);
+    (below, above)
+}
+
 /// Local maxima of `y` over `x` (strictly higher than both neighbours), with their
 /// half-power bands and margins (only the required margin when there is no operating range,
 /// or one for which margins are not applicable).
@@ -83,18 +96,14 @@ pub(crate) fn find_peaks(x: &[f64], y: &[f64], operating: Option<(f64, f64)>) ->
     let operating = operating.filter(|&range| margins_not_applicable(range).is_none());
     let mut peaks = Vec::new();
     for k in 1..y.len().saturating_sub(1) {
-        if !(y[k] > y[k - 1] && y[k] >= y[k + 1]) {
+        if !is_peak(y, k) {
             continue;
         }
         let (xc, yc) = refine_peak(x, y, k);
         let level = yc / std::f64::consts::SQRT_2;
-        let left = (0..k)
-            .rev()
-            .find(|&j| y[j] < level)
-            .map(|j| crossing(x, y, j, j + 1, level));
-        let right = (k + 1..y.len())
-            .find(|&j| y[j] < level)
-            .map(|j| crossing(x, y, j - 1, j, level));
+        let (below, above) = samples_below(y, k, level);
+        let left = below.map(|j| crossing(x, y, j, j + 1, level));
+        let right = above.map(|j| crossing(x, y, j - 1, j, level));
         let band = left.zip(right);
         let af = band.map(|(n1, n2)| xc / (n2 - n1));
         let (required, actual, meets) = match (af, operating) {

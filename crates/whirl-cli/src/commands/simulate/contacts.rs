@@ -11,6 +11,8 @@
 //!   roller is in contact, over the first [`CONTACT_LINE_CAGE_TURNS`] cage revolutions of
 //!   the settled part.
 //! - `contact_zone_<bearing>`: roller force versus roller angle over the settled part.
+//! - `load_zone_<bearing>`: the same as a polar load zone around the bearing, with the
+//!   largest load of each 5-degree sector as its outline.
 //! - summary.json `bearings`: rollers in contact (most, fewest, mean), largest penetration
 //!   and roller force over the settled part and over the whole run, and each predicted
 //!   frequency with the largest spectral peak of the bearing node's channels within
@@ -319,6 +321,9 @@ pub fn write(
         })?;
         out.plot(&format!("contact_zone_{}", b.stem), |stem| {
             plots::contact_zone(r, b.settled_range.clone(), b.clearance).save(stem)
+        })?;
+        out.plot(&format!("load_zone_{}", b.stem), |stem| {
+            plots::load_zone(r, b.settled_range.clone()).save(stem)
         })?;
     }
     Ok(())
