@@ -18,10 +18,10 @@
 //! step is tried again. The fit has converged when the step is round-off small, or when no
 //! step, however short, lowers the cost.
 
-use faer::linalg::solvers::Solve;
 use faer::Mat;
 
 use crate::error::{Error, Result};
+use crate::linalg::{dot_in_order, solve_dense};
 
 /// Iterations before giving up.
 const MAX_ITERATIONS: usize = 200;
@@ -164,14 +164,13 @@ fn damped_step(hessian: &Mat<f64>, gradient: &[f64], lambda: f64) -> Option<Vec<
     let damped = Mat::from_fn(m, m, |a, b| {
         hessian[(a, b)] + if a == b { lambda } else { 0.0 }
     });
-    let mut rhs = Mat::from_fn(m, 1, |a, _| -gradient[a]);
-    damped.partial_piv_lu().solve_in_place(rhs.as_mut());
-    let step: Vec<f64> = (0..m).map(|a| rhs[(a, 0)]).collect();
-    step.iter().all(|d| d.is_finite()).then_some(step)
+    let descent: Vec<f64> = gradient.iter().map(|g| -g).collect();
+    solve_dense(&damped, &descent)
 }
 
+/// |r|^2.
 fn squared_norm(r: &[f64]) -> f64 {
-    r.iter().map(|x| x * x).sum()
+    dot_in_order(r, r)
 }
 
 #[cfg(test)]

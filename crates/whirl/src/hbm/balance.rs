@@ -22,6 +22,7 @@ use super::fourier::{cos_slot, sin_slot, slot_basis, Aft};
 use super::HbOptions;
 use crate::error::{Error, Result};
 use crate::force::Kinematics;
+use crate::linalg::{add_product, norm, solve_dense};
 use crate::system::System;
 
 /// A converged periodic solution.
@@ -503,21 +504,6 @@ fn derivative_coefficient(slot: usize, frequency: f64, at: impl Fn(usize) -> f64
     }
 }
 
-/// out += alpha A x.
-fn add_product(a: &Mat<f64>, alpha: f64, x: &[f64], out: &mut [f64]) {
-    if alpha == 0.0 {
-        return;
-    }
-    for (i, o) in out.iter_mut().enumerate() {
-        *o += alpha * (0..x.len()).map(|j| a[(i, j)] * x[j]).sum::<f64>();
-    }
-}
-
-/// Euclidean norm.
-pub(crate) fn norm(v: &[f64]) -> f64 {
-    v.iter().map(|x| x * x).sum::<f64>().sqrt()
-}
-
 /// |R| / scale; zero when every term vanishes (no load, no motion).
 pub(crate) fn relative(residual: &Residual) -> f64 {
     let r = norm(&residual.values);
@@ -581,14 +567,6 @@ pub(crate) fn line_search(
         }
     }
     (best.0, best.1)
-}
-
-/// Solves A y = b by LU with partial pivoting; `None` when the solution is not finite.
-pub(crate) fn solve_dense(a: &Mat<f64>, b: &[f64]) -> Option<Vec<f64>> {
-    let mut y = Mat::<f64>::from_fn(b.len(), 1, |i, _| b[i]);
-    faer::linalg::solvers::Solve::solve_in_place(&a.partial_piv_lu(), y.as_mut());
-    let y: Vec<f64> = (0..b.len()).map(|i| y[(i, 0)]).collect();
-    y.iter().all(|v| v.is_finite()).then_some(y)
 }
 
 #[cfg(test)]

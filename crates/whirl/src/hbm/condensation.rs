@@ -24,9 +24,7 @@
 
 use faer::Mat;
 
-use super::balance::{
-    line_search, norm, relative, solve_dense, Residual, FULL_STEPS, LINE_SEARCH_HALVINGS,
-};
+use super::balance::{line_search, relative, Residual, FULL_STEPS, LINE_SEARCH_HALVINGS};
 use super::fourier::{cos_slot, sin_slot};
 use super::stability::{hill_problem, HillProblem, Stability};
 use super::{HarmonicBalance, HbOptions, HbSolution};
@@ -34,6 +32,7 @@ use crate::error::{Error, Result};
 use crate::fe::SystemMatrices;
 use crate::force::{Kinematics, NonlinearForce};
 use crate::linalg::banded::BandedLu;
+use crate::linalg::{multiply, norm, solve_dense};
 use crate::reduce::CraigBampton;
 use crate::system::System;
 
@@ -664,11 +663,4 @@ fn bandwidth(problem: &System, dofs: &[usize]) -> usize {
         }
     }
     width
-}
-
-/// out = A x.
-fn multiply(a: &Mat<f64>, x: &[f64], out: &mut [f64]) {
-    for (i, o) in out.iter_mut().enumerate() {
-        *o = (0..x.len()).map(|j| a[(i, j)] * x[j]).sum();
-    }
 }

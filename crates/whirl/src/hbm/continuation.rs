@@ -22,14 +22,14 @@
 //! extremum of the cubic Hermite interpolant of w(s) between the two points stands in.
 
 use super::balance::{
-    line_search, norm, relative, solve_dense, HarmonicBalance, HbSolution, Residual, FULL_STEPS,
-    LINE_SEARCH_HALVINGS,
+    line_search, relative, HarmonicBalance, HbSolution, Residual, FULL_STEPS, LINE_SEARCH_HALVINGS,
 };
 use super::bifurcation::{locate_bifurcations, Bifurcation};
 use super::condensation::CondensedBalance;
 use super::stability::{hill_problem, HillProblem, Stability};
 use super::HbOptions;
 use crate::error::{Error, Result};
+use crate::linalg::{difference, dot_in_order as dot, norm, solve_dense};
 use faer::Mat;
 use std::sync::{mpsc, Mutex, PoisonError};
 
@@ -1002,10 +1002,6 @@ pub(super) fn arclength_frame(
     Ok((y0, t0, length, scaling))
 }
 
-fn difference(a: &[f64], b: &[f64]) -> Vec<f64> {
-    a.iter().zip(b).map(|(x, y)| x - y).collect()
-}
-
 /// The extreme value of the cubic Hermite interpolant on [0, h] with end values w0, w1 and
 /// end slopes m0, m1 of opposite signs, where its derivative vanishes.
 fn hermite_extremum(w0: f64, w1: f64, m0: f64, m1: f64, h: f64) -> f64 {
@@ -1030,10 +1026,6 @@ fn hermite_extremum(w0: f64, w1: f64, m0: f64, m1: f64, h: f64) -> f64 {
         + h * (u3 - 2.0 * u2 + u) * m0
         + (-2.0 * u3 + 3.0 * u2) * w1
         + h * (u3 - u2) * m1
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 #[cfg(test)]

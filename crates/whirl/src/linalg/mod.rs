@@ -2,9 +2,13 @@
 //! products and factorisations that vectorise and allocate nothing inside the time-step
 //! loop ([`Dense`], [`Columns`], [`Band`], [`BandLu`], [`Factors`]), the pivoting band LU of
 //! harmonic balance's condensation ([`banded::BandedLu`]), and the one cost model that
-//! chooses between dense and banded steps ([`Layout`]).
+//! chooses between dense and banded steps ([`Layout`]), and the plain dense kernels of the
+//! Newton solvers (`norm`, `multiply`, `solve_dense`, ...).
 
 pub(crate) mod banded;
+mod dense;
+
+pub(crate) use dense::{add_product, difference, multiply, norm, solve_dense};
 
 use faer::traits::pulp::Arch;
 use faer::Mat;

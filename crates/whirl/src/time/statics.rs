@@ -32,7 +32,7 @@ use faer::Mat;
 
 use crate::error::{Error, Result};
 use crate::force::Kinematics;
-use crate::linalg::{bandwidths, dot_in_order as dot, solve_small, Factors};
+use crate::linalg::{bandwidths, dot_in_order as dot, norm, solve_small, Factors};
 use crate::system::{NlScratch, System};
 
 /// Scale of mu, a squared circular frequency, (rad/s)^2. The first regularised step uses
@@ -350,8 +350,4 @@ fn condensed_mass(mass: &Mat<f64>, dofs: &[usize], others: &[usize], columns: &[
         }
     }
     out
-}
-
-fn norm(r: &[f64]) -> f64 {
-    dot(r, r).sqrt()
 }
