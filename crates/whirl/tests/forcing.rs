@@ -10,7 +10,7 @@ use whirl::fe::Bearings;
 use whirl::force::{ForceBuilder, Kinematics, NonlinearForce};
 use whirl::model::{Clearance, ForcingFunction, Model, RollerBearing};
 use whirl::post::order_component;
-use whirl::time::forcing_fit::STEP_FRACTION;
+use whirl::time::STABLE_FRACTION;
 use whirl::time::{fit_forcing, ForcingFitOptions};
 use whirl::time::{
     simulate_with, stable_step_with, Initial, Method, SimulationOptions, SpeedProfile,
@@ -218,7 +218,7 @@ fn a_fitted_law_reproduces_the_hertz_1x_response() {
     let limit = |forces: ForceBuilder<'_>| {
         stable_step_with(&model, Some(12), Bearings::NonlinearApart, forces).unwrap()
     };
-    let step = STEP_FRACTION * limit(&hertz_bearings).min(limit(&forcing_bearings));
+    let step = STABLE_FRACTION * limit(&hertz_bearings).min(limit(&forcing_bearings));
     // 150 Hz: 1X within 2 % (measured +0.1 % in u_x, +0.8 % in u_y). 350 Hz lies in the
     // disk's anti-resonance, where the 1X (4.4 um) is a tenth of that at the neighbouring
     // resonance and most sensitive to the bearing: measured -2.5 % in both directions,

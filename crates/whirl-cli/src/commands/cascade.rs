@@ -35,11 +35,12 @@ use whirl::model::Model;
 use whirl::nsv::{
     cascade, checkpoint, compare_starts, other_start_options, Cascade, CascadeOptions,
     CascadeProgress, Component, NsvSummary, StartComparison, DEFAULT_MAX_ADDED,
-    DEFAULT_MAX_RECORDS, DEFAULT_MODES, DEFAULT_RELATIVE_ERROR, DEFAULT_THRESHOLD_M,
-    DEFAULT_TOLERANCE_BINS, STARTS_DIFFER_SIGMAS,
+    DEFAULT_MAX_RECORDS, DEFAULT_RELATIVE_ERROR, DEFAULT_THRESHOLD_M, DEFAULT_TOLERANCE_BINS,
+    STARTS_DIFFER_SIGMAS,
 };
 use whirl::post::Window;
 use whirl::time::Initial;
+use whirl::time::DEFAULT_MODES;
 use whirl::units::{parse_quantity, parse_range, Dimension};
 
 use whirl_plot::SpeedAxis;

@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 use serde_json::{json, Value};
 use whirl::bearing::valid_up_to;
 use whirl::model::{ForcingFunction, Model};
-use whirl::time::{fit_forcing, ForcingFit, ForcingFitOptions};
+use whirl::time::{fit_forcing, ForcingFit, ForcingFitOptions, DEFAULT_MODES};
 use whirl_plot::{Colour, Figure2d, LegendPosition, Marker, PlotError, Series, Style};
 
 use super::{
@@ -46,7 +46,7 @@ pub struct Args {
     pub settle: f64,
     /// Craig-Bampton reduction keeping N fixed-interface modes (bearing nodes are the
     /// boundary).
-    #[arg(long, value_name = "N", default_value_t = 12, value_parser = mode_count)]
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MODES, value_parser = mode_count)]
     pub reduce: usize,
 }
 

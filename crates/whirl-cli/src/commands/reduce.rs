@@ -17,6 +17,7 @@ use std::fmt::Write;
 use serde_json::{json, Value};
 use whirl::fe::{assemble, dof_name, Bearings};
 use whirl::reduce::{boundary_dofs, reduction_study, ReductionRow, ReductionStudy};
+use whirl::time::DEFAULT_MODES;
 
 use super::{
     check_nodes, finish, lib, load, mode_count, node_index, summary_head, Common, Outcome,
@@ -37,7 +38,7 @@ pub struct Args {
     #[command(flatten)]
     pub common: Common,
     /// Fixed-interface modes of the reduced model reported.
-    #[arg(long, value_name = "N", default_value = "12", value_parser = mode_count)]
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MODES, value_parser = mode_count)]
     pub modes: usize,
     /// Nodes added to the boundary besides the bearing nodes, comma-separated.
     #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = node_index)]

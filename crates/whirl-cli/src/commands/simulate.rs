@@ -48,7 +48,7 @@ use whirl::post::{
 };
 use whirl::time::{
     simulate_contacts, stable_step_for, Initial, Method, NewmarkScheme, Progress, RkTolerances,
-    RunStatus, SimulationOptions, SimulationResult, SpeedProfile,
+    RunStatus, SimulationOptions, SimulationResult, SpeedProfile, STABLE_FRACTION,
 };
 
 use super::campbell::order_name;
@@ -60,10 +60,6 @@ use crate::error::Diag;
 use crate::output::{header, num, Output};
 use crate::plots;
 use crate::progress::{duration_text, Pace};
-
-/// The central difference runs at this fraction of its stability limit by default: close
-/// enough to be cheap, far enough that round-off in the limit does not matter.
-const STABLE_FRACTION: f64 = 0.9;
 
 /// Default step of Newmark and output interval of Runge-Kutta, s (2000 samples per
 /// revolution at 50 Hz).

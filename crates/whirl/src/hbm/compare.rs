@@ -12,6 +12,7 @@ use crate::post::{
 };
 use crate::time::{
     simulate_response, stable_step_for, Initial, Method, SimulationOptions, SpeedProfile,
+    DEFAULT_MODES, STABLE_FRACTION,
 };
 
 /// How the time simulation runs.
@@ -34,7 +35,7 @@ impl Default for MarchSettings {
         MarchSettings {
             settle: 0.5,
             record: 0.5,
-            modes: 12,
+            modes: DEFAULT_MODES,
             contact: ContactLaw::Hertz,
         }
     }
@@ -69,8 +70,7 @@ pub fn settled_response(
     settings: &MarchSettings,
 ) -> Result<SettledResponse> {
     let reduction = Some(settings.modes);
-    // 0.9 of the explicit limit, as `whirl simulate` does.
-    let step = 0.9 * stable_step_for(model, reduction, settings.contact)?;
+    let step = STABLE_FRACTION * stable_step_for(model, reduction, settings.contact)?;
     let options = SimulationOptions {
         speed: SpeedProfile::Constant(speed),
         duration: settings.settle + settings.record,

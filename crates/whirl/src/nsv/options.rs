@@ -8,23 +8,13 @@ use crate::error::{Error, InputError, Result};
 use crate::model::Model;
 use crate::post::spectrum::MIN_SAMPLES;
 use crate::post::Window;
-use crate::time::{stable_step_for, Initial};
+use crate::time::{stable_step_for, Initial, DEFAULT_MODES, STABLE_FRACTION};
 use crate::units::rad_s_to_hz;
-
-/// The central difference runs at this fraction of its stability limit by default (as
-/// `whirl simulate` does): close enough to be cheap, far enough that round-off in the limit
-/// does not matter.
-pub const STABLE_FRACTION: f64 = 0.9;
 
 /// Recorded samples are at most this far apart, s (100 kHz): far above every frequency of
 /// the band and the bearing nodes' contact resonances (a few kHz), so nothing aliases into
 /// the band (see `whirl simulate`'s `DEFAULT_SAMPLE_INTERVAL`).
 pub const SAMPLE_INTERVAL: f64 = 1e-5;
-
-/// Default number of fixed-interface modes of the Craig-Bampton model: 12 modes keep the
-/// reference rotor's frequencies below 1 kHz within 0.1 % and raise the stable step tenfold
-/// (`whirl reduce`).
-pub const DEFAULT_MODES: usize = 12;
 
 /// Default shortest settling time, s: the first record is taken after it.
 pub const DEFAULT_SETTLE: f64 = 0.5;

@@ -35,6 +35,7 @@ use crate::force::NonlinearForce;
 use crate::model::{Clearance, ForcingFunction, Model, RollerBearing};
 use crate::time::{
     simulate_with, stable_step_with, Initial, Method, SimulationOptions, SpeedProfile,
+    DEFAULT_MODES, STABLE_FRACTION,
 };
 
 /// How the Hertz model is run for a fit.
@@ -57,17 +58,12 @@ impl Default for ForcingFitOptions {
         ForcingFitOptions {
             duration: 0.3,
             settle: 0.2,
-            reduction: Some(12),
+            reduction: Some(DEFAULT_MODES),
             step: None,
             samples_per_speed: 2000,
         }
     }
 }
-
-/// Fraction of the central difference's stability limit used as the default step, as
-/// `whirl simulate` uses: close enough to be cheap, far enough that round-off in the limit
-/// does not matter.
-pub const STEP_FRACTION: f64 = 0.9;
 
 /// Cage positions averaged over per sample. The force is piecewise smooth in the cage
 /// angle (a roller's contact opens and closes within the passage); with 64 points the
@@ -162,7 +158,7 @@ pub fn fit_forcing(
                 Bearings::NonlinearApart,
                 &hertz_bearings,
             )?;
-            STEP_FRACTION * limit
+            STABLE_FRACTION * limit
         }
     };
     let runs = speeds
