@@ -6,7 +6,8 @@ mod common;
 use std::f64::consts::PI;
 
 use whirl::model::Model;
-use whirl::time::{simulate, Initial, Method, NewmarkScheme, SimulationOptions, SpeedProfile};
+use whirl::system::SpeedProfile;
+use whirl::time::{simulate, Initial, Method, NewmarkScheme, SimulationOptions};
 
 fn options(step: f64, method: Method, reduction: Option<usize>) -> SimulationOptions {
     SimulationOptions {

@@ -117,15 +117,16 @@
 //! stability limit:
 //!
 //! ```
-//! use whirl::{bearing::ContactLaw, model::Model, time};
+//! use whirl::{bearing::ContactLaw, model::Model, system::SpeedProfile, time};
 //! let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None)?;
 //! let law = ContactLaw::Hertz;
+//! let modes = Some(time::DEFAULT_MODES);
 //! let options = time::SimulationOptions {
-//!     speed: time::SpeedProfile::Constant(2.0 * std::f64::consts::PI * 50.0),
+//!     speed: SpeedProfile::Constant(2.0 * std::f64::consts::PI * 50.0),
 //!     duration: 0.2,
-//!     step: 0.9 * time::stable_step_for(&model, Some(12), law)?,
+//!     step: time::STABLE_FRACTION * time::stable_step_for(&model, modes, law)?,
 //!     method: time::Method::CentralDifference,
-//!     reduction: Some(12),
+//!     reduction: modes,
 //!     settle: 0.1,
 //!     nodes: vec![10],
 //!     initial: time::Initial::StaticEquilibrium,

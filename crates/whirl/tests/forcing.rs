@@ -10,10 +10,10 @@ use whirl::fe::Bearings;
 use whirl::force::{ForceBuilder, Kinematics, NonlinearForce};
 use whirl::model::{Clearance, ForcingFunction, Model, RollerBearing};
 use whirl::post::order_component;
-use whirl::time::STABLE_FRACTION;
-use whirl::time::{fit_forcing, ForcingFitOptions};
+use whirl::system::SpeedProfile;
 use whirl::time::{
-    simulate_with, stable_step_with, Initial, Method, SimulationOptions, SpeedProfile,
+    fit_forcing, simulate_with, stable_step_with, ForcingFitOptions, Initial, Method,
+    SimulationOptions, STABLE_FRACTION,
 };
 
 fn reference() -> Model {

@@ -11,9 +11,10 @@ use whirl::bearing::{contact_frequencies, ContactLaw};
 use whirl::fe::{assemble, gravity_force, Bearings, DOFS_PER_NODE};
 use whirl::model::Model;
 use whirl::post::{amplitude_spectrum_with, Spectrum, SpectrumOptions, Window};
+use whirl::system::SpeedProfile;
 use whirl::time::{
     peak_near, simulate_contacts, stable_step_for, Initial, Method, RollerRecord, RunStatus,
-    SimulationOptions, SimulationResult, SpeedProfile,
+    SimulationOptions, SimulationResult,
 };
 
 fn example(name: &str) -> Model {

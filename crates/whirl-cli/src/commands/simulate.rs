@@ -46,9 +46,10 @@ use whirl::post::{
     amplitude_spectrum_with, largest_non_synchronous, order_component, spectral_peaks,
     OrderComponent, SpectralPeak, Spectrum, SpectrumOptions, Window,
 };
+use whirl::system::SpeedProfile;
 use whirl::time::{
     simulate_contacts, stable_step_for, Initial, Method, NewmarkScheme, Progress, RkTolerances,
-    RunStatus, SimulationOptions, SimulationResult, SpeedProfile, STABLE_FRACTION,
+    RunStatus, SimulationOptions, SimulationResult, STABLE_FRACTION,
 };
 
 use super::campbell::order_name;

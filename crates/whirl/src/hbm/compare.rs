@@ -10,9 +10,10 @@ use crate::model::Model;
 use crate::post::{
     amplitude_spectrum_with, largest_non_synchronous, order_component, SpectrumOptions, Window,
 };
+use crate::system::SpeedProfile;
 use crate::time::{
-    simulate_response, stable_step_for, Initial, Method, SimulationOptions, SpeedProfile,
-    DEFAULT_MODES, STABLE_FRACTION,
+    simulate_response, stable_step_for, Initial, Method, SimulationOptions, DEFAULT_MODES,
+    STABLE_FRACTION,
 };
 
 /// How the time simulation runs.

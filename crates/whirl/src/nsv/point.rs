@@ -38,7 +38,8 @@ use crate::post::{
     amplitude_at, largest_non_synchronous_below, FullSpectrumPlanner, Spectrum, SpectrumOptions,
     SpectrumPlanner, Window,
 };
-use crate::time::{simulate_response, Method, RunStatus, SimulationOptions, SpeedProfile, Until};
+use crate::system::SpeedProfile;
+use crate::time::{simulate_response, Method, RunStatus, SimulationOptions, Until};
 use crate::units::rad_s_to_hz;
 
 /// With only the record's halves to compare (a settling time shorter than half the

@@ -33,9 +33,10 @@ use crate::error::{Error, Result};
 use crate::fe::Bearings;
 use crate::force::NonlinearForce;
 use crate::model::{Clearance, ForcingFunction, Model, RollerBearing};
+use crate::system::SpeedProfile;
 use crate::time::{
-    simulate_with, stable_step_with, Initial, Method, SimulationOptions, SpeedProfile,
-    DEFAULT_MODES, STABLE_FRACTION,
+    simulate_with, stable_step_with, Initial, Method, SimulationOptions, DEFAULT_MODES,
+    STABLE_FRACTION,
 };
 
 /// How the Hertz model is run for a fit.

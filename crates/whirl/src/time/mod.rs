@@ -26,7 +26,7 @@ mod rollers;
 mod simulate;
 mod statics;
 
-pub use crate::system::SpeedProfile;
+use crate::system::SpeedProfile;
 pub use central::{central_difference, central_difference_constrained, central_difference_limit};
 pub use forcing_fit::{fit_forcing, ForcingFit, ForcingFitOptions, SpeedFit};
 pub use newmark::{newmark, NewmarkScheme};
