@@ -339,15 +339,17 @@ impl CondensedBalance {
             indices.iter().map(|&i| (i / n, i % n)).collect()
         };
         let (a_at, b_at) = (positions(&a), positions(&b));
-        let value = |rows: &[(usize, usize)], cols: &[(usize, usize)]| {
-            Mat::from_fn(rows.len(), cols.len(), |i, j| {
-                block.entry(rows[i], cols[j]).0
-            })
-        };
-        let derivative = |rows: &[(usize, usize)], cols: &[(usize, usize)]| {
-            Mat::from_fn(rows.len(), cols.len(), |i, j| {
-                block.entry(rows[i], cols[j]).1
-            })
+        // D and dD/dw over `rows` x `cols`, each entry made once.
+        let with_derivative = |rows: &[(usize, usize)], cols: &[(usize, usize)]| {
+            let entries: Vec<(f64, f64)> = rows
+                .iter()
+                .flat_map(|&r| cols.iter().map(move |&c| block.entry(r, c)))
+                .collect();
+            let at = |i: usize, j: usize| entries[i * cols.len() + j];
+            (
+                Mat::from_fn(rows.len(), cols.len(), |i, j| at(i, j).0),
+                Mat::from_fn(rows.len(), cols.len(), |i, j| at(i, j).1),
+            )
         };
         let pick = |v: &[f64], rows: &[usize]| Mat::from_fn(rows.len(), 1, |i, _| v[rows[i]]);
         let (solution, derivative_solution) = self.rest_solutions(block, f, df)?;
@@ -360,11 +362,11 @@ impl CondensedBalance {
         };
         let (transfer, particular) = split(&solution);
         let (d_transfer, d_particular) = split(&derivative_solution);
-        let d_ab = value(&a_at, &b_at);
-        let schur = value(&a_at, &a_at) - &d_ab * &transfer;
+        let (d_ab, dd_ab) = with_derivative(&a_at, &b_at);
+        let (d_aa, dd_aa) = with_derivative(&a_at, &a_at);
+        let schur = d_aa - &d_ab * &transfer;
         let force = pick(f, &a) - &d_ab * &particular;
-        let dd_ab = derivative(&a_at, &b_at);
-        let schur_derivative = derivative(&a_at, &a_at) - &dd_ab * &transfer - &d_ab * &d_transfer;
+        let schur_derivative = dd_aa - &dd_ab * &transfer - &d_ab * &d_transfer;
         let force_derivative = pick(df, &a) - &dd_ab * &particular - &d_ab * &d_particular;
         let column = |m: Mat<f64>| (0..m.nrows()).map(|i| m[(i, 0)]).collect::<Vec<_>>();
         Ok(Block {
@@ -426,19 +428,20 @@ impl CondensedBalance {
         };
         let cols = m + 1;
         let mut solution = vec![Complex::ZERO; nb * cols];
-        for (i, row) in solution.chunks_mut(cols).enumerate() {
-            for (j, r) in row.iter_mut().take(m).enumerate() {
-                *r = block.complex(rest[i], kept[j]).0;
+        let mut derivative_solution = vec![Complex::ZERO; nb * cols];
+        for (i, (row, d_row)) in solution
+            .chunks_mut(cols)
+            .zip(derivative_solution.chunks_mut(cols))
+            .enumerate()
+        {
+            for (j, &k) in kept.iter().enumerate() {
+                (row[j], d_row[j]) = block.complex(rest[i], k);
             }
             row[m] = force(f, rest[i]);
+            d_row[m] = force(df, rest[i]);
         }
         lu.solve_rows(&mut solution, cols);
-        let mut derivative_solution = vec![Complex::ZERO; nb * cols];
         for (i, row) in derivative_solution.chunks_mut(cols).enumerate() {
-            for (j, r) in row.iter_mut().take(m).enumerate() {
-                *r = block.complex(rest[i], kept[j]).1;
-            }
-            row[m] = force(df, rest[i]);
             for k in i.saturating_sub(band)..(i + band + 1).min(nb) {
                 let c = a_bb[i * width + k + band - i].1;
                 if c != Complex::ZERO {
