@@ -23,7 +23,6 @@
 //! problem, on a problem holding only the a coordinates.
 
 use faer::Mat;
-use num_complex::Complex;
 
 use super::balance::{
     line_search, norm, relative, solve_dense, Residual, FULL_STEPS, LINE_SEARCH_HALVINGS,
@@ -327,9 +326,12 @@ impl CondensedBalance {
         (kept, rest)
     }
 
-    /// Condenses one block: D with dD/dw, its force f with df/dw, from X, z and their
-    /// w-derivatives ([`Self::rest_solutions`]).
+    /// Condenses one block: D with dD/dw, its force f with df/dw. One factorisation of
+    /// D_bb serves X, z and their w-derivatives (two solves more, made always because
+    /// continuation needs them at every frequency it condenses). Only entries within the
+    /// band of D_bb are formed, so the cost grows linearly with the model size.
     fn condense_block(&self, block: &HarmonicBlock<'_>, f: &[f64], df: &[f64]) -> Result<Block> {
+        let frequency = block.frequency;
         let copies = f.len() / self.linear.size();
         let (a, b) = self.partition(copies);
         // (copy, coordinate) of every row and column, split once: the entries are read
@@ -339,76 +341,27 @@ impl CondensedBalance {
             indices.iter().map(|&i| (i / n, i % n)).collect()
         };
         let (a_at, b_at) = (positions(&a), positions(&b));
-        // D and dD/dw over `rows` x `cols`, each entry made once.
-        let with_derivative = |rows: &[(usize, usize)], cols: &[(usize, usize)]| {
-            let entries: Vec<(f64, f64)> = rows
-                .iter()
-                .flat_map(|&r| cols.iter().map(move |&c| block.entry(r, c)))
-                .collect();
-            let at = |i: usize, j: usize| entries[i * cols.len() + j];
-            (
-                Mat::from_fn(rows.len(), cols.len(), |i, j| at(i, j).0),
-                Mat::from_fn(rows.len(), cols.len(), |i, j| at(i, j).1),
-            )
+        let value = |rows: &[(usize, usize)], cols: &[(usize, usize)]| {
+            Mat::from_fn(rows.len(), cols.len(), |i, j| {
+                block.entry(rows[i], cols[j]).0
+            })
+        };
+        let derivative = |rows: &[(usize, usize)], cols: &[(usize, usize)]| {
+            Mat::from_fn(rows.len(), cols.len(), |i, j| {
+                block.entry(rows[i], cols[j]).1
+            })
         };
         let pick = |v: &[f64], rows: &[usize]| Mat::from_fn(rows.len(), 1, |i, _| v[rows[i]]);
-        let (solution, derivative_solution) = self.rest_solutions(block, f, df)?;
-        let (nb, cols) = (b.len(), a.len() + 1);
-        let split = |y: &[f64]| {
-            (
-                Mat::from_fn(nb, a.len(), |i, j| y[i * cols + j]),
-                Mat::from_fn(nb, 1, |i, _| y[i * cols + a.len()]),
-            )
-        };
-        let (transfer, particular) = split(&solution);
-        let (d_transfer, d_particular) = split(&derivative_solution);
-        let (d_ab, dd_ab) = with_derivative(&a_at, &b_at);
-        let (d_aa, dd_aa) = with_derivative(&a_at, &a_at);
-        let schur = d_aa - &d_ab * &transfer;
-        let force = pick(f, &a) - &d_ab * &particular;
-        let schur_derivative = dd_aa - &dd_ab * &transfer - &d_ab * &d_transfer;
-        let force_derivative = pick(df, &a) - &dd_ab * &particular - &d_ab * &d_particular;
-        let column = |m: Mat<f64>| (0..m.nrows()).map(|i| m[(i, 0)]).collect::<Vec<_>>();
-        Ok(Block {
-            schur,
-            schur_derivative,
-            force: column(force),
-            force_derivative: column(force_derivative),
-            transfer,
-            particular: column(particular),
-        })
-    }
-
-    /// [X | z] = D_bb^-1 [D_ba | f_b] and [dX | dz] = D_bb^-1 ([dD_ba | df_b] - dD_bb [X | z])
-    /// of one block, row by row in the order of [`Self::partition`] (one column per kept
-    /// coordinate, then z). One factorisation of D_bb serves all four (the derivatives are
-    /// made always because continuation needs them at every frequency it condenses). Only
-    /// entries within the band of D_bb are formed, so the cost grows linearly with the
-    /// model size.
-    ///
-    /// They are solved in complex form: harmonic r's block on (cos, sin) is the complex
-    /// dynamic stiffness A = Z_r - i r w D acting on c + i s ([`HarmonicBlock::complex`]),
-    /// so one complex band LU of the rest coordinates (half the rows, half the band)
-    /// replaces the real one, and the sin copy of a kept coordinate's column is i times its
-    /// cos copy's.
-    fn rest_solutions(
-        &self,
-        block: &HarmonicBlock<'_>,
-        f: &[f64],
-        df: &[f64],
-    ) -> Result<(Vec<f64>, Vec<f64>)> {
-        let n = self.linear.size();
-        let (rest, kept) = (&self.rest, &self.kept);
-        let (nb, m, band) = (rest.len(), kept.len(), self.rest_bandwidth);
-        // A_bb and dA_bb within the band, row i at offsets k - i + band.
+        // Interleaved, D_bb couples rows at most `copies` times the band apart.
+        let band = copies * (self.rest_bandwidth + 1) - 1;
+        // D_bb and dD_bb within the band, row i at offsets k - i + band.
         let width = 2 * band + 1;
-        let mut a_bb = vec![(Complex::ZERO, Complex::ZERO); nb * width];
-        for i in 0..nb {
-            for k in i.saturating_sub(band)..(i + band + 1).min(nb) {
-                a_bb[i * width + k + band - i] = block.complex(rest[i], rest[k]);
+        let mut d_bb = vec![(0.0, 0.0); b.len() * width];
+        for i in 0..b.len() {
+            for k in i.saturating_sub(band)..(i + band + 1).min(b.len()) {
+                d_bb[i * width + k + band - i] = block.entry(b_at[i], b_at[k]);
             }
         }
-        let frequency = block.frequency;
         let singular = || {
             Error::singular(
                 "condensed linear part",
@@ -418,34 +371,29 @@ impl CondensedBalance {
                 ),
             )
         };
-        let lu = BandedLu::new(nb, band, band, |i, k| a_bb[i * width + k + band - i].0)
+        let lu = BandedLu::new(b.len(), band, band, |i, k| d_bb[i * width + k + band - i].0)
             .ok_or_else(singular)?;
-        // The force on coordinate d as f_cos + i f_sin (the constant term has no sin copy).
-        let copies = f.len() / n;
-        let force = |v: &[f64], d: usize| match copies {
-            1 => Complex::new(v[d], 0.0),
-            _ => Complex::new(v[d], v[n + d]),
-        };
-        let cols = m + 1;
-        let mut solution = vec![Complex::ZERO; nb * cols];
-        let mut derivative_solution = vec![Complex::ZERO; nb * cols];
-        for (i, (row, d_row)) in solution
-            .chunks_mut(cols)
-            .zip(derivative_solution.chunks_mut(cols))
-            .enumerate()
-        {
-            for (j, &k) in kept.iter().enumerate() {
-                (row[j], d_row[j]) = block.complex(rest[i], k);
+        // [X | z] = D_bb^-1 [D_ba | f_b], row by row (one column per kept coordinate, then z).
+        let (nb, cols) = (b.len(), a.len() + 1);
+        let mut solution = vec![0.0; nb * cols];
+        for (i, row) in solution.chunks_mut(cols).enumerate() {
+            for (j, r) in row.iter_mut().take(a.len()).enumerate() {
+                *r = block.entry(b_at[i], a_at[j]).0;
             }
-            row[m] = force(f, rest[i]);
-            d_row[m] = force(df, rest[i]);
+            row[a.len()] = f[b[i]];
         }
         lu.solve_rows(&mut solution, cols);
+        // [dX | dz] = D_bb^-1 ([dD_ba | df_b] - dD_bb [X | z]), dD_bb within the band.
+        let mut derivative_solution = vec![0.0; nb * cols];
         for (i, row) in derivative_solution.chunks_mut(cols).enumerate() {
+            for (j, r) in row.iter_mut().take(a.len()).enumerate() {
+                *r = block.entry(b_at[i], a_at[j]).1;
+            }
+            row[a.len()] = df[b[i]];
             for k in i.saturating_sub(band)..(i + band + 1).min(nb) {
-                let c = a_bb[i * width + k + band - i].1;
-                if c != Complex::ZERO {
-                    for (r, &y) in row.iter_mut().zip(&solution[k * cols..(k + 1) * cols]) {
+                let c = d_bb[i * width + k + band - i].1;
+                if c != 0.0 {
+                    for (r, y) in row.iter_mut().zip(&solution[k * cols..(k + 1) * cols]) {
                         *r -= c * y;
                     }
                 }
@@ -459,35 +407,29 @@ impl CondensedBalance {
         {
             return Err(singular());
         }
-        Ok((
-            self.real_form(&solution, copies),
-            self.real_form(&derivative_solution, copies),
-        ))
-    }
-
-    /// Complex solutions of [`Self::rest_solutions`] (row k for rest coordinate k, a column
-    /// per kept coordinate and one for z) in the real layout of `copies` copies: row
-    /// (k, copy) takes the real (cos) or imaginary (sin) part; the kept coordinate's cos
-    /// column is the solution xi, its sin column i xi.
-    fn real_form(&self, y: &[Complex<f64>], copies: usize) -> Vec<f64> {
-        let m = self.kept.len();
-        let cols = copies * m + 1;
-        let mut out = vec![0.0; copies * self.rest.len() * cols];
-        for (k, row) in y.chunks(m + 1).enumerate() {
-            for copy in 0..copies {
-                let part = |z: Complex<f64>| if copy == 0 { z.re } else { z.im };
-                let at = (copies * k + copy) * cols;
-                let out_row = &mut out[at..at + cols];
-                for (j, &xi) in row[..m].iter().enumerate() {
-                    out_row[j] = part(xi);
-                    if copies == 2 {
-                        out_row[m + j] = part(Complex::new(-xi.im, xi.re));
-                    }
-                }
-                out_row[copies * m] = part(row[m]);
-            }
-        }
-        out
+        let split = |y: &[f64]| {
+            (
+                Mat::from_fn(nb, a.len(), |i, j| y[i * cols + j]),
+                Mat::from_fn(nb, 1, |i, _| y[i * cols + a.len()]),
+            )
+        };
+        let (transfer, particular) = split(&solution);
+        let (d_transfer, d_particular) = split(&derivative_solution);
+        let d_ab = value(&a_at, &b_at);
+        let schur = value(&a_at, &a_at) - &d_ab * &transfer;
+        let force = pick(f, &a) - &d_ab * &particular;
+        let dd_ab = derivative(&a_at, &b_at);
+        let schur_derivative = derivative(&a_at, &a_at) - &dd_ab * &transfer - &d_ab * &d_transfer;
+        let force_derivative = pick(df, &a) - &dd_ab * &particular - &d_ab * &d_particular;
+        let column = |m: Mat<f64>| (0..m.nrows()).map(|i| m[(i, 0)]).collect::<Vec<_>>();
+        Ok(Block {
+            schur,
+            schur_derivative,
+            force: column(force),
+            force_derivative: column(force_derivative),
+            transfer,
+            particular: column(particular),
+        })
     }
 
     /// The range of unknowns of block r: slot 0, or slots cos r and sin r, which are
@@ -655,34 +597,31 @@ struct HarmonicBlock<'a> {
 
 impl HarmonicBlock<'_> {
     /// Entry of D_r and of dD_r/dw at the row of copy `row.0`, coordinate `row.1`, and the
-    /// column `col` likewise: the real form [[Re A, -Im A], [Im A, Re A]] of
-    /// [`Self::complex`].
+    /// column `col` likewise.
     fn entry(&self, row: (usize, usize), col: (usize, usize)) -> (f64, f64) {
-        let (value, derivative) = self.complex(row.1, col.1);
-        match (row.0, col.0) {
-            (0, 0) | (1, 1) => (value.re, derivative.re),
-            (0, _) => (-value.im, -derivative.im),
-            _ => (value.im, derivative.im),
-        }
-    }
-
-    /// Entry (`row`, `col`) of the complex dynamic stiffness A = Z_r - i r w D of harmonic
-    /// r (K for r = 0) and of dA/dw.
-    fn complex(&self, row: usize, col: usize) -> (Complex<f64>, Complex<f64>) {
         let p = self.matrices;
-        let at = row * p.n + col;
+        let at = row.1 * p.n + col.1;
         if self.r == 0 {
-            return (Complex::new(p.stiffness[at], 0.0), Complex::ZERO);
+            return (p.stiffness[at], 0.0);
         }
         let (rf, w) = (self.r as f64, self.frequency);
         let rw = rf * w;
-        let damping = p.damping[at] + w * p.gyroscopic[at];
-        // d(r w (C + w G))/dw = r (C + 2 w G).
-        let coupling = (rw * damping, rf * (damping + w * p.gyroscopic[at]));
-        (
-            Complex::new(p.stiffness[at] - rw * rw * p.mass[at], -coupling.0),
-            Complex::new(-2.0 * rf * rw * p.mass[at], -coupling.1),
-        )
+        match (row.0, col.0) {
+            (0, 0) | (1, 1) => (
+                p.stiffness[at] - rw * rw * p.mass[at],
+                -2.0 * rf * rw * p.mass[at],
+            ),
+            (copy, _) => {
+                let damping = p.damping[at] + w * p.gyroscopic[at];
+                // d(r w (C + w G))/dw = r (C + 2 w G).
+                let coupling = (rw * damping, rf * (damping + w * p.gyroscopic[at]));
+                if copy == 0 {
+                    coupling
+                } else {
+                    (-coupling.0, -coupling.1)
+                }
+            }
+        }
     }
 }
 
