@@ -206,11 +206,11 @@ fn eigenvalues(a: &Mat<f64>) -> std::result::Result<Vec<(f64, f64)>, evd::EvdErr
 
 /// Shifts per multishift QR sweep: 12, faer's choice for 60 to 150 rows, up to 590 rows
 /// (Hill's matrix of the reference rotor, H = 5, has 176), where faer takes 32 with a
-/// deflation window of n / log2 n (23). On the reference rotor's 1-750 Hz sweep the
-/// smaller pair cut the CPU time of the whole sweep by a fifth (17.0 to 13.5 s): the
-/// larger window spent most of its time reordering the Schur form in the deflation. The
-/// eigenvalues are the same to round-off, the QR converging to working precision either
-/// way. Above 590 rows faer's values for 590 to 3000 rows.
+/// deflation window of n / log2 n (23). On the reference rotor's 1-750 Hz sweep with
+/// stability the smaller pair cut the CPU time of the whole sweep by a sixth (21.2 to
+/// 17.9 s): with the larger window, reordering the Schur form in the aggressive early
+/// deflation took 13 % of it. The eigenvalues are the same to round-off, the QR converging
+/// to working precision either way. Above 590 rows faer's values for 590 to 3000 rows.
 extern "C" fn hill_shift_count(dimension: usize, _active_block: usize) -> usize {
     if dimension < 590 {
         12
