@@ -226,7 +226,10 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
             common.speed_axis(figure, SpeedAxis::X).save(stem)
         })?;
     }
-    out.plot("waterfall", |stem| plots::waterfall(&result).save(stem))?;
+    let figure = plots::waterfall(&result);
+    out.plot("waterfall", |stem| {
+        common.speed_axis(figure, SpeedAxis::Y).save(stem)
+    })?;
     let map_top = args
         .map_max_frequency
         .unwrap_or_else(|| plots::default_map_top_hz(&result));

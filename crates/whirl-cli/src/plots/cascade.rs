@@ -101,11 +101,10 @@ pub fn waterfall(c: &Cascade) -> Figure2d {
     let height = TRACE_HEIGHT * span / (points.len().max(2) - 1) as f64;
     let mut fig = Figure2d::new(
         format!(
-            "Waterfall of node {} {}: each trace rises {:.0} Hz for {DECADES} decades up to \
+            "Waterfall of node {} {}: each trace spans {DECADES} decades of amplitude up to \
              {:.3e} m",
             c.options.node,
             component(c),
-            height,
             top
         ),
         "Frequency [Hz]",
