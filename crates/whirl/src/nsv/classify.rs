@@ -403,20 +403,8 @@ mod tests {
 
     #[test]
     fn an_unsettled_point_has_no_other_class() {
-        let mut p = CascadePoint {
-            speed: 1256.6,
-            speed_hz: 200.0,
-            added: false,
-            settle_s: 4.0,
-            settled: false,
-            records: 1,
-            start_fallback: None,
-            diverged: None,
-            amplitude: Vec::new(),
-            full_amplitude: Vec::new(),
-            one_x_m: 1e-5,
-            peak: Some(peak(50.0, 200.0)),
-        };
+        let mut p = CascadePoint::settled_at(200.0, 1e-5, Some(peak(50.0, 200.0)));
+        (p.settled, p.settle_s, p.records) = (false, 4.0, 1);
         let (contact, natural) = ([], [named("mode 1F", 50.0)]);
         let c = [context(&contact, &natural)];
         let nsv = classify(std::slice::from_ref(&p), &c);

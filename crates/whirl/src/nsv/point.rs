@@ -129,6 +129,28 @@ pub struct CascadePoint {
     pub peak: Option<NsvPeak>,
 }
 
+#[cfg(test)]
+impl CascadePoint {
+    /// A settled point at `speed_hz` (4 records of 0.5 s, no spectra kept) with its 1X and
+    /// its largest non-synchronous peak: the fixture of the nsv modules' unit tests.
+    pub(crate) fn settled_at(speed_hz: f64, one_x_m: f64, peak: Option<NsvPeak>) -> Self {
+        CascadePoint {
+            speed: speed_hz * std::f64::consts::TAU,
+            speed_hz,
+            added: false,
+            settle_s: 0.5,
+            settled: true,
+            records: 4,
+            start_fallback: None,
+            diverged: None,
+            amplitude: Vec::new(),
+            full_amplitude: Vec::new(),
+            one_x_m,
+            peak,
+        }
+    }
+}
+
 /// The spectra of one record length, planned once and reused by the speeds a thread
 /// computes.
 #[derive(Clone)]

@@ -261,20 +261,7 @@ mod tests {
             standard_error_m: 0.0,
             variation: 0.0,
         };
-        let p = CascadePoint {
-            speed: speed_hz * std::f64::consts::TAU,
-            speed_hz,
-            added: false,
-            settle_s: 0.5,
-            settled: true,
-            records: 4,
-            start_fallback: None,
-            diverged: None,
-            amplitude: Vec::new(),
-            full_amplitude: Vec::new(),
-            one_x_m: 1e-4,
-            peak: Some(peak),
-        };
+        let p = CascadePoint::settled_at(speed_hz, 1e-4, Some(peak));
         let n = Nsv {
             speed_hz,
             peak,

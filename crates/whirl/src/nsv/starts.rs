@@ -156,30 +156,18 @@ mod tests {
     use crate::nsv::NsvPeak;
 
     fn point(amplitude_m: f64, standard_error_m: f64) -> CascadePoint {
-        CascadePoint {
-            speed: 1.0,
-            speed_hz: 1.0,
-            added: false,
-            settle_s: 0.5,
-            settled: true,
-            records: 4,
-            start_fallback: None,
-            diverged: None,
-            amplitude: Vec::new(),
-            full_amplitude: Vec::new(),
-            one_x_m: 1e-5,
-            peak: Some(NsvPeak {
-                frequency_hz: 50.0,
-                amplitude_m,
-                order: 0.5,
-                forward_m: amplitude_m,
-                backward_m: 0.0,
-                decay_ratio: 1.0,
-                settling_ratio: None,
-                standard_error_m,
-                variation: 0.0,
-            }),
-        }
+        let peak = NsvPeak {
+            frequency_hz: 50.0,
+            amplitude_m,
+            order: 0.5,
+            forward_m: amplitude_m,
+            backward_m: 0.0,
+            decay_ratio: 1.0,
+            settling_ratio: None,
+            standard_error_m,
+            variation: 0.0,
+        };
+        CascadePoint::settled_at(100.0, 1e-5, Some(peak))
     }
 
     #[test]
