@@ -374,6 +374,13 @@ fn huge_speed_counts_are_refused_before_any_allocation() {
         &["hbm", "{model}", "--samples", "1000000000"],
         &["--samples", "at most 65536"],
     );
+    // 1e-8 s makes a speed's longest run (4 s settling + 32 records of 0.5 s) 2e9 steps,
+    // beyond the 5e8 a run may take: refused before any speed starts.
+    fails(
+        Some(&reference()),
+        &["cascade", "{model}", "--step", "1e-8s"],
+        &["--step", "2.000e9 time steps", "at most 5e8"],
+    );
     // 200 harmonics would make each point minutes of Hill eigenvalues: refused at once.
     fails(
         Some(&reference()),

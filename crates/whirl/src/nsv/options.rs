@@ -8,7 +8,7 @@ use crate::error::{Error, InputError, Result};
 use crate::model::Model;
 use crate::post::spectrum::MIN_SAMPLES;
 use crate::post::Window;
-use crate::time::{stable_step_for, Initial, DEFAULT_MODES, STABLE_FRACTION};
+use crate::time::{stable_step_for, Initial, DEFAULT_MODES, MAX_STEPS, STABLE_FRACTION};
 use crate::units::rad_s_to_hz;
 
 /// Recorded samples are at most this far apart, s (100 kHz): far above every frequency of
@@ -366,6 +366,22 @@ fn check(model: &Model, o: &CascadeOptions) -> Result<()> {
         return Err(bad(
             "step",
             format!("the time step must be positive, got {h} s"),
+            "leave it out for 0.9 times the stability limit",
+        ));
+    }
+    // Refused here, before any speed starts: every speed's run would be refused anyway.
+    let longest = o.settle_max.max(o.settle) + o.averaging.max_records as f64 * o.record;
+    if let Some(h) = o.step.filter(|h| longest / h > MAX_STEPS) {
+        return Err(bad(
+            "step",
+            format!(
+                "{h} s makes {:.3e} time steps in a speed's longest run (settling up to {} s and \
+                 up to {} records of {} s): at most {MAX_STEPS:.0e}",
+                longest / h,
+                o.settle_max,
+                o.averaging.max_records,
+                o.record
+            ),
             "leave it out for 0.9 times the stability limit",
         ));
     }

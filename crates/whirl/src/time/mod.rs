@@ -64,6 +64,10 @@ pub(crate) fn check_marchable(system: &System) -> Result<()> {
 /// fit and the harmonic-balance comparison.
 pub const STABLE_FRACTION: f64 = 0.9;
 
+/// The most time steps one run may take: 5e8 steps of the reduced reference rotor are about
+/// 11 minutes of computing (1.3 us a step), and a mistyped step would otherwise run for days.
+pub const MAX_STEPS: f64 = 5e8;
+
 /// Default number of fixed-interface modes of the Craig-Bampton model of a run: 12 modes
 /// keep the reference rotor's frequencies below 1 kHz within 0.1 % and raise the stable
 /// step tenfold (`whirl reduce`).

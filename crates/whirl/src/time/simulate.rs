@@ -267,7 +267,7 @@ fn check_options(model: &Model, o: &SimulationOptions) -> Result<()> {
             o.settle, o.duration
         ));
     }
-    if o.duration / o.step > 5e8 {
+    if o.duration / o.step > super::MAX_STEPS {
         return bad(format!(
             "{:.0} steps is too many; raise the step or shorten the run",
             o.duration / o.step
