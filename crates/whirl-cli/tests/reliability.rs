@@ -52,6 +52,20 @@ fn hidden(dir: &Path) -> Vec<String> {
         .collect()
 }
 
+/// Sends Ctrl-C (SIGINT) to `run` and waits for it: it must stop with exit status 130.
+/// Returns what it wrote on stderr.
+fn ctrl_c(run: std::process::Child) -> String {
+    let sent = Command::new("kill")
+        .args(["-INT", &run.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(sent.success());
+    let stopped = run.wait_with_output().unwrap();
+    let message = text(&stopped);
+    assert_eq!(stopped.status.code(), Some(130), "{message}");
+    message
+}
+
 fn text(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).to_string()
 }
@@ -108,14 +122,7 @@ fn ctrl_c_keeps_the_checkpoint_and_a_rerun_ends_with_the_same_bytes() {
         .unwrap();
     // Interrupt once a few speeds are saved.
     wait_for_checkpoint(tmp.path(), "point-00002.json");
-    let sent = Command::new("kill")
-        .args(["-INT", &run.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(sent.success());
-    let stopped = run.wait_with_output().unwrap();
-    let message = text(&stopped);
-    assert_eq!(stopped.status.code(), Some(130), "{message}");
+    let message = ctrl_c(run);
     assert!(
         message.contains("the cascade was stopped after"),
         "{message}"
@@ -318,14 +325,7 @@ fn ctrl_c_during_a_study_keeps_its_points_and_a_rerun_ends_with_the_same_bytes()
         assert!(start.elapsed() < Duration::from_secs(120), "no point saved");
         std::thread::sleep(Duration::from_millis(20));
     }
-    let sent = Command::new("kill")
-        .args(["-INT", &run.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(sent.success());
-    let stopped = run.wait_with_output().unwrap();
-    let message = text(&stopped);
-    assert_eq!(stopped.status.code(), Some(130), "{message}");
+    let message = ctrl_c(run);
     assert!(message.contains("the study was stopped"), "{message}");
     assert!(!out.exists(), "an interrupted study writes no result");
     let kept = std::fs::read_dir(&points).unwrap().count();
