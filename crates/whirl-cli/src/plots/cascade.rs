@@ -258,11 +258,23 @@ pub fn nsv_from_both_starts(c: &Cascade, starts: &StartComparison, threshold: f6
         .filter(|p| p.differs)
         .map(|p| (p.speed_hz, 1e6 * p.first_m.max(p.other_m)))
         .unzip();
+    rings_on_a_log_scale(fig, x, y, "differ beyond 3 standard errors", threshold)
+}
+
+/// Rings the speeds `x` at NSV `y` (um) with `label`, and finishes an NSV-over-speed figure:
+/// logarithmic amplitude, the threshold drawn, the legend below right.
+fn rings_on_a_log_scale(
+    mut fig: Figure2d,
+    x: Vec<f64>,
+    y: Vec<f64>,
+    label: &str,
+    threshold: f64,
+) -> Figure2d {
     if !x.is_empty() {
         fig.series.push(
             Series::new(x, y)
-                .label("differ beyond 3 standard errors")
-                .style(Style::markers(Colour::BLACK, Marker::OpenCircle).marker_size(7)),
+                .label(label)
+                .style(Style::markers(Colour::BLACK, Marker::OpenCircle).marker_size(6)),
         );
     }
     fig.log_y = true;
@@ -321,16 +333,5 @@ pub fn nsv_amplitude(c: &Cascade, threshold: f64) -> Figure2d {
         .filter(|(p, _)| p.added)
         .filter_map(|(p, n)| n.as_ref().map(|n| (p.speed_hz, 1e6 * n.peak.amplitude_m)))
         .unzip();
-    if !x.is_empty() {
-        fig.series.push(
-            Series::new(x, y)
-                .label("added by refinement")
-                .style(Style::markers(Colour::BLACK, Marker::OpenCircle).marker_size(6)),
-        );
-    }
-    fig.log_y = true;
-    fig.horizontal_lines
-        .push(RefLine::new(1e6 * threshold).label("threshold"));
-    fig.legend = LegendPosition::LowerRight;
-    fig
+    rings_on_a_log_scale(fig, x, y, "added by refinement", threshold)
 }
