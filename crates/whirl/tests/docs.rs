@@ -18,8 +18,9 @@ fn forbidden() -> [String; 3] {
     ]
 }
 
-/// Folders that are not the product: build output, version control.
-const SKIPPED: [&str; 2] = ["target", ".git"];
+/// Folders that are not the product: build output, version control, the Python
+/// environment that scripts/test-all builds.
+const SKIPPED: [&str; 3] = ["target", ".git", ".venv"];
 
 fn text_files(dir: &Path, out: &mut Vec<PathBuf>) {
     let entries = fs::read_dir(dir).unwrap_or_else(|e| panic!("read {}: {e}", dir.display()));

@@ -25,33 +25,6 @@ pub struct Args {
     pub common: Common,
 }
 
-/// Total mass of the shaft sections, kg.
-pub fn shaft_mass(model: &Model) -> f64 {
-    model
-        .sections
-        .iter()
-        .map(|s| s.material.density * s.area() * s.length)
-        .sum()
-}
-
-/// What sits at each node, e.g. `disk; bearing A`.
-pub fn node_features(model: &Model) -> Vec<String> {
-    let mut f = vec![Vec::<String>::new(); model.node_count()];
-    for d in &model.disks {
-        f[d.station.node].push(d.name.clone());
-    }
-    for b in &model.bearings {
-        f[b.station.node].push(b.name.clone());
-    }
-    for b in &model.roller_bearings {
-        f[b.station.node].push(b.name.clone());
-    }
-    for (i, u) in model.unbalances.iter().enumerate() {
-        f[u.station.node].push(format!("unbalance {i}"));
-    }
-    f.into_iter().map(|v| v.join("; ")).collect()
-}
-
 fn clearance_at_rest(c: &Clearance) -> f64 {
     c.at_speed(0.0)
 }
@@ -155,7 +128,7 @@ struct Sizes {
 impl Sizes {
     fn of(model: &Model) -> Sizes {
         Sizes {
-            shaft: shaft_mass(model),
+            shaft: model.shaft_mass(),
             disks: model.disks.iter().map(|d| d.mass).sum(),
             elements: model.sections.iter().map(|s| s.elements).sum(),
         }
@@ -296,7 +269,7 @@ fn text(model: &Model, sizes: &Sizes, frequencies: &[f64]) -> String {
 /// `nodes.csv` and `frequencies.csv`.
 fn write_tables(out: &mut Output, model: &Model, frequencies: &[f64]) -> miette::Result<()> {
     let z = model.node_positions();
-    let features = node_features(model);
+    let features = model.node_features();
     let rows: Vec<Vec<String>> = (0..model.node_count())
         .map(|n| vec![n.to_string(), num(z[n]), features[n].clone()])
         .collect();

@@ -22,7 +22,6 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 use serde_json::Value;
-use whirl::modal::Whirl;
 use whirl::model::Model;
 use whirl::units::{parse_quantity, parse_range, Dimension};
 use whirl_plot::{SpeedAxis, SpeedInRpm};
@@ -310,20 +309,13 @@ pub fn report_nodes(model: &Model, given: &[usize]) -> miette::Result<Vec<usize>
 pub struct Speeds(pub Vec<f64>);
 
 impl Speeds {
-    /// The given range, or `count` speeds from `start` (rad/s) to 1.2 times the model's
-    /// highest operating speed (API 617 asks for margins up to there), or to 800 Hz when
-    /// the model states no operating range.
+    /// The given range, or the model's default speeds ([`Model::default_speeds`]).
     /// A default is announced on stderr (a given range was, when it was parsed).
     pub fn or_default(given: &Option<Speeds>, model: &Model, start: f64, count: usize) -> Vec<f64> {
         if let Some(s) = given {
             return s.0.clone();
         }
-        let top = model
-            .operating
-            .map_or(2.0 * std::f64::consts::PI * 800.0, |(_, max)| 1.2 * max);
-        let w: Vec<f64> = (0..count)
-            .map(|i| start + (top - start) * i as f64 / (count - 1) as f64)
-            .collect();
+        let w = model.default_speeds(start, count);
         announce(None, "speeds", &w);
         w
     }
@@ -348,28 +340,8 @@ pub fn mode_count(text: &str) -> Result<usize, String> {
     }
 }
 
-/// Names branches by whirl direction and rank: the first forward branch is `1F`, the
-/// second `2F`, the first backward `1B`; mixed ones `1M`. Input in ascending frequency.
-pub fn whirl_labels(whirls: &[Whirl]) -> Vec<String> {
-    let (mut f, mut b, mut m) = (0, 0, 0);
-    whirls
-        .iter()
-        .map(|w| match w {
-            Whirl::Forward => {
-                f += 1;
-                format!("{f}F")
-            }
-            Whirl::Backward => {
-                b += 1;
-                format!("{b}B")
-            }
-            Whirl::Mixed => {
-                m += 1;
-                format!("{m}M")
-            }
-        })
-        .collect()
-}
+/// Names branches by whirl direction and rank (`1F`, `1B`, ...).
+pub use whirl::modal::branch_labels as whirl_labels;
 
 /// Speed in Hz from rad/s.
 pub fn hz(w: f64) -> f64 {

@@ -47,6 +47,29 @@ impl Whirl {
     }
 }
 
+/// Names branches by whirl direction and rank: the first forward branch is `1F`, the
+/// second `2F`, the first backward `1B`; mixed ones `1M`. Input in ascending frequency.
+pub fn branch_labels(whirls: &[Whirl]) -> Vec<String> {
+    let (mut f, mut b, mut m) = (0, 0, 0);
+    whirls
+        .iter()
+        .map(|w| match w {
+            Whirl::Forward => {
+                f += 1;
+                format!("{f}F")
+            }
+            Whirl::Backward => {
+                b += 1;
+                format!("{b}B")
+            }
+            Whirl::Mixed => {
+                m += 1;
+                format!("{m}M")
+            }
+        })
+        .collect()
+}
+
 /// One damped mode at one speed.
 #[derive(Debug, Clone, Serialize)]
 pub struct ComplexMode {

@@ -15,7 +15,7 @@ mod ucs;
 mod undamped;
 
 pub use campbell::{campbell, CampbellOptions, CampbellResult, CriticalSpeed, ModeBranch};
-pub use complex::{complex_modes, ComplexMode, ModalBasis, Whirl};
+pub use complex::{branch_labels, complex_modes, ComplexMode, ModalBasis, Whirl};
 pub use convergence::{convergence, ConvergenceResult};
 pub use ucs::{critical_speed_map, BearingStiffness, CriticalSpeedMap};
 pub(crate) use undamped::symmetric_modes;

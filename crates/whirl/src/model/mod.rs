@@ -413,6 +413,44 @@ impl Model {
         node_positions(&self.sections)
     }
 
+    /// Total mass of the shaft sections, kg.
+    pub fn shaft_mass(&self) -> f64 {
+        self.sections
+            .iter()
+            .map(|s| s.material.density * s.area() * s.length)
+            .sum()
+    }
+
+    /// What sits at each node, e.g. `disk; bearing A` (empty where nothing does).
+    pub fn node_features(&self) -> Vec<String> {
+        let mut f = vec![Vec::<String>::new(); self.node_count()];
+        for d in &self.disks {
+            f[d.station.node].push(d.name.clone());
+        }
+        for b in &self.bearings {
+            f[b.station.node].push(b.name.clone());
+        }
+        for b in &self.roller_bearings {
+            f[b.station.node].push(b.name.clone());
+        }
+        for (i, u) in self.unbalances.iter().enumerate() {
+            f[u.station.node].push(format!("unbalance {i}"));
+        }
+        f.into_iter().map(|v| v.join("; ")).collect()
+    }
+
+    /// The default speeds of a sweep: `count` speeds from `start` (rad/s) to 1.2 times the
+    /// highest operating speed (API 617 asks for margins up to there), or to 800 Hz when
+    /// the model states no operating range.
+    pub fn default_speeds(&self, start: f64, count: usize) -> Vec<f64> {
+        let top = self
+            .operating
+            .map_or(2.0 * std::f64::consts::PI * 800.0, |(_, max)| 1.2 * max);
+        (0..count)
+            .map(|i| start + (top - start) * i as f64 / (count - 1) as f64)
+            .collect()
+    }
+
     /// Number of nodes.
     pub fn node_count(&self) -> usize {
         self.sections.iter().map(|s| s.elements).sum::<usize>() + 1

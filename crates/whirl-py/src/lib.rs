@@ -1,0 +1,31 @@
+//! `whirl._whirl`, the compiled half of the Python package `whirl`.
+//!
+//! A thin layer over the library, like the command line: it reads models, calls the same
+//! library functions with the options given, and hands the results to Python as dicts of
+//! numpy arrays and plain values. Names, defaults, tables and summaries are the Python
+//! package's (`whirl/`), which mirror the command line's.
+
+#![forbid(unsafe_code)]
+
+mod error;
+mod modal;
+mod model;
+mod response;
+mod units;
+
+use pyo3::prelude::*;
+
+#[pymodule]
+fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("BUILD_ID", whirl::BUILD_ID)?;
+    error::register(m)?;
+    m.add_class::<model::PyModel>()?;
+    m.add_function(wrap_pyfunction!(units::parse_speed, m)?)?;
+    m.add_function(wrap_pyfunction!(units::parse_speeds, m)?)?;
+    m.add_function(wrap_pyfunction!(modal::undamped_frequencies, m)?)?;
+    m.add_function(wrap_pyfunction!(modal::campbell, m)?)?;
+    m.add_function(wrap_pyfunction!(modal::convergence, m)?)?;
+    m.add_function(wrap_pyfunction!(response::unbalance, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,96 @@
+//! Modal analyses of the linearised rotor: undamped frequencies (`check`), mesh
+//! convergence and the Campbell diagram, computed as the command line computes them.
+
+use numpy::IntoPyArray;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use pythonize::pythonize;
+use whirl::fe::{assemble, Bearings};
+use whirl::modal::{branch_labels, CampbellOptions};
+
+use crate::error::lib;
+use crate::model::PyModel;
+
+/// The `count` lowest undamped natural frequencies, Hz, of the linearised rotor at rest.
+#[pyfunction]
+pub fn undamped_frequencies<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    count: usize,
+) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
+    let modes = py.detach(|| {
+        let system = assemble(&model.model, Bearings::Linearised);
+        whirl::modal::undamped_modes(&system, count)
+    });
+    Ok(lib(modes)?.frequencies_hz.into_pyarray(py))
+}
+
+/// The Campbell diagram over `speeds` (rad/s): `modes` branches, critical speeds at the
+/// excitation `orders`, on a basis of 2 x modes + 8 undamped modes unless `full`.
+#[pyfunction]
+pub fn campbell<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    speeds: Vec<f64>,
+    modes: usize,
+    orders: Vec<f64>,
+    full: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let options = CampbellOptions {
+        speeds,
+        modes,
+        orders,
+        basis_size: (!full).then(|| CampbellOptions::default_basis(modes)),
+        ..CampbellOptions::new(Vec::new())
+    };
+    let result = lib(py.detach(|| {
+        let system = assemble(&model.model, Bearings::Linearised);
+        whirl::modal::campbell(&system, &options)
+    }))?;
+    let labels = branch_labels(&result.branches.iter().map(|b| b.whirl).collect::<Vec<_>>());
+    let branches = PyList::empty(py);
+    for (b, label) in result.branches.into_iter().zip(labels) {
+        let d = PyDict::new(py);
+        d.set_item("label", label)?;
+        d.set_item("index", b.index)?;
+        d.set_item("whirl", b.whirl.name())?;
+        d.set_item("frequency_hz", b.frequency_hz.into_pyarray(py))?;
+        d.set_item("damping_ratio", b.damping_ratio.into_pyarray(py))?;
+        d.set_item("log_decrement", b.log_decrement.into_pyarray(py))?;
+        let whirl_at: Vec<&str> = b.whirl_at.iter().map(|w| w.name()).collect();
+        d.set_item("whirl_at", whirl_at)?;
+        branches.append(d)?;
+    }
+    let critical = PyList::empty(py);
+    for c in &result.critical_speeds {
+        let d = PyDict::new(py);
+        d.set_item("speed_hz", c.speed_hz)?;
+        d.set_item("speed_rpm", c.speed_rpm)?;
+        d.set_item("frequency_hz", c.frequency_hz)?;
+        d.set_item("order", c.order)?;
+        d.set_item("branch", c.branch)?;
+        d.set_item("whirl", c.whirl.name())?;
+        d.set_item("damping_ratio", c.damping_ratio)?;
+        critical.append(d)?;
+    }
+    let out = PyDict::new(py);
+    out.set_item("speeds_hz", result.speeds_hz.into_pyarray(py))?;
+    out.set_item("orders", result.orders)?;
+    out.set_item("basis_size", result.basis_size)?;
+    out.set_item("branches", branches)?;
+    out.set_item("critical_speeds", critical)?;
+    Ok(out)
+}
+
+/// Undamped frequencies of the first `modes` modes for each total element count `counts`;
+/// the library's result as a dict.
+#[pyfunction]
+pub fn convergence<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    counts: Vec<usize>,
+    modes: usize,
+) -> PyResult<Bound<'py, PyAny>> {
+    let result = lib(py.detach(|| whirl::modal::convergence(&model.model, &counts, modes)))?;
+    Ok(pythonize(py, &result)?)
+}

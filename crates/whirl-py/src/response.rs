@@ -1,0 +1,25 @@
+//! Steady responses of the linearised rotor: the unbalance response.
+
+use pyo3::prelude::*;
+use pythonize::pythonize;
+use whirl::fe::{assemble, Bearings};
+use whirl::response::unbalance_response_refined;
+
+use crate::error::lib;
+use crate::model::PyModel;
+
+/// The unbalance response at `nodes` over `speeds` (rad/s), with speeds added in each
+/// peak's half-power band, as `whirl unbalance` computes it; the library's result as a dict.
+#[pyfunction]
+pub fn unbalance<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    speeds: Vec<f64>,
+    nodes: Vec<usize>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let result = lib(py.detach(|| {
+        let system = assemble(&model.model, Bearings::Linearised);
+        unbalance_response_refined(&model.model, &system, &speeds, &nodes)
+    }))?;
+    Ok(pythonize(py, &result)?)
+}

@@ -1,0 +1,34 @@
+//! Speeds written with their unit (`50Hz`, `3000rpm`, `0:800Hz:161`), read by the same
+//! parser as the model file and the command line; a plain number is rad/s.
+
+use numpy::{IntoPyArray, PyArray1};
+use pyo3::prelude::*;
+use whirl::units::{parse_quantity, parse_range, Dimension};
+
+use crate::error::option;
+
+/// One speed in rad/s from text such as `50Hz` or `3000rpm`.
+#[pyfunction]
+pub fn parse_speed(text: &str) -> PyResult<f64> {
+    let w = parse_quantity(text, Dimension::AngularSpeed).map_err(|e| option("speed", e))?;
+    if w < 0.0 {
+        return Err(option(
+            "speed",
+            format!("`{text}`: the speed must not be negative"),
+        ));
+    }
+    Ok(w)
+}
+
+/// Speeds in rad/s from a range `start:stop:count` such as `0:800Hz:161`.
+#[pyfunction]
+pub fn parse_speeds<'py>(py: Python<'py>, text: &str) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let w = parse_range(text, Dimension::AngularSpeed).map_err(|e| option("speeds", e))?;
+    if w.first().is_some_and(|&w0| w0 < 0.0) {
+        return Err(option(
+            "speeds",
+            format!("`{text}`: speeds must not be negative"),
+        ));
+    }
+    Ok(w.into_pyarray(py))
+}

@@ -1,0 +1,77 @@
+"""check and campbell from Python against the command line's own outputs, digit for digit,
+and against the physics they must hold."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import whirl
+from conftest import REFERENCE, assert_matches_cli
+
+
+def test_check_equals_the_command_line(run_cli):
+    cli = run_cli("check", str(REFERENCE))
+    assert_matches_cli(whirl.check(whirl.Model.from_file(REFERENCE)), cli)
+
+
+def test_campbell_equals_the_command_line(run_cli):
+    cli = run_cli("campbell", str(REFERENCE), "--speeds", "0:800Hz:41", "--orders", "1,2")
+    assert_matches_cli(whirl.campbell(REFERENCE, "0:800Hz:41", orders=[1, 2]), cli)
+
+
+def test_campbell_default_speeds_are_the_command_lines(run_cli):
+    cli = run_cli("campbell", str(REFERENCE), "--modes", "4")
+    diagram = whirl.campbell(whirl.Model.from_file(REFERENCE), modes=4)
+    assert diagram.to_dict() == cli.summary()
+
+
+def test_campbell_at_rest_starts_from_the_undamped_frequencies():
+    model = whirl.Model.from_file(REFERENCE)
+    f0 = whirl.check(model).frequencies_hz
+    diagram = whirl.campbell(model, np.array([0.0, 10.0]), modes=4, full=True)
+    branches = sorted(diagram.branches, key=lambda b: b.frequency_hz[0])
+    wd = np.array([b.frequency_hz[0] for b in branches])
+    zeta = np.array([b.damping_ratio[0] for b in branches])
+    # At rest the gyroscopic coupling vanishes: each undamped frequency (itself a pair, x
+    # and y) is a forward and a backward branch at once, and w_d / sqrt(1 - zeta^2) is the
+    # undamped frequency. The bearings' damping is not proportional, which moves the
+    # natural frequencies at second order in zeta (zeta^2 = 4e-4 here): within 1e-4.
+    assert zeta.min() > 0.01
+    np.testing.assert_allclose(wd / np.sqrt(1 - zeta**2), f0[:4], rtol=1e-4)
+
+
+def test_speeds_in_rpm_and_rad_per_s_agree():
+    model = whirl.Model.from_file(REFERENCE)
+    a = whirl.campbell(model, "0:6000rpm:5", modes=2)
+    b = whirl.campbell(model, np.linspace(0, 2 * np.pi * 100, 5), modes=2)
+    np.testing.assert_allclose(a.speeds_hz, b.speeds_hz, rtol=1e-14)
+    np.testing.assert_allclose(a.branches[0].frequency_hz, b.branches[0].frequency_hz, rtol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        ({"modes": 0}, "invalid `modes`"),
+        ({"orders": [0]}, "invalid `orders`"),
+        ({"speeds": "0:800:x"}, "invalid `speeds`"),
+        ({"speeds": [10.0, 5.0]}, "ascending"),
+    ],
+)
+def test_bad_options_are_input_errors(options, message):
+    with pytest.raises(whirl.InputError, match=message):
+        whirl.campbell(REFERENCE, **options)
+
+
+def test_convergence_equals_the_command_line(run_cli):
+    cli = run_cli("convergence", str(REFERENCE), "--counts", "2,5,10,20,40", "--modes", "4")
+    assert_matches_cli(whirl.convergence(REFERENCE, [2, 5, 10, 20, 40], modes=4), cli)
+
+
+def test_convergence_frequencies_settle_as_the_mesh_is_refined():
+    result = whirl.convergence(REFERENCE, [10, 20, 40], modes=2)
+    # Cubic beam elements converge fast: the first frequency moves by less than 1e-3 from
+    # 20 to 40 elements, and each refinement changes it less than the one before.
+    change = result.relative_change[:, 0]
+    assert change[2] < 1e-3
+    assert change[2] < change[1]

@@ -1,0 +1,38 @@
+"""whirl: rotordynamics of rotors on rolling-element bearings, from Python.
+
+The Python face of the whirl library: the same model files, the same analyses with the
+command line's options as keyword arguments and its defaults, results whose arrays are
+numpy arrays, ``to_pandas()`` for the tables the command line writes as CSV and
+``to_dict()`` for what it writes as summary.json.
+
+    >>> import whirl
+    >>> model = whirl.Model.from_file("examples/reference_rotor.toml")
+    >>> diagram = whirl.campbell(model, speeds="0:800Hz:161")
+    >>> diagram.to_pandas().head()
+
+Speeds are given with their unit as text (``"50Hz"``, ``"0:800Hz:161"``, ``"3000rpm"``) or
+as numbers in rad/s (SI, as everywhere in the model file).
+"""
+
+from ._whirl import BUILD_ID, InputError, NumericalError, WhirlError, __version__
+from .model import Model, WhirlWarning
+from .modal import CampbellResult, CheckResult, ConvergenceResult, campbell, check, convergence
+from .response import UnbalanceResult, unbalance
+
+__all__ = [
+    "BUILD_ID",
+    "CampbellResult",
+    "CheckResult",
+    "ConvergenceResult",
+    "InputError",
+    "Model",
+    "NumericalError",
+    "UnbalanceResult",
+    "WhirlError",
+    "WhirlWarning",
+    "__version__",
+    "campbell",
+    "check",
+    "convergence",
+    "unbalance",
+]

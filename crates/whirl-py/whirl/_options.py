@@ -1,0 +1,47 @@
+"""Options as the command line reads them: speeds with units, counts, orders."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from . import _whirl
+from .model import Model
+
+Speeds = str | Sequence[float] | np.ndarray | None
+
+
+def speeds(given: Speeds, model: Model, start: float, count: int, name: str = "speeds") -> np.ndarray:
+    """Speeds in rad/s: a range with a unit (``"0:800Hz:161"``), numbers in rad/s, or by
+    default ``count`` speeds from ``start`` to 1.2 x the model's top operating speed (or
+    800 Hz), as on the command line."""
+    if given is None:
+        return model._raw.default_speeds(start, count)
+    if isinstance(given, str):
+        return _whirl.parse_speeds(given)
+    w = np.asarray(given, dtype=float).ravel()
+    if w.size == 0 or not np.all(np.isfinite(w)) or np.any(w < 0):
+        raise _whirl.InputError(
+            f"invalid `{name}`: give a range such as \"0:800Hz:161\" or finite, non-negative "
+            "speeds in rad/s"
+        )
+    return w
+
+
+def mode_count(n: int, name: str = "modes") -> int:
+    """A count of modes or branches, 1 to 200 (the command line's range)."""
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= 200:
+        raise _whirl.InputError(f"invalid `{name}`: `{n}` is not a whole number from 1 to 200")
+    return int(n)
+
+
+def orders(given: Sequence[float] | float) -> list[float]:
+    """Excitation orders, each above 0 and at most 100 (1 = synchronous)."""
+    values = [given] if isinstance(given, (int, float)) else list(given)
+    for k in values:
+        if not (isinstance(k, (int, float)) and np.isfinite(k) and 0 < k <= 100):
+            raise _whirl.InputError(
+                f"invalid `orders`: `{k}` is not an order between 0 and 100 (e.g. 1 or 0.5)"
+            )
+    return [float(k) for k in values]

@@ -1,0 +1,24 @@
+"""What every summary starts with, as the command line's summary.json."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from . import _whirl
+from .model import Model
+
+
+def head(command: str, model: Model) -> dict[str, Any]:
+    """The first keys of a summary: which command, which whirl, which model."""
+    return {
+        "command": command,
+        "whirl_version": _whirl.__version__,
+        "model_file": model.file,
+        "model_name": model.name,
+    }
+
+
+def finite_or_none(x: float) -> float | None:
+    """A number as summary.json holds it: NaN and infinities are null there."""
+    x = float(x)
+    return x if x == x and abs(x) != float("inf") else None

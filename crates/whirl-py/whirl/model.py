@@ -1,0 +1,132 @@
+"""The rotor model: read from a model file, TOML text or a dict, edited by parameter paths."""
+
+from __future__ import annotations
+
+import json
+import os
+import warnings
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+from . import _whirl
+
+
+class WhirlWarning(UserWarning):
+    """A valid but implausible value in a model (the command line prints these on stderr)."""
+
+
+class Model:
+    """A validated rotor model.
+
+    Build it with :meth:`from_file`, :meth:`from_toml` or :meth:`from_dict`; every way goes
+    through the same validation as the command line, and a wrong value raises
+    :class:`whirl.InputError` naming the file, line, column and field. Values are in the
+    model file's units on the way in and SI inside.
+    """
+
+    __slots__ = ("_raw",)
+
+    def __init__(self, raw: _whirl.Model):
+        self._raw = raw
+
+    @classmethod
+    def _checked(cls, raw: _whirl.Model) -> Model:
+        where = f"{raw.file}: " if raw.file is not None else ""
+        for warning in raw.warnings():
+            warnings.warn(f"{where}{warning}", WhirlWarning, stacklevel=3)
+        return cls(raw)
+
+    @classmethod
+    def from_file(cls, path: str | os.PathLike[str]) -> Model:
+        """Reads and validates a model file (TOML), e.g. ``examples/reference_rotor.toml``."""
+        return cls._checked(_whirl.Model.from_file(os.fspath(path)))
+
+    @classmethod
+    def from_toml(cls, text: str, file: str | os.PathLike[str] | None = None) -> Model:
+        """Validates a model given as TOML text; ``file`` names it in error messages."""
+        return cls._checked(
+            _whirl.Model.from_toml(text, None if file is None else os.fspath(file))
+        )
+
+    @classmethod
+    def from_dict(cls, tables: Mapping[str, Any]) -> Model:
+        """Validates a model given as a dict with the model file's tables and keys, e.g.
+        ``{"name": "rotor", "shaft": [...], "disk": [...], "bearing": [...]}``; quantities
+        may be numbers (SI) or text with a unit (``"20 um"``)."""
+        return cls._checked(_whirl.Model.from_json(json.dumps(tables)))
+
+    def with_values(self, values: Mapping[str, Any]) -> Model:
+        """The same model with values set at the study files' parameter paths, e.g.
+        ``model.with_values({"roller_bearing[*].clearance": "30 um"})``; paths are applied
+        in order and the result is validated as a model file would be."""
+        return type(self)._checked(self._raw.with_values(list(values.items())))
+
+    @property
+    def name(self) -> str:
+        """The model's name."""
+        return self._raw.name
+
+    @property
+    def file(self) -> str | None:
+        """The file the model was read from, as given, if any."""
+        file = self._raw.file
+        return None if file is None else str(file)
+
+    @property
+    def toml(self) -> str:
+        """The model as model-file text (with the edits made by :meth:`with_values`)."""
+        return self._raw.toml
+
+    @property
+    def node_count(self) -> int:
+        """Number of nodes of the mesh."""
+        return self._raw.node_count
+
+    @property
+    def length(self) -> float:
+        """Shaft length, m."""
+        return self._raw.length
+
+    @property
+    def shaft_mass(self) -> float:
+        """Mass of the shaft sections, kg."""
+        return self._raw.shaft_mass
+
+    def node_positions(self) -> np.ndarray:
+        """Axial positions of the nodes, m."""
+        return self._raw.node_positions()
+
+    def node_features(self) -> list[str]:
+        """What sits at each node, e.g. ``"disk; bearing A"`` (empty where nothing does)."""
+        return self._raw.node_features()
+
+    def bearing_nodes(self) -> list[int]:
+        """Nodes that carry a bearing, ascending."""
+        return self._raw.bearing_nodes()
+
+    def to_dict(self) -> dict[str, Any]:
+        """The validated model in SI units (as whirl holds it, not as the file writes it)."""
+        return json.loads(self._raw.to_json())
+
+    def save(self, path: str | os.PathLike[str]) -> None:
+        """Writes the model as a model file."""
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(self.toml)
+
+    def __reduce__(self):
+        # Rebuilt from its text (e.g. on a Dask worker), validated again.
+        return (Model.from_toml, (self.toml, self.file))
+
+    def __repr__(self) -> str:
+        return repr(self._raw)
+
+
+def as_model(model: Model | str | os.PathLike[str]) -> Model:
+    """A model, or the model read from a file path."""
+    if isinstance(model, Model):
+        return model
+    if isinstance(model, (str, os.PathLike)):
+        return Model.from_file(model)
+    raise TypeError(f"expected a whirl.Model or a model file path, not {type(model).__name__}")
