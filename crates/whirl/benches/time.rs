@@ -5,6 +5,7 @@ mod common;
 
 use std::f64::consts::PI;
 
+use whirl::bearing::ContactLaw;
 use whirl::model::Model;
 use whirl::system::SpeedProfile;
 use whirl::time::{simulate, Initial, Method, NewmarkScheme, SimulationOptions};
@@ -13,13 +14,16 @@ fn options(step: f64, method: Method, reduction: Option<usize>) -> SimulationOpt
     SimulationOptions {
         speed: SpeedProfile::Constant(2.0 * PI * 50.0),
         duration: 1.0,
-        step,
+        step: Some(step),
         method,
         reduction,
-        settle: 0.5,
-        nodes: vec![10],
+        settle: Some(0.5),
+        nodes: Some(vec![10]),
         initial: Initial::StaticEquilibrium,
         divergence_bound: 1.0,
+        contact: Some(ContactLaw::Linear),
+        record_every: Some(1),
+        record_rollers: true,
         progress: None,
     }
 }

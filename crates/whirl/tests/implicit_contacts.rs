@@ -18,7 +18,7 @@ use whirl::model::{Clearance, Model};
 use whirl::post::order_component;
 use whirl::system::{SpeedProfile, System};
 use whirl::time::{
-    newmark, simulate_contacts, simulate_with, Initial, MarchOptions, Method, NewmarkScheme,
+    newmark, simulate, simulate_with, Hooks, Initial, MarchOptions, Method, NewmarkScheme,
     RunStatus, SimulationOptions, SimulationResult,
 };
 use whirl::Result;
@@ -41,13 +41,16 @@ fn contact_options(method: Method, step: f64) -> SimulationOptions {
     SimulationOptions {
         speed: SpeedProfile::Constant(2.0 * PI * SPEED_HZ),
         duration: 0.2,
-        step,
+        step: Some(step),
         method,
         reduction: Some(12),
-        settle: 0.1,
-        nodes: vec![DISK],
+        settle: Some(0.1),
+        nodes: Some(vec![DISK]),
         initial: Initial::StaticEquilibrium,
         divergence_bound: 0.01,
+        contact: Some(ContactLaw::Hertz),
+        record_every: Some(1),
+        record_rollers: true,
         progress: None,
     }
 }
@@ -79,17 +82,15 @@ fn newmark_marches_through_damped_contact_entry() {
     // stability limit: halving its step again moves the disk 1X by 1.6e-4 (measured).
     for clearance in [20e-6, 30e-6] {
         let model = reference(clearance);
-        let cd = simulate_contacts(
-            &model,
-            &contact_options(Method::CentralDifference, 2.5e-6),
-            ContactLaw::Hertz,
-            4,
-        )
-        .unwrap();
+        let cd = SimulationOptions {
+            record_every: Some(4),
+            ..contact_options(Method::CentralDifference, 2.5e-6)
+        };
+        let cd = simulate(&model, &cd).unwrap();
         let reference = disk_one_x(&cd);
         for scheme in [NewmarkScheme::AverageAcceleration, NewmarkScheme::Hht(-0.1)] {
             let options = contact_options(Method::Newmark(scheme), 1e-5);
-            let r = simulate_contacts(&model, &options, ContactLaw::Hertz, 1).unwrap();
+            let r = simulate(&model, &options).unwrap();
             assert_eq!(r.status, RunStatus::Completed, "{scheme:?}");
             // Every output time is on the asked grid, although some steps were halved.
             assert_eq!(r.time.len(), 20_000);
@@ -214,13 +215,16 @@ fn start_options(initial: Initial) -> SimulationOptions {
     SimulationOptions {
         speed: SpeedProfile::Constant(2.0 * PI * 50.0),
         duration: 3e-5,
-        step: 1e-5,
+        step: Some(1e-5),
         method: Method::Newmark(NewmarkScheme::AverageAcceleration),
         reduction: None,
-        settle: 0.0,
-        nodes: vec![0],
+        settle: Some(0.0),
+        nodes: Some(vec![0]),
         initial,
         divergence_bound: 0.01,
+        contact: Some(ContactLaw::Hertz),
+        record_every: Some(1),
+        record_rollers: true,
         progress: None,
     }
 }
@@ -232,13 +236,7 @@ fn the_static_equilibrium_of_a_fine_mesh_matches_the_hertz_closed_form() {
     // bearing carries half the weight W on its bottom roller, which the Hertz law
     // Q = K d^n compresses by (W / 2 K)^(1/n) beyond the clearance.
     let model = meshed(160);
-    let r = simulate_contacts(
-        &model,
-        &start_options(Initial::StaticEquilibrium),
-        ContactLaw::Hertz,
-        1,
-    )
-    .unwrap();
+    let r = simulate(&model, &start_options(Initial::StaticEquilibrium)).unwrap();
     assert_eq!(r.start_fallback, None);
     let b = &model.roller_bearings[0];
     let clearance = 20e-6;
@@ -310,13 +308,11 @@ fn on_saturating_supports(model: &Model, initial: Initial, limit: f64) -> Simula
                 })
                 .collect())
         };
-    simulate_with(
-        model,
-        &start_options(initial),
-        Bearings::NonlinearApart,
-        &forces,
-    )
-    .unwrap()
+    let hooks = Hooks {
+        forces: Some((Bearings::NonlinearApart, &forces)),
+        until: None,
+    };
+    simulate_with(model, &start_options(initial), hooks).unwrap()
 }
 
 #[test]

@@ -5,6 +5,7 @@ use std::f64::consts::PI;
 use std::ops::ControlFlow;
 
 use faer::Mat;
+use whirl::bearing::ContactLaw;
 use whirl::fe::SystemMatrices;
 use whirl::fe::{assemble, Bearings};
 use whirl::force::CubicSpring;
@@ -212,13 +213,16 @@ fn reference_simulation(method: Method, step: f64, reduction: Option<usize>) -> 
     let options = SimulationOptions {
         speed: SpeedProfile::Constant(2.0 * PI * 100.0),
         duration: 2.0,
-        step,
+        step: Some(step),
         method,
         reduction,
-        settle: 1.5,
-        nodes: vec![10],
+        settle: Some(1.5),
+        nodes: Some(vec![10]),
         initial: Initial::StaticEquilibrium,
         divergence_bound: 1.0,
+        contact: Some(ContactLaw::Linear),
+        record_every: Some(1),
+        record_rollers: true,
         progress: None,
     };
     let r = simulate(&model, &options).unwrap().completed().unwrap();
@@ -259,13 +263,16 @@ fn an_unstable_central_difference_step_is_refused() {
     let options = SimulationOptions {
         speed: SpeedProfile::Constant(2.0 * PI * 50.0),
         duration: 0.01,
-        step: 1e-5,
+        step: Some(1e-5),
         method: Method::CentralDifference,
         reduction: None,
-        settle: 0.0,
-        nodes: vec![10],
+        settle: Some(0.0),
+        nodes: Some(vec![10]),
         initial: Initial::Rest,
         divergence_bound: 1.0,
+        contact: Some(ContactLaw::Linear),
+        record_every: Some(1),
+        record_rollers: true,
         progress: None,
     };
     let e = simulate(&model, &options).unwrap_err().to_string();
@@ -281,17 +288,20 @@ fn stable_step_is_the_limit_the_simulation_reports_and_progress_is_told() {
     let reports = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
     let seen = reports.clone();
     for reduction in [None, Some(12)] {
-        let limit = stable_step(&model, reduction).unwrap();
+        let limit = stable_step(&model, reduction, ContactLaw::Linear).unwrap();
         let options = SimulationOptions {
             speed: SpeedProfile::Constant(2.0 * PI * 50.0),
             duration: 0.02,
-            step: 0.9 * limit,
+            step: Some(0.9 * limit),
             method: Method::CentralDifference,
             reduction,
-            settle: 0.0,
-            nodes: vec![10],
+            settle: Some(0.0),
+            nodes: Some(vec![10]),
             initial: Initial::StaticEquilibrium,
             divergence_bound: 1.0,
+            contact: Some(ContactLaw::Linear),
+            record_every: Some(1),
+            record_rollers: true,
             progress: Some(Progress::new({
                 let seen = seen.clone();
                 move |fraction| seen.lock().unwrap().push(fraction)

@@ -13,8 +13,8 @@ use whirl::model::Model;
 use whirl::post::{amplitude_spectrum_with, Spectrum, SpectrumOptions, Window};
 use whirl::system::SpeedProfile;
 use whirl::time::{
-    peak_near, simulate_contacts, stable_step_for, Initial, Method, RollerRecord, RunStatus,
-    SimulationOptions, SimulationResult,
+    peak_near, simulate, stable_step, Initial, Method, RollerRecord, RunStatus, SimulationOptions,
+    SimulationResult,
 };
 
 fn example(name: &str) -> Model {
@@ -41,17 +41,20 @@ const SETTLE: f64 = 2.0;
 const MODES: usize = 12;
 
 fn options(model: &Model, duration: f64, settle: f64, nodes: Vec<usize>) -> SimulationOptions {
-    let step = 0.9 * stable_step_for(model, Some(MODES), ContactLaw::Hertz).unwrap();
+    let step = 0.9 * stable_step(model, Some(MODES), ContactLaw::Hertz).unwrap();
     SimulationOptions {
         speed: SpeedProfile::Constant(2.0 * PI * SPEED_HZ),
         duration,
-        step,
+        step: Some(step),
         method: Method::CentralDifference,
         reduction: Some(MODES),
-        settle,
-        nodes,
+        settle: Some(settle),
+        nodes: Some(nodes),
         initial: Initial::StaticEquilibrium,
         divergence_bound: 0.01,
+        contact: Some(ContactLaw::Hertz),
+        record_every: Some(1),
+        record_rollers: true,
         progress: None,
     }
 }
@@ -79,7 +82,7 @@ fn median(mut v: Vec<f64>) -> f64 {
 fn the_spectrum_shows_the_varying_compliance_and_waviness_frequencies() {
     let model = example("reference_rotor_waviness.toml");
     let o = options(&model, DURATION, SETTLE, vec![10]);
-    let r = simulate_contacts(&model, &o, ContactLaw::Hertz, 1).unwrap();
+    let r = simulate(&model, &o).unwrap();
     assert_eq!(r.status, RunStatus::Completed);
     eprintln!(
         "{} samples, step {:.3e} s, wall {:.3} s",
@@ -174,7 +177,7 @@ fn mean_lift(r: &SimulationResult, record: &RollerRecord) -> f64 {
 fn hertz_rollers_penetrate_by_micrometres_and_carry_the_weight() {
     let model = example("reference_rotor.toml");
     let o = options(&model, 1.0, 0.5, vec![10]);
-    let r = simulate_contacts(&model, &o, ContactLaw::Hertz, 1).unwrap();
+    let r = simulate(&model, &o).unwrap();
     assert_eq!(r.rollers.len(), 2);
     let start = r.settled_start();
     for (record, bearing) in r.rollers.iter().zip(&model.roller_bearings) {
@@ -208,8 +211,9 @@ fn hertz_rollers_penetrate_by_micrometres_and_carry_the_weight() {
 fn lagrange_rollers_never_penetrate_and_carry_the_weight() {
     let model = example("reference_rotor.toml");
     let mut o = options(&model, 1.0, 0.5, vec![10]);
-    o.step = 0.9 * stable_step_for(&model, Some(MODES), ContactLaw::Lagrange).unwrap();
-    let r = simulate_contacts(&model, &o, ContactLaw::Lagrange, 1).unwrap();
+    o.step = Some(0.9 * stable_step(&model, Some(MODES), ContactLaw::Lagrange).unwrap());
+    o.contact = Some(ContactLaw::Lagrange);
+    let r = simulate(&model, &o).unwrap();
     assert_eq!(r.status, RunStatus::Completed);
     let start = r.settled_start();
     for record in &r.rollers {
@@ -248,8 +252,15 @@ fn lagrange_rollers_never_penetrate_and_carry_the_weight() {
 fn a_thinned_recording_is_the_full_one_thinned() {
     let model = example("reference_rotor.toml");
     let o = options(&model, 0.1, 0.05, vec![10]);
-    let full = simulate_contacts(&model, &o, ContactLaw::Hertz, 1).unwrap();
-    let thin = simulate_contacts(&model, &o, ContactLaw::Hertz, 3).unwrap();
+    let full = simulate(&model, &o).unwrap();
+    let thin = simulate(
+        &model,
+        &SimulationOptions {
+            record_every: Some(3),
+            ..o.clone()
+        },
+    )
+    .unwrap();
     assert_eq!(thin.record_every, 3);
     assert_eq!(thin.sample_interval(), 3.0 * full.step);
     let every_third: Vec<f64> = full.time.iter().step_by(3).copied().collect();
@@ -271,7 +282,7 @@ fn a_divergence_names_the_dof() {
     // The disk sags 140 um under gravity: beyond a 1 um bound at once.
     let mut o = options(&model, 0.01, 0.0, vec![10]);
     o.divergence_bound = 1e-6;
-    let r = simulate_contacts(&model, &o, ContactLaw::Hertz, 1).unwrap();
+    let r = simulate(&model, &o).unwrap();
     match &r.status {
         RunStatus::Diverged { time, message } => {
             assert_eq!(*time, 0.0);
@@ -283,11 +294,12 @@ fn a_divergence_names_the_dof() {
     // Nothing recorded: only the safety net, at 1000 times the bound, can stop the run,
     // and it names the integrator coordinate it caught: the slope at the bearing under the
     // weight, about 3 times the disk's sag over the span (3e-4 rad), is beyond 1000 x 1e-7.
-    o.nodes = Vec::new();
+    o.nodes = Some(Vec::new());
     o.divergence_bound = 1e-7;
     o.reduction = None;
-    o.step = 0.9 * stable_step_for(&model, None, ContactLaw::Linear).unwrap();
-    let r = simulate_contacts(&model, &o, ContactLaw::Linear, 1).unwrap();
+    o.contact = Some(ContactLaw::Linear);
+    o.step = Some(0.9 * stable_step(&model, None, ContactLaw::Linear).unwrap());
+    let r = simulate(&model, &o).unwrap();
     match &r.status {
         RunStatus::Diverged { time, message } => {
             assert_eq!(*time, 0.0);
@@ -300,6 +312,6 @@ fn a_divergence_names_the_dof() {
     }
     // Below the net, rotations are not held to the bound: the run completes.
     o.divergence_bound = 1e-6;
-    let r = simulate_contacts(&model, &o, ContactLaw::Linear, 1).unwrap();
+    let r = simulate(&model, &o).unwrap();
     assert_eq!(r.status, RunStatus::Completed);
 }

@@ -21,8 +21,8 @@
 //! [`contacts`].
 //!
 //! Every `--record-every`-th step is recorded [default: as many steps as fit in
-//! [`DEFAULT_SAMPLE_INTERVAL`]]: the full model's stable step is a few microseconds, and
-//! recording each would write hundreds of MB for a second of motion.
+//! [`whirl::time::DEFAULT_SAMPLE_INTERVAL`]]: the full model's stable step is a few
+//! microseconds, and recording each would write hundreds of MB for a second of motion.
 //!
 //! The settled 1X amplitude and phase come from order tracking of the settled part
 //! ([`whirl::post::order_component`]), in the phase convention of `whirl unbalance`, so the
@@ -48,8 +48,8 @@ use whirl::post::{
 };
 use whirl::system::SpeedProfile;
 use whirl::time::{
-    simulate_contacts, stable_step_for, Initial, Method, NewmarkScheme, Progress, RkTolerances,
-    RunStatus, SimulationOptions, SimulationResult, STABLE_FRACTION,
+    simulate, Initial, Method, NewmarkScheme, Progress, RkTolerances, RunStatus, SimulationOptions,
+    SimulationResult,
 };
 
 use super::campbell::order_name;
@@ -61,17 +61,6 @@ use crate::error::Diag;
 use crate::output::{header, num, Output};
 use crate::plots;
 use crate::progress::{duration_text, Pace};
-
-/// Default step of Newmark and output interval of Runge-Kutta, s (2000 samples per
-/// revolution at 50 Hz).
-const DEFAULT_STEP: f64 = 1e-5;
-
-/// Recorded samples are at most this far apart by default, s: 100 kHz, whose 50 kHz Nyquist
-/// frequency lies far above every contact frequency of the speed range (the varying
-/// compliance of the reference bearing is 2.7 kHz at 750 Hz) and above the bearing nodes'
-/// contact resonances (a few kHz). The full model's modes above 50 kHz, which would alias,
-/// are overdamped by the stiffness-proportional damping (zeta = beta w / 2 > 1 there).
-pub const DEFAULT_SAMPLE_INTERVAL: f64 = 1e-5;
 
 /// Peaks within this many bins of an order are labelled with it.
 const ORDER_TOLERANCE_BINS: f64 = 2.0;
@@ -95,12 +84,6 @@ pub enum Integrator {
     Newmark,
     /// Adaptive Dormand-Prince 5(4), the accuracy reference; --step is the output interval.
     Rk,
-}
-
-/// The law asked for, or Hertz when the model has roller bearings, else linear.
-fn contact_law(args: &Args, model: &Model) -> ContactLaw {
-    args.contact
-        .unwrap_or_else(|| ContactLaw::default_for(model))
 }
 
 /// `whirl simulate`
@@ -189,26 +172,26 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     let model = &loaded.model;
     let nodes = report_nodes(model, &args.nodes)?;
-    let law = contact_law(args, model);
-    let settle = settling_time(args)?;
-    let speed = speed_profile(args, settle)?;
-    let step = time_step(args, model, law)?;
-    let every = args
-        .record_every
-        .unwrap_or_else(|| default_record_every(step));
-    let options = SimulationOptions {
-        speed,
+    let mut options = SimulationOptions {
         duration: args.duration,
-        step,
+        step: time_step(args)?,
         method: integrator(args)?,
+        contact: args.contact,
         reduction: args.reduce,
-        settle,
-        nodes: nodes.clone(),
+        settle: args.settle,
+        nodes: Some(nodes),
         initial: args.start,
         divergence_bound: args.divergence_bound,
+        record_every: args.record_every,
         progress: progress_display(),
+        ..SimulationOptions::new(SpeedProfile::Constant(args.speed))
     };
-    let result = simulate_contacts(model, &options, law, every);
+    let law = options.contact_law(model);
+    let settle = options.settle_time();
+    check_settling(args, settle)?;
+    options.speed = speed_profile(args, settle)?;
+    let speed = options.speed;
+    let result = simulate(model, &options);
     if std::io::stderr().is_terminal() {
         // Blank out the progress line.
         eprint!("\r{:70}\r", "");
@@ -250,14 +233,6 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     finish(out, summary, text, &args.common)
 }
 
-/// The default thinning: as many steps as fit in [`DEFAULT_SAMPLE_INTERVAL`], at least 1.
-fn default_record_every(step: f64) -> usize {
-    // The small allowance keeps a step of exactly 1e-5 / k at k despite round-off.
-    ((DEFAULT_SAMPLE_INTERVAL / step) * (1.0 + 1e-9))
-        .floor()
-        .max(1.0) as usize
-}
-
 fn integrator(args: &Args) -> miette::Result<Method> {
     match (args.method, args.hht_alpha) {
         (Integrator::Newmark, Some(alpha)) if !(-1.0 / 3.0..=0.0).contains(&alpha) => Err(
@@ -277,16 +252,11 @@ fn integrator(args: &Args) -> miette::Result<Method> {
     }
 }
 
-/// The step given, or the default: a fraction of the stability limit for the central
-/// difference, [`DEFAULT_STEP`] for the others.
-fn time_step(args: &Args, model: &Model, law: ContactLaw) -> miette::Result<f64> {
-    match (args.step, args.method) {
-        (Some(h), _) if h > 0.0 => Ok(h),
-        (Some(_), _) => Err(Diag::option("--step", "the time step must be positive").into()),
-        (None, Integrator::Cd) => {
-            Ok(STABLE_FRACTION * lib(stable_step_for(model, args.reduce, law))?)
-        }
-        (None, _) => Ok(DEFAULT_STEP),
+/// The step given (it must be positive), or `None` for the library's default.
+fn time_step(args: &Args) -> miette::Result<Option<f64>> {
+    match args.step {
+        Some(h) if h <= 0.0 => Err(Diag::option("--step", "the time step must be positive").into()),
+        given => Ok(given),
     }
 }
 
@@ -298,14 +268,14 @@ fn value_name(value: impl ValueEnum) -> String {
         .unwrap_or_default()
 }
 
-/// The settling time: given, or half the duration; it must leave a settled part.
-fn settling_time(args: &Args) -> miette::Result<f64> {
+/// The duration must be positive and the settling time (given, or the library's default)
+/// must leave a settled part; said here in terms of the flags.
+fn check_settling(args: &Args, settle: f64) -> miette::Result<()> {
     if args.duration <= 0.0 {
         return Err(Diag::option("--duration", "the duration must be positive")
             .help("e.g. --duration 1s")
             .into());
     }
-    let settle = args.settle.unwrap_or(0.5 * args.duration);
     if settle >= args.duration {
         return Err(Diag::option(
             "--settle",
@@ -317,7 +287,7 @@ fn settling_time(args: &Args) -> miette::Result<f64> {
         .help("the steady-state numbers come from the time after --settle: shorten it or lengthen --duration")
         .into());
     }
-    Ok(settle)
+    Ok(())
 }
 
 /// Constant speed, or a ramp over the settling time to `--ramp-to`.

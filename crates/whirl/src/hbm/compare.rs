@@ -11,10 +11,7 @@ use crate::post::{
     amplitude_spectrum_with, largest_non_synchronous, order_component, SpectrumOptions, Window,
 };
 use crate::system::SpeedProfile;
-use crate::time::{
-    simulate_response, stable_step_for, Initial, Method, SimulationOptions, DEFAULT_MODES,
-    STABLE_FRACTION,
-};
+use crate::time::{simulate, SimulationOptions, DEFAULT_MODES};
 
 /// How the time simulation runs.
 #[derive(Debug, Clone, Copy, Serialize)]
@@ -61,7 +58,7 @@ pub struct SettledResponse {
 /// settled orders 1..=`harmonics` and the largest non-synchronous peak at `node`.
 ///
 /// # Errors
-/// As [`simulate_response`] (a diverged run is an error), or when the record is too short
+/// As [`simulate`] (a diverged run is an error), or when the record is too short
 /// for order tracking.
 pub fn settled_response(
     model: &Model,
@@ -70,23 +67,20 @@ pub fn settled_response(
     harmonics: usize,
     settings: &MarchSettings,
 ) -> Result<SettledResponse> {
-    let reduction = Some(settings.modes);
-    let step = STABLE_FRACTION * stable_step_for(model, reduction, settings.contact)?;
-    let options = SimulationOptions {
-        speed: SpeedProfile::Constant(speed),
+    let mut options = SimulationOptions {
         duration: settings.settle + settings.record,
-        step,
-        method: Method::CentralDifference,
-        reduction,
-        settle: settings.settle,
-        nodes: vec![node],
-        initial: Initial::StaticEquilibrium,
-        divergence_bound: 0.01,
-        progress: None,
+        contact: Some(settings.contact),
+        reduction: Some(settings.modes),
+        settle: Some(settings.settle),
+        nodes: Some(vec![node]),
+        record_rollers: false,
+        ..SimulationOptions::new(SpeedProfile::Constant(speed))
     };
     // Recorded at about 20 kHz: well above the orders looked at, small to store.
-    let every = ((5e-5 / step).floor() as usize).max(1);
-    let result = simulate_response(model, &options, settings.contact, every, None)?.completed()?;
+    let step = options.time_step(model)?;
+    options.step = Some(step);
+    options.record_every = Some(((5e-5 / step).floor() as usize).max(1));
+    let result = simulate(model, &options)?.completed()?;
     let start = result.settled_start();
     let angle: Vec<f64> = result.time[start..].iter().map(|t| speed * t).collect();
     let channel = |name: &str| {

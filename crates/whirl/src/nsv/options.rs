@@ -8,13 +8,11 @@ use crate::error::{Error, InputError, Result};
 use crate::model::Model;
 use crate::post::spectrum::MIN_SAMPLES;
 use crate::post::Window;
-use crate::time::{stable_step_for, Initial, DEFAULT_MODES, MAX_STEPS, STABLE_FRACTION};
+use crate::system::SpeedProfile;
+use crate::time::{
+    Initial, Method, SimulationOptions, DEFAULT_DIVERGENCE_BOUND, DEFAULT_MODES, MAX_STEPS,
+};
 use crate::units::rad_s_to_hz;
-
-/// Recorded samples are at most this far apart, s (100 kHz): far above every frequency of
-/// the band and the bearing nodes' contact resonances (a few kHz), so nothing aliases into
-/// the band (see `whirl simulate`'s `DEFAULT_SAMPLE_INTERVAL`).
-pub const SAMPLE_INTERVAL: f64 = 1e-5;
 
 /// Default shortest settling time, s: the first record is taken after it.
 pub const DEFAULT_SETTLE: f64 = 0.5;
@@ -197,7 +195,25 @@ impl CascadeOptions {
             max_frequency_hz: None,
             tolerance_bins: DEFAULT_TOLERANCE_BINS,
             full: false,
-            divergence_bound: 0.01,
+            divergence_bound: DEFAULT_DIVERGENCE_BOUND,
+        }
+    }
+
+    /// The settings of every run of the cascade, at rest: each point sets its speed, its
+    /// duration and the resolved step and sampling. Channels only, no roller records: one
+    /// response per speed is all a point reads.
+    pub(super) fn run_settings(&self) -> SimulationOptions {
+        SimulationOptions {
+            step: self.step,
+            method: Method::CentralDifference,
+            contact: Some(self.law),
+            reduction: self.reduction,
+            settle: Some(self.settle),
+            nodes: Some(vec![self.node]),
+            initial: self.initial,
+            divergence_bound: self.divergence_bound,
+            record_rollers: false,
+            ..SimulationOptions::new(SpeedProfile::Constant(0.0))
         }
     }
 }
@@ -229,13 +245,11 @@ fn bad(field: &str, message: String, help: &str) -> Error {
 /// Checks the options against the model and works out step, sampling and band.
 pub(super) fn resolve(model: &Model, o: &CascadeOptions) -> Result<Resolved> {
     check(model, o)?;
-    let step = match o.step {
-        Some(h) => h,
-        None => STABLE_FRACTION * stable_step_for(model, o.reduction, o.law)?,
-    };
-    // As many steps as fit in the sample interval, at least one; the allowance keeps a step
-    // of exactly SAMPLE_INTERVAL / k at k despite round-off.
-    let record_every = ((SAMPLE_INTERVAL / step) * (1.0 + 1e-9)).floor().max(1.0) as usize;
+    // Recorded at the simulation's default interval (100 kHz), far above every frequency of
+    // the band and the bearing nodes' contact resonances, so nothing aliases into the band.
+    let run = o.run_settings();
+    let step = run.time_step(model)?;
+    let record_every = run.record_interval(step);
     let interval = step * record_every as f64;
     let samples = (o.record / interval + 1e-9).floor() as usize;
     if samples < MIN_SAMPLES {

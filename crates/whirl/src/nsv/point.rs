@@ -39,7 +39,7 @@ use crate::post::{
     SpectrumPlanner, Window,
 };
 use crate::system::SpeedProfile;
-use crate::time::{simulate_response, Method, RunStatus, SimulationOptions, Until};
+use crate::time::{simulate_with, Hooks, RunStatus, SimulationOptions, Until};
 use crate::units::rad_s_to_hz;
 
 /// With only the record's halves to compare (a settling time shorter than half the
@@ -443,14 +443,9 @@ pub(super) fn compute(
         // Two samples more than the records, so that rounding of the step count never
         // leaves the last a sample short.
         duration: o.settle_max.max(o.settle) + most * o.record + 2.0 / r.sample_rate_hz,
-        step: r.step,
-        method: Method::CentralDifference,
-        reduction: o.reduction,
-        settle: o.settle,
-        nodes: vec![o.node],
-        initial: o.initial,
-        divergence_bound: o.divergence_bound,
-        progress: None,
+        step: Some(r.step),
+        record_every: Some(r.record_every),
+        ..o.run_settings()
     };
     let mut watch = Watch {
         o,
@@ -473,7 +468,11 @@ pub(super) fn compute(
         every: (r.samples / 2).max(1),
         decide: &mut decide,
     };
-    let result = simulate_response(model, &simulation, o.law, r.record_every, Some(until))?;
+    let hooks = Hooks {
+        forces: None,
+        until: Some(until),
+    };
+    let result = simulate_with(model, &simulation, hooks)?;
     if let Some(e) = failure {
         return Err(e);
     }

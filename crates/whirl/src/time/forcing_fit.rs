@@ -28,16 +28,12 @@ use serde::Serialize;
 
 use crate::bearing::forcing_regression::{fit_forcing_law, law_force, own_power_law, quality};
 use crate::bearing::forcing_regression::{in_contact, ForcingPoint};
-use crate::bearing::{hertz_bearings, HertzBearing};
+use crate::bearing::{ContactLaw, HertzBearing};
 use crate::error::{Error, Result};
-use crate::fe::Bearings;
 use crate::force::NonlinearForce;
 use crate::model::{Clearance, ForcingFunction, Model, RollerBearing};
 use crate::system::SpeedProfile;
-use crate::time::{
-    simulate_with, stable_step_with, Initial, Method, SimulationOptions, DEFAULT_MODES,
-    STABLE_FRACTION,
-};
+use crate::time::{simulate, SimulationOptions, DEFAULT_MODES};
 
 /// How the Hertz model is run for a fit.
 #[derive(Debug, Clone, PartialEq)]
@@ -48,7 +44,8 @@ pub struct ForcingFitOptions {
     pub settle: f64,
     /// Craig-Bampton fixed-interface modes; `None` for the full model.
     pub reduction: Option<usize>,
-    /// Time step, s; `None` for [`STEP_FRACTION`] of the central difference's limit.
+    /// Time step, s; `None` for the simulation's default ([`crate::time::STABLE_FRACTION`] of the
+    /// central difference's limit).
     pub step: Option<f64>,
     /// Samples kept per speed, evenly spaced over the settled record.
     pub samples_per_speed: usize,
@@ -132,8 +129,8 @@ impl ForcingFit {
 /// # Errors
 /// [`Error::InvalidOption`] when bearing `index` does not exist, `speeds` is empty or holds
 /// a speed that is not positive and finite, or `options.samples_per_speed` is below 2.
-/// Without `options.step`, the errors of [`stable_step_with`]. For each speed the errors of
-/// [`simulate_with`] and of [`completed`](crate::time::SimulationResult::completed)
+/// Without `options.step`, the errors of [`crate::time::stable_step`]. For each speed the
+/// errors of [`simulate`] and of [`completed`](crate::time::SimulationResult::completed)
 /// ([`Error::Diverged`] when a run diverges); then those of [`fit_forcing_law`]
 /// ([`Error::InvalidOption`] when no speed has two distinct deflections in contact,
 /// [`Error::NotConverged`] when the least squares do not converge).
@@ -150,21 +147,19 @@ pub fn fit_forcing(
         ))
     })?;
     check_request(speeds, options)?;
-    let step = match options.step {
-        Some(h) => h,
-        None => {
-            let limit = stable_step_with(
-                model,
-                options.reduction,
-                Bearings::NonlinearApart,
-                &hertz_bearings,
-            )?;
-            STABLE_FRACTION * limit
-        }
-    };
+    let settings = run_settings(options, bearing.station.node);
+    // One step for every speed: the limit depends on none.
+    let step = settings.time_step(model)?;
     let runs = speeds
         .par_iter()
-        .map(|&w| sample_speed(model, bearing, w, step, options))
+        .map(|&w| {
+            let run = SimulationOptions {
+                speed: SpeedProfile::Constant(w),
+                step: Some(step),
+                ..settings.clone()
+            };
+            sample_speed(model, bearing, &run, options.samples_per_speed)
+        })
         .collect::<Result<Vec<_>>>()?;
     let points: Vec<ForcingPoint> = runs.iter().flat_map(|r| r.points.clone()).collect();
     let (law, iterations) = fit_forcing_law(&points, &bearing.clearance)?;
@@ -211,36 +206,41 @@ struct SpeedRun {
     wall_time_s: f64,
 }
 
-/// Runs the Hertz model at `speed` and samples the bearing's settled force and deflection.
+/// The settings of the Hertz runs of a fit (each sets its speed): every step recorded at
+/// the bearing's node, nothing per roller.
+fn run_settings(options: &ForcingFitOptions, node: usize) -> SimulationOptions {
+    SimulationOptions {
+        duration: options.duration,
+        step: options.step,
+        contact: Some(ContactLaw::Hertz),
+        reduction: options.reduction,
+        settle: Some(options.settle),
+        nodes: Some(vec![node]),
+        divergence_bound: DIVERGENCE_BOUND,
+        record_every: Some(1),
+        record_rollers: false,
+        ..SimulationOptions::new(SpeedProfile::Constant(0.0))
+    }
+}
+
+/// Runs the Hertz model as `run` says and samples the bearing's settled force and
+/// deflection `samples` times.
 fn sample_speed(
     model: &Model,
     bearing: &RollerBearing,
-    speed: f64,
-    step: f64,
-    options: &ForcingFitOptions,
+    run: &SimulationOptions,
+    samples: usize,
 ) -> Result<SpeedRun> {
     let start = Instant::now();
-    let profile = SpeedProfile::Constant(speed);
-    let run = SimulationOptions {
-        speed: profile,
-        duration: options.duration,
-        step,
-        method: Method::CentralDifference,
-        reduction: options.reduction,
-        settle: options.settle,
-        nodes: vec![bearing.station.node],
-        initial: Initial::StaticEquilibrium,
-        divergence_bound: DIVERGENCE_BOUND,
-        progress: None,
-    };
-    let result =
-        simulate_with(model, &run, Bearings::NonlinearApart, &hertz_bearings)?.completed()?;
+    let profile = run.speed;
+    let speed = profile.at(0.0).0.speed;
+    let result = simulate(model, run)?.completed()?;
     let (ux, uy) = (&result.channels[0].values, &result.channels[1].values);
     let mut elastic = elastic_contact(bearing)?;
     let settled = result.settled_start()..result.time.len();
-    let mut points = Vec::with_capacity(options.samples_per_speed);
+    let mut points = Vec::with_capacity(samples);
     let mut excluded = 0;
-    for i in evenly_spaced(settled, options.samples_per_speed) {
+    for i in evenly_spaced(settled, samples) {
         let u = [ux[i], uy[i]];
         let p = ForcingPoint {
             speed,

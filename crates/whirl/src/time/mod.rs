@@ -14,7 +14,7 @@
 //! [`crate::force::NonlinearForce`], so contact laws plug in without changing the
 //! integrators. Each
 //! calls an observer with (t, q, q') at every step; [`simulate`] builds the problem from a
-//! model and records named channels.
+//! model as one [`SimulationOptions`] says and records named channels.
 
 mod central;
 #[cfg(test)]
@@ -33,10 +33,10 @@ pub use newmark::{newmark, NewmarkScheme};
 pub use rk::{runge_kutta, RkStats, RkTolerances};
 pub use rollers::{peak_near, ContactSummary, RollerRecord};
 pub use simulate::{
-    simulate, simulate_with, stable_step, stable_step_with, Channel, Initial, Method, Progress,
-    RunStatus, SimulationOptions, SimulationResult,
+    simulate, simulate_with, stable_step, Channel, Hooks, Initial, Method, Progress, RunStatus,
+    SimulationOptions, SimulationResult, Until, DEFAULT_DIVERGENCE_BOUND, DEFAULT_SAMPLE_INTERVAL,
+    DEFAULT_STEP, DIVERGENCE_NET,
 };
-pub use simulate::{simulate_contacts, simulate_response, stable_step_for, Until, DIVERGENCE_NET};
 pub use statics::static_equilibrium;
 
 use std::ops::ControlFlow;
@@ -59,7 +59,7 @@ pub(crate) fn check_marchable(system: &System) -> Result<()> {
 }
 
 /// The central difference runs at this fraction of its stability limit by default
-/// ([`stable_step_for`]): close enough to be cheap, far enough that round-off in the limit
+/// ([`stable_step`]): close enough to be cheap, far enough that round-off in the limit
 /// does not matter. The one default of `whirl simulate`, the cascade, the forcing-function
 /// fit and the harmonic-balance comparison.
 pub const STABLE_FRACTION: f64 = 0.9;

@@ -4,16 +4,19 @@
 //! With one roller at the bottom the horizontal static position inside the clearance is not
 //! unique; the static solve starts from u = 0, so it keeps u_x = 0 (docs/theory.md section 6).
 //!
+//! One run is described by one [`SimulationOptions`], whose [`SimulationOptions::new`]
+//! holds every default; [`simulate`] runs it, and [`simulate_with`] also takes [`Hooks`]: a
+//! caller's own nonlinear forces, or a rule that ends the run once it has recorded enough.
 //! [`stable_step`] gives the central difference's stability limit of the model exactly as
 //! [`simulate`] will integrate it, so a caller can choose a step before running.
 //!
-//! [`simulate_contacts`] models the roller bearings by a [`ContactLaw`] and records, besides
-//! the channels, what each roller did ([`RollerRecord`]): its angle, its approach and its
-//! force, evaluated from the bearing node's recorded displacement and velocity with the
-//! bearing's own kinematics (for the Hertz law exactly the force the integrator applied,
-//! up to the velocity: the integrator uses the backward difference, the record the central
-//! one). It records every `record_every`-th step only, so long runs of the full model stay
-//! small.
+//! [`simulate`] models the roller bearings by a [`ContactLaw`] and records, besides the
+//! channels, what each roller did ([`RollerRecord`]; [`SimulationOptions::record_rollers`]):
+//! its angle, its approach and its force, evaluated from the bearing node's recorded
+//! displacement and velocity with the bearing's own kinematics (for the Hertz law exactly
+//! the force the integrator applied, up to the velocity: the integrator uses the backward
+//! difference, the record the central one). It records every `record_every`-th step only,
+//! so long runs of the full model stay small.
 //!
 //! With [`ContactLaw::Lagrange`] the rollers are rigid constraints on the central
 //! difference ([`central_difference_constrained`]) and the recorded forces are the
@@ -50,11 +53,11 @@ use super::newmark::{newmark, NewmarkScheme};
 use super::rk::{runge_kutta, RkStats, RkTolerances};
 use super::rollers::RollerRecord;
 use super::statics::static_equilibrium;
-use super::MarchOptions;
+use super::{MarchOptions, STABLE_FRACTION};
 use crate::bearing::ContactLaw;
 use crate::error::{Error, Result};
 use crate::fe::{dof, dof_name, Bearings, Direction};
-use crate::force::{no_forces, ForceBuilder};
+use crate::force::ForceBuilder;
 use crate::model::Model;
 use crate::system::{build, Built, SparseRow, SpeedProfile, System};
 use contacts::{
@@ -135,30 +138,170 @@ pub struct Until<'a> {
     pub decide: &'a mut dyn FnMut(&[Vec<f64>]) -> ControlFlow<()>,
 }
 
-/// What to simulate.
+/// What to simulate: every setting of a run, with its default defined once, in
+/// [`SimulationOptions::new`]. A setting left `None` is chosen from the model and the other
+/// settings when the run starts (each field says how); the result reports what was used.
 #[derive(Debug, Clone)]
 pub struct SimulationOptions {
     /// Spin speed over time.
     pub speed: SpeedProfile,
-    /// Simulated time, s.
+    /// Simulated time, s. Default 1 s.
     pub duration: f64,
-    /// Time step (sampling interval for Runge-Kutta), s.
-    pub step: f64,
-    /// Integrator.
+    /// Time step (sampling interval for Runge-Kutta), s. Default `None`:
+    /// [`STABLE_FRACTION`] of the central difference's stability limit of the model as it
+    /// is integrated, or [`DEFAULT_STEP`] for the other methods.
+    pub step: Option<f64>,
+    /// Integrator. Default the central difference.
     pub method: Method,
-    /// Craig-Bampton with this many fixed-interface modes; `None` for the full model.
+    /// How the roller bearings act. Default `None`: [`ContactLaw::default_for`] the model
+    /// (Hertz contacts when it has roller bearings).
+    pub contact: Option<ContactLaw>,
+    /// Craig-Bampton with this many fixed-interface modes; `None` (the default) for the
+    /// full model.
     pub reduction: Option<usize>,
-    /// Time discarded before steady-state post-processing, s.
-    pub settle: f64,
-    /// Nodes whose ux and uy are recorded.
-    pub nodes: Vec<usize>,
-    /// Initial state.
+    /// Time discarded before steady-state post-processing, s. Default `None`: half the
+    /// duration.
+    pub settle: Option<f64>,
+    /// Nodes whose ux and uy are recorded, in this order. Default `None`: every disk and
+    /// bearing node, ascending.
+    pub nodes: Option<Vec<usize>>,
+    /// Initial state. Default the static equilibrium under gravity.
     pub initial: Initial,
     /// A recorded translation beyond this (m) means divergence (see the module
-    /// documentation).
+    /// documentation). Default [`DEFAULT_DIVERGENCE_BOUND`].
     pub divergence_bound: f64,
-    /// Told how far the run has got, e.g. for a progress display; `None` for none.
+    /// Record every this many steps. Default `None`: as many steps as fit in
+    /// [`DEFAULT_SAMPLE_INTERVAL`], at least 1.
+    pub record_every: Option<usize>,
+    /// Whether to record what each roller did ([`RollerRecord`]) and the channels of every
+    /// roller bearing's node (appended when not among `nodes`). Default `true`; a caller
+    /// of many runs that needs one response each (a cascade) leaves them out, since
+    /// evaluating every roller at every sample costs about as much as the march.
+    pub record_rollers: bool,
+    /// Told how far the run has got, e.g. for a progress display; `None` (the default) for
+    /// none.
     pub progress: Option<Progress>,
+}
+
+/// Default step of Newmark and output interval of Runge-Kutta, s (2000 samples per
+/// revolution at 50 Hz): they have no stability limit to scale.
+pub const DEFAULT_STEP: f64 = 1e-5;
+
+/// Recorded samples are at most this far apart by default, s: 100 kHz, whose 50 kHz Nyquist
+/// frequency lies far above every contact frequency of the speed range (the varying
+/// compliance of the reference bearing is 2.7 kHz at 750 Hz) and above the bearing nodes'
+/// contact resonances (a few kHz). The full model's modes above 50 kHz, which would alias,
+/// are overdamped by the stiffness-proportional damping (zeta = beta w / 2 > 1 there). The
+/// full model's stable step is a few microseconds, and recording each would write hundreds
+/// of MB for a second of motion.
+pub const DEFAULT_SAMPLE_INTERVAL: f64 = 1e-5;
+
+/// Divergence bound when none is given, m: a centimetre, hundreds of times a bearing's
+/// clearance, so only a run that has left the physics reaches it.
+pub const DEFAULT_DIVERGENCE_BOUND: f64 = 0.01;
+
+impl SimulationOptions {
+    /// A run at `speed` with every other setting at its default (see each field).
+    pub fn new(speed: SpeedProfile) -> Self {
+        SimulationOptions {
+            speed,
+            duration: 1.0,
+            step: None,
+            method: Method::CentralDifference,
+            contact: None,
+            reduction: None,
+            settle: None,
+            nodes: None,
+            initial: Initial::StaticEquilibrium,
+            divergence_bound: DEFAULT_DIVERGENCE_BOUND,
+            record_every: None,
+            record_rollers: true,
+            progress: None,
+        }
+    }
+
+    /// The settling time of the run: [`SimulationOptions::settle`], or half the duration.
+    pub fn settle_time(&self) -> f64 {
+        self.settle.unwrap_or(0.5 * self.duration)
+    }
+
+    /// The contact law of the run on `model`: [`SimulationOptions::contact`], or
+    /// [`ContactLaw::default_for`] the model.
+    pub fn contact_law(&self, model: &Model) -> ContactLaw {
+        self.contact
+            .unwrap_or_else(|| ContactLaw::default_for(model))
+    }
+
+    /// The recorded nodes asked for: [`SimulationOptions::nodes`] (each once, in the order
+    /// given), or every disk and bearing node, ascending.
+    pub fn node_list(&self, model: &Model) -> Vec<usize> {
+        match &self.nodes {
+            Some(given) => {
+                let mut nodes: Vec<usize> = Vec::with_capacity(given.len());
+                for &n in given {
+                    if !nodes.contains(&n) {
+                        nodes.push(n);
+                    }
+                }
+                nodes
+            }
+            None => {
+                let mut nodes: Vec<usize> = model.disks.iter().map(|d| d.station.node).collect();
+                nodes.extend(model.bearing_nodes());
+                nodes.sort_unstable();
+                nodes.dedup();
+                nodes
+            }
+        }
+    }
+
+    /// The time step of the run on `model`: [`SimulationOptions::step`], or the default
+    /// (which, for the central difference, needs the model's stability limit).
+    ///
+    /// # Errors
+    /// Those of [`stable_step`] when the step is the central difference's default.
+    pub fn time_step(&self, model: &Model) -> Result<f64> {
+        match (self.step, self.method) {
+            (None, Method::CentralDifference) => {
+                let limit = stable_step(model, self.reduction, self.contact_law(model))?;
+                Ok(self.step_within(limit))
+            }
+            _ => Ok(self.step_within(f64::NAN)),
+        }
+    }
+
+    /// The time step of the run, given the central difference's stability limit `limit`
+    /// of the model as it is integrated.
+    fn step_within(&self, limit: f64) -> f64 {
+        match (self.step, self.method) {
+            (Some(h), _) => h,
+            (None, Method::CentralDifference) => STABLE_FRACTION * limit,
+            (None, _) => DEFAULT_STEP,
+        }
+    }
+
+    /// Steps per recorded sample at time step `step`: [`SimulationOptions::record_every`],
+    /// or as many steps as fit in [`DEFAULT_SAMPLE_INTERVAL`], at least 1.
+    pub fn record_interval(&self, step: f64) -> usize {
+        // The small allowance keeps a step of exactly 1e-5 / k at k despite round-off.
+        self.record_every.unwrap_or_else(|| {
+            ((DEFAULT_SAMPLE_INTERVAL / step) * (1.0 + 1e-9))
+                .floor()
+                .max(1.0) as usize
+        })
+    }
+}
+
+/// What a caller plugs into a run besides its settings.
+#[derive(Default)]
+pub struct Hooks<'a> {
+    /// The caller's own nonlinear forces instead of those of the contact law: whether the
+    /// roller bearings' linear stiffness is in the matrices, and the builder, which receives
+    /// a map from physical DOFs to integrator coordinates. Nothing is then recorded per
+    /// roller, and the contact law is not used.
+    pub forces: Option<(Bearings, ForceBuilder<'a>)>,
+    /// Ends the run once what it has recorded is enough.
+    pub until: Option<Until<'a>>,
 }
 
 /// One recorded signal.
@@ -213,7 +356,8 @@ pub struct SimulationResult {
     /// Steps per recorded sample.
     pub record_every: usize,
     /// What the rollers of each roller bearing did, at the recorded times (empty for
-    /// linear bearings and for [`simulate_with`]).
+    /// linear bearings, for a caller's own forces and without
+    /// [`SimulationOptions::record_rollers`]).
     pub rollers: Vec<RollerRecord>,
     /// Why the run started from rest although the static equilibrium was asked for
     /// (none was found, e.g. with many rollers and contact damping at speed); `None` when
@@ -250,30 +394,23 @@ impl SimulationResult {
     }
 }
 
-fn check_options(model: &Model, o: &SimulationOptions) -> Result<()> {
+/// The checks of the settings that do not depend on the time step.
+fn check_settings(model: &Model, o: &SimulationOptions, nodes: &[usize]) -> Result<()> {
     let bad = |m: String| Err(Error::InvalidOption(m));
-    if !(o.step.is_finite() && o.step > 0.0) {
-        return bad(format!("the time step must be positive, got {} s", o.step));
-    }
-    if !(o.duration.is_finite() && o.duration > o.step) {
+    let settle = o.settle_time();
+    if !(o.duration.is_finite() && o.duration > 0.0) {
         return bad(format!(
-            "the duration ({} s) must exceed one time step ({} s)",
-            o.duration, o.step
+            "the duration must be positive, got {} s",
+            o.duration
         ));
     }
-    if !(o.settle >= 0.0 && o.settle < o.duration) {
+    if !(settle >= 0.0 && settle < o.duration) {
         return bad(format!(
-            "the settling time ({} s) must lie in [0, duration = {} s)",
-            o.settle, o.duration
+            "the settling time ({settle} s) must lie in [0, duration = {} s)",
+            o.duration
         ));
     }
-    if o.duration / o.step > super::MAX_STEPS {
-        return bad(format!(
-            "{:.0} steps is too many; raise the step or shorten the run",
-            o.duration / o.step
-        ));
-    }
-    if let Some(&n) = o.nodes.iter().find(|&&n| n >= model.node_count()) {
+    if let Some(&n) = nodes.iter().find(|&&n| n >= model.node_count()) {
         return bad(format!(
             "node {n} is not on the shaft (nodes 0 to {})",
             model.node_count() - 1
@@ -290,53 +427,110 @@ fn check_options(model: &Model, o: &SimulationOptions) -> Result<()> {
             o.divergence_bound
         ));
     }
+    if o.record_every == Some(0) {
+        return bad("record every 1 step or more, not 0".into());
+    }
     Ok(())
 }
 
-/// Simulates `model` with its linear bearings in the matrices, roller bearings linearised
-/// (their `linear_stiffness`), and no further nonlinear forces.
+/// The checks of the time step.
+fn check_step(o: &SimulationOptions, step: f64) -> Result<()> {
+    let bad = |m: String| Err(Error::InvalidOption(m));
+    if !(step.is_finite() && step > 0.0) {
+        return bad(format!("the time step must be positive, got {step} s"));
+    }
+    if o.duration <= step {
+        return bad(format!(
+            "the duration ({} s) must exceed one time step ({step} s)",
+            o.duration
+        ));
+    }
+    if o.duration / step > super::MAX_STEPS {
+        return bad(format!(
+            "{:.0} steps is too many; raise the step or shorten the run",
+            o.duration / step
+        ));
+    }
+    Ok(())
+}
+
+/// Simulates `model` as `options` say: the roller bearings modelled by the contact law,
+/// recording the channels of the nodes (and, with [`SimulationOptions::record_rollers`],
+/// of every roller bearing's node and what each roller did).
 ///
 /// # Errors
 /// [`Error::InvalidOption`] for a step that is not positive, a duration not above one step,
 /// a settling time outside [0, duration), more than 5e8 steps, a node not on the shaft, a
-/// speed ramp without a positive duration or a divergence bound that is not positive.
-/// Then the errors of building the problem: those of [`crate::reduce::CraigBampton::new`] with
-/// `options.reduction`, of [`System::check`] and of
+/// speed ramp without a positive duration, a divergence bound that is
+/// not positive, a `record_every` of 0 or an [`Until`] that looks every 0 samples.
+/// [`Error::Unsupported`] for Lagrange-multiplier contacts with a method other than the
+/// central difference. Then the errors of building the problem: those of
+/// [`crate::reduce::CraigBampton::new`] with `options.reduction`; [`Error::Unsupported`]
+/// when a bearing's DOFs are not kept by the reduction; [`Error::Input`] for a bearing
+/// without a `forcing_function` under the forcing law, or with roller tilt or skew under
+/// Lagrange contacts; [`Error::Unsupported`] for more bearings than Lagrange contacts can
+/// constrain; those of the caller's forces, of [`System::check`] and of
 /// [`central_difference_limit`].
 /// Then those of the integrator that `options.method` names ([`central_difference`],
-/// [`newmark`], [`runge_kutta`]), but not
+/// [`central_difference_constrained`], [`newmark`], [`runge_kutta`]), but not
 /// [`Error::Diverged`]: a divergence ends the run with [`RunStatus::Diverged`] in the result
 /// (see [`SimulationResult::completed`]). A static equilibrium that is not found does not
 /// fail the run, which then starts from rest ([`SimulationResult::start_fallback`]).
 pub fn simulate(model: &Model, options: &SimulationOptions) -> Result<SimulationResult> {
-    simulate_with(model, options, Bearings::Linearised, &no_forces)
+    simulate_with(model, options, Hooks::default())
 }
 
-/// The central difference's stability limit (s) of `model` as [`simulate`] integrates it:
-/// full, or reduced with `reduction` fixed-interface modes.
+/// As [`simulate`], with the caller's [`Hooks`]: its own nonlinear forces instead of the
+/// contact law's, and a rule that ends the run once it has recorded enough.
 ///
 /// # Errors
-/// The errors of [`stable_step_with`] with linearised bearings and no forces.
-pub fn stable_step(model: &Model, reduction: Option<usize>) -> Result<f64> {
-    stable_step_with(model, reduction, Bearings::Linearised, &no_forces)
-}
-
-/// The central difference's stability limit (s) of `model` as [`simulate_with`] integrates
-/// it with these bearings and forces (their largest tangent stiffness included).
-///
-/// # Errors
-/// The errors of [`crate::reduce::CraigBampton::new`] with `reduction`, of `forces`, of
-/// [`System::check`] ([`Error::InvalidOption`]) and of [`central_difference_limit`]
-/// ([`Error::Singular`] for a mass that is not positive definite, [`Error::NotConverged`]
-/// when the eigen-solver fails).
-pub fn stable_step_with(
+/// [`Error::InvalidOption`] for a step that is not positive, a duration not above one step,
+/// a settling time outside [0, duration), more than 5e8 steps, a node not on the shaft, a
+/// speed ramp without a positive duration, a divergence bound that is
+/// not positive, a `record_every` of 0 or an [`Until`] that looks every 0 samples.
+/// [`Error::Unsupported`] for Lagrange-multiplier contacts with a method other than the
+/// central difference. Then the errors of building the problem: those of
+/// [`crate::reduce::CraigBampton::new`] with `options.reduction`; [`Error::Unsupported`]
+/// when a bearing's DOFs are not kept by the reduction; [`Error::Input`] for a bearing
+/// without a `forcing_function` under the forcing law, or with roller tilt or skew under
+/// Lagrange contacts; [`Error::Unsupported`] for more bearings than Lagrange contacts can
+/// constrain; those of the caller's forces, of [`System::check`] and of
+/// [`central_difference_limit`].
+/// Then those of the integrator that `options.method` names ([`central_difference`],
+/// [`central_difference_constrained`], [`newmark`], [`runge_kutta`]), but not
+/// [`Error::Diverged`]: a divergence ends the run with [`RunStatus::Diverged`] in the result
+/// (see [`SimulationResult::completed`]). A static equilibrium that is not found does not
+/// fail the run, which then starts from rest ([`SimulationResult::start_fallback`]).
+pub fn simulate_with(
     model: &Model,
-    reduction: Option<usize>,
-    bearings: Bearings,
-    forces: ForceBuilder<'_>,
-) -> Result<f64> {
-    // The limit depends on neither speed nor loads.
-    central_difference_limit(&build(model, reduction, bearings, forces)?.system)
+    options: &SimulationOptions,
+    hooks: Hooks<'_>,
+) -> Result<SimulationResult> {
+    let Hooks { forces, until } = hooks;
+    match forces {
+        Some((bearings, forces)) => march_and_record(model, options, bearings, forces, None, until),
+        None => {
+            let law = options.contact_law(model);
+            // Linear bearings have no rollers to record.
+            let rollers = (law != ContactLaw::Linear).then_some(law);
+            march_and_record(model, options, law.bearings(), law.forces(), rollers, until)
+        }
+    }
+}
+
+/// The central difference's stability limit (s) of `model` with its roller bearings
+/// modelled by `law`: full, or reduced with `reduction` fixed-interface modes, exactly as
+/// [`simulate`] integrates it. It depends on neither speed nor loads.
+///
+/// # Errors
+/// The errors of [`crate::reduce::CraigBampton::new`] with `reduction`, of the law's
+/// forces, of [`System::check`] ([`Error::InvalidOption`]) and of
+/// [`central_difference_limit`] ([`Error::Singular`] for a mass that is not positive
+/// definite, [`Error::NotConverged`] when the eigen-solver fails).
+pub fn stable_step(model: &Model, reduction: Option<usize>, law: ContactLaw) -> Result<f64> {
+    // Rigid constraints corrected after each step leave the explicit limit of the
+    // unconstrained rotor (Carpenter et al. 1991): the Lagrange law adds no forces.
+    central_difference_limit(&build(model, reduction, law.bearings(), law.forces())?.system)
 }
 
 /// Calls a [`Progress`] each time another 1/[`PROGRESS_REPORTS`] of the run is done.
@@ -356,153 +550,6 @@ impl ProgressTicker<'_> {
             }
         }
     }
-}
-
-/// Simulates `model` with nonlinear forces from `forces`, which receives a map from
-/// physical DOFs to integrator coordinates. `bearings` says whether the roller bearings'
-/// linear stiffness is in the matrices. Every step is recorded; nothing per roller.
-///
-/// # Errors
-/// [`Error::InvalidOption`] for a step that is not positive, a duration not above one step,
-/// a settling time outside [0, duration), more than 5e8 steps, a node not on the shaft, a
-/// speed ramp without a positive duration or a divergence bound that is not positive.
-/// Then the errors of building the problem: those of [`crate::reduce::CraigBampton::new`] with
-/// `options.reduction`, of `forces`, of [`System::check`] and of
-/// [`central_difference_limit`].
-/// Then those of the integrator that `options.method` names ([`central_difference`],
-/// [`newmark`], [`runge_kutta`]), but not
-/// [`Error::Diverged`]: a divergence ends the run with [`RunStatus::Diverged`] in the result
-/// (see [`SimulationResult::completed`]). A static equilibrium that is not found does not
-/// fail the run, which then starts from rest ([`SimulationResult::start_fallback`]).
-pub fn simulate_with(
-    model: &Model,
-    options: &SimulationOptions,
-    bearings: Bearings,
-    forces: ForceBuilder<'_>,
-) -> Result<SimulationResult> {
-    let recording = Recording {
-        every: 1,
-        records: Records::Channels,
-        until: None,
-    };
-    march_and_record(model, options, bearings, forces, None, recording)
-}
-
-/// How a run records: every `every`-th step, what, and until when.
-struct Recording<'a> {
-    every: usize,
-    records: Records,
-    until: Option<Until<'a>>,
-}
-
-/// What a run records besides the channels of its nodes.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Records {
-    /// Also every roller bearing's node and what each roller did.
-    Rollers,
-    /// Only the channels of `options.nodes`.
-    Channels,
-}
-
-/// Simulates `model` with its roller bearings modelled by `law`, recording every
-/// `record_every`-th step: the channels of `options.nodes` and of every roller bearing's
-/// node (appended when not asked for), and what each roller did ([`RollerRecord`]).
-///
-/// # Errors
-/// [`Error::InvalidOption`] for a step that is not positive, a duration not above one step,
-/// a settling time outside [0, duration), more than 5e8 steps, a node not on the shaft, a
-/// speed ramp without a positive duration, a divergence bound that is not positive or a
-/// `record_every` of 0.
-/// [`Error::Unsupported`] for Lagrange-multiplier contacts with a method other than the
-/// central difference. Then the errors of building the problem: those of
-/// [`crate::reduce::CraigBampton::new`] with `options.reduction`; [`Error::Unsupported`] when a bearing's
-/// DOFs are not kept by the reduction; [`Error::Input`] for a bearing without a
-/// `forcing_function` under the forcing law, or with roller tilt or skew under Lagrange
-/// contacts; [`Error::Unsupported`] for more bearings than Lagrange contacts can
-/// constrain; those of [`central_difference_limit`].
-/// Then those of the integrator that `options.method` names ([`central_difference`],
-/// [`central_difference_constrained`], [`newmark`], [`runge_kutta`]), but not
-/// [`Error::Diverged`]: a divergence ends the run with [`RunStatus::Diverged`] in the result
-/// (see [`SimulationResult::completed`]). A static equilibrium that is not found does not
-/// fail the run, which then starts from rest ([`SimulationResult::start_fallback`]).
-pub fn simulate_contacts(
-    model: &Model,
-    options: &SimulationOptions,
-    law: ContactLaw,
-    record_every: usize,
-) -> Result<SimulationResult> {
-    let recording = Recording {
-        every: record_every,
-        records: Records::Rollers,
-        until: None,
-    };
-    simulate_law(model, options, law, recording)
-}
-
-/// As [`simulate_contacts`], recording only the channels of `options.nodes`: no bearing
-/// nodes added, no [`RollerRecord`]s. For many runs that need one response each (a
-/// cascade), where evaluating and storing every roller at every sample would cost about as
-/// much as the march. With `until`, the run ends as soon as it says so.
-///
-/// # Errors
-/// [`Error::InvalidOption`] for a step that is not positive, a duration not above one step,
-/// a settling time outside [0, duration), more than 5e8 steps, a node not on the shaft, a
-/// speed ramp without a positive duration, a divergence bound that is not positive, a
-/// `record_every` of 0 or an `until` that looks every 0 samples.
-/// [`Error::Unsupported`] for Lagrange-multiplier contacts with a method other than the
-/// central difference. Then the errors of building the problem: those of
-/// [`crate::reduce::CraigBampton::new`] with `options.reduction`; [`Error::Unsupported`] when a bearing's
-/// DOFs are not kept by the reduction; [`Error::Input`] for a bearing without a
-/// `forcing_function` under the forcing law, or with roller tilt or skew under Lagrange
-/// contacts; [`Error::Unsupported`] for more bearings than Lagrange contacts can
-/// constrain; those of [`central_difference_limit`].
-/// Then those of the integrator that `options.method` names ([`central_difference`],
-/// [`central_difference_constrained`], [`newmark`], [`runge_kutta`]), but not
-/// [`Error::Diverged`]: a divergence ends the run with [`RunStatus::Diverged`] in the result
-/// (see [`SimulationResult::completed`]). A static equilibrium that is not found does not
-/// fail the run, which then starts from rest ([`SimulationResult::start_fallback`]).
-pub fn simulate_response(
-    model: &Model,
-    options: &SimulationOptions,
-    law: ContactLaw,
-    record_every: usize,
-    until: Option<Until<'_>>,
-) -> Result<SimulationResult> {
-    let recording = Recording {
-        every: record_every,
-        records: Records::Channels,
-        until,
-    };
-    simulate_law(model, options, law, recording)
-}
-
-fn simulate_law(
-    model: &Model,
-    options: &SimulationOptions,
-    law: ContactLaw,
-    recording: Recording<'_>,
-) -> Result<SimulationResult> {
-    // Linear bearings have no rollers to record.
-    let rollers = (law != ContactLaw::Linear).then_some(law);
-    march_and_record(
-        model,
-        options,
-        law.bearings(),
-        law.forces(),
-        rollers,
-        recording,
-    )
-}
-
-/// The central difference's stability limit (s) of `model` with its roller bearings
-/// modelled by `law`: full, or reduced with `reduction` fixed-interface modes.
-///
-/// # Errors
-/// The errors of [`stable_step_with`] with the bearings and forces of `law`.
-pub fn stable_step_for(model: &Model, reduction: Option<usize>, law: ContactLaw) -> Result<f64> {
-    // Rigid constraints corrected after each step leave the explicit limit of the
-    // unconstrained rotor (Carpenter et al. 1991): the Lagrange law adds no forces.
-    stable_step_with(model, reduction, law.bearings(), law.forces())
 }
 
 /// The first recorded translation beyond the bound: (channel, value).
@@ -530,31 +577,24 @@ fn divergence_message(t: f64, what: &str, value: String, bound: f64) -> String {
     )
 }
 
-/// Builds, marches and records; `law` (when given) adds the roller records.
+/// Builds, marches and records; `law` (when given) is the contact law whose rollers
+/// [`SimulationOptions::record_rollers`] records.
 fn march_and_record(
     model: &Model,
     options: &SimulationOptions,
     bearings: Bearings,
     forces: ForceBuilder<'_>,
     law: Option<ContactLaw>,
-    recording: Recording<'_>,
+    mut until: Option<Until<'_>>,
 ) -> Result<SimulationResult> {
-    let Recording {
-        every: record_every,
-        records,
-        mut until,
-    } = recording;
-    check_options(model, options)?;
+    let nodes = options.node_list(model);
+    check_settings(model, options, &nodes)?;
     if until.as_ref().is_some_and(|u| u.every == 0) {
         return Err(Error::InvalidOption(
             "a stop rule must look every 1 recorded sample or more, not 0".into(),
         ));
     }
-    if record_every == 0 {
-        return Err(Error::InvalidOption(
-            "record every 1 step or more, not 0".into(),
-        ));
-    }
+    let settle = options.settle_time();
     let lagrange = law == Some(ContactLaw::Lagrange);
     if lagrange && options.method != Method::CentralDifference {
         return Err(Error::Unsupported(format!(
@@ -568,6 +608,10 @@ fn march_and_record(
         coordinates: coords,
     } = build(model, options.reduction, bearings, forces)?;
     let n = problem.size();
+    let stable_step = central_difference_limit(&problem)?;
+    let step = options.step_within(stable_step);
+    check_step(options, step)?;
+    let record_every = options.record_interval(step);
     let (q0, start_fallback) = starting_point(model, options, &mut problem, lagrange)?;
     let mut contacts = if lagrange {
         Some(lagrange_contacts(model, &coords)?)
@@ -575,16 +619,15 @@ fn march_and_record(
         None
     };
     let v0 = vec![0.0; n];
-    let stable_step = central_difference_limit(&problem)?;
 
     let bound = options.divergence_bound;
-    let rollers_law = law.filter(|_| records == Records::Rollers);
-    let channels: Vec<(String, usize, SparseRow)> = recorded_nodes(model, options, rollers_law)
+    let rollers_law = law.filter(|_| options.record_rollers);
+    let channels: Vec<(String, usize, SparseRow)> = recorded_nodes(model, nodes, rollers_law)
         .into_iter()
         .flat_map(|node| [Direction::Ux, Direction::Uy].map(|d| (node, dof(node, d))))
         .map(|(node, d)| (dof_name(d), node, coords.recovery_row(d)))
         .collect();
-    let steps = (options.duration / options.step).round() as usize;
+    let steps = (options.duration / step).round() as usize;
     let capacity = steps / record_every + 1;
     let mut probes = match rollers_law {
         Some(law) => model
@@ -646,7 +689,7 @@ fn march_and_record(
     };
     let march = MarchOptions {
         speed,
-        step: options.step,
+        step,
         steps,
         divergence_bound: DIVERGENCE_NET * bound,
     };
@@ -705,8 +748,8 @@ fn march_and_record(
         time,
         channels,
         coordinates: n,
-        step: options.step,
-        settle: options.settle,
+        step,
+        settle,
         stable_step,
         wall_time_s,
         rk_stats,
@@ -729,7 +772,9 @@ fn starting_point(
     let rest = vec![0.0; problem.size()];
     let found = match options.initial {
         Initial::Rest => return Ok((rest, None)),
-        Initial::StaticEquilibrium if lagrange => rigid_static_equilibrium(model, options),
+        Initial::StaticEquilibrium if lagrange => {
+            rigid_static_equilibrium(model, options.reduction, &options.speed)
+        }
         Initial::StaticEquilibrium => {
             static_equilibrium(problem, &rest, options.speed.at(0.0).0.speed)
         }

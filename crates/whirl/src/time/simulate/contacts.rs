@@ -1,8 +1,7 @@
-//! Roller bearings in [`super::simulate_contacts`]: the rigid-roller static start and the
+//! Roller bearings in [`super::simulate`]: the rigid-roller static start and the
 //! constraints of the Lagrange law, and the probes that evaluate each roller from the
 //! recorded motion of its bearing's node.
 
-use super::SimulationOptions;
 use crate::bearing::{
     contact_coordinates_of, hertz_bearings, ContactLaw, HertzBearing, LagrangeContacts,
 };
@@ -10,7 +9,7 @@ use crate::error::Result;
 use crate::fe::{dof, Bearings, Direction};
 use crate::force::Kinematics;
 use crate::model::{Model, RollerBearing};
-use crate::system::{build, Coordinates, SparseRow};
+use crate::system::{build, Coordinates, SparseRow, SpeedProfile};
 use crate::time::statics::static_equilibrium;
 use crate::time::RollerRecord;
 
@@ -21,24 +20,19 @@ use crate::time::RollerRecord;
 const RIGID_STIFFENING: f64 = 1e4;
 
 /// The static equilibrium on rigid rollers (see [`RIGID_STIFFENING`]), in the coordinates
-/// of `options.reduction`.
+/// of `reduction`, at the starting speed of `speed`.
 pub(super) fn rigid_static_equilibrium(
     model: &Model,
-    options: &SimulationOptions,
+    reduction: Option<usize>,
+    speed: &SpeedProfile,
 ) -> Result<Vec<f64>> {
     let mut stiff = model.clone();
     for b in &mut stiff.roller_bearings {
         b.contact_stiffness *= RIGID_STIFFENING;
     }
-    let mut problem = build(
-        &stiff,
-        options.reduction,
-        Bearings::NonlinearApart,
-        &hertz_bearings,
-    )?
-    .system;
+    let mut problem = build(&stiff, reduction, Bearings::NonlinearApart, &hertz_bearings)?.system;
     let n = problem.size();
-    static_equilibrium(&mut problem, &vec![0.0; n], options.speed.at(0.0).0.speed)
+    static_equilibrium(&mut problem, &vec![0.0; n], speed.at(0.0).0.speed)
 }
 
 /// Every roller bearing's rollers as Lagrange-multiplier constraints.
@@ -59,10 +53,9 @@ pub(super) fn lagrange_contacts(model: &Model, coords: &Coordinates) -> Result<L
 /// node not among them, ascending.
 pub(super) fn recorded_nodes(
     model: &Model,
-    options: &SimulationOptions,
+    mut nodes: Vec<usize>,
     law: Option<ContactLaw>,
 ) -> Vec<usize> {
-    let mut nodes = options.nodes.clone();
     if law.is_some() {
         let mut extra: Vec<usize> = model
             .roller_bearings
