@@ -11,6 +11,7 @@ mod error;
 mod modal;
 mod model;
 mod response;
+mod ross;
 mod units;
 
 use pyo3::prelude::*;
@@ -27,5 +28,6 @@ fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(modal::campbell, m)?)?;
     m.add_function(wrap_pyfunction!(modal::convergence, m)?)?;
     m.add_function(wrap_pyfunction!(response::unbalance, m)?)?;
+    m.add_function(wrap_pyfunction!(ross::ross_to_toml, m)?)?;
     Ok(())
 }

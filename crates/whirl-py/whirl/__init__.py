@@ -18,6 +18,7 @@ from ._whirl import BUILD_ID, InputError, NumericalError, WhirlError, __version_
 from .model import Model, WhirlWarning
 from .modal import CampbellResult, CheckResult, ConvergenceResult, campbell, check, convergence
 from .response import UnbalanceResult, unbalance
+from .ross import from_ross, read_ross
 
 __all__ = [
     "BUILD_ID",
@@ -34,5 +35,7 @@ __all__ = [
     "campbell",
     "check",
     "convergence",
+    "from_ross",
+    "read_ross",
     "unbalance",
 ]
