@@ -10,9 +10,11 @@
 mod error;
 mod modal;
 mod model;
+mod nsv;
 mod response;
 mod ross;
 mod units;
+mod watch;
 
 use pyo3::prelude::*;
 
@@ -21,6 +23,13 @@ fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("BUILD_ID", whirl::BUILD_ID)?;
     error::register(m)?;
+    // The command line's defaults, defined once in the library.
+    m.add("DEFAULT_MAX_ADDED", whirl::nsv::DEFAULT_MAX_ADDED)?;
+    m.add("DEFAULT_MAX_RECORDS", whirl::nsv::DEFAULT_MAX_RECORDS)?;
+    m.add("DEFAULT_RELATIVE_ERROR", whirl::nsv::DEFAULT_RELATIVE_ERROR)?;
+    m.add("DEFAULT_TOLERANCE_BINS", whirl::nsv::DEFAULT_TOLERANCE_BINS)?;
+    m.add("DEFAULT_THRESHOLD_M", whirl::nsv::DEFAULT_THRESHOLD_M)?;
+    m.add("DEFAULT_MODES", whirl::time::DEFAULT_MODES)?;
     m.add_class::<model::PyModel>()?;
     m.add_function(wrap_pyfunction!(units::parse_speed, m)?)?;
     m.add_function(wrap_pyfunction!(units::parse_speeds, m)?)?;
@@ -29,5 +38,9 @@ fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(modal::convergence, m)?)?;
     m.add_function(wrap_pyfunction!(response::unbalance, m)?)?;
     m.add_function(wrap_pyfunction!(ross::ross_to_toml, m)?)?;
+    m.add_function(wrap_pyfunction!(nsv::cascade, m)?)?;
+    m.add_function(wrap_pyfunction!(nsv::cascade_point, m)?)?;
+    m.add_function(wrap_pyfunction!(nsv::cascade_checkpoint, m)?)?;
+    m.add_function(wrap_pyfunction!(units::quantity, m)?)?;
     Ok(())
 }

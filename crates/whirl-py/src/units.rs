@@ -32,3 +32,17 @@ pub fn parse_speeds<'py>(py: Python<'py>, text: &str) -> PyResult<Bound<'py, PyA
     }
     Ok(w.into_pyarray(py))
 }
+
+/// A quantity in SI from text with a unit: `dimension` is `time`, `length`, `frequency`
+/// (returned in Hz) or `speed` (rad/s); a plain number is SI (rad/s for a frequency).
+#[pyfunction(name = "parse_quantity")]
+pub fn quantity(name: &str, text: &str, dimension: &str) -> PyResult<f64> {
+    let (d, hz) = match dimension {
+        "time" => (Dimension::Time, false),
+        "length" => (Dimension::Length, false),
+        "frequency" => (Dimension::AngularSpeed, true),
+        _ => (Dimension::AngularSpeed, false),
+    };
+    let x = parse_quantity(text, d).map_err(|e| option(name, e))?;
+    Ok(if hz { whirl::units::rad_s_to_hz(x) } else { x })
+}

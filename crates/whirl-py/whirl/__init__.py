@@ -17,12 +17,14 @@ as numbers in rad/s (SI, as everywhere in the model file).
 from ._whirl import BUILD_ID, InputError, NumericalError, WhirlError, __version__
 from .model import Model, WhirlWarning
 from .modal import CampbellResult, CheckResult, ConvergenceResult, campbell, check, convergence
+from .nsv import CascadeResult, cascade
 from .response import UnbalanceResult, unbalance
 from .ross import from_ross, read_ross
 
 __all__ = [
     "BUILD_ID",
     "CampbellResult",
+    "CascadeResult",
     "CheckResult",
     "ConvergenceResult",
     "InputError",
@@ -33,6 +35,7 @@ __all__ = [
     "WhirlWarning",
     "__version__",
     "campbell",
+    "cascade",
     "check",
     "convergence",
     "from_ross",

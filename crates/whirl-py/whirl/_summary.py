@@ -22,3 +22,12 @@ def finite_or_none(x: float) -> float | None:
     """A number as summary.json holds it: NaN and infinities are null there."""
     x = float(x)
     return x if x == x and abs(x) != float("inf") else None
+
+
+def jsonable(x: Any) -> Any:
+    """``x`` as summary.json reads back: tuples (Rust's pairs) as lists, throughout."""
+    if isinstance(x, dict):
+        return {k: jsonable(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [jsonable(v) for v in x]
+    return x

@@ -117,6 +117,14 @@ pub struct CascadeProgress {
 /// `ControlFlow::Break(())` to stop (finished speeds stay saved, speeds running finish).
 pub type ProgressFn<'a> = &'a (dyn Fn(CascadeProgress) -> ControlFlow<()> + Sync);
 
+/// Computes a batch of a cascade's speeds elsewhere than on this machine's threads (on the
+/// workers of a cluster): given `(index, speed)` pairs (speed in rad/s), it hands each
+/// finished point to `done` as it arrives, in any order, and returns the first error `done`
+/// returns (a checkpoint that cannot be written, or a stop asked for by the progress). Each
+/// point must be the one [`cascade_point`] computes for that speed.
+pub type PointRunner<'a> =
+    &'a dyn Fn(&[(usize, f64)], &mut dyn FnMut(usize, CascadePoint) -> Result<()>) -> Result<()>;
+
 /// A computed cascade: one spectrum and one classified NSV per speed.
 #[derive(Debug, Clone, Serialize)]
 pub struct Cascade {
@@ -181,6 +189,42 @@ pub fn cascade(
     checkpoint: Option<&Path>,
     progress: Option<ProgressFn<'_>>,
 ) -> Result<Cascade> {
+    run_cascade(model, options, checkpoint, progress, None)
+}
+
+/// [`cascade`] with its speeds computed by `runner` (on a cluster's workers) instead of on
+/// this machine's threads: the same rounds of refinement, checkpoint and result.
+///
+/// # Errors
+/// Those of [`cascade`], and the runner's.
+pub fn distributed_cascade(
+    model: &Model,
+    options: &CascadeOptions,
+    checkpoint: Option<&Path>,
+    progress: Option<ProgressFn<'_>>,
+    runner: PointRunner<'_>,
+) -> Result<Cascade> {
+    run_cascade(model, options, checkpoint, progress, Some(runner))
+}
+
+/// One speed (rad/s) of the cascade of `model` with `options`, as [`cascade`] computes it:
+/// what a [`PointRunner`]'s workers compute. Its `added` flag is set by the cascade.
+///
+/// # Errors
+/// [`Error::Input`] for bad options; what the simulation reports for a model it cannot run.
+pub fn cascade_point(model: &Model, options: &CascadeOptions, speed: f64) -> Result<CascadePoint> {
+    let resolved = options::resolve(model, options)?;
+    let mut planners = point::Planners::new(options, &resolved)?;
+    point::compute(model, options, &resolved, speed, &mut planners)
+}
+
+fn run_cascade(
+    model: &Model,
+    options: &CascadeOptions,
+    checkpoint: Option<&Path>,
+    progress: Option<ProgressFn<'_>>,
+    runner: Option<PointRunner<'_>>,
+) -> Result<Cascade> {
     let start = Instant::now();
     let resolved = options::resolve(model, options)?;
     let store = checkpoint
@@ -194,6 +238,7 @@ pub fn cascade(
         store: store.as_ref(),
         planners: &planners,
         progress,
+        runner,
         speeds: options.speeds.clone(),
         points: Vec::new(),
         resumed: 0,
@@ -246,6 +291,8 @@ struct Run<'a> {
     store: Option<&'a Checkpoint>,
     planners: &'a point::Planners,
     progress: Option<ProgressFn<'a>>,
+    /// Computes the missing speeds elsewhere; `None` for this machine's threads.
+    runner: Option<PointRunner<'a>>,
     /// Requested speeds, then the added ones in the order they were added (rad/s); a
     /// speed's index here is its key in the checkpoint.
     speeds: Vec<f64>,
@@ -280,6 +327,42 @@ impl Run<'_> {
         let stop = AtomicBool::new(tell(already).is_break());
         let done = AtomicUsize::new(already);
         let missing: Vec<usize> = (0..total).filter(|&i| self.points[i].is_none()).collect();
+        if let Some(runner) = self.runner {
+            if !stop.load(Ordering::Relaxed) {
+                let batch: Vec<(usize, f64)> =
+                    missing.iter().map(|&i| (i, self.speeds[i])).collect();
+                let (store, points) = (self.store, &mut self.points);
+                let mut done = |i: usize, mut point: CascadePoint| -> Result<()> {
+                    if points.get(i).is_none_or(|p| p.is_some()) {
+                        return Err(Error::Internal(format!(
+                            "the cascade's runner returned speed {i}, which was not asked for"
+                        )));
+                    }
+                    point.added = i >= requested;
+                    if let Some(s) = store {
+                        s.save(i, &point)?;
+                    }
+                    points[i] = Some(point);
+                    let finished = points.iter().flatten().count();
+                    if tell(finished).is_break() {
+                        stop.store(true, Ordering::Relaxed);
+                        return Err(Error::Interrupted(String::new()));
+                    }
+                    Ok(())
+                };
+                // A stop asked for by the progress ends the runner; the count below says so.
+                if let Err(e) = runner(&batch, &mut done) {
+                    if !stop.load(Ordering::Relaxed) {
+                        return Err(e);
+                    }
+                }
+            }
+            let finished = self.points.iter().flatten().count();
+            if finished < total {
+                return Err(interrupted(finished, total, self.store));
+            }
+            return Ok(());
+        }
         let (model, options, resolved, store) =
             (self.model, self.options, self.resolved, self.store);
         let speeds = &self.speeds;

@@ -1,0 +1,181 @@
+//! The NSV cascade: on this machine's threads, or with its speeds sent to a cluster's
+//! workers by a Python runner (the Dask helpers of the package), with the same checkpoint,
+//! refinement and result.
+
+use std::ops::ControlFlow;
+use std::path::PathBuf;
+
+use clap::ValueEnum;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use pythonize::pythonize;
+use whirl::nsv::{checkpoint, CascadeOptions, CascadePoint, CascadeProgress};
+
+use crate::error::{lib, option, to_py};
+use crate::model::PyModel;
+use crate::watch::run_watched;
+
+/// The cascade's options, resolved by the Python package from its keyword arguments (the
+/// command line's options and defaults; speeds in rad/s, times in s, frequencies in Hz).
+#[derive(FromPyObject)]
+#[pyo3(from_item_all)]
+pub struct CascadeArgs {
+    speeds: Vec<f64>,
+    settle: f64,
+    settle_max: f64,
+    start: String,
+    refine: bool,
+    refine_budget: usize,
+    refine_spacing_hz: f64,
+    record: f64,
+    max_records: usize,
+    average_tolerance: f64,
+    contact: Option<String>,
+    reduce: Option<usize>,
+    step: Option<f64>,
+    node: Option<usize>,
+    component: String,
+    window: String,
+    max_frequency_hz: Option<f64>,
+    tolerance: f64,
+    full: bool,
+}
+
+/// An option enum by the name the command line gives it, e.g. `hertz`.
+fn choice<T: ValueEnum>(name: &str, value: &str) -> PyResult<T> {
+    T::from_str(value, true).map_err(|_| {
+        let names: Vec<String> = T::value_variants()
+            .iter()
+            .filter_map(|v| v.to_possible_value())
+            .map(|p| p.get_name().to_string())
+            .collect();
+        option(
+            name,
+            format!("`{value}` is not one of {}", names.join(", ")),
+        )
+    })
+}
+
+/// The library's options, as the command line builds them from its flags.
+fn cascade_options(model: &PyModel, a: &CascadeArgs) -> PyResult<CascadeOptions> {
+    let mut o = CascadeOptions::new(&model.model, a.speeds.clone());
+    o.settle = a.settle;
+    o.settle_max = a.settle_max;
+    o.initial = choice("start", &a.start)?;
+    o.refine.enabled = a.refine;
+    o.refine.max_added = a.refine_budget;
+    o.refine.min_spacing_hz = a.refine_spacing_hz;
+    o.record = a.record;
+    o.averaging.max_records = a.max_records;
+    o.averaging.min_records = o.averaging.min_records.min(a.max_records.max(1));
+    o.averaging.relative_error = a.average_tolerance;
+    if let Some(law) = &a.contact {
+        o.law = choice("contact", law)?;
+    }
+    o.reduction = a.reduce;
+    o.step = a.step;
+    if let Some(n) = a.node {
+        o.node = n;
+    }
+    o.component = choice("component", &a.component)?;
+    o.window = choice("window", &a.window)?;
+    o.max_frequency_hz = a.max_frequency_hz;
+    o.tolerance_bins = a.tolerance;
+    o.full = a.full;
+    Ok(o)
+}
+
+/// The checkpoint folder of this cascade inside `parent`: one folder per model and options.
+#[pyfunction]
+pub fn cascade_checkpoint(
+    model: &PyModel,
+    options: CascadeArgs,
+    parent: PathBuf,
+) -> PyResult<PathBuf> {
+    let o = cascade_options(model, &options)?;
+    Ok(parent.join(lib(checkpoint::key(&model.model, &o))?))
+}
+
+/// Computes the cascade (resuming from and saving to `checkpoint` when given), telling
+/// `progress(done, total)` and stopping on Ctrl-C. With `runner`, the missing speeds of each
+/// round go to `runner(batch)`, a Python callable given `[(index, speed)]` that yields
+/// `(index, point_json)` as each point arrives (from [`cascade_point`] on a worker).
+/// Returns the library's cascade as a dict, with its NSV summary at `threshold` (m).
+#[pyfunction]
+#[pyo3(signature = (model, options, threshold, checkpoint = None, progress = None, runner = None))]
+pub fn cascade<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    options: CascadeArgs,
+    threshold: f64,
+    checkpoint: Option<PathBuf>,
+    progress: Option<Bound<'py, PyAny>>,
+    runner: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let o = cascade_options(model, &options)?;
+    let result = run_watched(py, progress.as_ref(), |watch| {
+        let report = |p: CascadeProgress| {
+            if watch.tell(p.done, p.total) {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        };
+        let checkpoint = checkpoint.as_deref();
+        match &runner {
+            None => whirl::nsv::cascade(&model.model, &o, checkpoint, Some(&report)),
+            Some(runner) => {
+                let run = |batch: &[(usize, f64)],
+                           done: &mut dyn FnMut(usize, CascadePoint) -> whirl::Result<()>| {
+                    run_batch(runner, batch, done)
+                };
+                whirl::nsv::distributed_cascade(&model.model, &o, checkpoint, Some(&report), &run)
+            }
+        }
+    })?
+    .map_err(to_py)?;
+    let out = PyDict::new(py);
+    out.set_item("cascade", pythonize(py, &result)?)?;
+    out.set_item("nsv", pythonize(py, &result.nsv_summary(threshold))?)?;
+    out.set_item("contact", result.options.law.name())?;
+    out.set_item("window", result.options.window.to_string())?;
+    Ok(out)
+}
+
+/// Hands a batch to the Python runner and each point it yields to `done`.
+fn run_batch(
+    runner: &Py<PyAny>,
+    batch: &[(usize, f64)],
+    done: &mut dyn FnMut(usize, CascadePoint) -> whirl::Result<()>,
+) -> whirl::Result<()> {
+    let failed = |e: PyErr| whirl::Error::Internal(format!("the cluster's runner failed: {e}"));
+    Python::attach(|py| {
+        let points = runner.call1(py, (batch.to_vec(),)).map_err(failed)?;
+        for item in points.bind(py).try_iter().map_err(failed)? {
+            let (i, json): (usize, String) = item.and_then(|x| x.extract()).map_err(failed)?;
+            let point: CascadePoint = serde_json::from_str(&json).map_err(|e| {
+                whirl::Error::Internal(format!("a worker's point {i} does not read back: {e}"))
+            })?;
+            done(i, point)?;
+        }
+        Ok(())
+    })
+}
+
+/// One speed (rad/s) of the cascade, as the cascade computes it, as exact JSON: what a
+/// cluster's worker runs.
+#[pyfunction]
+pub fn cascade_point(
+    py: Python<'_>,
+    model: &PyModel,
+    options: CascadeArgs,
+    speed: f64,
+) -> PyResult<String> {
+    let o = cascade_options(model, &options)?;
+    let point = lib(py.detach(|| whirl::nsv::cascade_point(&model.model, &o, speed)))?;
+    serde_json::to_string(&point).map_err(|e| {
+        to_py(whirl::Error::Internal(format!(
+            "cannot encode a point: {e}"
+        )))
+    })
+}

@@ -1,0 +1,75 @@
+"""The cascade from Python against the command line's, digit for digit; its checkpoint,
+resume and stop."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import whirl
+from conftest import REFERENCE, assert_same_table
+
+#: A small cascade with everything that matters: requested and refined speeds, averaged
+#: records, the full spectrum. Seconds of computing.
+SPEEDS = "100Hz:400Hz:4"
+OPTIONS = {"max_records": 2, "settle_max": "1s", "refine_budget": 3, "full": True}
+FLAGS = ["--max-records", "2", "--settle-max", "1s", "--refine-budget", "3", "--full"]
+
+#: Keys of summary.json that say where and how long, not what: they differ between runs.
+CIRCUMSTANCES = ("wall_time_s", "checkpoint_folder", "notes", "resumed_speeds")
+
+
+def what(summary: dict) -> dict:
+    return {k: v for k, v in summary.items() if k not in CIRCUMSTANCES}
+
+
+def assert_same_cascade(a: whirl.CascadeResult, b: whirl.CascadeResult):
+    assert what(a.to_dict()) == what(b.to_dict())
+    for table in ("nsv", "cascade", "full_cascade"):
+        x, y = a.to_pandas(table), b.to_pandas(table)
+        assert list(x.columns) == list(y.columns)
+        for column in x.columns:
+            np.testing.assert_array_equal(x[column].to_numpy(), y[column].to_numpy(), err_msg=column)
+
+
+def test_cascade_equals_the_command_line(run_cli):
+    cli = run_cli("cascade", str(REFERENCE), "--speeds", SPEEDS, *FLAGS)
+    result = whirl.cascade(REFERENCE, SPEEDS, progress=False, **OPTIONS)
+    assert len(result.speeds_hz) > 4, "the refinement added no speed: the test would miss it"
+    assert what(result.to_dict()) == what(cli.summary())
+    for table in ("nsv", "cascade", "full_cascade"):
+        assert_same_table(result.to_pandas(table), cli.table(table))
+
+
+def test_a_resumed_cascade_is_the_same_to_the_bit(tmp_path):
+    first = whirl.cascade(REFERENCE, SPEEDS, checkpoint=tmp_path, progress=False, **OPTIONS)
+    again = whirl.cascade(REFERENCE, SPEEDS, checkpoint=tmp_path, progress=False, **OPTIONS)
+    assert first.resumed == 0
+    assert again.resumed == len(again.speeds_hz)
+    assert again.checkpoint == first.checkpoint and again.checkpoint.startswith(str(tmp_path))
+    assert_same_cascade(first, again)
+    fresh = whirl.cascade(REFERENCE, SPEEDS, checkpoint=tmp_path, restart=True, progress=False, **OPTIONS)
+    assert fresh.resumed == 0
+
+
+def test_a_stopped_cascade_keeps_its_speeds_and_resumes(tmp_path):
+    told = []
+
+    def stop_after_two(done, total):
+        told.append((done, total))
+        return done >= 2
+
+    with pytest.raises(KeyboardInterrupt, match="stopped after"):
+        whirl.cascade(REFERENCE, SPEEDS, checkpoint=tmp_path, progress=stop_after_two, **OPTIONS)
+    assert told and told[-1][1] >= 4
+    resumed = whirl.cascade(REFERENCE, SPEEDS, checkpoint=tmp_path, progress=False, **OPTIONS)
+    assert resumed.resumed >= 2
+    whole = whirl.cascade(REFERENCE, SPEEDS, progress=False, **OPTIONS)
+    assert_same_cascade(resumed, whole)
+
+
+def test_bad_cascade_options_name_the_keyword():
+    with pytest.raises(whirl.InputError, match="invalid `contact`: `glue` is not one of"):
+        whirl.cascade(REFERENCE, SPEEDS, contact="glue")
+    with pytest.raises(whirl.InputError, match="invalid `settle`"):
+        whirl.cascade(REFERENCE, SPEEDS, settle="half a second")

@@ -1,0 +1,55 @@
+"""Studies and cascades on a Dask cluster.
+
+``whirl.cascade(..., client=client)`` and ``whirl.study(..., client=client)`` send the
+work to the workers of a ``dask.distributed.Client`` and gather it: each speed of a cascade
+(every round of the refinement) or each point of a study is one task. A worker computes
+exactly what this machine would (the same library call on the same model text and options),
+and results come back as exact JSON, so the result is the same to the bit wherever a task
+ran. A worker that dies mid-task has its task run again on another by Dask; the client
+saves each result in the checkpoint folder as it arrives, so an interrupted client resumes
+where it stopped.
+
+The same script runs on a SLURM or PBS cluster through dask-jobqueue::
+
+    from dask.distributed import Client
+    from dask_jobqueue import SLURMCluster   # or PBSCluster
+
+    cluster = SLURMCluster(cores=8, memory="8GB", walltime="02:00:00")
+    cluster.scale(jobs=10)
+    client = Client(cluster)
+    result = whirl.cascade("rotor.toml", client=client, checkpoint="/shared/run.partial")
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from typing import Any
+
+from . import _whirl
+from .model import Model
+
+
+def _cascade_point(model: Model, options: dict[str, Any], speed: float) -> str:
+    """On a worker: one speed of the cascade, as exact JSON."""
+    return _whirl.cascade_point(model._raw, options, speed)
+
+
+def point_runner(client: Any, model: Model, options: dict[str, Any]) -> Callable[[list[tuple[int, float]]], Iterator[tuple[int, str]]]:
+    """The runner the library's distributed cascade calls with each round of speeds: one
+    task per speed, yielded as each finishes."""
+    from dask.distributed import as_completed
+
+    def run(batch: list[tuple[int, float]]) -> Iterator[tuple[int, str]]:
+        # pure=False: a task is a computation to run, never a cached value; retries: a
+        # task on a worker that died is run again elsewhere.
+        futures = {
+            client.submit(_cascade_point, model, options, speed, pure=False, retries=3): index
+            for index, speed in batch
+        }
+        try:
+            for future in as_completed(futures):
+                yield futures[future], future.result()
+        finally:
+            client.cancel(list(futures))
+
+    return run
