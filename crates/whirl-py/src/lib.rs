@@ -13,6 +13,7 @@ mod model;
 mod nsv;
 mod response;
 mod ross;
+mod study;
 mod units;
 mod watch;
 
@@ -42,5 +43,7 @@ fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(nsv::cascade_point, m)?)?;
     m.add_function(wrap_pyfunction!(nsv::cascade_checkpoint, m)?)?;
     m.add_function(wrap_pyfunction!(units::quantity, m)?)?;
+    m.add_function(wrap_pyfunction!(study::study, m)?)?;
+    m.add_function(wrap_pyfunction!(study::study_point, m)?)?;
     Ok(())
 }

@@ -51,3 +51,17 @@ def test_a_worker_killed_mid_run_loses_nothing(client, local):
     assert killed, "no worker was killed: the test proved nothing"
     assert pids[0] not in client.run(os.getpid).values()
     assert_same_cascade(remote, local)
+
+
+QUICK_STUDY = REFERENCE.parent / "quick_study.toml"
+
+
+def test_a_study_on_the_cluster_is_the_local_one(client, tmp_path):
+    local = whirl.study(QUICK_STUDY, checkpoint=tmp_path / "local", progress=False)
+    remote = whirl.study(QUICK_STUDY, checkpoint=tmp_path / "remote", client=client, progress=False)
+    assert len(remote.points) == 2 and all("result" in p for p in remote.points)
+    # The points' results (NSV summaries and cascade maps) are the same to the bit; only
+    # the wall times and the folder differ.
+    strip = lambda r: [{**p, "result": {**p["result"], "wall_time_s": 0}} for p in r.points]  # noqa: E731
+    assert strip(remote) == strip(local)
+    assert (remote.sweeps, remote.ranking) == (local.sweeps, local.ranking)

@@ -73,3 +73,15 @@ def test_bad_cascade_options_name_the_keyword():
         whirl.cascade(REFERENCE, SPEEDS, contact="glue")
     with pytest.raises(whirl.InputError, match="invalid `settle`"):
         whirl.cascade(REFERENCE, SPEEDS, settle="half a second")
+
+
+def test_study_equals_the_command_line(run_cli, tmp_path):
+    study = REFERENCE.parent / "quick_study.toml"
+    cli = run_cli("study", str(study), "--checkpoint", str(tmp_path / "cli.points"))
+    result = whirl.study(study, checkpoint=tmp_path / "py.points", progress=False)
+    timeless = lambda s: {  # noqa: E731
+        **{k: v for k, v in s.items() if k not in ("checkpoint", "wall_time_s", "cascade_time_s")},
+        "points": [{k: v for k, v in p.items() if k != "wall_time_s"} for p in s["points"]],
+    }
+    assert timeless(result.to_dict()) == timeless(cli.summary())
+    assert_same_table(result.to_pandas("sweeps"), cli.table("sweeps"))

@@ -20,6 +20,7 @@ from .modal import CampbellResult, CheckResult, ConvergenceResult, campbell, che
 from .nsv import CascadeResult, cascade
 from .response import UnbalanceResult, unbalance
 from .ross import from_ross, read_ross
+from .study import StudyResult, study
 
 __all__ = [
     "BUILD_ID",
@@ -30,6 +31,7 @@ __all__ = [
     "InputError",
     "Model",
     "NumericalError",
+    "StudyResult",
     "UnbalanceResult",
     "WhirlError",
     "WhirlWarning",
@@ -40,5 +42,6 @@ __all__ = [
     "convergence",
     "from_ross",
     "read_ross",
+    "study",
     "unbalance",
 ]

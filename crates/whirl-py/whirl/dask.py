@@ -53,3 +53,26 @@ def point_runner(client: Any, model: Model, options: dict[str, Any]) -> Callable
             client.cancel(list(futures))
 
     return run
+
+
+def _study_point(path: str, index: int, checkpoint: str) -> str:
+    """On a worker: point ``index`` of the study file, as exact JSON."""
+    return _whirl.study_point(path, index, checkpoint)
+
+
+def study_runner(client: Any, path: str, checkpoint: str) -> Callable[[list[int]], Iterator[tuple[int, str]]]:
+    """The runner the study calls with the points not yet finished: one task per point
+    (the study file and the checkpoint folder must be on a path the workers share)."""
+    from dask.distributed import as_completed
+
+    def run(points: list[int]) -> Iterator[tuple[int, str]]:
+        futures = {
+            client.submit(_study_point, path, k, checkpoint, pure=False, retries=3): k for k in points
+        }
+        try:
+            for future in as_completed(futures):
+                yield futures[future], future.result()
+        finally:
+            client.cancel(list(futures))
+
+    return run

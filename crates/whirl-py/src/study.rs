@@ -1,0 +1,161 @@
+//! Studies: every point a cascade, on this machine or with the points sent to a cluster's
+//! workers by a Python runner, the finished points kept in the library's store.
+
+use std::ops::ControlFlow;
+use std::path::{Path, PathBuf};
+
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use pythonize::pythonize;
+use whirl::nsv::CascadeProgress;
+use whirl::study::results::{analyse, run_points, PointResult};
+use whirl::study::store::Store;
+use whirl::study::{point, Point, Study};
+
+use crate::error::{lib, to_py};
+use crate::watch::{run_watched, Watch};
+
+/// A point's cascade, its finished speeds kept in `<store>/partial/<key>` until the point is
+/// saved whole (as the command line does), so a point interrupted half-way, or whose
+/// worker died, continues from its finished speeds.
+fn compute_point(p: &Point, store_dir: &Path, watch: Option<&Watch>) -> whirl::Result<PointResult> {
+    let partial = store_dir.join("partial").join(&p.key);
+    let stop = |_: CascadeProgress| match watch.is_some_and(Watch::stopped) {
+        true => ControlFlow::Break(()),
+        false => ControlFlow::Continue(()),
+    };
+    let result = point::compute(p, Some(&partial), Some(&stop))?;
+    let _ = std::fs::remove_dir_all(&partial);
+    if let Some(parent) = partial.parent() {
+        let _ = std::fs::remove_dir(parent);
+    }
+    Ok(result)
+}
+
+/// Point `index` of the study file `path`, computed on a worker, as exact JSON; its
+/// speeds are kept under `checkpoint` (a folder the workers share) while it runs.
+#[pyfunction]
+pub fn study_point(
+    py: Python<'_>,
+    path: PathBuf,
+    index: usize,
+    checkpoint: PathBuf,
+) -> PyResult<String> {
+    let study = lib(Study::from_file(&path))?;
+    let p = study.points.get(index).ok_or_else(|| {
+        to_py(whirl::Error::InvalidOption(format!(
+            "the study has no point {index}"
+        )))
+    })?;
+    let result = lib(py.detach(|| compute_point(p, &checkpoint, None)))?;
+    serde_json::to_string(&result).map_err(|e| {
+        to_py(whirl::Error::Internal(format!(
+            "cannot encode a point: {e}"
+        )))
+    })
+}
+
+/// Runs the study file `path`, keeping finished points in `checkpoint` (`restart` empties
+/// it first). With `runner`, the points not yet in the checkpoint go to `runner(indices)`,
+/// which yields `(index, point_json)` as each arrives (from [`study_point`] on a worker).
+/// Returns the study's points, outcomes and analysis as a dict.
+#[pyfunction]
+#[pyo3(signature = (path, checkpoint, restart, progress = None, runner = None))]
+pub fn study<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    checkpoint: PathBuf,
+    restart: bool,
+    progress: Option<Bound<'py, PyAny>>,
+    runner: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let study = lib(Study::from_file(&path))?;
+    let store = lib(Store::open(&checkpoint, &study.fingerprint, &path, restart))?;
+    let total = study.points.len();
+    let outcomes = run_watched(py, progress.as_ref(), |watch| -> whirl::Result<_> {
+        if let Some(runner) = &runner {
+            let missing: Vec<usize> = (0..total)
+                .filter(|&k| {
+                    store
+                        .load::<PointResult>(&study.points[k].key)
+                        .is_none_or(|r| r.key != study.points[k].key)
+                })
+                .collect();
+            let mut done = total - missing.len();
+            watch.tell(done, total);
+            run_remote(runner, &missing, |k, result| {
+                store.save(&study.points[k].key, &result)?;
+                done += 1;
+                watch.tell(done, total);
+                Ok(())
+            })?;
+        }
+        run_points(
+            &study,
+            &store,
+            |p| match watch.stopped() {
+                true => Err(whirl::Error::Interrupted("stopped".into())),
+                false => compute_point(p, store.dir(), Some(watch)),
+            },
+            |k, _, _, _| {
+                watch.tell(k + 1, total);
+            },
+        )
+    })?
+    .map_err(to_py)?;
+    if outcomes
+        .iter()
+        .any(|o| o.as_ref().is_err_and(|e| e == "stopped"))
+        || py.check_signals().is_err()
+    {
+        return Err(pyo3::exceptions::PyKeyboardInterrupt::new_err(format!(
+            "the study was stopped; its finished points are kept in `{}`",
+            store.dir().display()
+        )));
+    }
+    let analysis = analyse(&study, &outcomes);
+    let points = PyList::empty(py);
+    for (p, o) in study.points.iter().zip(&outcomes) {
+        let d = PyDict::new(py);
+        d.set_item("key", &p.key)?;
+        d.set_item("label", p.label())?;
+        d.set_item("changes", &p.changes)?;
+        match o {
+            Ok(r) => d.set_item("result", pythonize(py, r)?)?,
+            Err(e) => d.set_item("error", e)?,
+        }
+        points.append(d)?;
+    }
+    let out = PyDict::new(py);
+    out.set_item("title", &study.title)?;
+    out.set_item("model_file", &study.model_file)?;
+    out.set_item("metric", pythonize(py, &study.metric)?)?;
+    out.set_item("metric_description", study.metric.describe())?;
+    out.set_item("checkpoint", store.dir())?;
+    out.set_item("points", points)?;
+    out.set_item("analysis", pythonize(py, &analysis)?)?;
+    Ok(out)
+}
+
+/// Hands the missing points to the Python runner and each result it yields to `save`.
+fn run_remote(
+    runner: &Py<PyAny>,
+    missing: &[usize],
+    mut save: impl FnMut(usize, PointResult) -> whirl::Result<()>,
+) -> whirl::Result<()> {
+    if missing.is_empty() {
+        return Ok(());
+    }
+    let failed = |e: PyErr| whirl::Error::Internal(format!("the cluster's runner failed: {e}"));
+    Python::attach(|py| {
+        let results = runner.call1(py, (missing.to_vec(),)).map_err(failed)?;
+        for item in results.bind(py).try_iter().map_err(failed)? {
+            let (k, json): (usize, String) = item.and_then(|x| x.extract()).map_err(failed)?;
+            let result: PointResult = serde_json::from_str(&json).map_err(|e| {
+                whirl::Error::Internal(format!("a worker's point {k} does not read back: {e}"))
+            })?;
+            save(k, result)?;
+        }
+        Ok(())
+    })
+}
