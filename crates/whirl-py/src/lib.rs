@@ -14,6 +14,7 @@ mod nsv;
 mod response;
 mod ross;
 mod study;
+mod time;
 mod units;
 mod watch;
 
@@ -44,6 +45,7 @@ fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(nsv::cascade_checkpoint, m)?)?;
     m.add_function(wrap_pyfunction!(units::quantity, m)?)?;
     m.add_function(wrap_pyfunction!(study::study, m)?)?;
+    m.add_function(wrap_pyfunction!(time::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(study::study_point, m)?)?;
     Ok(())
 }

@@ -42,7 +42,7 @@ pub struct CascadeArgs {
 }
 
 /// An option enum by the name the command line gives it, e.g. `hertz`.
-fn choice<T: ValueEnum>(name: &str, value: &str) -> PyResult<T> {
+pub fn choice<T: ValueEnum>(name: &str, value: &str) -> PyResult<T> {
     T::from_str(value, true).map_err(|_| {
         let names: Vec<String> = T::value_variants()
             .iter()

@@ -95,7 +95,7 @@ pub fn study<'py>(
             &store,
             |p| match watch.stopped() {
                 true => Err(whirl::Error::Interrupted("stopped".into())),
-                false => compute_point(p, store.dir(), Some(watch)),
+                false => compute_point(p, store.dir(), Some(&**watch)),
             },
             |k, _, _, _| {
                 watch.tell(k + 1, total);

@@ -3,6 +3,7 @@
 //! far it has got. Every call into Python happens on Python's own thread.
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Arc;
 use std::time::Duration;
 
 use pyo3::prelude::*;
@@ -12,7 +13,8 @@ use crate::error::WhirlError;
 /// How often the watching thread looks at the signals and the progress.
 const POLL: Duration = Duration::from_millis(100);
 
-/// Shared between the work and its watcher.
+/// Shared between the work and its watcher (and whatever the work hands it to, hence the
+/// `Arc` it comes in).
 #[derive(Default)]
 pub struct Watch {
     stop: AtomicBool,
@@ -47,9 +49,9 @@ impl Watch {
 pub fn run_watched<T: Send>(
     py: Python<'_>,
     progress: Option<&Bound<'_, PyAny>>,
-    work: impl FnOnce(&Watch) -> T + Send,
+    work: impl FnOnce(&Arc<Watch>) -> T + Send,
 ) -> PyResult<T> {
-    let watch = Watch::default();
+    let watch = Arc::new(Watch::default());
     std::thread::scope(|scope| {
         let handle = scope.spawn(|| work(&watch));
         let mut told = (usize::MAX, usize::MAX);

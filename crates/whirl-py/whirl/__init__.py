@@ -21,6 +21,7 @@ from .nsv import CascadeResult, cascade
 from .response import UnbalanceResult, unbalance
 from .ross import from_ross, read_ross
 from .study import StudyResult, study
+from .time import SimulationResult, simulate
 
 __all__ = [
     "BUILD_ID",
@@ -31,6 +32,7 @@ __all__ = [
     "InputError",
     "Model",
     "NumericalError",
+    "SimulationResult",
     "StudyResult",
     "UnbalanceResult",
     "WhirlError",
@@ -42,6 +44,7 @@ __all__ = [
     "convergence",
     "from_ross",
     "read_ross",
+    "simulate",
     "study",
     "unbalance",
 ]

@@ -1,0 +1,191 @@
+//! Time simulation (`whirl simulate`): the library's run with the command line's settings,
+//! its progress shown and Ctrl-C ending it.
+
+use std::ops::ControlFlow;
+
+use numpy::{IntoPyArray, PyArray2};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use pythonize::pythonize;
+use whirl::system::SpeedProfile;
+use whirl::time::{
+    simulate_with, Hooks, Method, NewmarkScheme, Progress, RkTolerances, SimulationOptions, Until,
+};
+
+use crate::error::{option, to_py};
+use crate::model::PyModel;
+use crate::nsv::choice;
+use crate::watch::run_watched;
+
+/// Progress steps reported per run.
+const STEPS: f64 = 1000.0;
+
+/// The run's settings, resolved by the Python package from its keyword arguments (the
+/// command line's options; speeds in rad/s, times in s).
+#[derive(FromPyObject)]
+#[pyo3(from_item_all)]
+pub struct SimulateArgs {
+    speed: f64,
+    duration: f64,
+    method: String,
+    hht_alpha: Option<f64>,
+    step: Option<f64>,
+    reduce: Option<usize>,
+    settle: Option<f64>,
+    nodes: Vec<usize>,
+    contact: Option<String>,
+    record_every: Option<usize>,
+    ramp_to: Option<f64>,
+    start: String,
+    divergence_bound: f64,
+}
+
+/// The integrator, as the command line reads `--method` and `--hht-alpha`.
+fn method(a: &SimulateArgs) -> PyResult<Method> {
+    match (a.method.as_str(), a.hht_alpha) {
+        ("newmark", Some(alpha)) if !(-1.0 / 3.0..=0.0).contains(&alpha) => {
+            Err(option("hht_alpha", format!("{alpha} is outside [-1/3, 0]")))
+        }
+        ("newmark", Some(alpha)) => Ok(Method::Newmark(NewmarkScheme::Hht(alpha))),
+        ("newmark", None) => Ok(Method::Newmark(NewmarkScheme::AverageAcceleration)),
+        (_, Some(_)) => Err(option("hht_alpha", "applies to method=\"newmark\" only")),
+        ("cd", None) => Ok(Method::CentralDifference),
+        ("rk", None) => Ok(Method::RungeKutta(RkTolerances::default())),
+        (other, None) => Err(option(
+            "method",
+            format!("`{other}` is not one of cd, newmark, rk"),
+        )),
+    }
+}
+
+/// The library's settings, as the command line builds them from its flags.
+fn simulation_options(a: &SimulateArgs) -> PyResult<SimulationOptions> {
+    if a.step.is_some_and(|h| h <= 0.0) {
+        return Err(option("step", "the time step must be positive"));
+    }
+    if a.duration <= 0.0 {
+        return Err(option("duration", "the duration must be positive"));
+    }
+    let mut o = SimulationOptions {
+        duration: a.duration,
+        step: a.step,
+        method: method(a)?,
+        contact: a
+            .contact
+            .as_deref()
+            .map(|c| choice("contact", c))
+            .transpose()?,
+        reduction: a.reduce,
+        settle: a.settle,
+        nodes: Some(a.nodes.clone()),
+        initial: choice("start", &a.start)?,
+        divergence_bound: a.divergence_bound,
+        record_every: a.record_every,
+        ..SimulationOptions::new(SpeedProfile::Constant(a.speed))
+    };
+    let settle = o.settle_time();
+    if settle >= a.duration {
+        return Err(option(
+            "settle",
+            format!(
+                "the settling time {settle} s is not shorter than the duration {} s",
+                a.duration
+            ),
+        ));
+    }
+    o.speed = match a.ramp_to {
+        None => SpeedProfile::Constant(a.speed),
+        Some(_) if settle <= 0.0 => {
+            return Err(option(
+                "ramp_to",
+                "the speed ramps over the settling time, which is zero",
+            ))
+        }
+        Some(to) => SpeedProfile::Ramp {
+            from: a.speed,
+            to,
+            duration: settle,
+        },
+    };
+    Ok(o)
+}
+
+/// Simulates the model; `progress(done, 1000)` is told the fraction of simulated time done.
+/// Returns the library's result as a dict, its channels as one array (`values[channel,
+/// sample]`).
+#[pyfunction]
+#[pyo3(signature = (model, options, progress = None))]
+pub fn simulate<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    options: SimulateArgs,
+    progress: Option<Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let mut o = simulation_options(&options)?;
+    let result = run_watched(py, progress.as_ref(), |watch| {
+        let told = watch.clone();
+        o.progress = Some(Progress::new(move |fraction| {
+            told.tell((fraction * STEPS).round() as usize, STEPS as usize);
+        }));
+        // Ctrl-C ends the run at the next recorded sample; it is then reported as stopped.
+        let mut stop = |_: &[Vec<f64>]| match watch.stopped() {
+            true => ControlFlow::Break(()),
+            false => ControlFlow::Continue(()),
+        };
+        let hooks = Hooks {
+            until: Some(Until {
+                every: 1,
+                decide: &mut stop,
+            }),
+            ..Hooks::default()
+        };
+        let result = simulate_with(&model.model, &o, hooks);
+        (result, watch.stopped())
+    })?;
+    let (result, stopped) = (result.0.map_err(to_py)?, result.1);
+    if stopped {
+        return Err(pyo3::exceptions::PyKeyboardInterrupt::new_err(format!(
+            "the simulation was stopped at {} s of {} s",
+            result.time.last().copied().unwrap_or(0.0),
+            options.duration
+        )));
+    }
+    let samples = result.time.len();
+    let values: Vec<f64> = result
+        .channels
+        .iter()
+        .flat_map(|c| c.values.iter().copied())
+        .collect();
+    let values = numpy::ndarray::Array2::from_shape_vec((result.channels.len(), samples), values)
+        .map_err(|e| {
+        to_py(whirl::Error::Internal(format!(
+            "channels of unequal length: {e}"
+        )))
+    })?;
+    let out = PyDict::new(py);
+    out.set_item("time", result.time.clone().into_pyarray(py))?;
+    out.set_item("values", PyArray2::from_owned_array(py, values))?;
+    out.set_item(
+        "names",
+        result
+            .channels
+            .iter()
+            .map(|c| c.name.clone())
+            .collect::<Vec<_>>(),
+    )?;
+    out.set_item(
+        "nodes",
+        result.channels.iter().map(|c| c.node).collect::<Vec<_>>(),
+    )?;
+    out.set_item("contact", o.contact_law(&model.model).name())?;
+    out.set_item("coordinates", result.coordinates)?;
+    out.set_item("step", result.step)?;
+    out.set_item("settle", result.settle)?;
+    out.set_item("stable_step", result.stable_step)?;
+    out.set_item("wall_time_s", result.wall_time_s)?;
+    out.set_item("method", &result.method)?;
+    out.set_item("status", pythonize(py, &result.status)?)?;
+    out.set_item("record_every", result.record_every)?;
+    out.set_item("start_fallback", &result.start_fallback)?;
+    Ok(out)
+}

@@ -1,0 +1,126 @@
+"""Time simulation (``whirl simulate``): the rotor on its (nonlinear) bearings marched in
+time at a speed, by central difference, Newmark or Runge-Kutta, full or reduced."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+
+from . import _progress, _whirl
+from .model import Model, as_model
+from .nsv import _time
+from .response import report_nodes
+
+
+@dataclass(frozen=True)
+class SimulationResult:
+    """Recorded time histories: ``values[channel, sample]`` at ``time``, channels named
+    ``n<node>.ux`` / ``n<node>.uy`` (m)."""
+
+    model: Model
+    #: Times, s.
+    time: np.ndarray
+    #: ``values[i, k]``: channel i at time k, m.
+    values: np.ndarray
+    #: Channel names, ``n10.ux``.
+    names: list[str]
+    #: Node of each channel.
+    nodes: list[int]
+    #: Contact law of the roller bearings.
+    contact: str
+    #: Coordinates integrated (DOFs, or the reduced model's size).
+    coordinates: int
+    #: Time step, s; settling time, s; the explicit stability limit of the model, s.
+    step: float
+    settle: float
+    stable_step: float
+    wall_time_s: float
+    method: str
+    #: ``{"status": "completed"}`` or ``{"status": "diverged", "time": ..., "message": ...}``.
+    status: dict[str, Any]
+    #: Steps per recorded sample.
+    record_every: int
+    #: Why the run started from rest although the static equilibrium was asked for.
+    start_fallback: str | None
+    tables: ClassVar[tuple[str, ...]] = ("time_history",)
+
+    def channel(self, name: str) -> np.ndarray:
+        """The values of channel ``name`` (``n10.uy``), m."""
+        return self.values[self.names.index(name)]
+
+    def to_pandas(self, table: str = "time_history"):
+        """The command line's time_history.csv: ``time_s`` and one column per channel."""
+        import pandas as pd
+
+        if table != "time_history":
+            raise ValueError(f"no table `{table}`: choose one of {self.tables}")
+        columns: dict[str, Any] = {"time_s": self.time}
+        columns.update(zip(self.names, self.values))
+        return pd.DataFrame(columns)
+
+
+def simulate(
+    model: Model | str | os.PathLike[str],
+    speed: str | float,
+    *,
+    duration: str | float = "1s",
+    method: str = "cd",
+    hht_alpha: float | None = None,
+    step: str | float | None = None,
+    reduce: int | None = None,
+    settle: str | float | None = None,
+    nodes: Sequence[int] | None = None,
+    contact: str | None = None,
+    record_every: int | None = None,
+    ramp_to: str | float | None = None,
+    start: str = "static",
+    divergence_bound: str | float = 0.01,
+    progress: bool | Any = True,
+) -> SimulationResult:
+    """The time response at a speed (``whirl simulate``), with the command line's options.
+
+    Args:
+        model: a :class:`Model` or a model file path.
+        speed: spin speed, ``"50Hz"``, ``"3000rpm"`` or rad/s.
+        duration: simulated time.
+        method: ``cd`` (central difference at 0.9 x its stability limit unless ``step``),
+            ``newmark`` (``hht_alpha`` in [-1/3, 0] damps the highest frequencies) or
+            ``rk`` (adaptive Dormand-Prince; ``step`` is the output interval).
+        reduce: Craig-Bampton with this many fixed-interface modes; default the full model.
+        settle: time discarded before the steady-state numbers; default half the duration.
+        nodes: nodes recorded; default every disk and bearing node (a contact law adds the
+            roller bearings' nodes).
+        contact: ``hertz``, ``lagrange``, ``forcing`` or ``linear``; default hertz with
+            roller bearings.
+        record_every: record every N-th step; default as many as fit in 1e-5 s.
+        ramp_to: raise the speed linearly to this over the settling time, then hold it.
+        start: ``static`` (the static equilibrium under gravity) or ``rest``.
+        divergence_bound: a recorded displacement beyond this (m) means divergence.
+        progress: True for a tqdm bar when tqdm is installed, False, or ``progress(done,
+            1000)``.
+    """
+    model = as_model(model)
+    options = {
+        "speed": _whirl.parse_speed(str(speed)),
+        "duration": _time("duration", duration),
+        "method": method,
+        "hht_alpha": hht_alpha,
+        "step": None if step is None else _time("step", step),
+        "reduce": reduce,
+        "settle": None if settle is None else _time("settle", settle),
+        "nodes": report_nodes(model, nodes),
+        "contact": contact,
+        "record_every": record_every,
+        "ramp_to": None if ramp_to is None else _whirl.parse_speed(str(ramp_to)),
+        "start": start,
+        "divergence_bound": _whirl.parse_quantity("divergence_bound", str(divergence_bound), "length"),
+    }
+    with _progress.display(progress, "simulate", "permille") as report:
+        raw = _whirl.simulate(model._raw, options, report)
+    if raw["status"]["status"] != "completed":
+        raise _whirl.NumericalError(raw["status"]["message"] + "\n  help: nothing was kept")
+    return SimulationResult(model=model, **raw)
