@@ -1,0 +1,37 @@
+"""The figures draw (Agg backend) from real results, with the lines they promise."""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import numpy as np  # noqa: E402
+
+import whirl  # noqa: E402
+import whirl.plot  # noqa: E402
+from conftest import REFERENCE  # noqa: E402
+
+
+def test_every_figure_draws(tmp_path):
+    model = whirl.Model.from_file(REFERENCE)
+    diagram = whirl.campbell(model, "0:400Hz:21", modes=4)
+    response = whirl.unbalance(model, "1:100Hz:40", nodes=[10])
+    run = whirl.simulate(model, "50Hz", duration="0.4s", reduce=12, nodes=[10], progress=False)
+    cascade = whirl.cascade(model, "100Hz:300Hz:4", no_refine=True, max_records=1, progress=False)
+    axes = [
+        whirl.plot.campbell(diagram),
+        whirl.plot.bode(response),
+        whirl.plot.polar(response),
+        whirl.plot.orbit(run),
+        whirl.plot.spectrum(run),
+        whirl.plot.waterfall(cascade),
+        whirl.plot.cascade_map(cascade),
+        whirl.plot.nsv(cascade),
+    ]
+    for i, ax in enumerate(axes):
+        assert ax.lines or ax.collections, f"figure {i} drew nothing"
+        ax.figure.savefig(tmp_path / f"{i}.png")
+    # The Campbell figure has a line per branch and per order.
+    assert len(axes[0].lines) >= len(diagram.branches) + len(diagram.orders)
+    np.testing.assert_array_equal(axes[0].lines[0].get_xdata(), diagram.speeds_hz)

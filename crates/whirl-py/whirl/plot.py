@@ -1,0 +1,132 @@
+"""The command line's figures drawn with matplotlib from the result objects: each function
+takes a result (and optionally the Axes to draw on) and returns the Axes.
+
+    import whirl.plot
+    whirl.plot.campbell(whirl.campbell("examples/reference_rotor.toml"))
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+
+def _axes(ax: Any, **kwargs: Any) -> Any:
+    if ax is not None:
+        return ax
+    import matplotlib.pyplot as plt
+
+    return plt.figure(**kwargs).add_subplot()
+
+
+def campbell(diagram, ax=None):
+    """Whirl frequencies over speed (forward solid, backward dashed), the excitation orders
+    and the critical speeds."""
+    ax = _axes(ax)
+    for b in diagram.branches:
+        style = "--" if b.whirl == "backward" else "-"
+        ax.plot(diagram.speeds_hz, b.frequency_hz, style, label=b.label)
+    for k in diagram.orders:
+        ax.plot(diagram.speeds_hz, k * diagram.speeds_hz, ":", color="grey", label=f"{k:g}X")
+    for c in diagram.critical_speeds:
+        ax.plot(c.speed_hz, c.frequency_hz, "o", color="black")
+    top = max(np.nanmax(b.frequency_hz) for b in diagram.branches) if diagram.branches else 1.0
+    ax.set(xlabel="speed [Hz]", ylabel="frequency [Hz]", ylim=(0, 1.1 * top), title="Campbell diagram")
+    ax.legend(fontsize="small", ncol=2)
+    return ax
+
+
+def bode(response, ax=None):
+    """Unbalance response: the orbit's major semi-axis over speed at each reported node
+    (log scale), peaks marked."""
+    ax = _axes(ax)
+    for r in response.nodes:
+        ax.semilogy(response.speeds_hz, r.major, label=f"node {r.node}")
+        for p in r.peaks:
+            ax.plot(p.speed_hz, p.amplitude, "v", color="black")
+    ax.set(xlabel="speed [Hz]", ylabel="major semi-axis [m]", title="unbalance response")
+    ax.legend(fontsize="small")
+    return ax
+
+
+def polar(response, node=None, ax=None):
+    """Unbalance response of ux at a node (default the first) in the complex plane."""
+    import matplotlib.pyplot as plt
+
+    r = response.nodes[0] if node is None else response.node(node)
+    if ax is None:
+        ax = plt.figure().add_subplot(projection="polar")
+    ax.plot(np.radians(r.ux_phase_deg), r.ux_amplitude)
+    ax.set_title(f"polar plot, node {r.node} ux")
+    return ax
+
+
+def orbit(run, node=None, ax=None):
+    """The settled orbit (uy over ux) of a node of a simulation (default the first)."""
+    ax = _axes(ax)
+    node = run.nodes[0] if node is None else node
+    settled = run.time >= run.settle
+    x, y = run.channel(f"n{node}.ux")[settled], run.channel(f"n{node}.uy")[settled]
+    ax.plot(x, y)
+    ax.set(xlabel="ux [m]", ylabel="uy [m]", title=f"orbit, node {node}", aspect="equal")
+    return ax
+
+
+def spectrum(run, channel=None, ax=None):
+    """Amplitude spectrum (Hann window, mean removed) of the settled part of a channel."""
+    ax = _axes(ax)
+    name = run.names[1] if channel is None else channel
+    x = run.channel(name)[run.time >= run.settle]
+    window = np.hanning(len(x))
+    x = (x - np.average(x, weights=window)) * window
+    amplitude = 2 * np.abs(np.fft.rfft(x)) / window.sum()
+    dt = run.step * run.record_every
+    ax.semilogy(np.fft.rfftfreq(len(x), dt), amplitude)
+    ax.set(xlabel="frequency [Hz]", ylabel="amplitude [m]", title=f"spectrum of {name}")
+    return ax
+
+
+def waterfall(cascade, ax=None):
+    """Every speed's spectrum, offset by its speed (the cascade's waterfall)."""
+    ax = _axes(ax)
+    scale = np.nanmax(cascade.amplitude) or 1.0
+    step = np.median(np.diff(cascade.speeds_hz)) if len(cascade.speeds_hz) > 1 else 1.0
+    for speed, a in zip(cascade.speeds_hz, cascade.amplitude):
+        ax.plot(cascade.frequency_hz, speed + 3 * step * a / scale, color="black", lw=0.5)
+    ax.set(xlabel="frequency [Hz]", ylabel="speed [Hz]", title="cascade")
+    return ax
+
+
+def cascade_map(cascade, ax=None, max_frequency_hz=None):
+    """Frequency over speed, colour the log amplitude, with the 0.5X, 1X and 2X lines."""
+    ax = _axes(ax)
+    top = max_frequency_hz or 2 * cascade.speeds_hz.max()
+    keep = cascade.frequency_hz <= top
+    level = np.log10(np.maximum(cascade.amplitude[:, keep].T, 1e-12))
+    ax.pcolormesh(cascade.speeds_hz, cascade.frequency_hz[keep], level, shading="nearest")
+    for k in (0.5, 1, 2):
+        ax.plot(cascade.speeds_hz, k * cascade.speeds_hz, "w--", lw=0.8)
+    ax.set(xlabel="speed [Hz]", ylabel="frequency [Hz]", ylim=(0, top), title="cascade map (log amplitude)")
+    return ax
+
+
+def nsv(cascade, ax=None):
+    """1X and the NSV amplitude over speed, the NSV by class, added speeds circled."""
+    ax = _axes(ax)
+    one_x = [p["one_x_m"] for p in cascade.points]
+    ax.semilogy(cascade.speeds_hz, one_x, color="grey", label="1X")
+    classes: dict[str, list[tuple[float, float]]] = {}
+    for p, n in zip(cascade.points, cascade.nsv):
+        if n is not None:
+            classes.setdefault(n["class"], []).append((p["speed_hz"], n["peak"]["amplitude_m"]))
+    for name, points in sorted(classes.items()):
+        s, a = zip(*points)
+        ax.semilogy(s, a, "o", ms=3, label=name)
+    added = [(p["speed_hz"], n["peak"]["amplitude_m"]) for p, n in zip(cascade.points, cascade.nsv) if p["added"] and n]
+    if added:
+        s, a = zip(*added)
+        ax.plot(s, a, "o", mfc="none", mec="black", ms=7, label="added speed")
+    ax.set(xlabel="speed [Hz]", ylabel="amplitude [m]", title="NSV by class")
+    ax.legend(fontsize="small")
+    return ax
