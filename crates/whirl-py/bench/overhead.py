@@ -30,7 +30,8 @@ JOBS = {
         f"import whirl; whirl.campbell({str(MODEL)!r}, '0:800Hz:161')",
     ),
     "cascade": (
-        ["cascade", str(MODEL), "--speeds", "100Hz:400Hz:16", "--no-refine", "--max-records", "4"],
+        # --restart: the binary keeps finished speeds beside --out and would resume them.
+        ["cascade", str(MODEL), "--speeds", "100Hz:400Hz:16", "--no-refine", "--max-records", "4", "--restart"],
         f"import whirl; whirl.cascade({str(MODEL)!r}, '100Hz:400Hz:16', no_refine=True, "
         "max_records=4, progress=False)",
     ),

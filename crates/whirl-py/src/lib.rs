@@ -22,6 +22,9 @@ use pyo3::prelude::*;
 
 #[pymodule]
 fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    // As in the command line: whirl parallelises across speeds with rayon, and faer's own
+    // threads would only compete with them.
+    faer::set_global_parallelism(faer::Par::Seq);
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("BUILD_ID", whirl::BUILD_ID)?;
     error::register(m)?;
