@@ -41,6 +41,7 @@ fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(modal::undamped_frequencies, m)?)?;
     m.add_function(wrap_pyfunction!(modal::campbell, m)?)?;
     m.add_function(wrap_pyfunction!(modal::convergence, m)?)?;
+    m.add_function(wrap_pyfunction!(modal::modal, m)?)?;
     m.add_function(wrap_pyfunction!(response::unbalance, m)?)?;
     m.add_function(wrap_pyfunction!(ross::ross_to_toml, m)?)?;
     m.add_function(wrap_pyfunction!(nsv::cascade, m)?)?;

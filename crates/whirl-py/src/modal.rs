@@ -5,8 +5,8 @@ use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use pythonize::pythonize;
-use whirl::fe::{assemble, Bearings};
-use whirl::modal::{branch_labels, CampbellOptions};
+use whirl::fe::{assemble, dof, Bearings, Direction, DOFS_PER_NODE};
+use whirl::modal::{branch_labels, CampbellOptions, ModalBasis};
 
 use crate::error::lib;
 use crate::model::PyModel;
@@ -93,4 +93,78 @@ pub fn convergence<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     let result = lib(py.detach(|| whirl::modal::convergence(&model.model, &counts, modes)))?;
     Ok(pythonize(py, &result)?)
+}
+
+/// Roots more damped than this are left out (overdamped or spurious), as in `whirl modal`.
+const MAX_DAMPING_RATIO: f64 = 0.9;
+
+/// Smallest speed solved, rad/s: at rest an isotropic rotor's forward and backward modes
+/// coincide and their shapes are any mix of the two (as in `whirl modal`).
+const SPEED_FLOOR: f64 = 1e-3;
+
+/// The `modes` undamped modes (frequencies, mass-normalised shapes `[dof, mode]`) and the
+/// first `modes` damped modes at `speed` (rad/s) with their labels and, per node, the
+/// amplitude and phase of ux and uy and the forward and backward orbit radii.
+#[pyfunction]
+pub fn modal<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    speed: f64,
+    modes: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (undamped, mut damped) = lib(py.detach(|| {
+        let system = assemble(&model.model, Bearings::Linearised);
+        let undamped = whirl::modal::undamped_modes(&system, modes)?;
+        let damped =
+            ModalBasis::full(&system)?.modes_at(speed.max(SPEED_FLOOR), MAX_DAMPING_RATIO)?;
+        Ok::<_, whirl::Error>((undamped, damped))
+    }))?;
+    damped.truncate(modes);
+    let labels = branch_labels(&damped.iter().map(|m| m.whirl).collect::<Vec<_>>());
+    let nodes = model.model.node_count();
+    let shapes = &undamped.shapes;
+    let count = undamped.frequencies_hz.len();
+    let flat: Vec<f64> = (0..DOFS_PER_NODE * nodes)
+        .flat_map(|i| (0..count).map(move |j| shapes[(i, j)]))
+        .collect();
+    let shapes = numpy::ndarray::Array2::from_shape_vec((DOFS_PER_NODE * nodes, count), flat)
+        .map_err(|e| crate::error::to_py(whirl::Error::Internal(e.to_string())))?;
+    let list = PyList::empty(py);
+    for (m, label) in damped.iter().zip(labels) {
+        let d = PyDict::new(py);
+        d.set_item("label", label)?;
+        d.set_item("damped_frequency_hz", m.damped_frequency_hz)?;
+        d.set_item("natural_frequency_hz", m.natural_frequency_hz)?;
+        d.set_item("damping_ratio", m.damping_ratio)?;
+        d.set_item("log_decrement", m.log_decrement)?;
+        d.set_item("whirl", m.whirl.name())?;
+        d.set_item("eigenvalue", m.eigenvalue)?;
+        let at = |n: usize, dir| m.shape[dof(n, dir)];
+        let column =
+            |f: &dyn Fn(usize) -> f64| (0..nodes).map(f).collect::<Vec<f64>>().into_pyarray(py);
+        d.set_item("ux_amplitude", column(&|n| at(n, Direction::Ux).norm()))?;
+        d.set_item(
+            "ux_phase_deg",
+            column(&|n| at(n, Direction::Ux).arg().to_degrees()),
+        )?;
+        d.set_item("uy_amplitude", column(&|n| at(n, Direction::Uy).norm()))?;
+        d.set_item(
+            "uy_phase_deg",
+            column(&|n| at(n, Direction::Uy).arg().to_degrees()),
+        )?;
+        d.set_item("forward_radius", column(&|n| m.orbit_radii(n).0))?;
+        d.set_item("backward_radius", column(&|n| m.orbit_radii(n).1))?;
+        list.append(d)?;
+    }
+    let out = PyDict::new(py);
+    out.set_item(
+        "undamped_frequencies_hz",
+        undamped.frequencies_hz.into_pyarray(py),
+    )?;
+    out.set_item(
+        "undamped_shapes",
+        numpy::PyArray2::from_owned_array(py, shapes),
+    )?;
+    out.set_item("damped", list)?;
+    Ok(out)
 }

@@ -75,3 +75,19 @@ def test_convergence_frequencies_settle_as_the_mesh_is_refined():
     change = result.relative_change[:, 0]
     assert change[2] < 1e-3
     assert change[2] < change[1]
+
+
+def test_modal_equals_the_command_line(run_cli):
+    cli = run_cli("modal", str(REFERENCE), "--speed", "300Hz", "--modes", "6")
+    assert_matches_cli(whirl.modal(REFERENCE, "300Hz", modes=6), cli)
+
+
+def test_modes_come_in_pairs_on_isotropic_bearings():
+    result = whirl.modal(REFERENCE, 0.0, modes=4)
+    # Each undamped frequency is a pair (x and y) on the isotropic bearings, and at rest the
+    # damped forward and backward modes of a pair split by less than 1e-6 relative (the
+    # 1e-3 rad/s floor's gyroscopic effect).
+    f = result.undamped_frequencies_hz
+    np.testing.assert_allclose(f[0], f[1], rtol=1e-9)
+    d = [m["damped_frequency_hz"] for m in result.damped]
+    np.testing.assert_allclose(d[0], d[1], rtol=1e-6)

@@ -16,7 +16,16 @@ as numbers in rad/s (SI, as everywhere in the model file).
 
 from ._whirl import BUILD_ID, InputError, NumericalError, WhirlError, __version__
 from .model import Model, WhirlWarning
-from .modal import CampbellResult, CheckResult, ConvergenceResult, campbell, check, convergence
+from .modal import (
+    CampbellResult,
+    CheckResult,
+    ConvergenceResult,
+    ModalResult,
+    campbell,
+    check,
+    convergence,
+    modal,
+)
 from .nsv import CascadeResult, cascade
 from .response import UnbalanceResult, unbalance
 from .ross import from_ross, read_ross
@@ -31,6 +40,7 @@ __all__ = [
     "ConvergenceResult",
     "InputError",
     "Model",
+    "ModalResult",
     "NumericalError",
     "SimulationResult",
     "StudyResult",
@@ -43,6 +53,7 @@ __all__ = [
     "check",
     "convergence",
     "from_ross",
+    "modal",
     "read_ross",
     "simulate",
     "study",

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -405,3 +406,91 @@ def convergence(
         skipped=raw["skipped"],
         modes_requested=modes,
     )
+
+
+#: What summary.json of ``whirl modal`` says of its numbers.
+_MODAL_NOTES = [
+    "undamped shapes are mass-normalised (phi^T M phi = 1)",
+    "damped shapes are scaled so that the largest translation is 1",
+    "roots with damping ratio above 0.9 are left out",
+]
+
+
+@dataclass(frozen=True)
+class ModalResult:
+    """Undamped modes and damped whirl modes at a speed (``whirl modal``)."""
+
+    model: Model
+    #: Spin speed of the damped modes, rad/s.
+    speed: float
+    #: Undamped natural frequencies, Hz, and mass-normalised shapes ``[dof, mode]`` (DOFs
+    #: node by node: ux, uy, tx, ty).
+    undamped_frequencies_hz: np.ndarray
+    undamped_shapes: np.ndarray
+    #: Per damped mode: label, damped and natural frequency (Hz), damping ratio, log
+    #: decrement, whirl, eigenvalue (re 1/s, im rad/s), and per node the amplitude and phase
+    #: of ux and uy and the forward and backward orbit radii (largest translation 1).
+    damped: list[dict[str, Any]]
+    tables: ClassVar[tuple[str, ...]] = ("undamped_modes", "undamped_shapes", "damped_modes", "damped_shapes")
+
+    def to_pandas(self, table: str = "damped_modes"):
+        """The command line's undamped_modes, undamped_shapes, damped_modes or
+        damped_shapes table."""
+        import pandas as pd
+
+        f, z, n = self.undamped_frequencies_hz, self.model.node_positions(), self.model.node_count
+        if table == "undamped_modes":
+            return pd.DataFrame({"mode": np.arange(1, len(f) + 1), "frequency_hz": f})
+        if table == "undamped_shapes":
+            shapes = self.undamped_shapes.reshape(n, 4, len(f))
+            frames = [
+                pd.DataFrame(
+                    {"mode": j + 1, "frequency_hz": fj, "node": np.arange(n), "z_m": z,
+                     **{d: shapes[:, k, j] for k, d in enumerate(("ux", "uy", "tx", "ty"))}}
+                )
+                for j, fj in enumerate(f)
+            ]
+            return pd.concat(frames, ignore_index=True)
+        if table == "damped_modes":
+            keys = ["label", "damped_frequency_hz", "natural_frequency_hz", "damping_ratio", "log_decrement", "whirl"]
+            rows = [[i + 1, *[m[k] for k in keys], *m["eigenvalue"]] for i, m in enumerate(self.damped)]
+            return pd.DataFrame(rows, columns=["mode", *keys, "eigenvalue_real_per_s", "eigenvalue_imag_rad_per_s"])
+        if table == "damped_shapes":
+            keys = ["ux_amplitude", "ux_phase_deg", "uy_amplitude", "uy_phase_deg", "forward_radius", "backward_radius"]
+            frames = [
+                pd.DataFrame({"mode": i + 1, "label": m["label"], "node": np.arange(n), "z_m": z, **{k: m[k] for k in keys}})
+                for i, m in enumerate(self.damped)
+            ]
+            return pd.concat(frames, ignore_index=True)
+        raise ValueError(f"no table `{table}`: choose one of {self.tables}")
+
+    def to_dict(self) -> dict[str, Any]:
+        """The command line's summary.json (without the output folder and file list)."""
+        speed_hz = self.speed / (2 * math.pi)
+        summary = head("modal", self.model)
+        summary.update(
+            speed_hz=speed_hz,
+            speed_rpm=60.0 * speed_hz,
+            undamped_frequencies_hz=[finite_or_none(x) for x in self.undamped_frequencies_hz],
+            damped_modes=[
+                {k: m[k] for k in ("label", "damped_frequency_hz", "natural_frequency_hz", "damping_ratio", "log_decrement", "whirl")}
+                for m in self.damped
+            ],
+            notes=list(_MODAL_NOTES),
+        )
+        return summary
+
+
+def modal(model: Model | str | os.PathLike[str], speed: str | float = 0.0, *, modes: int = 6) -> ModalResult:
+    """Undamped modes and damped whirl modes at a speed (``whirl modal``).
+
+    Args:
+        model: a :class:`Model` or a model file path.
+        speed: spin speed of the damped modes, ``"300Hz"``, ``"3000rpm"`` or rad/s (a speed
+            below 1e-3 rad/s is solved at 1e-3 rad/s, where forward and backward separate).
+        modes: number of modes, undamped and damped (1-200).
+    """
+    model = as_model(model)
+    w = _whirl.parse_speed(str(speed))
+    raw = _whirl.modal(model._raw, w, _options.mode_count(modes))
+    return ModalResult(model=model, speed=w, **raw)
