@@ -3,8 +3,13 @@
 //! how far a long run has got.
 
 use std::io::IsTerminal;
-use std::sync::Mutex;
+use std::ops::ControlFlow;
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
+
+use whirl::progress::{Progress, Report};
+
+use crate::interrupt;
 
 /// How often a progress line is written when stderr is not a terminal.
 pub const LOG_INTERVAL: Duration = Duration::from_secs(5);
@@ -72,4 +77,34 @@ pub fn duration_text(seconds: f64) -> String {
     } else {
         format!("{:.1} h", seconds / 3600.0)
     }
+}
+
+/// The library's [`Progress`] of one piece of work shown on stderr as
+/// `label: message, 12 s, about 35 s left` (paced by [`Pace`]), and stopping the work once
+/// Ctrl-C was pressed in a command that can stop ([`interrupt::stoppable`]). The [`Pace`]
+/// is returned to blank the line when the work ends.
+pub fn progress_line(label: String) -> (Progress, Arc<Pace>) {
+    let pace = Arc::new(Pace::new());
+    let shown = Arc::clone(&pace);
+    let progress = Progress::new(move |r: Report<'_>| {
+        shown.show(|| line(&label, &r, shown.elapsed_s()));
+        if interrupt::requested() {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    });
+    (progress, pace)
+}
+
+/// `label: message, elapsed`, and the time left from the rate so far when some work is
+/// done and some is left.
+fn line(label: &str, r: &Report<'_>, elapsed: f64) -> String {
+    let left = if r.done > 0.0 && r.done < r.total {
+        let seconds = elapsed / r.done * (r.total - r.done);
+        format!(", about {} left", duration_text(seconds))
+    } else {
+        String::new()
+    };
+    format!("{label}: {}, {}{left}", r.message, duration_text(elapsed))
 }

@@ -174,6 +174,7 @@ pub mod modal;
 pub mod model;
 pub mod nsv;
 pub mod post;
+pub mod progress;
 pub mod reduce;
 pub mod response;
 pub mod statics;

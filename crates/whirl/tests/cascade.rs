@@ -10,9 +10,9 @@ use whirl::bearing::stiffness::{cage_angle_on_load_line, gravity_load, passage_a
 use whirl::fe::{assemble, Bearings};
 use whirl::model::{Clearance, LinearBearing, Model};
 use whirl::nsv::{
-    cascade, dies_away, Cascade, CascadeOptions, CascadeProgress, NsvClass, DEFAULT_SETTLE_MAX,
-    DEFAULT_THRESHOLD_M,
+    cascade, dies_away, Cascade, CascadeOptions, NsvClass, DEFAULT_SETTLE_MAX, DEFAULT_THRESHOLD_M,
 };
+use whirl::progress::Progress;
 use whirl::response::unbalance_response;
 use whirl::Error;
 
@@ -127,13 +127,13 @@ fn an_interrupted_cascade_resumes_to_the_uninterrupted_result() {
     let dir = tempfile::tempdir().unwrap();
     let checkpoint = dir.path().join("cascade.partial");
     // Stop as soon as two speeds are done (the ones running then finish and are saved).
-    let stop = |p: CascadeProgress| {
-        if p.done >= 2 {
+    let stop = Progress::new(|p| {
+        if p.done >= 2.0 {
             ControlFlow::Break(())
         } else {
             ControlFlow::Continue(())
         }
-    };
+    });
     let first = cascade(&model, &options, Some(&checkpoint), Some(&stop));
     assert!(matches!(first, Err(Error::Interrupted(_))), "{first:?}");
     let saved = std::fs::read_dir(&checkpoint)

@@ -10,11 +10,12 @@ use whirl::fe::SystemMatrices;
 use whirl::fe::{assemble, Bearings};
 use whirl::force::CubicSpring;
 use whirl::model::Model;
+use whirl::progress::Progress;
 use whirl::response::unbalance_response;
 use whirl::system::{SpeedProfile, System};
 use whirl::time::{
     central_difference, newmark, runge_kutta, simulate, stable_step, Initial, MarchOptions, Method,
-    NewmarkScheme, Progress, RkTolerances, SimulationOptions,
+    NewmarkScheme, RkTolerances, RunStatus, SimulationOptions,
 };
 
 const M: f64 = 2.0;
@@ -304,7 +305,10 @@ fn stable_step_is_the_limit_the_simulation_reports_and_progress_is_told() {
             record_rollers: true,
             progress: Some(Progress::new({
                 let seen = seen.clone();
-                move |fraction| seen.lock().unwrap().push(fraction)
+                move |r| {
+                    seen.lock().unwrap().push(r.fraction());
+                    ControlFlow::Continue(())
+                }
             })),
         };
         let r = simulate(&model, &options).unwrap().completed().unwrap();
@@ -322,6 +326,38 @@ fn stable_step_is_the_limit_the_simulation_reports_and_progress_is_told() {
     assert_eq!(reports[0], 0.0);
     let last = reports[reports.len() - 1];
     assert!(last > 0.99 && last <= 1.0, "{last}");
+}
+
+#[test]
+fn a_progress_that_says_stop_ends_the_run_there() {
+    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let options = SimulationOptions {
+        duration: 0.02,
+        reduction: Some(12),
+        contact: Some(ContactLaw::Linear),
+        record_every: Some(1),
+        progress: Some(Progress::new(|r| {
+            if r.fraction() >= 0.5 {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        })),
+        ..SimulationOptions::new(SpeedProfile::Constant(2.0 * PI * 50.0))
+    };
+    let r = simulate(&model, &options).unwrap();
+    // Reports come every 1/1000 of the run: the first at or past half the duration stops
+    // it, and nothing after it is recorded.
+    let RunStatus::Stopped { time } = r.status else {
+        panic!("{:?}", r.status)
+    };
+    assert!((0.01..0.01 + 2e-5 + r.step).contains(&time), "{time}");
+    assert!(
+        r.time.last().is_some_and(|&t| t < time),
+        "{:?}",
+        r.time.last()
+    );
+    assert!(matches!(r.completed(), Err(whirl::Error::Interrupted(_))));
 }
 
 #[test]

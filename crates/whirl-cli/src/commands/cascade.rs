@@ -26,17 +26,15 @@
 //! model or other options is refused with what differs, and `--restart` deletes it first.
 
 use std::fmt::Write;
-use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 
 use serde_json::{json, Value};
 use whirl::bearing::ContactLaw;
 use whirl::model::Model;
 use whirl::nsv::{
-    cascade, checkpoint, compare_starts, other_start_options, Cascade, CascadeOptions,
-    CascadeProgress, Component, NsvSummary, StartComparison, DEFAULT_MAX_ADDED,
-    DEFAULT_MAX_RECORDS, DEFAULT_RELATIVE_ERROR, DEFAULT_THRESHOLD_M, DEFAULT_TOLERANCE_BINS,
-    STARTS_DIFFER_SIGMAS,
+    cascade, checkpoint, compare_starts, other_start_options, Cascade, CascadeOptions, Component,
+    NsvSummary, StartComparison, DEFAULT_MAX_ADDED, DEFAULT_MAX_RECORDS, DEFAULT_RELATIVE_ERROR,
+    DEFAULT_THRESHOLD_M, DEFAULT_TOLERANCE_BINS, STARTS_DIFFER_SIGMAS,
 };
 use whirl::post::Window;
 use whirl::time::Initial;
@@ -53,7 +51,7 @@ use crate::error::{from_whirl, Diag};
 use crate::interrupt;
 use crate::output::{header, num, Output};
 use crate::plots;
-use crate::progress::{duration_text, Pace};
+use crate::progress::{duration_text, progress_line};
 
 /// Speeds of the default sweep over the model's operating range.
 const DEFAULT_SPEEDS: usize = 150;
@@ -186,28 +184,14 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     }
     warn_if_long(&options);
     interrupt::stoppable();
-    let display = ProgressLine::new();
-    let report = |p: CascadeProgress| {
-        display.draw(p);
-        if interrupt::requested() {
-            ControlFlow::Break(())
-        } else {
-            ControlFlow::Continue(())
-        }
-    };
-    let result = cascade(model, &options, Some(&checkpoint), Some(&report));
-    display.clear();
+    let (progress, line) = progress_line("cascade".into());
+    let result = cascade(model, &options, Some(&checkpoint), Some(&progress));
+    line.clear();
     let result = result.map_err(|e| library_error(e, &checkpoint))?;
     check_divergence(&result)?;
     let nsv = result.nsv_summary(args.threshold);
     let starts = if args.compare_starts {
-        Some(other_start(
-            model,
-            &result,
-            args.threshold,
-            &out_dir,
-            &report,
-        )?)
+        Some(other_start(model, &result, args.threshold, &out_dir)?)
     } else {
         None
     };
@@ -257,7 +241,6 @@ fn other_start(
     first: &Cascade,
     threshold: f64,
     out_dir: &Path,
-    report: &(dyn Fn(CascadeProgress) -> ControlFlow<()> + Sync),
 ) -> miette::Result<StartComparison> {
     let options = other_start_options(first);
     let key = checkpoint::key(model, &options).map_err(|e| library_error(e, out_dir))?;
@@ -266,13 +249,9 @@ fn other_start(
         "comparing starts: every speed again from {}",
         start_name(options.initial)
     );
-    let display = ProgressLine::new();
-    let draw = |p: CascadeProgress| {
-        display.draw(p);
-        report(p)
-    };
-    let second = cascade(model, &options, Some(&checkpoint), Some(&draw));
-    display.clear();
+    let (progress, line) = progress_line("cascade".into());
+    let second = cascade(model, &options, Some(&checkpoint), Some(&progress));
+    line.clear();
     let second = second.map_err(|e| library_error(e, &checkpoint))?;
     compare_starts(first, second, threshold).map_err(|e| from_whirl(e, ""))
 }
@@ -512,46 +491,6 @@ fn flag(field: &str) -> Option<&'static str> {
         "tolerance" => "--tolerance",
         _ => return None,
     })
-}
-
-/// `cascade: 37/150 speeds, 12 s, about 35 s left`, paced by [`Pace`].
-pub(crate) struct ProgressLine {
-    pace: Pace,
-}
-
-impl ProgressLine {
-    pub(crate) fn new() -> ProgressLine {
-        ProgressLine { pace: Pace::new() }
-    }
-
-    pub(crate) fn draw(&self, p: CascadeProgress) {
-        self.pace.show(|| {
-            let resumed = if p.resumed > 0 {
-                format!(" ({} from the checkpoint)", p.resumed)
-            } else {
-                String::new()
-            };
-            let elapsed = self.pace.elapsed_s();
-            let computed = p.done - p.resumed;
-            let left = if computed > 0 && p.done < p.total {
-                let seconds = elapsed / computed as f64 * (p.total - p.done) as f64;
-                format!(", about {} left", duration_text(seconds))
-            } else {
-                String::new()
-            };
-            format!(
-                "cascade: {}/{} speeds{resumed}, {}{left}",
-                p.done,
-                p.total,
-                duration_text(elapsed)
-            )
-        });
-    }
-
-    /// Blanks the line on a terminal.
-    pub(crate) fn clear(&self) {
-        self.pace.clear();
-    }
 }
 
 fn summary(

@@ -22,7 +22,6 @@
 
 use std::f64::consts::TAU;
 use std::fmt::Write;
-use std::sync::Mutex;
 
 use clap::ValueEnum;
 use serde_json::{json, Value};
@@ -42,7 +41,7 @@ use super::{
 };
 use crate::error::Diag;
 use crate::output::{header, num, Output};
-use crate::progress::{duration_text, Pace};
+use crate::progress::{duration_text, progress_line};
 
 /// Periodic approximations of the roller passage.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -245,27 +244,11 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     finish(out, summary, text, &args.common)
 }
 
-/// The sweep with a progress line (see [`Pace`]): the speed the path has reached.
+/// The sweep with a progress line: the speed the path has reached.
 fn sweep_shown(model: &Model, options: &SweepOptions) -> whirl::Result<Sweep> {
-    let pace = Pace::new();
-    let furthest = Mutex::new(options.from);
-    let h = options.harmonics;
-    let show = |w: f64| {
-        let Ok(mut top) = furthest.lock() else {
-            return;
-        };
-        *top = top.max(w).min(options.to);
-        pace.show(|| {
-            format!(
-                "hbm (H = {h}): {:.1} Hz of {:.1} Hz, {}",
-                hz(*top),
-                hz(options.to),
-                duration_text(pace.elapsed_s())
-            )
-        });
-    };
-    let result = sweep_with_progress(model, options, &show);
-    pace.clear();
+    let (progress, line) = progress_line(format!("hbm (H = {})", options.harmonics));
+    let result = sweep_with_progress(model, options, Some(&progress));
+    line.clear();
     result
 }
 

@@ -36,7 +36,6 @@
 mod contacts;
 
 use std::fmt::Write;
-use std::io::IsTerminal;
 
 use clap::ValueEnum;
 use serde_json::{json, Value};
@@ -48,7 +47,7 @@ use whirl::post::{
 };
 use whirl::system::SpeedProfile;
 use whirl::time::{
-    simulate, Initial, Method, NewmarkScheme, Progress, RkTolerances, RunStatus, SimulationOptions,
+    simulate, Initial, Method, NewmarkScheme, RkTolerances, RunStatus, SimulationOptions,
     SimulationResult,
 };
 
@@ -60,7 +59,7 @@ use super::{
 use crate::error::Diag;
 use crate::output::{header, num, Output};
 use crate::plots;
-use crate::progress::{duration_text, Pace};
+use crate::progress::progress_line;
 
 /// Peaks within this many bins of an order are labelled with it.
 const ORDER_TOLERANCE_BINS: f64 = 2.0;
@@ -172,6 +171,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     let model = &loaded.model;
     let nodes = report_nodes(model, &args.nodes)?;
+    let (progress, line) = progress_line("simulating".into());
     let mut options = SimulationOptions {
         duration: args.duration,
         step: time_step(args)?,
@@ -183,7 +183,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         initial: args.start,
         divergence_bound: args.divergence_bound,
         record_every: args.record_every,
-        progress: progress_display(),
+        progress: Some(progress.clone()),
         ..SimulationOptions::new(SpeedProfile::Constant(args.speed))
     };
     let law = options.contact_law(model);
@@ -192,16 +192,19 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     options.speed = speed_profile(args, settle)?;
     let speed = options.speed;
     let result = simulate(model, &options);
-    if std::io::stderr().is_terminal() {
-        // Blank out the progress line.
-        eprint!("\r{:70}\r", "");
-    }
+    line.clear();
     let result = lib(result)?;
-    if let RunStatus::Diverged { message, .. } = &result.status {
-        return Err(Diag::new(message.clone())
-            .help("nothing was written")
-            .into());
-    }
+    // A run stopped by its progress (not asked for here: Ctrl-C quits `simulate` at once)
+    // is reported as the library says it.
+    let result = match &result.status {
+        RunStatus::Diverged { message, .. } => {
+            return Err(Diag::new(message.clone())
+                .help("nothing was written")
+                .into())
+        }
+        RunStatus::Stopped { .. } => lib(result.completed())?,
+        RunStatus::Completed => result,
+    };
     let final_speed = speed.at(args.duration).0.speed;
     let running_hz = hz(final_speed);
     let reports = channel_reports(&result, &speed, running_hz)?;
@@ -306,21 +309,6 @@ fn speed_profile(args: &Args, settle: f64) -> miette::Result<SpeedProfile> {
             duration: settle,
         }),
     }
-}
-
-/// A percentage line on stderr, paced by [`Pace`] (a line every few seconds when stderr is
-/// not a terminal).
-fn progress_display() -> Option<Progress> {
-    let pace = Pace::new();
-    Some(Progress::new(move |fraction| {
-        pace.show(|| {
-            format!(
-                "simulating: {:3.0} %, {}",
-                100.0 * fraction,
-                duration_text(pace.elapsed_s())
-            )
-        });
-    }))
 }
 
 /// Spectrum, peaks, 1X and peak-to-peak of each channel's settled part.

@@ -16,23 +16,21 @@
 
 use std::fmt::Write;
 use std::io::IsTerminal;
-use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use serde_json::{json, Value};
-use whirl::nsv::CascadeProgress;
 use whirl::study::ranking::Effect;
 use whirl::study::results::{analyse, run_points, PointOutcome, PointResult, Source, StudyResults};
 use whirl::study::store::Store;
 use whirl::study::{point, Point, Study};
 
-use super::cascade::ProgressLine;
 use super::{finish_json, lib, Outcome};
 use crate::error::{from_whirl, Diag};
 use crate::interrupt;
 use crate::output::{header, num, opt, Output};
 use crate::plots_study;
+use crate::progress::progress_line;
 
 /// `whirl study`
 #[derive(Debug, clap::Args)]
@@ -175,15 +173,7 @@ fn compute_point(p: &Point, store: &Store) -> whirl::Result<PointResult> {
     let partial = store.dir().join("partial").join(&p.key);
     // The speeds of the point running (as `whirl cascade` shows them); Ctrl-C stops the
     // point between speeds, its finished speeds kept.
-    let line = ProgressLine::new();
-    let progress = |c: CascadeProgress| {
-        line.draw(c);
-        if interrupt::requested() {
-            ControlFlow::Break(())
-        } else {
-            ControlFlow::Continue(())
-        }
-    };
+    let (progress, line) = progress_line("cascade".into());
     let result = point::compute(p, Some(&partial), Some(&progress));
     line.clear();
     let result = result?;

@@ -46,6 +46,10 @@ pub trait Periodic {
     fn derivatives(&mut self, x: &[f64], frequency: f64) -> Derivatives;
     /// Hill's eigenproblem of the periodic solution (x, w).
     fn hill_problem(&mut self, x: &[f64], frequency: f64) -> Result<HillProblem>;
+    /// Whether the caller asked the path to stop (asked before each step).
+    fn stop_requested(&self) -> bool {
+        false
+    }
 }
 
 /// dR/dx and dR/dw.
@@ -470,6 +474,12 @@ fn trace<H: Periodic>(
             break BranchEnd::PointLimit;
         }
         let last = &points[points.len() - 1].solution;
+        if hb.stop_requested() {
+            return Err(Error::Interrupted(format!(
+                "the harmonic-balance path was stopped at {:.1} Hz",
+                last.frequency / std::f64::consts::TAU
+            )));
+        }
         let y0 = scaling.scaled(last);
         let attempt = correct(hb, &y0, &tangent, step, &scaling)
             .and_then(|s| Ok((unit_tangent(hb, &s, &scaling, &tangent)?, s)));

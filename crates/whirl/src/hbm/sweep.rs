@@ -21,10 +21,12 @@ use crate::bearing::ContactLaw;
 use crate::error::{Error, Result};
 use crate::fe::Bearings;
 use crate::model::Model;
+use crate::progress::{tell, Progress};
 use crate::reduce::CraigBampton;
 use crate::system::build;
 use crate::system::System;
 use crate::time::static_equilibrium;
+use crate::units::rad_s_to_hz;
 
 /// What to solve.
 #[derive(Debug, Clone, Serialize)]
@@ -222,18 +224,19 @@ pub fn model_problem(
 /// As [`model_problem`], or when the first point does not converge; a branch that stops
 /// early is returned with why ([`super::BranchEnd`]).
 pub fn sweep(model: &Model, options: &SweepOptions) -> Result<Sweep> {
-    sweep_with_progress(model, options, &|_| {})
+    sweep_with_progress(model, options, None)
 }
 
-/// As [`sweep`], telling `progress` each frequency (rad/s) the path tries, for a display
-/// (Hill stability, solved after the path, is not reported).
+/// As [`sweep`], telling `progress` how far the path has got (the highest frequency it
+/// has tried, in Hz from `options.from` to `options.to`; Hill stability, solved after the
+/// path, is not reported). `progress` may stop the sweep.
 ///
 /// # Errors
-/// As [`sweep`].
+/// As [`sweep`]; [`Error::Interrupted`] when `progress` stopped it.
 pub fn sweep_with_progress(
     model: &Model,
     options: &SweepOptions,
-    progress: &dyn Fn(f64),
+    progress: Option<&Progress>,
 ) -> Result<Sweep> {
     check(options)?;
     let start = Instant::now();
@@ -253,6 +256,10 @@ pub fn sweep_with_progress(
         inner: CondensedBalance::new(problem, hb_options)?
             .with_stability_modes(options.stability_modes),
         progress,
+        from: options.from,
+        to: options.to,
+        furthest: options.from,
+        stopped: false,
     };
     // Start at the static equilibrium: the unbalance force is small at the first speed.
     let mut guess = vec![0.0; hb.inner.unknowns()];
@@ -305,10 +312,34 @@ pub fn sweep_with_progress(
     })
 }
 
-/// A harmonic balance that tells a progress display where the path is.
+/// A harmonic balance that tells a [`Progress`] how far the path has got, and asks the
+/// path to stop once told to.
 struct Reporting<'a> {
     inner: CondensedBalance,
-    progress: &'a dyn Fn(f64),
+    progress: Option<&'a Progress>,
+    /// The sweep's range and the highest frequency tried so far, rad/s.
+    from: f64,
+    to: f64,
+    furthest: f64,
+    /// The progress said stop.
+    stopped: bool,
+}
+
+impl Reporting<'_> {
+    fn report(&mut self, frequency: f64) {
+        if self.progress.is_none() {
+            return;
+        }
+        self.furthest = self.furthest.max(frequency).min(self.to);
+        let (top, to) = (rad_s_to_hz(self.furthest), rad_s_to_hz(self.to));
+        let flow = tell(
+            self.progress,
+            top - rad_s_to_hz(self.from),
+            to - rad_s_to_hz(self.from),
+            || format!("{top:.1} Hz of {to:.1} Hz"),
+        );
+        self.stopped |= flow.is_break();
+    }
 }
 
 impl Periodic for Reporting<'_> {
@@ -316,11 +347,11 @@ impl Periodic for Reporting<'_> {
         self.inner.options()
     }
     fn solve(&mut self, frequency: f64, guess: &[f64]) -> Result<HbSolution> {
-        (self.progress)(frequency);
+        self.report(frequency);
         Periodic::solve(&mut self.inner, frequency, guess)
     }
     fn residual_at(&mut self, x: &[f64], frequency: f64) -> (Vec<f64>, f64) {
-        (self.progress)(frequency);
+        self.report(frequency);
         self.inner.residual_at(x, frequency)
     }
     fn derivatives(&mut self, x: &[f64], frequency: f64) -> Derivatives {
@@ -328,6 +359,9 @@ impl Periodic for Reporting<'_> {
     }
     fn hill_problem(&mut self, x: &[f64], frequency: f64) -> Result<HillProblem> {
         self.inner.hill_problem(x, frequency)
+    }
+    fn stop_requested(&self) -> bool {
+        self.stopped
     }
 }
 

@@ -61,7 +61,6 @@ mod refine;
 mod starts;
 mod summary;
 
-use std::ops::ControlFlow;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
@@ -95,27 +94,12 @@ use crate::error::{Error, Result};
 use crate::fe::{assemble, Bearings};
 use crate::modal::{campbell, CampbellOptions};
 use crate::model::Model;
+use crate::progress::{tell, Progress};
 use checkpoint::Checkpoint;
 use classify::Context;
 
 /// Natural frequencies (Campbell branches) compared with sub-synchronous peaks.
 const NATURAL_BRANCHES: usize = 6;
-
-/// How far a cascade has got, for a progress display.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct CascadeProgress {
-    /// Speeds finished, those loaded from the checkpoint included.
-    pub done: usize,
-    /// Speeds in the cascade so far: the requested ones and those the refinement has added
-    /// (it grows after each round of refinement).
-    pub total: usize,
-    /// Speeds loaded from the checkpoint.
-    pub resumed: usize,
-}
-
-/// Told of progress after the checkpoint is read and after each speed; return
-/// `ControlFlow::Break(())` to stop (finished speeds stay saved, speeds running finish).
-pub type ProgressFn<'a> = &'a (dyn Fn(CascadeProgress) -> ControlFlow<()> + Sync);
 
 /// Computes a batch of a cascade's speeds elsewhere than on this machine's threads (on the
 /// workers of a cluster): given `(index, speed)` pairs (speed in rad/s), it hands each
@@ -187,7 +171,7 @@ pub fn cascade(
     model: &Model,
     options: &CascadeOptions,
     checkpoint: Option<&Path>,
-    progress: Option<ProgressFn<'_>>,
+    progress: Option<&Progress>,
 ) -> Result<Cascade> {
     run_cascade(model, options, checkpoint, progress, None)
 }
@@ -201,7 +185,7 @@ pub fn distributed_cascade(
     model: &Model,
     options: &CascadeOptions,
     checkpoint: Option<&Path>,
-    progress: Option<ProgressFn<'_>>,
+    progress: Option<&Progress>,
     runner: PointRunner<'_>,
 ) -> Result<Cascade> {
     run_cascade(model, options, checkpoint, progress, Some(runner))
@@ -222,7 +206,7 @@ fn run_cascade(
     model: &Model,
     options: &CascadeOptions,
     checkpoint: Option<&Path>,
-    progress: Option<ProgressFn<'_>>,
+    progress: Option<&Progress>,
     runner: Option<PointRunner<'_>>,
 ) -> Result<Cascade> {
     let start = Instant::now();
@@ -290,7 +274,7 @@ struct Run<'a> {
     resolved: &'a Resolved,
     store: Option<&'a Checkpoint>,
     planners: &'a point::Planners,
-    progress: Option<ProgressFn<'a>>,
+    progress: Option<&'a Progress>,
     /// Computes the missing speeds elsewhere; `None` for this machine's threads.
     runner: Option<PointRunner<'a>>,
     /// Requested speeds, then the added ones in the order they were added (rad/s); a
@@ -314,17 +298,24 @@ impl Run<'_> {
         let total = self.points.len();
         let resumed = self.resumed;
         let progress = self.progress;
-        let tell = |done: usize| {
-            progress.map_or(ControlFlow::Continue(()), |report| {
-                report(CascadeProgress {
-                    done,
-                    total,
-                    resumed,
-                })
-            })
+        // Speeds loaded from the checkpoint count in neither `done` nor `total`.
+        let report = |done: usize| {
+            tell(
+                progress,
+                (done - resumed) as f64,
+                (total - resumed) as f64,
+                || {
+                    let from_checkpoint = if resumed > 0 {
+                        format!(" ({resumed} from the checkpoint)")
+                    } else {
+                        String::new()
+                    };
+                    format!("{done}/{total} speeds{from_checkpoint}")
+                },
+            )
         };
         let already = self.points.iter().flatten().count();
-        let stop = AtomicBool::new(tell(already).is_break());
+        let stop = AtomicBool::new(report(already).is_break());
         let done = AtomicUsize::new(already);
         let missing: Vec<usize> = (0..total).filter(|&i| self.points[i].is_none()).collect();
         if let Some(runner) = self.runner {
@@ -344,7 +335,7 @@ impl Run<'_> {
                     }
                     points[i] = Some(point);
                     let finished = points.iter().flatten().count();
-                    if tell(finished).is_break() {
+                    if report(finished).is_break() {
                         stop.store(true, Ordering::Relaxed);
                         return Err(Error::Interrupted(String::new()));
                     }
@@ -378,7 +369,7 @@ impl Run<'_> {
                         s.save(i, &point)?;
                     }
                     let finished = done.fetch_add(1, Ordering::Relaxed) + 1;
-                    if tell(finished).is_break() {
+                    if report(finished).is_break() {
                         stop.store(true, Ordering::Relaxed);
                     }
                     Ok((i, point))

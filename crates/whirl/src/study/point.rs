@@ -6,7 +6,8 @@ use std::path::Path;
 use super::results::{CascadeMap, NsvSummary, PointResult};
 use super::Point;
 use crate::error::{InputError, Result};
-use crate::nsv::{cascade, Cascade, CascadeOptions, Component, ProgressFn, DEFAULT_THRESHOLD_M};
+use crate::nsv::{cascade, Cascade, CascadeOptions, Component, DEFAULT_THRESHOLD_M};
+use crate::progress::Progress;
 use crate::units::hz_to_rad_s;
 
 /// Speeds of a cascade whose settings give none: this many over the model's operating range.
@@ -88,7 +89,7 @@ pub fn cascade_options(point: &Point) -> Result<CascadeOptions> {
 pub fn compute(
     point: &Point,
     checkpoint: Option<&Path>,
-    progress: Option<ProgressFn<'_>>,
+    progress: Option<&Progress>,
 ) -> Result<PointResult> {
     let options = cascade_options(point)?;
     let c = cascade(&point.model, &options, checkpoint, progress)?;

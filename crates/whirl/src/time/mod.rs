@@ -33,7 +33,7 @@ pub use newmark::{newmark, NewmarkScheme};
 pub use rk::{runge_kutta, RkStats, RkTolerances};
 pub use rollers::{peak_near, ContactSummary, RollerRecord};
 pub use simulate::{
-    simulate, simulate_with, stable_step, Channel, Hooks, Initial, Method, Progress, RunStatus,
+    simulate, simulate_with, stable_step, Channel, Hooks, Initial, Method, RunStatus,
     SimulationOptions, SimulationResult, Until, DEFAULT_DIVERGENCE_BOUND, DEFAULT_SAMPLE_INTERVAL,
     DEFAULT_STEP, DIVERGENCE_NET,
 };

@@ -39,9 +39,7 @@
 
 mod contacts;
 
-use std::fmt;
 use std::ops::ControlFlow;
-use std::sync::Arc;
 use std::time::Instant;
 
 use serde::Serialize;
@@ -59,6 +57,7 @@ use crate::error::{Error, Result};
 use crate::fe::{dof, dof_name, Bearings, Direction};
 use crate::force::ForceBuilder;
 use crate::model::Model;
+use crate::progress::{tell, Progress};
 use crate::system::{build, Built, SparseRow, SpeedProfile, System};
 use contacts::{
     fill_multipliers, lagrange_contacts, recorded_nodes, rigid_static_equilibrium, RollerProbe,
@@ -105,27 +104,8 @@ pub enum Initial {
     Rest,
 }
 
-/// Reports how far a run has got: called with the fraction of the simulated time done,
-/// from 0 to 1, at most a thousand times per run (so a display costs nothing measurable;
-/// the caller decides how often to draw).
-#[derive(Clone)]
-pub struct Progress(Arc<dyn Fn(f64) + Send + Sync>);
-
-/// Most calls of a [`Progress`] per run.
+/// Most progress reports per run.
 const PROGRESS_REPORTS: usize = 1000;
-
-impl Progress {
-    /// A progress report that calls `report` with the fraction done.
-    pub fn new(report: impl Fn(f64) + Send + Sync + 'static) -> Self {
-        Progress(Arc::new(report))
-    }
-}
-
-impl fmt::Debug for Progress {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str("Progress(..)")
-    }
-}
 
 /// Ends a run early once what it has recorded is enough: every `every` recorded samples,
 /// `decide` sees the values of every channel so far (in the order of the result's
@@ -178,7 +158,8 @@ pub struct SimulationOptions {
     /// of many runs that needs one response each (a cascade) leaves them out, since
     /// evaluating every roller at every sample costs about as much as the march.
     pub record_rollers: bool,
-    /// Told how far the run has got, e.g. for a progress display; `None` (the default) for
+    /// Told how far the run has got (seconds simulated of the duration), at most a
+    /// thousand times, and may stop it ([`RunStatus::Stopped`]); `None` (the default) for
     /// none.
     pub progress: Option<Progress>,
 }
@@ -328,6 +309,11 @@ pub enum RunStatus {
         /// Why.
         message: String,
     },
+    /// Stopped by its [`SimulationOptions::progress`]; what was computed is kept.
+    Stopped {
+        /// When, s.
+        time: f64,
+    },
 }
 
 /// Recorded time histories.
@@ -370,7 +356,7 @@ impl SimulationResult {
     ///
     /// # Errors
     /// [`Error::Diverged`], with the run's time and message, when the status is
-    /// [`RunStatus::Diverged`].
+    /// [`RunStatus::Diverged`]; [`Error::Interrupted`] when it is [`RunStatus::Stopped`].
     pub fn completed(self) -> Result<SimulationResult> {
         match &self.status {
             RunStatus::Completed => Ok(self),
@@ -379,6 +365,9 @@ impl SimulationResult {
                 coordinate: 0,
                 message: message.clone(),
             }),
+            RunStatus::Stopped { time } => Err(Error::Interrupted(format!(
+                "the simulation was stopped at t = {time:.6} s"
+            ))),
         }
     }
 
@@ -533,7 +522,7 @@ pub fn stable_step(model: &Model, reduction: Option<usize>, law: ContactLaw) -> 
     central_difference_limit(&build(model, reduction, law.bearings(), law.forces())?.system)
 }
 
-/// Calls a [`Progress`] each time another 1/[`PROGRESS_REPORTS`] of the run is done.
+/// Tells a [`Progress`] each time another 1/[`PROGRESS_REPORTS`] of the run is done.
 struct ProgressTicker<'a> {
     progress: Option<&'a Progress>,
     duration: f64,
@@ -541,14 +530,16 @@ struct ProgressTicker<'a> {
 }
 
 impl ProgressTicker<'_> {
-    fn tick(&mut self, t: f64) {
-        if let Some(Progress(report)) = self.progress {
-            let fraction = t / self.duration;
-            if fraction >= self.next {
-                report(fraction.min(1.0));
-                self.next = fraction + 1.0 / PROGRESS_REPORTS as f64;
-            }
+    /// Whether to go on at time `t`.
+    fn tick(&mut self, t: f64) -> ControlFlow<()> {
+        if self.progress.is_none() || t < self.next {
+            return ControlFlow::Continue(());
         }
+        self.next = t + self.duration / PROGRESS_REPORTS as f64;
+        let done = t.min(self.duration);
+        tell(self.progress, done, self.duration, || {
+            format!("{done:.3} s of {} s", self.duration)
+        })
     }
 }
 
@@ -658,8 +649,13 @@ fn march_and_record(
     // Calls to skip before the next sample is recorded.
     let mut skip = 0usize;
     let speed = options.speed;
+    // When the progress said stop.
+    let mut stopped: Option<f64> = None;
     let mut observe = |t: f64, q: &[f64], v: &[f64]| {
-        ticker.tick(t);
+        if ticker.tick(t).is_break() {
+            stopped = Some(t);
+            return ControlFlow::Break(());
+        }
         if skip > 0 {
             skip -= 1;
             return ControlFlow::Continue(());
@@ -718,7 +714,10 @@ fn march_and_record(
     let wall_time_s = start.elapsed().as_secs_f64();
     let status = match (diverged, outcome) {
         (Some((time, message)), _) => RunStatus::Diverged { time, message },
-        (None, Ok(())) => RunStatus::Completed,
+        (None, Ok(())) => match stopped {
+            Some(time) => RunStatus::Stopped { time },
+            None => RunStatus::Completed,
+        },
         (
             None,
             Err(Error::Diverged {

@@ -1,0 +1,76 @@
+//! One convention for the progress of long work: a time simulation, a harmonic-balance
+//! sweep, a cascade, a study's points. The work tells a [`Progress`] how far it has got
+//! ([`Report`]: `done` of `total`, and a message a display can show as it is), and the
+//! answer says whether to go on: `ControlFlow::Break(())` stops the work at its next safe
+//! point, which then ends as its documentation says (a simulation with
+//! [`crate::time::RunStatus::Stopped`], a sweep or a cascade with
+//! [`crate::Error::Interrupted`], the cascade's finished speeds kept in its checkpoint).
+//! A display paces itself: a simulation reports at most a thousand times, a sweep at every
+//! solve, a cascade after every speed.
+
+use std::fmt;
+use std::ops::ControlFlow;
+use std::sync::Arc;
+
+/// How far a piece of long work has got.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Report<'a> {
+    /// Work done, in the units of `total` (seconds simulated, hertz swept, speeds
+    /// computed). Work loaded rather than computed (a cascade's speeds from its
+    /// checkpoint) is in neither, so `done / total` paces an estimate of the time left.
+    pub done: f64,
+    /// The work to do; it may grow (a cascade's refinement adds speeds).
+    pub total: f64,
+    /// How far, in words: `37/150 speeds (12 from the checkpoint)`, `12.3 Hz of 330.0 Hz`.
+    pub message: &'a str,
+}
+
+impl Report<'_> {
+    /// The fraction done, from 0 to 1 (1 when there is nothing to do).
+    pub fn fraction(&self) -> f64 {
+        if self.total > 0.0 {
+            (self.done / self.total).clamp(0.0, 1.0)
+        } else {
+            1.0
+        }
+    }
+}
+
+/// Told how far long work has got; returns whether it goes on. Cheap to clone (shared), and
+/// callable from the worker threads of a parallel cascade.
+#[derive(Clone)]
+pub struct Progress(Arc<dyn Fn(Report<'_>) -> ControlFlow<()> + Send + Sync>);
+
+impl Progress {
+    /// A progress that calls `tell` with each report.
+    pub fn new(tell: impl Fn(Report<'_>) -> ControlFlow<()> + Send + Sync + 'static) -> Self {
+        Progress(Arc::new(tell))
+    }
+
+    /// Tells of `done` of `total`, with `message`; returns whether to go on.
+    pub fn tell(&self, done: f64, total: f64, message: &str) -> ControlFlow<()> {
+        (self.0)(Report {
+            done,
+            total,
+            message,
+        })
+    }
+}
+
+impl fmt::Debug for Progress {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("Progress(..)")
+    }
+}
+
+/// Tells `progress`, when there is one; going on when there is none.
+pub(crate) fn tell(
+    progress: Option<&Progress>,
+    done: f64,
+    total: f64,
+    message: impl FnOnce() -> String,
+) -> ControlFlow<()> {
+    progress.map_or(ControlFlow::Continue(()), |p| {
+        p.tell(done, total, &message())
+    })
+}
