@@ -41,14 +41,11 @@ use clap::ValueEnum;
 use serde_json::{json, Value};
 use whirl::bearing::ContactLaw;
 use whirl::model::Model;
-use whirl::post::{
-    amplitude_spectrum_with, largest_non_synchronous, order_component, spectral_peaks,
-    OrderComponent, SpectralPeak, Spectrum, SpectrumOptions, Window,
-};
+use whirl::post::{SpectralPeak, Window};
 use whirl::system::SpeedProfile;
 use whirl::time::{
-    simulate, Initial, Method, NewmarkScheme, RkTolerances, RunStatus, SimulationOptions,
-    SimulationResult,
+    simulate, Initial, Method, NewmarkScheme, RkTolerances, RunStatus, SettledChannel,
+    SimulationOptions, SimulationResult, ORDER_TOLERANCE_BINS,
 };
 
 use super::campbell::order_name;
@@ -60,19 +57,6 @@ use crate::error::Diag;
 use crate::output::{header, num, Output};
 use crate::plots;
 use crate::progress::progress_line;
-
-/// Peaks within this many bins of an order are labelled with it.
-const ORDER_TOLERANCE_BINS: f64 = 2.0;
-
-/// Multiples of the running speed up to this one count as synchronous.
-const MAX_ORDER: usize = 20;
-
-/// Peaks listed per channel.
-const MAX_PEAKS: usize = 10;
-
-/// The smallest peak listed, relative to the channel's largest: 80 dB, about the flat-top
-/// window's side-lobe level, below which peaks may be leakage.
-const MIN_PEAK_RELATIVE: f64 = 1e-4;
 
 /// The time integrator.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -147,26 +131,6 @@ fn record_every(text: &str) -> Result<usize, String> {
     }
 }
 
-/// What the settled part of one channel shows.
-pub struct ChannelReport {
-    /// `n10.ux`.
-    pub name: String,
-    /// Node.
-    pub node: usize,
-    /// Mean as the spectrum's window weighs it (the static position), m.
-    pub mean: f64,
-    /// Flat-top amplitude spectrum, mean removed.
-    pub spectrum: Spectrum,
-    /// Largest peaks, largest first.
-    pub peaks: Vec<SpectralPeak>,
-    /// The 1X component; `None` at zero speed.
-    pub one_x: Option<OrderComponent>,
-    /// Largest minus smallest value, m.
-    pub peak_to_peak: f64,
-    /// Largest peak not at a multiple of the running speed.
-    pub non_synchronous: Option<SpectralPeak>,
-}
-
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     let model = &loaded.model;
@@ -207,7 +171,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     };
     let final_speed = speed.at(args.duration).0.speed;
     let running_hz = hz(final_speed);
-    let reports = channel_reports(&result, &speed, running_hz)?;
+    let reports = channel_reports(&result, &speed)?;
     let bearings = contacts::bearing_reports(model, &result, &reports, final_speed, running_hz);
     // Every recorded node: those asked for and the bearing nodes a contact law adds.
     let mut recorded: Vec<usize> = result.channels.iter().map(|c| c.node).collect();
@@ -311,71 +275,25 @@ fn speed_profile(args: &Args, settle: f64) -> miette::Result<SpeedProfile> {
     }
 }
 
-/// Spectrum, peaks, 1X and peak-to-peak of each channel's settled part.
+/// What the settled part of each channel shows; too short a settled part is said in terms
+/// of the flags.
 fn channel_reports(
     result: &SimulationResult,
     speed: &SpeedProfile,
-    running_hz: f64,
-) -> miette::Result<Vec<ChannelReport>> {
-    let start = result.settled_start();
-    let settled_time = &result.time[start..];
-    if settled_time.len() < whirl::post::spectrum::MIN_SAMPLES {
+) -> miette::Result<Vec<SettledChannel>> {
+    let settled = result.time.len() - result.settled_start();
+    if settled < whirl::post::spectrum::MIN_SAMPLES {
         return Err(Diag::option(
             "--settle",
             format!(
-                "the settled part holds {} samples; a spectrum needs at least {}",
-                settled_time.len(),
+                "the settled part holds {settled} samples; a spectrum needs at least {}",
                 whirl::post::spectrum::MIN_SAMPLES
             ),
         )
         .help("shorten --settle, lengthen --duration, or use a smaller --step")
         .into());
     }
-    let angle: Vec<f64> = settled_time.iter().map(|&t| speed.at(t).0.angle).collect();
-    let window = Window::FlatTop.samples(settled_time.len());
-    let window_sum: f64 = window.iter().sum();
-    result
-        .channels
-        .iter()
-        .map(|c| {
-            let x = &c.values[start..];
-            // The static sag under gravity would otherwise be the largest "peak". The mean
-            // as the window weighs it leaves nothing at DC; the plain mean of a record that
-            // is not a whole number of periods would, and leak into the first bins.
-            let mean = x.iter().zip(&window).map(|(v, w)| v * w).sum::<f64>() / window_sum;
-            let centred: Vec<f64> = x.iter().map(|v| v - mean).collect();
-            let spectrum = lib(amplitude_spectrum_with(
-                &centred,
-                1.0 / result.sample_interval(),
-                SpectrumOptions::window(Window::FlatTop),
-            ))?;
-            let one_x = if running_hz > 0.0 {
-                Some(lib(order_component(&angle, x, 1.0))?)
-            } else {
-                None
-            };
-            let (low, high) = x
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
-                    (l.min(v), h.max(v))
-                });
-            Ok(ChannelReport {
-                name: c.name.clone(),
-                node: c.node,
-                mean,
-                peaks: spectral_peaks(&spectrum, running_hz, MIN_PEAK_RELATIVE, MAX_PEAKS),
-                non_synchronous: largest_non_synchronous(
-                    &spectrum,
-                    running_hz,
-                    ORDER_TOLERANCE_BINS,
-                    MAX_ORDER,
-                ),
-                spectrum,
-                one_x,
-                peak_to_peak: high - low,
-            })
-        })
-        .collect()
+    lib(result.settled(speed))
 }
 
 /// `1X`, `2X` at multiples of the running speed, `0.5X`, `1.5X` at half orders (where
@@ -404,7 +322,7 @@ fn summary(
     law: ContactLaw,
     result: &SimulationResult,
     running_hz: f64,
-    reports: &[ChannelReport],
+    reports: &[SettledChannel],
 ) -> Value {
     let mut s = summary_head("simulate", loaded);
     s.insert("method".into(), result.method.clone().into());
@@ -473,7 +391,7 @@ fn text(
     args: &Args,
     result: &SimulationResult,
     running_hz: f64,
-    reports: &[ChannelReport],
+    reports: &[SettledChannel],
 ) -> String {
     let mut t = String::new();
     let _ = writeln!(
@@ -514,7 +432,7 @@ fn text(
 fn write_tables(
     out: &mut Output,
     result: &SimulationResult,
-    reports: &[ChannelReport],
+    reports: &[SettledChannel],
     running_hz: f64,
 ) -> miette::Result<()> {
     let mut h = vec!["time_s".to_string()];

@@ -11,7 +11,7 @@ use whirl_plot::{
 
 use super::{grid_shape, um};
 use crate::commands::campbell::order_name;
-use crate::commands::simulate::ChannelReport;
+use whirl::time::SettledChannel;
 
 /// A time history longer than this many pairs of points is drawn as its envelope: the
 /// smallest and largest value of each of this many stretches, about one per pixel column.
@@ -151,7 +151,7 @@ pub fn orbits(result: &SimulationResult, nodes: &[usize], circles: &[(usize, f64
 
 /// Amplitude spectra of the settled part (logarithmic), 1X and its multiples marked, and
 /// `markers` (the roller bearings' contact frequencies).
-pub fn spectrum(reports: &[ChannelReport], running_hz: f64, markers: &[RefLine]) -> Figure2d {
+pub fn spectrum(reports: &[SettledChannel], running_hz: f64, markers: &[RefLine]) -> Figure2d {
     let mut fig = Figure2d::new(
         "Amplitude spectrum of the settled part (flat-top window)",
         "Frequency [Hz]",

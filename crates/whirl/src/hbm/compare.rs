@@ -7,9 +7,7 @@ use serde::Serialize;
 use crate::bearing::ContactLaw;
 use crate::error::Result;
 use crate::model::Model;
-use crate::post::{
-    amplitude_spectrum_with, largest_non_synchronous, order_component, SpectrumOptions, Window,
-};
+use crate::post::order_component;
 use crate::system::SpeedProfile;
 use crate::time::{simulate, SimulationOptions, DEFAULT_MODES};
 
@@ -50,7 +48,7 @@ pub struct SettledResponse {
     pub ux: Vec<f64>,
     /// Same for u_y, m.
     pub uy: Vec<f64>,
-    /// Largest non-synchronous peak of u_y (flat-top spectrum, mean removed): (Hz, m).
+    /// Largest non-synchronous peak of u_y ([`crate::time::SettledChannel`]): (Hz, m).
     pub non_synchronous: Option<(f64, f64)>,
 }
 
@@ -103,16 +101,13 @@ pub fn settled_response(
             .map(|k| order_component(&angle, signal, k as f64).map(|c| c.amplitude))
             .collect::<Result<Vec<f64>>>()
     };
-    let spectrum = amplitude_spectrum_with(
-        y,
-        1.0 / result.sample_interval(),
-        SpectrumOptions {
-            window: Window::FlatTop,
-            remove_mean: true,
-        },
-    )?;
-    let running_hz = speed / std::f64::consts::TAU;
-    let non_synchronous = largest_non_synchronous(&spectrum, running_hz, 3.0, 20)
+    // The settled-record analysis of `whirl simulate`: orders within 2 bins synchronous.
+    let vertical = format!("n{node}.uy");
+    let non_synchronous = result
+        .settled(&options.speed)?
+        .into_iter()
+        .find(|c| c.name == vertical)
+        .and_then(|c| c.non_synchronous)
         .map(|p| (p.frequency_hz, p.amplitude));
     Ok(SettledResponse {
         speed,

@@ -35,8 +35,8 @@ use super::options::{Averaging, CascadeOptions, Component, Resolved};
 use crate::error::{Error, Result};
 use crate::model::Model;
 use crate::post::{
-    amplitude_at, largest_non_synchronous_below, FullSpectrumPlanner, Spectrum, SpectrumOptions,
-    SpectrumPlanner, Window,
+    amplitude_at, largest_non_synchronous_below, window_mean, FullSpectrumPlanner, Spectrum,
+    SpectrumOptions, SpectrumPlanner, Window,
 };
 use crate::system::SpeedProfile;
 use crate::time::{simulate_with, Hooks, RunStatus, SimulationOptions, Until};
@@ -157,31 +157,31 @@ impl CascadePoint {
 pub(super) struct Planners {
     one_sided: SpectrumPlanner,
     full: FullSpectrumPlanner,
-    window: Vec<f64>,
 }
 
 impl Planners {
     pub(super) fn new(o: &CascadeOptions, r: &Resolved) -> Result<Planners> {
-        let options = SpectrumOptions::window(o.window);
+        // The static sag would otherwise be the largest "peak".
+        let options = SpectrumOptions {
+            window: o.window,
+            remove_mean: true,
+        };
         Ok(Planners {
             one_sided: SpectrumPlanner::new(r.samples, r.sample_rate_hz, options)?,
             full: FullSpectrumPlanner::new(r.samples, r.sample_rate_hz, options)?,
-            window: o.window.samples(r.samples),
         })
     }
 
     /// The whole one-sided spectrum of `x` (up to Nyquist: peaks are refined with
     /// neighbours beyond the band).
     fn one_sided(&mut self, x: &[f64]) -> Result<Spectrum> {
-        let centred = centred(x, &self.window);
-        self.one_sided.spectrum(&centred)
+        self.one_sided.spectrum(x)
     }
 
     /// The whole full spectrum of x + i y, bins ascending from -Nyquist.
     fn two_sided(&mut self, x: &[f64], y: &[f64]) -> Result<Vec<f64>> {
         let mut amplitude = vec![0.0; x.len()];
-        let (x, y) = (centred(x, &self.window), centred(y, &self.window));
-        self.full.process(&x, &y, &mut amplitude)?;
+        self.full.process(x, y, &mut amplitude)?;
         Ok(amplitude)
     }
 }
@@ -637,19 +637,6 @@ pub fn negligible(one_x_m: f64) -> f64 {
     NEGLIGIBLE_M.max(NEGLIGIBLE_FRACTION * one_x_m)
 }
 
-/// The mean as the window weighs it: removing it leaves nothing at DC (the static sag
-/// would otherwise be the largest "peak"), where the plain mean of a record that is not a
-/// whole number of periods would leak into the first bins.
-fn weighted_mean(x: &[f64], window: &[f64]) -> f64 {
-    let sum: f64 = window.iter().sum();
-    x.iter().zip(window).map(|(v, w)| v * w).sum::<f64>() / sum
-}
-
-fn centred(x: &[f64], window: &[f64]) -> Vec<f64> {
-    let mean = weighted_mean(x, window);
-    x.iter().map(|v| v - mean).collect()
-}
-
 /// Index in the full spectrum of the bin at `k` bins from zero (negative below).
 fn full_index(r: &Resolved, k: i64) -> Option<usize> {
     usize::try_from(k + (r.samples / 2) as i64)
@@ -704,7 +691,8 @@ fn ratio(later: &[f64], earlier: &[f64], frequency_hz: f64, sample_rate_hz: f64)
 /// Hann-windowed amplitude of `x` at `frequency_hz`, mean removed.
 fn component(x: &[f64], frequency_hz: f64, sample_rate_hz: f64) -> f64 {
     let w = Window::Hann.samples(x.len());
-    let x = centred(x, &w);
+    let mean = window_mean(x, &w);
+    let x: Vec<f64> = x.iter().map(|v| v - mean).collect();
     let step = -2.0 * PI * frequency_hz / sample_rate_hz;
     let sum: Complex<f64> = x
         .iter()

@@ -36,7 +36,7 @@ pub use peaks::{
     SpectralPeak,
 };
 pub use spectrum::{
-    amplitude_spectrum, amplitude_spectrum_with, full_spectrum, FullSpectrum, FullSpectrumPlanner,
-    Spectrum, SpectrumOptions, SpectrumPlanner, Window,
+    amplitude_spectrum, amplitude_spectrum_with, full_spectrum, window_mean, FullSpectrum,
+    FullSpectrumPlanner, Spectrum, SpectrumOptions, SpectrumPlanner, Window,
 };
 pub use tracking::{order_component, OrderComponent};

@@ -126,14 +126,24 @@ fn sinc(x: f64) -> f64 {
     }
 }
 
+/// The mean of `signal` as the `window` samples weigh it, sum(w x) / sum(w). Removing it
+/// leaves nothing at DC, where the plain mean of a record that is not a whole number of
+/// periods would leave the difference, which the window's main lobe leaks into the first
+/// bins.
+pub fn window_mean(signal: &[f64], window: &[f64]) -> f64 {
+    let sum: f64 = window.iter().sum();
+    signal.iter().zip(window).map(|(v, w)| v * w).sum::<f64>() / sum
+}
+
 /// How a spectrum is taken.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 pub struct SpectrumOptions {
     /// The data window.
     pub window: Window,
-    /// Subtract the record's arithmetic mean before windowing. Off by default: the DC bin
-    /// then reads the mean, and (with Hann) so does bin 1, through the main lobe; turn it
-    /// on when a static offset (gravity sag) would mask low-frequency content.
+    /// Subtract the record's mean as the window weighs it ([`window_mean`]) before
+    /// windowing. Off by default: the DC bin then reads the mean, and (with Hann) so does
+    /// bin 1, through the main lobe; turn it on when a static offset (gravity sag) would
+    /// mask low-frequency content.
     pub remove_mean: bool,
 }
 
@@ -306,7 +316,7 @@ impl SpectrumPlanner {
         check_same_length(WHAT, "amplitude buffer", amplitude.len(), self.bins())?;
         check_finite(WHAT, "signal", signal)?;
         let mean = if self.options.remove_mean {
-            signal.iter().sum::<f64>() / signal.len() as f64
+            window_mean(signal, &self.window)
         } else {
             0.0
         };
@@ -411,8 +421,7 @@ impl FullSpectrumPlanner {
         check_finite(WHAT, "x", x)?;
         check_finite(WHAT, "y", y)?;
         let (mean_x, mean_y) = if self.options.remove_mean {
-            let n = len as f64;
-            (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n)
+            (window_mean(x, &self.window), window_mean(y, &self.window))
         } else {
             (0.0, 0.0)
         };

@@ -23,6 +23,7 @@ pub mod forcing_fit;
 mod newmark;
 mod rk;
 mod rollers;
+mod settled;
 mod simulate;
 mod statics;
 
@@ -32,6 +33,7 @@ pub use forcing_fit::{fit_forcing, ForcingFit, ForcingFitOptions, SpeedFit};
 pub use newmark::{newmark, NewmarkScheme};
 pub use rk::{runge_kutta, RkStats, RkTolerances};
 pub use rollers::{peak_near, ContactSummary, RollerRecord};
+pub use settled::{SettledChannel, MAX_ORDER, MAX_PEAKS, MIN_PEAK_RELATIVE, ORDER_TOLERANCE_BINS};
 pub use simulate::{
     simulate, simulate_with, stable_step, Channel, Hooks, Initial, Method, RunStatus,
     SimulationOptions, SimulationResult, Until, DEFAULT_DIVERGENCE_BOUND, DEFAULT_SAMPLE_INTERVAL,

@@ -33,9 +33,9 @@ use whirl::post::SpectralPeak;
 use whirl::time::{peak_near, ContactSummary, RollerRecord, SimulationResult};
 use whirl_plot::{Colour, RefLine};
 
-use super::ChannelReport;
 use crate::output::{num, Output};
 use crate::plots;
+use whirl::time::SettledChannel;
 
 /// A predicted frequency is matched with the largest spectral peak within this many bins.
 /// The flat-top window's main lobe spans +-5 bins, so a component shows as a local maximum
@@ -121,7 +121,7 @@ fn stems(names: &[&str]) -> Vec<String> {
 pub fn bearing_reports<'a>(
     model: &Model,
     result: &'a SimulationResult,
-    reports: &[ChannelReport],
+    reports: &[SettledChannel],
     speed: f64,
     running_hz: f64,
 ) -> Vec<BearingReport<'a>> {
