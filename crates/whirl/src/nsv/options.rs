@@ -145,8 +145,8 @@ pub struct CascadeOptions {
     /// Craig-Bampton reduction with this many fixed-interface modes; `None` for the full
     /// model.
     pub reduction: Option<usize>,
-    /// Central-difference time step, s; `None` for [`STABLE_FRACTION`] of the stability
-    /// limit.
+    /// Central-difference time step, s; `None` for [`crate::time::STABLE_FRACTION`] of the
+    /// stability limit.
     pub step: Option<f64>,
     /// The node whose response is analysed.
     pub node: usize,
