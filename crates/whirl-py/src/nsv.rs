@@ -4,12 +4,14 @@
 
 use std::ops::ControlFlow;
 use std::path::PathBuf;
+use std::sync::Arc;
 
 use clap::ValueEnum;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use pythonize::pythonize;
-use whirl::nsv::{checkpoint, CascadeOptions, CascadePoint, CascadeProgress};
+use whirl::nsv::{checkpoint, CascadeOptions, CascadePoint};
+use whirl::progress::Progress;
 
 use crate::error::{lib, option, to_py};
 use crate::model::PyModel;
@@ -114,13 +116,15 @@ pub fn cascade<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let o = cascade_options(model, &options)?;
     let result = run_watched(py, progress.as_ref(), |watch| {
-        let report = |p: CascadeProgress| {
-            if watch.tell(p.done, p.total) {
+        let told = Arc::clone(watch);
+        // Speeds computed of those to compute (the checkpoint's are in neither count).
+        let report = Progress::new(move |p| {
+            if told.tell(p.done as usize, p.total as usize) {
                 ControlFlow::Break(())
             } else {
                 ControlFlow::Continue(())
             }
-        };
+        });
         let checkpoint = checkpoint.as_deref();
         match &runner {
             None => whirl::nsv::cascade(&model.model, &o, checkpoint, Some(&report)),

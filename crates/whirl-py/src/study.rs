@@ -3,11 +3,12 @@
 
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use pythonize::pythonize;
-use whirl::nsv::CascadeProgress;
+use whirl::progress::Progress;
 use whirl::study::results::{analyse, run_points, PointResult};
 use whirl::study::store::Store;
 use whirl::study::{point, Point, Study};
@@ -18,12 +19,19 @@ use crate::watch::{run_watched, Watch};
 /// A point's cascade, its finished speeds kept in `<store>/partial/<key>` until the point is
 /// saved whole (as the command line does), so a point interrupted half-way, or whose
 /// worker died, continues from its finished speeds.
-fn compute_point(p: &Point, store_dir: &Path, watch: Option<&Watch>) -> whirl::Result<PointResult> {
+fn compute_point(
+    p: &Point,
+    store_dir: &Path,
+    watch: Option<&Arc<Watch>>,
+) -> whirl::Result<PointResult> {
     let partial = store_dir.join("partial").join(&p.key);
-    let stop = |_: CascadeProgress| match watch.is_some_and(Watch::stopped) {
-        true => ControlFlow::Break(()),
-        false => ControlFlow::Continue(()),
-    };
+    let watch = watch.cloned();
+    let stop = Progress::new(
+        move |_| match watch.as_deref().is_some_and(Watch::stopped) {
+            true => ControlFlow::Break(()),
+            false => ControlFlow::Continue(()),
+        },
+    );
     let result = point::compute(p, Some(&partial), Some(&stop))?;
     let _ = std::fs::remove_dir_all(&partial);
     if let Some(parent) = partial.parent() {
@@ -95,7 +103,7 @@ pub fn study<'py>(
             &store,
             |p| match watch.stopped() {
                 true => Err(whirl::Error::Interrupted("stopped".into())),
-                false => compute_point(p, store.dir(), Some(&**watch)),
+                false => compute_point(p, store.dir(), Some(watch)),
             },
             |k, _, _, _| {
                 watch.tell(k + 1, total);

@@ -7,9 +7,10 @@ use numpy::{IntoPyArray, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use pythonize::pythonize;
+use whirl::progress::Progress;
 use whirl::system::SpeedProfile;
 use whirl::time::{
-    simulate_with, Hooks, Method, NewmarkScheme, Progress, RkTolerances, SimulationOptions, Until,
+    simulate_with, Hooks, Method, NewmarkScheme, RkTolerances, SimulationOptions, Until,
 };
 
 use crate::error::{option, to_py};
@@ -124,8 +125,9 @@ pub fn simulate<'py>(
     let mut o = simulation_options(&options)?;
     let result = run_watched(py, progress.as_ref(), |watch| {
         let told = watch.clone();
-        o.progress = Some(Progress::new(move |fraction| {
-            told.tell((fraction * STEPS).round() as usize, STEPS as usize);
+        o.progress = Some(Progress::new(move |r| {
+            told.tell((r.fraction() * STEPS).round() as usize, STEPS as usize);
+            ControlFlow::Continue(())
         }));
         // Ctrl-C ends the run at the next recorded sample; it is then reported as stopped.
         let mut stop = |_: &[Vec<f64>]| match watch.stopped() {
