@@ -43,7 +43,10 @@ fn copy_examples(to: &Path) {
     std::fs::create_dir_all(&target).unwrap();
     for entry in std::fs::read_dir(from).unwrap() {
         let path = entry.unwrap().path();
-        std::fs::copy(&path, target.join(path.file_name().unwrap())).unwrap();
+        // The model and study files; not the folders of scripts (examples/python).
+        if path.is_file() {
+            std::fs::copy(&path, target.join(path.file_name().unwrap())).unwrap();
+        }
     }
 }
 
