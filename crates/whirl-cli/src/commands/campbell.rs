@@ -11,7 +11,7 @@
 use std::fmt::Write;
 
 use serde::Serialize;
-use whirl::fe::{assemble, Bearings};
+use whirl::fe::{assemble_banded, Bearings};
 use whirl::modal::{campbell, CampbellOptions, CampbellResult, Whirl};
 use whirl::model::Model;
 
@@ -126,7 +126,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
 
 /// The Campbell diagram of the linearised model over the speeds asked for.
 fn solve(model: &Model, args: &Args) -> miette::Result<Diagram> {
-    let system = assemble(model, Bearings::Linearised);
+    let system = assemble_banded(model, Bearings::Linearised);
     let options = CampbellOptions {
         speeds: Speeds::or_default(&args.speeds, model, 0.0, 161),
         modes: args.modes,

@@ -7,7 +7,7 @@
 use std::fmt::Write;
 
 use serde::Serialize;
-use whirl::fe::{assemble, Bearings, DOFS_PER_NODE};
+use whirl::fe::{assemble_banded, Bearings, DOFS_PER_NODE};
 use whirl::modal::undamped_modes;
 use whirl::model::{Clearance, LinearBearing, Model, RollerBearing};
 
@@ -138,7 +138,7 @@ impl Sizes {
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     let model = &loaded.model;
-    let system = assemble(model, Bearings::Linearised);
+    let system = assemble_banded(model, Bearings::Linearised);
     let modes = lib(undamped_modes(&system, FREQUENCIES))?;
     let f = &modes.frequencies_hz;
     let sizes = Sizes::of(model);

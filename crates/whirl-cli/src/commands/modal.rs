@@ -13,7 +13,7 @@
 use std::fmt::Write;
 
 use serde::Serialize;
-use whirl::fe::{assemble, dof, Bearings, Direction};
+use whirl::fe::{assemble_banded, dof, Bearings, Direction};
 use whirl::modal::{undamped_modes, ComplexMode, ModalBasis, UndampedModes, Whirl};
 use whirl::model::Model;
 
@@ -90,11 +90,10 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
 
 /// The undamped modes and the damped modes at the speed (see the module doc).
 fn solve(model: &Model, args: &Args) -> miette::Result<Modes> {
-    let system = assemble(model, Bearings::Linearised);
+    let system = assemble_banded(model, Bearings::Linearised);
     let undamped = lib(undamped_modes(&system, args.modes))?;
-    let basis = lib(ModalBasis::full(&system))?;
-    let mut damped = lib(basis.modes_at(args.speed.max(SPEED_FLOOR), MAX_DAMPING_RATIO))?;
-    damped.truncate(args.modes);
+    let basis = lib(ModalBasis::for_modes(&system, args.modes))?;
+    let damped = lib(basis.modes_at(args.speed.max(SPEED_FLOOR), MAX_DAMPING_RATIO, args.modes))?;
     let labels = whirl_labels(&damped.iter().map(|m| m.whirl).collect::<Vec<_>>());
     Ok(Modes {
         undamped,

@@ -5,11 +5,14 @@
 //! derived in [`super::beam`]). Rayleigh damping C = alpha M + beta K uses the rotor's own
 //! M and K (shaft and disks), not the bearings', then the bearings' damping is added.
 
+use std::borrow::Cow;
+
 use faer::{c64, Mat};
 
 use super::beam::{beam_matrices, BeamMatrices, BeamProperties, Mat8};
 use super::timoshenko::{shear_rigidity, timoshenko_matrices};
-use super::{dof, Direction};
+use super::{dof, Direction, DOFS_PER_NODE};
+use crate::linalg::Band;
 use crate::model::{BeamTheory, Model, ShaftSection};
 
 /// How roller bearings enter the assembled matrices.
@@ -47,20 +50,99 @@ impl SystemMatrices {
     }
 }
 
-fn add_element(global: &mut Mat<f64>, local: &Mat8, first_dof: usize, scale: f64) {
-    for i in 0..8 {
-        for j in 0..8 {
-            global[(first_dof + i, first_dof + j)] += scale * local[i][j];
+/// M, K, G and C of the assembled model as bands: a finite-element rotor couples only the
+/// two nodes of an element, and bearings and disks act at one node, so every entry lies
+/// within [`HALF_BANDWIDTH`] of the diagonal and the matrices take O(n) memory instead of
+/// the dense form's O(n^2) (12.8 GB each for a 10,000-element rotor).
+#[derive(Debug, Clone)]
+pub struct BandedSystem {
+    pub(crate) mass: Band,
+    pub(crate) stiffness: Band,
+    pub(crate) gyroscopic: Band,
+    pub(crate) damping: Band,
+}
+
+/// How far from the diagonal the assembled matrices reach: an element couples the eight
+/// DOFs of its two nodes.
+pub const HALF_BANDWIDTH: usize = 2 * DOFS_PER_NODE - 1;
+
+impl BandedSystem {
+    /// Number of DOFs.
+    pub fn dofs(&self) -> usize {
+        self.mass.size()
+    }
+
+    /// The dense matrices (n^2 memory each: for the small models the dense solvers take).
+    pub fn to_dense(&self) -> SystemMatrices {
+        SystemMatrices {
+            mass: self.mass.to_dense(),
+            stiffness: self.stiffness.to_dense(),
+            gyroscopic: self.gyroscopic.to_dense(),
+            damping: self.damping.to_dense(),
         }
     }
 }
 
-/// Assembles M, K, G and C of a model.
+/// M, K, G and C however they are stored: banded (the assembled model) or dense (a reduced
+/// model, or one assembled dense). The analyses that need a few modes take either and choose
+/// the dense or the banded solver by size ([`crate::modal::solves_dense`]).
+pub trait Matrices: Sync {
+    /// Number of DOFs.
+    fn dofs(&self) -> usize;
+    /// The banded form (a dense matrix gives a band as wide as its entries reach).
+    fn banded(&self) -> Cow<'_, BandedSystem>;
+    /// The dense form (n^2 memory each).
+    fn dense(&self) -> Cow<'_, SystemMatrices>;
+}
+
+impl Matrices for BandedSystem {
+    fn dofs(&self) -> usize {
+        self.dofs()
+    }
+    fn banded(&self) -> Cow<'_, BandedSystem> {
+        Cow::Borrowed(self)
+    }
+    fn dense(&self) -> Cow<'_, SystemMatrices> {
+        Cow::Owned(self.to_dense())
+    }
+}
+
+impl Matrices for SystemMatrices {
+    fn dofs(&self) -> usize {
+        self.dofs()
+    }
+    fn banded(&self) -> Cow<'_, BandedSystem> {
+        Cow::Owned(BandedSystem {
+            mass: Band::of_dense(&self.mass),
+            stiffness: Band::of_dense(&self.stiffness),
+            gyroscopic: Band::of_dense(&self.gyroscopic),
+            damping: Band::of_dense(&self.damping),
+        })
+    }
+    fn dense(&self) -> Cow<'_, SystemMatrices> {
+        Cow::Borrowed(self)
+    }
+}
+
+fn add_element(global: &mut Band, local: &Mat8, first_dof: usize, scale: f64) {
+    for i in 0..8 {
+        for j in 0..8 {
+            global.add(first_dof + i, first_dof + j, scale * local[i][j]);
+        }
+    }
+}
+
+/// Assembles M, K, G and C of a model, dense: for the small models and the solvers that
+/// work on dense matrices; see [`assemble_banded`].
 pub fn assemble(model: &Model, bearings: Bearings) -> SystemMatrices {
+    assemble_banded(model, bearings).to_dense()
+}
+
+/// Assembles M, K, G and C of a model as bands.
+pub fn assemble_banded(model: &Model, bearings: Bearings) -> BandedSystem {
     let n = 4 * model.node_count();
-    let mut mass = Mat::<f64>::zeros(n, n);
-    let mut stiffness = Mat::<f64>::zeros(n, n);
-    let mut gyroscopic = Mat::<f64>::zeros(n, n);
+    let band = |_| Band::from_fn(n, (HALF_BANDWIDTH, HALF_BANDWIDTH), |_, _| 0.0);
+    let [mut mass, mut stiffness, mut gyroscopic] = [0; 3].map(band);
     let opts = model.options;
 
     let mut element = 0;
@@ -81,21 +163,17 @@ pub fn assemble(model: &Model, bearings: Bearings) -> SystemMatrices {
 
     for d in &model.disks {
         let node = d.station.node;
-        mass[(dof(node, Direction::Ux), dof(node, Direction::Ux))] += d.mass;
-        mass[(dof(node, Direction::Uy), dof(node, Direction::Uy))] += d.mass;
-        mass[(dof(node, Direction::Tx), dof(node, Direction::Tx))] += d.diametral_inertia;
-        mass[(dof(node, Direction::Ty), dof(node, Direction::Ty))] += d.diametral_inertia;
-        gyroscopic[(dof(node, Direction::Tx), dof(node, Direction::Ty))] += d.polar_inertia;
-        gyroscopic[(dof(node, Direction::Ty), dof(node, Direction::Tx))] -= d.polar_inertia;
+        let at = |direction| dof(node, direction);
+        mass.add(at(Direction::Ux), at(Direction::Ux), d.mass);
+        mass.add(at(Direction::Uy), at(Direction::Uy), d.mass);
+        mass.add(at(Direction::Tx), at(Direction::Tx), d.diametral_inertia);
+        mass.add(at(Direction::Ty), at(Direction::Ty), d.diametral_inertia);
+        gyroscopic.add(at(Direction::Tx), at(Direction::Ty), d.polar_inertia);
+        gyroscopic.add(at(Direction::Ty), at(Direction::Tx), -d.polar_inertia);
     }
 
     let r = model.damping;
-    let mut damping = Mat::<f64>::zeros(n, n);
-    for j in 0..n {
-        for i in 0..n {
-            damping[(i, j)] = r.alpha * mass[(i, j)] + r.beta * stiffness[(i, j)];
-        }
-    }
+    let mut damping = mass.map(|i, j, m| r.alpha * m + r.beta * stiffness.get(i, j));
 
     for b in &model.bearings {
         add_support(
@@ -120,7 +198,7 @@ pub fn assemble(model: &Model, bearings: Bearings) -> SystemMatrices {
         }
     }
 
-    SystemMatrices {
+    BandedSystem {
         mass,
         stiffness,
         gyroscopic,
@@ -147,8 +225,8 @@ pub fn element_matrices(section: &ShaftSection) -> BeamMatrices {
 }
 
 fn add_support(
-    stiffness: &mut Mat<f64>,
-    damping: &mut Mat<f64>,
+    stiffness: &mut Band,
+    damping: &mut Band,
     node: usize,
     k: &[[f64; 2]; 2],
     c: &[[f64; 2]; 2],
@@ -156,8 +234,8 @@ fn add_support(
     let idx = [dof(node, Direction::Ux), dof(node, Direction::Uy)];
     for a in 0..2 {
         for b in 0..2 {
-            stiffness[(idx[a], idx[b])] += k[a][b];
-            damping[(idx[a], idx[b])] += c[a][b];
+            stiffness.add(idx[a], idx[b], k[a][b]);
+            damping.add(idx[a], idx[b], c[a][b]);
         }
     }
 }
@@ -165,13 +243,21 @@ fn add_support(
 /// Gravity load, consistent with the mass matrix: F = M r (-g), where r is the rigid
 /// translation along y. Gives -m g on each translation and the consistent end moments of
 /// the distributed shaft weight.
-pub fn gravity_force(model: &Model, matrices: &SystemMatrices) -> Vec<f64> {
-    let n = matrices.dofs();
+pub fn gravity_force(model: &Model, matrices: &impl Matrices) -> Vec<f64> {
+    let banded = matrices.banded();
+    let mass = &banded.mass;
+    let n = mass.size();
+    let (lower, upper) = mass.widths();
     let mut f = vec![0.0; n];
     for node in 0..n / 4 {
         let col = dof(node, Direction::Uy);
-        for (i, fi) in f.iter_mut().enumerate() {
-            *fi -= model.gravity * matrices.mass[(i, col)];
+        for (i, fi) in f
+            .iter_mut()
+            .enumerate()
+            .take((col + lower + 1).min(n))
+            .skip(col.saturating_sub(upper))
+        {
+            *fi -= model.gravity * mass.get(i, col);
         }
     }
     f

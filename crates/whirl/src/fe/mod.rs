@@ -16,7 +16,8 @@ pub mod beam;
 pub mod timoshenko;
 
 pub use assembly::{
-    assemble, element_matrices, gravity_force, unbalance_force, Bearings, SystemMatrices,
+    assemble, assemble_banded, element_matrices, gravity_force, unbalance_force, BandedSystem,
+    Bearings, Matrices, SystemMatrices, HALF_BANDWIDTH,
 };
 
 use serde::Serialize;

@@ -307,12 +307,60 @@ impl Band {
     }
 
     /// Entry (i, j), zero outside the band.
-    fn get(&self, i: usize, j: usize) -> f64 {
+    pub fn get(&self, i: usize, j: usize) -> f64 {
         if j + self.lower < i || i + self.upper < j {
             0.0
         } else {
             self.diagonals[(j + self.lower - i) * self.n + i]
         }
+    }
+
+    /// Adds `value` to entry (i, j), which must lie inside the band.
+    pub fn add(&mut self, i: usize, j: usize, value: f64) {
+        debug_assert!(
+            j + self.lower >= i && i + self.upper >= j,
+            "({i}, {j}) outside the band"
+        );
+        self.diagonals[(j + self.lower - i) * self.n + i] += value;
+    }
+
+    /// The number of rows (and columns).
+    pub fn size(&self) -> usize {
+        self.n
+    }
+
+    /// The lower and upper bandwidths.
+    pub fn widths(&self) -> (usize, usize) {
+        (self.lower, self.upper)
+    }
+
+    /// The same band with every entry mapped by `f(i, j, value)`.
+    pub fn map(&self, f: impl Fn(usize, usize, f64) -> f64) -> Band {
+        Band::from_fn(self.n, self.widths(), |i, j| f(i, j, self.get(i, j)))
+    }
+
+    /// B X for a dense X, column by column.
+    pub fn times(&self, x: &Mat<f64>) -> Mat<f64> {
+        let mut out = Mat::<f64>::zeros(x.nrows(), x.ncols());
+        for j in 0..x.ncols() {
+            self.mul_add(x.col_as_slice(j), out.col_as_slice_mut(j));
+        }
+        out
+    }
+
+    /// X^T B X for a dense X (n x p): the band projected on X's columns.
+    pub fn project(&self, x: &Mat<f64>) -> Mat<f64> {
+        x.transpose() * self.times(x)
+    }
+
+    /// The dense matrix, zero outside the band.
+    pub fn to_dense(&self) -> Mat<f64> {
+        Mat::from_fn(self.n, self.n, |i, j| self.get(i, j))
+    }
+
+    /// The band of a dense matrix, as wide as its nonzero entries reach.
+    pub fn of_dense(m: &Mat<f64>) -> Band {
+        Band::from_fn(m.nrows(), bandwidths(m), |i, j| m[(i, j)])
     }
 }
 

@@ -21,8 +21,14 @@ use faer::{c64, Mat};
 use serde::Serialize;
 
 use super::undamped::undamped_modes;
+use super::CampbellOptions;
 use crate::error::{Error, Result};
-use crate::fe::{dof, Direction, SystemMatrices};
+use crate::fe::{dof, Direction, Matrices};
+
+/// The largest model, in DOFs, whose full complex eigen-problem is solved: 2,000 DOFs make a
+/// 4,000 x 4,000 state matrix, whose eigen-solve takes minutes and ~0.5 GB; larger models
+/// are solved on a truncated basis.
+pub const FULL_LIMIT: usize = 2000;
 
 /// Whirl direction of a mode, from the orbits of its nodes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -137,9 +143,32 @@ impl ModalBasis {
     /// All modes: exact, one 2n x 2n eigen-solve per speed.
     ///
     /// # Errors
+    /// [`Error::Unsupported`] above [`FULL_LIMIT`] DOFs; then as [`ModalBasis::truncated`].
+    pub fn full(system: &impl Matrices) -> Result<ModalBasis> {
+        let n = system.dofs();
+        if n > FULL_LIMIT {
+            return Err(Error::Unsupported(format!(
+                "the full complex eigen-problem of this model ({n} DOFs, a {m} x {m} state \
+                 matrix) is too large (at most {FULL_LIMIT} DOFs): use a truncated modal basis \
+                 (leave out --full)",
+                m = 2 * n
+            )));
+        }
+        ModalBasis::truncated(system, n)
+    }
+
+    /// The basis for the `modes` lowest damped modes: every mode while the model is solved
+    /// dense ([`super::solves_dense`]), else the [`CampbellOptions::default_basis`] lowest
+    /// undamped modes.
+    ///
+    /// # Errors
     /// As [`ModalBasis::truncated`].
-    pub fn full(system: &SystemMatrices) -> Result<ModalBasis> {
-        ModalBasis::truncated(system, system.dofs())
+    pub fn for_modes(system: &impl Matrices, modes: usize) -> Result<ModalBasis> {
+        if super::solves_dense(system.dofs()) {
+            ModalBasis::full(system)
+        } else {
+            ModalBasis::truncated(system, CampbellOptions::default_basis(modes))
+        }
     }
 
     /// The `count` lowest undamped modes.
@@ -147,7 +176,7 @@ impl ModalBasis {
     /// # Errors
     /// [`Error::Singular`] when the mass is not positive definite or the rotor is unstable at
     /// rest, [`Error::NotConverged`] when the eigen-solver fails (see [`undamped_modes`]).
-    pub fn truncated(system: &SystemMatrices, count: usize) -> Result<ModalBasis> {
+    pub fn truncated(system: &impl Matrices, count: usize) -> Result<ModalBasis> {
         let modes = undamped_modes(system, count)?;
         let phi = modes.shapes;
         let scale: Vec<f64> = modes
@@ -155,13 +184,19 @@ impl ModalBasis {
             .iter()
             .map(|f| (2.0 * std::f64::consts::PI * f).max(1.0))
             .collect();
-        let project = |a: &Mat<f64>| phi.transpose() * a * &phi;
-        let k = project(&system.stiffness);
+        let [k, c, g] = if super::solves_dense(system.dofs()) {
+            let dense = system.dense();
+            let project = |a: &Mat<f64>| phi.transpose() * a * &phi;
+            [&dense.stiffness, &dense.damping, &dense.gyroscopic].map(project)
+        } else {
+            let banded = system.banded();
+            [&banded.stiffness, &banded.damping, &banded.gyroscopic].map(|a| a.project(&phi))
+        };
         let p = scale.len();
         Ok(ModalBasis {
             k_scaled: Mat::from_fn(p, p, |i, j| k[(i, j)] / scale[j]),
-            c: project(&system.damping),
-            g: project(&system.gyroscopic),
+            c,
+            g,
             scale,
             shapes: phi,
         })
@@ -172,12 +207,18 @@ impl ModalBasis {
         self.scale.len()
     }
 
-    /// Damped modes at spin speed `omega` (rad/s), ascending in damped frequency, overdamped
-    /// roots and roots with damping ratio above `max_damping_ratio` left out.
+    /// The `count` lowest damped modes at spin speed `omega` (rad/s), ascending in damped
+    /// frequency, overdamped roots and roots with damping ratio above `max_damping_ratio`
+    /// left out.
     ///
     /// # Errors
     /// [`Error::NotConverged`] when the eigen-solver does not converge at this speed.
-    pub fn modes_at(&self, omega: f64, max_damping_ratio: f64) -> Result<Vec<ComplexMode>> {
+    pub fn modes_at(
+        &self,
+        omega: f64,
+        max_damping_ratio: f64,
+        count: usize,
+    ) -> Result<Vec<ComplexMode>> {
         let p = self.size();
         let a = Mat::<f64>::from_fn(2 * p, 2 * p, |i, j| match (i < p, j < p) {
             (true, true) => 0.0,
@@ -204,7 +245,7 @@ impl ModalBasis {
         let values = eig.S().column_vector();
         let vectors = eig.U();
         let largest = (0..2 * p).map(|k| values[k].norm()).fold(0.0, f64::max);
-        let mut modes = Vec::new();
+        let mut roots = Vec::new();
         for k in 0..2 * p {
             let lambda = values[k];
             let norm = lambda.norm();
@@ -218,11 +259,19 @@ impl ModalBasis {
                 continue;
             }
             let coordinates: Vec<c64> = (0..p).map(|i| vectors[(i, k)] / self.scale[i]).collect();
-            let shape = self.physical(&coordinates);
-            modes.push(make_mode(lambda, zeta, coordinates, shape));
+            roots.push((lambda, zeta, coordinates));
         }
-        modes.sort_by(|a, b| a.damped_frequency_hz.total_cmp(&b.damped_frequency_hz));
-        Ok(modes)
+        let hz = |lambda: c64| lambda.im / (2.0 * std::f64::consts::PI);
+        roots.sort_by(|a, b| hz(a.0).total_cmp(&hz(b.0)));
+        // Physical shapes only for the modes returned: each costs DOFs x basis size.
+        roots.truncate(count);
+        Ok(roots
+            .into_iter()
+            .map(|(lambda, zeta, coordinates)| {
+                let shape = self.physical(&coordinates);
+                make_mode(lambda, zeta, coordinates, shape)
+            })
+            .collect())
     }
 
     fn physical(&self, coordinates: &[c64]) -> Vec<c64> {
@@ -297,6 +346,7 @@ fn classify_whirl(mode: &ComplexMode) -> Whirl {
 ///
 /// # Errors
 /// As [`ModalBasis::full`] and [`ModalBasis::modes_at`].
-pub fn complex_modes(system: &SystemMatrices, omega: f64) -> Result<Vec<ComplexMode>> {
-    ModalBasis::full(system)?.modes_at(omega, 1.0)
+pub fn complex_modes(system: &impl Matrices, omega: f64) -> Result<Vec<ComplexMode>> {
+    let basis = ModalBasis::full(system)?;
+    basis.modes_at(omega, 1.0, 2 * basis.size())
 }

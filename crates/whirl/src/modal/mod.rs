@@ -11,12 +11,13 @@
 mod campbell;
 mod complex;
 mod convergence;
+mod subspace;
 mod ucs;
 mod undamped;
 
 pub use campbell::{campbell, CampbellOptions, CampbellResult, CriticalSpeed, ModeBranch};
-pub use complex::{branch_labels, complex_modes, ComplexMode, ModalBasis, Whirl};
+pub use complex::{branch_labels, complex_modes, ComplexMode, ModalBasis, Whirl, FULL_LIMIT};
 pub use convergence::{convergence, ConvergenceResult};
 pub use ucs::{critical_speed_map, BearingStiffness, CriticalSpeedMap};
-pub(crate) use undamped::symmetric_modes;
-pub use undamped::{undamped_modes, UndampedModes};
+pub(crate) use undamped::{lowest_modes, symmetric_modes};
+pub use undamped::{solves_dense, undamped_modes, UndampedModes, DENSE_LIMIT};

@@ -2,6 +2,10 @@
 //! problem (L^-1 K L^-T) y = w^2 y, v = L^-T y. This avoids a general QZ solve and gives
 //! mass-normalised shapes (v^T M v = 1) directly.
 //!
+//! That dense solve computes every mode, at a cost of the cube of the DOF count; above
+//! [`DENSE_LIMIT`] DOFs the modes asked for are found by shift-invert subspace iteration on
+//! the banded matrices instead ([`super::subspace`]), at a cost that grows linearly.
+//!
 //! Cross-coupled bearings make K non-symmetric; the undamped problem uses its symmetric
 //! part, and the cross-coupling enters the damped analysis ([`super::complex_modes`]).
 
@@ -9,7 +13,8 @@ use faer::{Mat, Side};
 use serde::Serialize;
 
 use crate::error::{Error, Result};
-use crate::fe::SystemMatrices;
+use crate::fe::Matrices;
+use crate::linalg::Band;
 
 /// Undamped natural frequencies and mass-normalised mode shapes.
 #[derive(Debug, Clone, Serialize)]
@@ -21,16 +26,33 @@ pub struct UndampedModes {
     pub shapes: Mat<f64>,
 }
 
+/// The largest model, in DOFs, whose modes are found by the dense solver (every mode, n^3)
+/// rather than by subspace iteration on the bands (the modes asked for, linear in n). The
+/// one rule that picks the solver, for the undamped modes, the modal basis and the
+/// Craig-Bampton reduction alike. The dense solver wins on small models, where the
+/// iteration's fixed cost (a few tens of iterations on 2p + 8 vectors) is not yet paid back:
+/// both took about 2 ms for 6 modes at 164 DOFs (40 elements), and at 324 DOFs the dense
+/// solve took 4 times as long (BENCHMARKS.md).
+pub const DENSE_LIMIT: usize = 200;
+
+/// True when a model of `dofs` DOFs is solved dense (see [`DENSE_LIMIT`]).
+pub fn solves_dense(dofs: usize) -> bool {
+    dofs <= DENSE_LIMIT
+}
+
+/// The error for a mass matrix that is not positive definite.
+pub(super) fn mass_not_definite() -> Error {
+    Error::singular(
+        "mass matrix",
+        "the mass matrix is not positive definite: every node needs mass; check for \
+         zero-length or zero-density shaft sections"
+            .into(),
+    )
+}
+
 /// Cholesky factor L of the mass matrix, with a clear error when M is not positive definite.
 fn mass_cholesky(mass: &Mat<f64>) -> Result<faer::linalg::solvers::Llt<f64>> {
-    mass.llt(Side::Lower).map_err(|_| {
-        Error::singular(
-            "mass matrix",
-            "the mass matrix is not positive definite: every node needs mass; check for \
-             zero-length or zero-density shaft sections"
-                .into(),
-        )
-    })
+    mass.llt(Side::Lower).map_err(|_| mass_not_definite())
 }
 
 /// The most negative w^2 taken as round-off of a rigid-body (0 Hz) mode, (rad/s)^2: a mode
@@ -38,32 +60,55 @@ fn mass_cholesky(mass: &Mat<f64>) -> Result<faer::linalg::solvers::Llt<f64>> {
 const NEUTRAL_OMEGA_SQUARED: f64 =
     -(2.0 * std::f64::consts::PI * 0.1) * (2.0 * std::f64::consts::PI * 0.1);
 
-/// Refuses a structure whose stiffness is not positive at rest: a negative w^2 is a static
-/// divergence (buckling), which a frequency of 0 Hz would hide.
-fn stable_at_rest(omega_squared: &[f64]) -> Result<()> {
-    match omega_squared.first() {
-        Some(&w2) if w2 < NEUTRAL_OMEGA_SQUARED => Err(Error::singular(
-            "stiffness matrix",
-            format!(
-            "the rotor is unstable at rest: its stiffness is not positive (the lowest mode has \
-             w^2 = {w2:.4e} (rad/s)^2, a static divergence growing at {:.4} 1/s); a compressive \
-             axial load above the buckling load or a negative bearing stiffness does this: check \
-             elements.axial_load and the bearings' stiffnesses",
+/// The error of a structure whose stiffness is not positive at rest: a negative w^2 is a
+/// static divergence (buckling), which a frequency of 0 Hz would hide. `lowest` is the
+/// lowest w^2 when it is known, else only that it lies below [`NEUTRAL_OMEGA_SQUARED`].
+fn unstable_at_rest(lowest: Option<f64>) -> Error {
+    let mode = match lowest {
+        Some(w2) => format!(
+            "the lowest mode has w^2 = {w2:.4e} (rad/s)^2, a static divergence growing at \
+             {:.4} 1/s",
             (-w2).sqrt()
         ),
-        )),
+        None => format!(
+            "a mode has w^2 below {NEUTRAL_OMEGA_SQUARED:.4} (rad/s)^2, a static divergence"
+        ),
+    };
+    Error::singular(
+        "stiffness matrix",
+        format!(
+            "the rotor is unstable at rest: its stiffness is not positive ({mode}); a \
+             compressive axial load above the buckling load or a negative bearing stiffness \
+             does this: check elements.axial_load and the bearings' stiffnesses"
+        ),
+    )
+}
+
+/// Refuses a structure whose lowest w^2 is below [`NEUTRAL_OMEGA_SQUARED`].
+fn stable_at_rest(omega_squared: &[f64]) -> Result<()> {
+    match omega_squared.first() {
+        Some(&w2) if w2 < NEUTRAL_OMEGA_SQUARED => Err(unstable_at_rest(Some(w2))),
         _ => Ok(()),
     }
 }
 
-/// The `count` lowest undamped modes (all when `count` exceeds the DOF count).
+/// The `count` lowest undamped modes (all when `count` exceeds the DOF count), by the dense
+/// solver or by subspace iteration ([`solves_dense`]).
 ///
 /// # Errors
 /// [`Error::Singular`] when the mass is not positive definite, or the stiffness is not
-/// positive semi-definite (the rotor is unstable at rest).
-pub fn undamped_modes(system: &SystemMatrices, count: usize) -> Result<UndampedModes> {
-    let (omega_squared, shapes) = symmetric_modes(&system.stiffness, &system.mass, count)?;
-    stable_at_rest(&omega_squared)?;
+/// positive semi-definite (the rotor is unstable at rest); [`Error::NotConverged`] when the
+/// eigen-solver fails.
+pub fn undamped_modes(system: &impl Matrices, count: usize) -> Result<UndampedModes> {
+    let (omega_squared, shapes) = if solves_dense(system.dofs()) {
+        let dense = system.dense();
+        let modes = symmetric_modes(&dense.stiffness, &dense.mass, count)?;
+        stable_at_rest(&modes.0)?;
+        modes
+    } else {
+        let banded = system.banded();
+        lowest_modes(&banded.stiffness, &banded.mass, count)?
+    };
     let frequencies_hz = omega_squared
         .iter()
         .map(|w2| w2.max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
@@ -74,8 +119,21 @@ pub fn undamped_modes(system: &SystemMatrices, count: usize) -> Result<UndampedM
     })
 }
 
+/// The `count` lowest modes of K v = w^2 M v given as bands, by subspace iteration,
+/// shifted to [`NEUTRAL_OMEGA_SQUARED`] so that the factorisation itself refuses a structure
+/// unstable at rest.
+pub(crate) fn lowest_modes(
+    stiffness: &Band,
+    mass: &Band,
+    count: usize,
+) -> Result<(Vec<f64>, Mat<f64>)> {
+    super::subspace::lowest_modes(stiffness, mass, count, NEUTRAL_OMEGA_SQUARED, || {
+        unstable_at_rest(None)
+    })
+}
+
 /// The `count` lowest eigenpairs of K v = w^2 M v (K symmetrised, M symmetric positive
-/// definite): w^2 ascending and M-orthonormal vectors as columns.
+/// definite) by the dense solver: w^2 ascending and M-orthonormal vectors as columns.
 pub(crate) fn symmetric_modes(
     stiffness: &Mat<f64>,
     mass: &Mat<f64>,
@@ -137,4 +195,71 @@ fn symmetric_eigen(a: &Mat<f64>) -> Result<(Vec<f64>, Mat<f64>)> {
     })?;
     let values = (0..n).map(|j| values.column_vector()[j]).collect();
     Ok((values, vectors))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fe::{assemble_banded, Bearings};
+    use crate::model::Model;
+
+    /// The reference rotor meshed with `elements` elements.
+    fn reference_rotor(elements: usize) -> Model {
+        let model = Model::from_toml_str(crate::examples::REFERENCE_ROTOR, None).unwrap();
+        model.remeshed(&[elements]).unwrap()
+    }
+
+    #[test]
+    fn subspace_iteration_finds_the_dense_solvers_lowest_modes() {
+        // 160 elements, 644 DOFs: past the dense limit, so undamped_modes iterates; the
+        // dense solver is run on the same matrices for comparison.
+        let banded = assemble_banded(&reference_rotor(160), Bearings::Linearised);
+        assert!(!solves_dense(banded.dofs()));
+        let fast = undamped_modes(&banded, 8).unwrap();
+        let dense = banded.to_dense();
+        let n = dense.dofs();
+        let (all, shapes) = symmetric_modes(&dense.stiffness, &dense.mass, n).unwrap();
+        let largest = all[n - 1];
+        for (j, (f, w2)) in fast.frequencies_hz.iter().zip(&all).enumerate() {
+            let exact = w2.sqrt() / (2.0 * std::f64::consts::PI);
+            // The dense solver works on L^-1 K L^-T, whose eigenvalues it finds to round-off
+            // of its largest: a relative error of eps lambda_max / lambda_j in lambda_j
+            // (lambda_max / lambda_1 = 2.5e8 at 160 elements: 5.5e-8); the iteration's own
+            // error is far smaller (the square of its vectors' error, below 1e-9). So the two
+            // agree to the dense solver's bound, halved for the frequency (measured: 1e-9 to
+            // 6e-9 on the first pair, within 3e-12 to 2e-10 of the bound's 3e-8 to 1e-10 on
+            // the next three).
+            let bound = 0.5 * f64::EPSILON * largest / w2;
+            let error = (f - exact).abs() / exact;
+            assert!(error <= bound, "mode {j}: {f} vs {exact}");
+        }
+        // The shapes span the same modes: each iterated shape lies in the span of the dense
+        // pair it belongs to (isotropic bearings make every frequency double), M-orthonormal.
+        let m = &dense.mass;
+        for j in 0..8 {
+            let pair = [j - j % 2, j - j % 2 + 1];
+            let x = fast.shapes.col(j);
+            let along: f64 = pair
+                .iter()
+                .map(|&k| {
+                    let v = shapes.col(k);
+                    (x.transpose() * m * v).powi(2)
+                })
+                .sum();
+            // |x|_M = 1 and the pair's components carry all of it, to the vectors' error.
+            assert!((along - 1.0).abs() < 1e-8, "mode {j}: {along}");
+        }
+    }
+
+    #[test]
+    fn a_large_rotor_unstable_at_rest_is_refused_by_the_banded_solver() {
+        // A compression 17 times the Euler buckling load of the pinned shaft (pi^2 E I / L^2
+        // = 5.9e5 N) makes K indefinite.
+        let mut model = reference_rotor(80);
+        model.options.axial_load = -1e7;
+        let banded = assemble_banded(&model, Bearings::Linearised);
+        assert!(!solves_dense(banded.dofs()));
+        let error = undamped_modes(&banded, 6).unwrap_err().to_string();
+        assert!(error.contains("unstable at rest"), "{error}");
+    }
 }

@@ -91,7 +91,7 @@ pub use summary::{
 
 use crate::bearing::contact_frequencies;
 use crate::error::{Error, Result};
-use crate::fe::{assemble, Bearings};
+use crate::fe::{assemble_banded, Bearings};
 use crate::modal::{campbell, CampbellOptions};
 use crate::model::Model;
 use crate::progress::{tell, Progress};
@@ -489,7 +489,7 @@ fn contact_bases(model: &Model, speed: f64) -> Vec<NamedFrequency> {
 fn natural_frequencies(model: &Model, speeds: &[f64]) -> Result<Vec<Vec<NamedFrequency>>> {
     let order = ascending(speeds);
     let sorted: Vec<f64> = order.iter().map(|&i| speeds[i]).collect();
-    let system = assemble(model, Bearings::Linearised);
+    let system = assemble_banded(model, Bearings::Linearised);
     let mut campbell_options = CampbellOptions::new(sorted);
     campbell_options.modes = NATURAL_BRANCHES.min(system.dofs());
     let diagram = campbell(&system, &campbell_options)?;

@@ -20,8 +20,10 @@ use faer::Mat;
 use serde::Serialize;
 
 use crate::error::{Error, Result};
-use crate::fe::{dof, Direction, SystemMatrices, DOFS_PER_NODE};
-use crate::modal::symmetric_modes;
+use crate::fe::{dof, BandedSystem, Direction, Matrices, SystemMatrices, DOFS_PER_NODE};
+use crate::linalg::banded::BandedLu;
+use crate::linalg::Band;
+use crate::modal::{lowest_modes, solves_dense, symmetric_modes};
 use crate::model::Model;
 
 /// A Craig-Bampton reduced model and the map back to physical DOFs.
@@ -55,14 +57,103 @@ fn sub(a: &Mat<f64>, rows: &[usize], cols: &[usize]) -> Mat<f64> {
     Mat::from_fn(rows.len(), cols.len(), |i, j| a[(rows[i], cols[j])])
 }
 
+/// The internal part of a reduction's basis: the constraint modes K_II^-1 K_IB (internal x
+/// boundary, the sign not yet applied) and the fixed-interface modes with their w^2.
+struct InternalModes {
+    constraint: Mat<f64>,
+    omega_squared: Vec<f64>,
+    fixed_interface: Mat<f64>,
+}
+
+fn singular_internal_stiffness() -> Error {
+    Error::singular(
+        "internal stiffness K_II",
+        "the internal stiffness K_II is singular: part of the shaft is not held by any \
+         boundary node (mark a node there as boundary)"
+            .into(),
+    )
+}
+
+/// The internal modes from the dense matrices: an LU of K_II and every fixed-interface mode
+/// of the dense solver, for the small models it is chosen for ([`crate::modal::solves_dense`]).
+fn dense_internal_modes(
+    system: &SystemMatrices,
+    boundary: &[usize],
+    internal: &[usize],
+    modes: usize,
+) -> Result<InternalModes> {
+    let k_ii = sub(&system.stiffness, internal, internal);
+    let mut constraint = sub(&system.stiffness, internal, boundary);
+    let lu = k_ii.partial_piv_lu();
+    faer::linalg::solvers::Solve::solve_in_place(&lu, constraint.as_mut());
+    if constraint
+        .col_iter()
+        .any(|c| c.iter().any(|v| !v.is_finite()))
+    {
+        return Err(singular_internal_stiffness());
+    }
+    let (omega_squared, fixed_interface) = if modes > 0 {
+        let m_ii = sub(&system.mass, internal, internal);
+        symmetric_modes(&k_ii, &m_ii, modes)?
+    } else {
+        (Vec::new(), Mat::zeros(internal.len(), 0))
+    };
+    Ok(InternalModes {
+        constraint,
+        omega_squared,
+        fixed_interface,
+    })
+}
+
+/// The internal modes from the bands: K_II and M_II keep the band (removing whole rows and
+/// columns only brings entries closer to the diagonal), so the constraint modes take a
+/// band LU and the fixed-interface modes subspace iteration, both linear in the DOF count.
+fn banded_internal_modes(
+    system: &BandedSystem,
+    boundary: &[usize],
+    internal: &[usize],
+    modes: usize,
+) -> Result<InternalModes> {
+    let (ni, nb) = (internal.len(), boundary.len());
+    let within = |band: &Band| {
+        let (lower, upper) = band.widths();
+        Band::from_fn(ni, (lower, upper), |a, b| {
+            band.get(internal[a], internal[b])
+        })
+    };
+    let k_ii = within(&system.stiffness);
+    let (lower, upper) = k_ii.widths();
+    let lu = BandedLu::new(ni, lower, upper, |a, b| k_ii.get(a, b))
+        .ok_or_else(singular_internal_stiffness)?;
+    // K_IB row by row, as the band LU's solve takes its right-hand sides.
+    let mut rows: Vec<f64> = (0..ni * nb)
+        .map(|k| system.stiffness.get(internal[k / nb], boundary[k % nb]))
+        .collect();
+    lu.solve_rows(&mut rows, nb);
+    if rows.iter().any(|v| !v.is_finite()) {
+        return Err(singular_internal_stiffness());
+    }
+    let (omega_squared, fixed_interface) = if modes > 0 {
+        lowest_modes(&k_ii, &within(&system.mass), modes)?
+    } else {
+        (Vec::new(), Mat::zeros(ni, 0))
+    };
+    Ok(InternalModes {
+        constraint: Mat::from_fn(ni, nb, |a, j| rows[a * nb + j]),
+        omega_squared,
+        fixed_interface,
+    })
+}
+
 impl CraigBampton {
-    /// Reduces `system` keeping `boundary` DOFs and `modes` fixed-interface modes.
+    /// Reduces `system` keeping `boundary` DOFs and `modes` fixed-interface modes, with the
+    /// dense or the banded solvers by the model's size ([`crate::modal::solves_dense`]).
     ///
     /// # Errors
     /// [`Error::InvalidOption`] for a boundary DOF outside the model, [`Error::Unsupported`]
     /// without boundary DOFs, [`Error::Singular`] when part of the shaft is held by no boundary
     /// node; the errors of [`crate::modal::undamped_modes`] for the fixed-interface modes.
-    pub fn new(system: &SystemMatrices, boundary: &[usize], modes: usize) -> Result<CraigBampton> {
+    pub fn new(system: &impl Matrices, boundary: &[usize], modes: usize) -> Result<CraigBampton> {
         let n = system.dofs();
         let mut is_boundary = vec![false; n];
         for &b in boundary {
@@ -81,52 +172,50 @@ impl CraigBampton {
             ));
         }
         let modes = modes.min(internal.len());
-        let (nb, ni) = (boundary.len(), internal.len());
-
-        // Constraint modes: K_II Phi_c = -K_IB.
-        let k_ii = sub(&system.stiffness, &internal, &internal);
-        let mut phi_c = sub(&system.stiffness, &internal, &boundary);
-        let lu = k_ii.partial_piv_lu();
-        faer::linalg::solvers::Solve::solve_in_place(&lu, phi_c.as_mut());
-        if phi_c.col_iter().any(|c| c.iter().any(|v| !v.is_finite())) {
-            return Err(Error::singular(
-                "internal stiffness K_II",
-                "the internal stiffness K_II is singular: part of the shaft is not held by any \
-                 boundary node (mark a node there as boundary)"
-                    .into(),
-            ));
-        }
-        let (omega2, phi_n) = if modes > 0 {
-            let m_ii = sub(&system.mass, &internal, &internal);
-            symmetric_modes(&k_ii, &m_ii, modes)?
+        let nb = boundary.len();
+        let dense = solves_dense(n);
+        let found = if dense {
+            dense_internal_modes(&system.dense(), &boundary, &internal, modes)?
         } else {
-            (Vec::new(), Mat::zeros(ni, 0))
+            banded_internal_modes(&system.banded(), &boundary, &internal, modes)?
         };
 
         let mut psi = Mat::<f64>::zeros(n, nb + modes);
         for (j, &b) in boundary.iter().enumerate() {
             psi[(b, j)] = 1.0;
             for (i, &r) in internal.iter().enumerate() {
-                psi[(r, j)] = -phi_c[(i, j)];
+                psi[(r, j)] = -found.constraint[(i, j)];
             }
         }
         for j in 0..modes {
             for (i, &r) in internal.iter().enumerate() {
-                psi[(r, nb + j)] = phi_n[(i, j)];
+                psi[(r, nb + j)] = found.fixed_interface[(i, j)];
             }
         }
-        let project = |a: &Mat<f64>| psi.transpose() * a * &psi;
-        let reduced = SystemMatrices {
-            mass: project(&system.mass),
-            stiffness: project(&system.stiffness),
-            gyroscopic: project(&system.gyroscopic),
-            damping: project(&system.damping),
+        let reduced = if dense {
+            let full = system.dense();
+            let project = |a: &Mat<f64>| psi.transpose() * a * &psi;
+            SystemMatrices {
+                mass: project(&full.mass),
+                stiffness: project(&full.stiffness),
+                gyroscopic: project(&full.gyroscopic),
+                damping: project(&full.damping),
+            }
+        } else {
+            let full = system.banded();
+            SystemMatrices {
+                mass: full.mass.project(&psi),
+                stiffness: full.stiffness.project(&psi),
+                gyroscopic: full.gyroscopic.project(&psi),
+                damping: full.damping.project(&psi),
+            }
         };
         Ok(CraigBampton {
             boundary,
             modes,
             reduced,
-            fixed_interface_hz: omega2
+            fixed_interface_hz: found
+                .omega_squared
                 .iter()
                 .map(|w2| w2.max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
                 .collect(),
@@ -279,4 +368,46 @@ pub fn reduction_study(
         boundary_dofs: boundary.len(),
         rows,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fe::{assemble_banded, Bearings};
+
+    #[test]
+    fn the_banded_reduction_equals_the_dense_one() {
+        // 160 elements (644 DOFs): CraigBampton::new takes the banded path; both are run on
+        // the same matrices here.
+        let model = Model::from_toml_str(crate::examples::REFERENCE_ROTOR, None)
+            .unwrap()
+            .remeshed(&[160])
+            .unwrap();
+        let banded = assemble_banded(&model, Bearings::Linearised);
+        let boundary = boundary_dofs(&model, &[]);
+        let internal: Vec<usize> = (0..banded.dofs())
+            .filter(|i| !boundary.contains(i))
+            .collect();
+        let fast = banded_internal_modes(&banded, &boundary, &internal, 12).unwrap();
+        let dense = dense_internal_modes(&banded.to_dense(), &boundary, &internal, 12).unwrap();
+        // Constraint modes: two solves of one well-posed system (K_II holds the shaft between
+        // its clamped ends, condition ~1e8 at this mesh), so agreement to round-off times
+        // that.
+        let largest = dense.constraint.norm_max();
+        let difference = (&fast.constraint - &dense.constraint).norm_max();
+        assert!(difference <= 1e-8 * largest, "{difference} of {largest}");
+        // Fixed-interface modes: the dense solver's error is round-off of the largest
+        // eigenvalue, eps lambda_max in lambda (see the undamped modes' test); the
+        // iteration's is far below.
+        let dense_ii = banded.to_dense();
+        let k_ii = sub(&dense_ii.stiffness, &internal, &internal);
+        let m_ii = sub(&dense_ii.mass, &internal, &internal);
+        let (all, _) = symmetric_modes(&k_ii, &m_ii, internal.len()).unwrap();
+        let largest = all[all.len() - 1];
+        for (a, b) in fast.omega_squared.iter().zip(&dense.omega_squared) {
+            assert!((a - b).abs() <= f64::EPSILON * largest, "{a} vs {b}");
+        }
+        let cb = CraigBampton::new(&banded, &boundary, 12).unwrap();
+        assert_eq!(cb.size(), boundary.len() + 12);
+    }
 }

@@ -4,7 +4,7 @@
 
 use super::System;
 use crate::error::Result;
-use crate::fe::{assemble, dof_name, gravity_force, unbalance_force, Bearings};
+use crate::fe::{assemble_banded, dof_name, gravity_force, unbalance_force, Bearings};
 use crate::force::ForceBuilder;
 use crate::model::Model;
 use crate::reduce::{boundary_dofs, CraigBampton};
@@ -37,13 +37,14 @@ pub fn build(
     bearings: Bearings,
     forces: ForceBuilder<'_>,
 ) -> Result<Built> {
-    let full = assemble(model, bearings);
+    // Banded: a reduction never needs the full model's dense matrices.
+    let full = assemble_banded(model, bearings);
     let gravity = gravity_force(model, &full);
     let unbalance = unbalance_force(model, full.dofs());
     let ub_re: Vec<f64> = unbalance.iter().map(|c| c.re).collect();
     let ub_im: Vec<f64> = unbalance.iter().map(|c| c.im).collect();
     let (matrices, coordinates) = match reduction {
-        None => (full, Coordinates { reduction: None }),
+        None => (full.to_dense(), Coordinates { reduction: None }),
         Some(modes) => {
             let cb = CraigBampton::new(&full, &boundary_dofs(model, &[]), modes)?;
             // The reduction keeps its own copy (its size is the few reduced coordinates)
