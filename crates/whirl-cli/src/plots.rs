@@ -249,6 +249,9 @@ pub fn mode_shapes(model: &Model, modes: &UndampedModes) -> Grid {
     grid
 }
 
+/// The most orbits drawn along the shaft in [`damped_orbits`].
+const MAX_ORBITS: usize = 60;
+
 /// Orbits of the damped modes along the shaft, one panel per mode (thesis figs. 2.9-2.10).
 ///
 /// A three-dimensional view in oblique projection: the shaft axis runs left to right, y is
@@ -278,6 +281,10 @@ pub fn damped_orbits(
     // Oblique projection of x: along z by `ax` (m per unit) and up by `ay` (units per unit).
     let (ax, ay) = (0.06 * length, 0.35);
     let project = |zn: f64, x: f64, y: f64| (zn + ax * x, y + ay * x);
+    // At most MAX_ORBITS evenly spaced nodes and the last: more orbits than that overlap
+    // into a grey band, and a fine mesh's thousands of them took most of `modal`'s time.
+    let stride = z.len().div_ceil(MAX_ORBITS);
+    let drawn = |node: usize| node.is_multiple_of(stride) || node + 1 == z.len();
     let steps = 72;
     for (m, label) in modes.iter().zip(labels).take(n) {
         let colour = rank_colour(label);
@@ -296,7 +303,7 @@ pub fn damped_orbits(
         );
         let mut shape = (Vec::new(), Vec::new());
         let mut later = (Vec::new(), Vec::new());
-        for (node, &zn) in z.iter().enumerate() {
+        for (node, &zn) in z.iter().enumerate().filter(|(node, _)| drawn(*node)) {
             let a = m.shape[dof(node, Direction::Ux)];
             let b = m.shape[dof(node, Direction::Uy)];
             let (x, y): (Vec<f64>, Vec<f64>) = (0..=steps)

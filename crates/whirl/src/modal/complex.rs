@@ -23,7 +23,7 @@ use serde::Serialize;
 use super::undamped::undamped_modes;
 use super::CampbellOptions;
 use crate::error::{Error, Result};
-use crate::fe::{dof, Direction, Matrices};
+use crate::fe::{dof, BandedSystem, Direction, Matrices};
 
 /// The largest model, in DOFs, whose full complex eigen-problem is solved: 2,000 DOFs make a
 /// 4,000 x 4,000 state matrix, whose eigen-solve takes minutes and ~0.5 GB; larger models
@@ -158,16 +158,17 @@ impl ModalBasis {
     }
 
     /// The basis for the `modes` lowest damped modes: every mode while the model is solved
-    /// dense ([`super::solves_dense`]), else the [`CampbellOptions::default_basis`] lowest
+    /// dense ([`super::solves_dense`] for that basis), else the [`CampbellOptions::default_basis`] lowest
     /// undamped modes.
     ///
     /// # Errors
     /// As [`ModalBasis::truncated`].
     pub fn for_modes(system: &impl Matrices, modes: usize) -> Result<ModalBasis> {
-        if super::solves_dense(system.dofs()) {
+        let basis = CampbellOptions::default_basis(modes);
+        if super::solves_dense(system.dofs(), basis) {
             ModalBasis::full(system)
         } else {
-            ModalBasis::truncated(system, CampbellOptions::default_basis(modes))
+            ModalBasis::truncated(system, basis)
         }
     }
 
@@ -184,13 +185,17 @@ impl ModalBasis {
             .iter()
             .map(|f| (2.0 * std::f64::consts::PI * f).max(1.0))
             .collect();
-        let [k, c, g] = if super::solves_dense(system.dofs()) {
+        let [k, c, g] = if super::solves_dense(system.dofs(), count) {
             let dense = system.dense();
             let project = |a: &Mat<f64>| phi.transpose() * a * &phi;
             [&dense.stiffness, &dense.damping, &dense.gyroscopic].map(project)
         } else {
-            let banded = system.banded();
-            [&banded.stiffness, &banded.damping, &banded.gyroscopic].map(|a| a.project(&phi))
+            let lambda: Vec<f64> = modes
+                .frequencies_hz
+                .iter()
+                .map(|f| (2.0 * std::f64::consts::PI * f).powi(2))
+                .collect();
+            project_banded(&system.banded(), &phi, &lambda)
         };
         let p = scale.len();
         Ok(ModalBasis {
@@ -286,6 +291,42 @@ impl ModalBasis {
         normalise(&mut shape);
         shape
     }
+}
+
+/// Phi^T K Phi, Phi^T C Phi and Phi^T G Phi on undamped modes Phi (M-orthonormal, with w^2
+/// `lambda`) of a banded model. With the parts of K and C known (see
+/// [`crate::fe::BandedSystem`]), the rotor's share comes from the modes' w^2 rather than
+/// from its large entries: Phi^T K_sym Phi = Lambda, so
+///
+/// ```text
+/// Phi^T K Phi = Lambda + Phi^T skew(K_s) Phi
+/// Phi^T C Phi = alpha I + beta (Lambda - Phi^T sym(K_s) Phi) + Phi^T C_s Phi
+/// ```
+///
+/// with K_s and C_s the bearings'. Without the parts the bands are projected as they are.
+fn project_banded(system: &BandedSystem, phi: &Mat<f64>, lambda: &[f64]) -> [Mat<f64>; 3] {
+    let g = system.gyroscopic.project(phi);
+    let Some(parts) = &system.parts else {
+        return [
+            system.stiffness.project(phi),
+            system.damping.project(phi),
+            g,
+        ];
+    };
+    let p = lambda.len();
+    let supports = parts.support_stiffness.project(phi);
+    let support_damping = parts.support_damping.project(phi);
+    let (alpha, beta) = parts.rayleigh;
+    let diagonal = |i: usize, j: usize| if i == j { lambda[i] } else { 0.0 };
+    let k = Mat::from_fn(p, p, |i, j| {
+        diagonal(i, j) + 0.5 * (supports[(i, j)] - supports[(j, i)])
+    });
+    let c = Mat::from_fn(p, p, |i, j| {
+        let identity = if i == j { 1.0 } else { 0.0 };
+        let rotor = diagonal(i, j) - 0.5 * (supports[(i, j)] + supports[(j, i)]);
+        alpha * identity + beta * rotor + support_damping[(i, j)]
+    });
+    [k, c, g]
 }
 
 /// Scales a shape so that its largest translation is 1 (real, positive).

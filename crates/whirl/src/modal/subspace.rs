@@ -93,11 +93,9 @@ pub(crate) fn lowest_modes(
         if iteration == MAX_ITERATIONS {
             break;
         }
-        // Columns of Y scaled to unit M-norm: Y's columns shrink as 1 / mu, and unscaled
-        // their spread of sizes would make M_r singular in floating point. M X's columns
-        // are scaled alike, so that A Y = M X still holds.
-        let (y, mx) = scaled(mass, y, mx);
-        let my = mass.times(&y);
+        // Y made M-orthonormal first: its columns lean towards the lowest modes (by
+        // mu_1 / mu_k), and left so M_r would be singular in floating point.
+        let (y, mx, my) = orthonormalised(y, mx, mass);
         let k_r = symmetric(&(y.transpose() * &mx));
         let m_r = symmetric(&(y.transpose() * &my));
         let (values, z) = crate::modal::symmetric_modes(&k_r, &m_r, q)?;
@@ -173,16 +171,43 @@ fn mass_norm(mass: &Band, v: &[f64]) -> f64 {
     crate::linalg::dot_in_order(v, &mv).max(0.0).sqrt()
 }
 
-/// Y and B with each column divided by the M-norm of Y's.
-fn scaled(mass: &Band, mut y: Mat<f64>, mut b: Mat<f64>) -> (Mat<f64>, Mat<f64>) {
-    for j in 0..y.ncols() {
-        let norm = mass_norm(mass, y.col_as_slice(j));
-        if norm > 0.0 {
-            y.col_as_slice_mut(j).iter_mut().for_each(|v| *v /= norm);
-            b.col_as_slice_mut(j).iter_mut().for_each(|v| *v /= norm);
+/// Y T with M-orthonormal columns (modified Gram-Schmidt in the M inner product, twice, as
+/// one pass loses orthogonality in proportion to Y's condition), with B T and M Y T: the
+/// same column operations keep A (Y T) = B T.
+fn orthonormalised(
+    mut y: Mat<f64>,
+    mut b: Mat<f64>,
+    mass: &Band,
+) -> (Mat<f64>, Mat<f64>, Mat<f64>) {
+    let mut my = mass.times(&y);
+    let q = y.ncols();
+    // Column j -= r column k in Y, B and M Y alike.
+    fn subtract(m: &mut Mat<f64>, j: usize, k: usize, r: f64) {
+        let (left, right) = m.as_mut().split_at_col_mut(j);
+        let (target, source) = (right.col_mut(0), left.col(k));
+        for (t, s) in target.iter_mut().zip(source.iter()) {
+            *t -= r * s;
         }
     }
-    (y, b)
+    for j in 0..q {
+        for _ in 0..2 {
+            for k in 0..j {
+                let r = crate::linalg::dot_in_order(my.col_as_slice(k), y.col_as_slice(j));
+                subtract(&mut y, j, k, r);
+                subtract(&mut b, j, k, r);
+                subtract(&mut my, j, k, r);
+            }
+        }
+        let norm = crate::linalg::dot_in_order(y.col_as_slice(j), my.col_as_slice(j))
+            .max(0.0)
+            .sqrt();
+        if norm > 0.0 {
+            for m in [&mut y, &mut b, &mut my] {
+                m.col_as_slice_mut(j).iter_mut().for_each(|v| *v /= norm);
+            }
+        }
+    }
+    (y, b, my)
 }
 
 /// |mu y - x|_M: how far one inverse iteration moves the M-normalised Ritz vector x.

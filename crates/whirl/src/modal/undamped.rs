@@ -26,18 +26,20 @@ pub struct UndampedModes {
     pub shapes: Mat<f64>,
 }
 
-/// The largest model, in DOFs, whose modes are found by the dense solver (every mode, n^3)
-/// rather than by subspace iteration on the bands (the modes asked for, linear in n). The
-/// one rule that picks the solver, for the undamped modes, the modal basis and the
-/// Craig-Bampton reduction alike. The dense solver wins on small models, where the
-/// iteration's fixed cost (a few tens of iterations on 2p + 8 vectors) is not yet paid back:
-/// both took about 2 ms for 6 modes at 164 DOFs (40 elements), and at 324 DOFs the dense
-/// solve took 4 times as long (BENCHMARKS.md).
+/// The largest model, in DOFs, whose modes are always found by the dense solver (every
+/// mode, n^3) rather than by subspace iteration on the bands (the modes asked for, linear in
+/// n). The dense solver wins on small models, where the iteration's fixed cost (a few tens of
+/// iterations on 2p + 8 vectors) is not yet paid back: both took about 2 ms for 6 modes at
+/// 164 DOFs (40 elements), and at 324 DOFs the dense solve took 4 times as long
+/// (BENCHMARKS.md).
 pub const DENSE_LIMIT: usize = 200;
 
-/// True when a model of `dofs` DOFs is solved dense (see [`DENSE_LIMIT`]).
-pub fn solves_dense(dofs: usize) -> bool {
-    dofs <= DENSE_LIMIT
+/// The one rule that picks the solver, for the undamped modes, the modal basis and the
+/// Craig-Bampton reduction alike: dense for a model of at most [`DENSE_LIMIT`] DOFs, or when
+/// `modes` is a quarter of the DOFs or more (the iteration's 2 `modes` vectors would then
+/// cost as much as the dense solve); otherwise subspace iteration.
+pub fn solves_dense(dofs: usize, modes: usize) -> bool {
+    dofs <= DENSE_LIMIT || 4 * modes >= dofs
 }
 
 /// The error for a mass matrix that is not positive definite.
@@ -100,7 +102,7 @@ fn stable_at_rest(omega_squared: &[f64]) -> Result<()> {
 /// positive semi-definite (the rotor is unstable at rest); [`Error::NotConverged`] when the
 /// eigen-solver fails.
 pub fn undamped_modes(system: &impl Matrices, count: usize) -> Result<UndampedModes> {
-    let (omega_squared, shapes) = if solves_dense(system.dofs()) {
+    let (omega_squared, shapes) = if solves_dense(system.dofs(), count) {
         let dense = system.dense();
         let modes = symmetric_modes(&dense.stiffness, &dense.mass, count)?;
         stable_at_rest(&modes.0)?;
@@ -214,7 +216,7 @@ mod tests {
         // 160 elements, 644 DOFs: past the dense limit, so undamped_modes iterates; the
         // dense solver is run on the same matrices for comparison.
         let banded = assemble_banded(&reference_rotor(160), Bearings::Linearised);
-        assert!(!solves_dense(banded.dofs()));
+        assert!(!solves_dense(banded.dofs(), 8));
         let fast = undamped_modes(&banded, 8).unwrap();
         let dense = banded.to_dense();
         let n = dense.dofs();
@@ -258,7 +260,7 @@ mod tests {
         let mut model = reference_rotor(80);
         model.options.axial_load = -1e7;
         let banded = assemble_banded(&model, Bearings::Linearised);
-        assert!(!solves_dense(banded.dofs()));
+        assert!(!solves_dense(banded.dofs(), 8));
         let error = undamped_modes(&banded, 6).unwrap_err().to_string();
         assert!(error.contains("unstable at rest"), "{error}");
     }

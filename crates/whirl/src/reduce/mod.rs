@@ -173,7 +173,7 @@ impl CraigBampton {
         }
         let modes = modes.min(internal.len());
         let nb = boundary.len();
-        let dense = solves_dense(n);
+        let dense = solves_dense(n, modes);
         let found = if dense {
             dense_internal_modes(&system.dense(), &boundary, &internal, modes)?
         } else {
