@@ -115,8 +115,11 @@ pub fn modal<'py>(
     let (undamped, mut damped) = lib(py.detach(|| {
         let system = assemble(&model.model, Bearings::Linearised);
         let undamped = whirl::modal::undamped_modes(&system, modes)?;
-        let damped =
-            ModalBasis::full(&system)?.modes_at(speed.max(SPEED_FLOOR), MAX_DAMPING_RATIO)?;
+        let damped = ModalBasis::full(&system)?.modes_at(
+            speed.max(SPEED_FLOOR),
+            MAX_DAMPING_RATIO,
+            modes,
+        )?;
         Ok::<_, whirl::Error>((undamped, damped))
     }))?;
     damped.truncate(modes);
