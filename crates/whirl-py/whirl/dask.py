@@ -37,8 +37,6 @@ def _cascade_point(model: Model, options: dict[str, Any], speed: float) -> str:
 def point_runner(client: Any, model: Model, options: dict[str, Any]) -> Callable[[list[tuple[int, float]]], Iterator[tuple[int, str]]]:
     """The runner the library's distributed cascade calls with each round of speeds: one
     task per speed, yielded as each finishes."""
-    from dask.distributed import as_completed
-
     def run(batch: list[tuple[int, float]]) -> Iterator[tuple[int, str]]:
         # pure=False: a task is a computation to run, never a cached value; retries: a
         # task on a worker that died is run again elsewhere.
@@ -46,11 +44,7 @@ def point_runner(client: Any, model: Model, options: dict[str, Any]) -> Callable
             client.submit(_cascade_point, model, options, speed, pure=False, retries=3): index
             for index, speed in batch
         }
-        try:
-            for future in as_completed(futures):
-                yield futures[future], future.result()
-        finally:
-            client.cancel(list(futures))
+        yield from _as_finished(client, futures)
 
     return run
 
@@ -63,16 +57,21 @@ def _study_point(path: str, index: int, checkpoint: str) -> str:
 def study_runner(client: Any, path: str, checkpoint: str) -> Callable[[list[int]], Iterator[tuple[int, str]]]:
     """The runner the study calls with the points not yet finished: one task per point
     (the study file and the checkpoint folder must be on a path the workers share)."""
-    from dask.distributed import as_completed
-
     def run(points: list[int]) -> Iterator[tuple[int, str]]:
         futures = {
             client.submit(_study_point, path, k, checkpoint, pure=False, retries=3): k for k in points
         }
-        try:
-            for future in as_completed(futures):
-                yield futures[future], future.result()
-        finally:
-            client.cancel(list(futures))
+        yield from _as_finished(client, futures)
 
     return run
+
+
+def _as_finished(client: Any, futures: dict[Any, int]) -> Iterator[tuple[int, str]]:
+    """Each task's index and result as it finishes; the rest cancelled if the caller stops."""
+    from dask.distributed import as_completed
+
+    try:
+        for future in as_completed(futures):
+            yield futures[future], future.result()
+    finally:
+        client.cancel(list(futures))
