@@ -10,7 +10,10 @@ use clap::ValueEnum;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use pythonize::pythonize;
-use whirl::nsv::{checkpoint, CascadeOptions, CascadePoint};
+use whirl::nsv::{
+    checkpoint, compare_starts as compare, other_start_options, Cascade, CascadeOptions,
+    CascadePoint, STARTS_DIFFER_SIGMAS,
+};
 use whirl::progress::Progress;
 
 use crate::error::{lib, option, to_py};
@@ -143,7 +146,55 @@ pub fn cascade<'py>(
     out.set_item("nsv", pythonize(py, &result.nsv_summary(threshold))?)?;
     out.set_item("contact", result.options.law.name())?;
     out.set_item("window", result.options.window.to_string())?;
+    out.set_item("raw", RawCascade(result))?;
     Ok(out)
+}
+
+/// A computed cascade as the library holds it, kept to be compared with another.
+#[pyclass(frozen, module = "whirl._whirl")]
+pub struct RawCascade(Cascade);
+
+/// What the cascade that tests `first` from the other start changes in `first`'s options:
+/// `speeds` (rad/s: exactly `first`'s, added ones too), `start` and `refine` (off).
+#[pyfunction]
+pub fn other_start<'py>(py: Python<'py>, first: &RawCascade) -> PyResult<Bound<'py, PyDict>> {
+    let o = other_start_options(&first.0);
+    let out = PyDict::new(py);
+    out.set_item("speeds", o.speeds)?;
+    out.set_item("start", name(&o.initial))?;
+    out.set_item("refine", o.refine.enabled)?;
+    Ok(out)
+}
+
+/// `first` and `second` (its cascade from the other start) compared speed by speed: the
+/// other start, the pairs, the speeds compared and differing, and `second`'s NSV summary
+/// at `threshold` (m).
+#[pyfunction]
+pub fn compare_starts<'py>(
+    py: Python<'py>,
+    first: &RawCascade,
+    second: &RawCascade,
+    threshold: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let c = lib(compare(&first.0, second.0.clone(), threshold))?;
+    let out = PyDict::new(py);
+    out.set_item("other_start", pythonize(py, &c.other)?)?;
+    out.set_item("compared_speeds", c.compared())?;
+    out.set_item("differing_speeds_hz", c.differing_speeds_hz())?;
+    out.set_item("sigmas", STARTS_DIFFER_SIGMAS)?;
+    out.set_item(
+        "other_start_nsv",
+        pythonize(py, &c.cascade.nsv_summary(threshold))?,
+    )?;
+    out.set_item("pairs", pythonize(py, &c.pairs)?)?;
+    Ok(out)
+}
+
+/// An option's value by the name the command line gives it, e.g. `static`.
+fn name<T: ValueEnum>(value: &T) -> String {
+    value
+        .to_possible_value()
+        .map_or_else(String::new, |v| v.get_name().to_string())
 }
 
 /// Hands a batch to the Python runner and each point it yields to `done`.

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import whirl
-from conftest import REFERENCE, assert_same_table
+from conftest import EXAMPLES, REFERENCE, assert_same_table
 
 #: A small cascade with everything that matters: requested and refined speeds, averaged
 #: records, the full spectrum. Seconds of computing.
@@ -76,7 +76,11 @@ def test_bad_cascade_options_name_the_keyword():
 
 
 def test_study_equals_the_command_line(run_cli, tmp_path):
-    study = REFERENCE.parent / "quick_study.toml"
+    # The quick study with a straight line fitted through its two points: every table.
+    study = tmp_path / "study.toml"
+    text = (EXAMPLES / "quick_study.toml").read_text()
+    text = text.replace('model = "reference_rotor.toml"', f"model = {str(REFERENCE)!r}")
+    study.write_text(text.replace('values = ["20 um", "60 um"]', 'values = ["20 um", "60 um"]\nfit = "linear"'))
     cli = run_cli("study", str(study), "--checkpoint", str(tmp_path / "cli.points"))
     result = whirl.study(study, checkpoint=tmp_path / "py.points", progress=False)
     timeless = lambda s: {  # noqa: E731
@@ -84,4 +88,21 @@ def test_study_equals_the_command_line(run_cli, tmp_path):
         "points": [{k: v for k, v in p.items() if k != "wall_time_s"} for p in s["points"]],
     }
     assert timeless(result.to_dict()) == timeless(cli.summary())
-    assert_same_table(result.to_pandas("sweeps"), cli.table("sweeps"))
+    assert len(result.to_pandas("fits")) == 1, "no fit: the test would miss the fits table"
+    for table in result.tables:
+        python, written = result.to_pandas(table), cli.table(table)
+        if table == "points":
+            python, written = python.drop(columns="wall_time_s"), written.drop(columns="wall_time_s")
+        assert_same_table(python, written)
+
+
+def test_compare_starts_equals_the_command_line(run_cli):
+    cli = run_cli("cascade", str(REFERENCE), "--speeds", SPEEDS, *FLAGS, "--compare-starts")
+    result = whirl.cascade(REFERENCE, SPEEDS, compare_starts=True, progress=False, **OPTIONS)
+    assert result.starts["compared_speeds"] > 0, "no speed compared: the test would miss them"
+    written = what(cli.summary())
+    # The note explains the fields to a reader of the file; the numbers are the same.
+    written["starts"].pop("note")
+    assert what(result.to_dict()) == written
+    for table in ("nsv", "starts"):
+        assert_same_table(result.to_pandas(table), cli.table(table))

@@ -139,12 +139,18 @@ class CascadeResult:
     wall_time_s: float
     #: The checkpoint folder of this cascade, when there was one.
     checkpoint: str | None
+    #: With ``compare_starts=True``: the cascade again from the other start at the same
+    #: speeds, compared speed by speed (other_start, compared_speeds, differing_speeds_hz,
+    #: sigmas, other_start_nsv, and per speed the ``pairs``); else None.
+    starts: dict[str, Any] | None = None
     tables: ClassVar[tuple[str, ...]] = ("cascade", "nsv")
 
     def to_pandas(self, table: str = "nsv"):
         """``nsv`` (one row per speed: 1X, the NSV with its class and whirl direction, ...),
-        ``cascade`` (speed_hz, frequency_hz, amplitude_m, added: every speed's spectrum) or
-        ``full_cascade`` (with ``full=True``): the command line's CSV tables."""
+        ``cascade`` (speed_hz, frequency_hz, amplitude_m, added: every speed's spectrum),
+        ``full_cascade`` (with ``full=True``) or ``starts`` (with ``compare_starts=True``:
+        per speed the NSV and its standard error from both starts, whether they could be
+        compared and whether they differ): the command line's CSV tables."""
         import pandas as pd
 
         added = np.array([int(p["added"]) for p in self.points])
@@ -180,7 +186,17 @@ class CascadeResult:
                     ]
                 )
             return pd.DataFrame(rows, columns=NSV_COLUMNS)
-        raise ValueError(f"no table `{table}`: choose cascade, nsv or full_cascade")
+        if table == "starts" and self.starts is not None:
+            rows = [
+                [p["speed_hz"], p["first_m"], p["first_error_m"], p["other_m"], p["other_error_m"],
+                 int(p["comparable"]), int(p["differs"])]
+                for p in self.starts["pairs"]
+            ]
+            return pd.DataFrame(rows, columns=STARTS_COLUMNS)
+        raise ValueError(
+            f"no table `{table}`: choose cascade, nsv, full_cascade (full=True) or starts "
+            "(compare_starts=True)"
+        )
 
     def to_dict(self) -> dict[str, Any]:
         """The command line's summary.json (without the output folder, the file list and
@@ -213,6 +229,8 @@ class CascadeResult:
             wall_time_s=self.wall_time_s,
             checkpoint_folder=self.checkpoint,
         )
+        if self.starts is not None:
+            s["starts"] = {k: v for k, v in self.starts.items() if k != "pairs"}
         return jsonable(s)
 
 
@@ -223,8 +241,15 @@ NSV_COLUMNS = [
     "diverged", "start_fallback",
 ]
 
+STARTS_COLUMNS = [
+    "speed_hz", "nsv_m", "nsv_standard_error_m", "other_start_nsv_m",
+    "other_start_standard_error_m", "comparable", "differs",
+]
 
-def _result(model: Model, raw: dict[str, Any], checkpoint: Path | None) -> CascadeResult:
+
+def _result(
+    model: Model, raw: dict[str, Any], checkpoint: Path | None, starts: dict[str, Any] | None = None
+) -> CascadeResult:
     c = raw["cascade"]
     points = c["points"]
     bins, full_bins = len(c["frequency_hz"]), len(c["full_frequency_hz"])
@@ -248,6 +273,7 @@ def _result(model: Model, raw: dict[str, Any], checkpoint: Path | None) -> Casca
         resumed=c["resumed"],
         wall_time_s=c["wall_time_s"],
         checkpoint=None if checkpoint is None else str(checkpoint),
+        starts=starts,
     )
 
 
@@ -258,6 +284,7 @@ def cascade(
     threshold: str | float = _whirl.DEFAULT_THRESHOLD_M,
     checkpoint: str | os.PathLike[str] | None = None,
     restart: bool = False,
+    compare_starts: bool = False,
     progress: bool | Any = True,
     client: Any = None,
     **cascade_options: Any,
@@ -275,6 +302,10 @@ def cascade(
             options): a run started again computes only the missing speeds and gives the
             same result. The command line uses ``out/cascade.partial``.
         restart: delete this cascade's checkpoint first and compute every speed again.
+        compare_starts: run every speed again from the other start (rest after the static
+            equilibrium, or the reverse) and mark the speeds where the NSV differs beyond
+            three standard errors: coexisting motions (:attr:`CascadeResult.starts`, the
+            table ``starts``; twice the computing). Its checkpoint sits beside this one's.
         progress: True for a tqdm bar when tqdm is installed, False for none, or a callable
             ``progress(done, total)`` (a true return stops the run, as Ctrl-C does; the
             finished speeds stay in the checkpoint).
@@ -292,6 +323,25 @@ def cascade(
     threshold_m = _whirl.parse_quantity("threshold", str(threshold), "length")
     if not threshold_m > 0:
         raise _whirl.InputError(f"invalid `threshold`: `{threshold}`: the length must be positive")
+    first = _run(model, o, threshold_m, checkpoint, restart, progress, client)
+    starts = None
+    if compare_starts:
+        other = {**o, **_whirl.other_start(first["raw"])}
+        second = _run(model, other, threshold_m, checkpoint, restart, progress, client)
+        starts = _whirl.compare_starts(first["raw"], second["raw"], threshold_m)
+    return _result(model, first, first["folder"], starts)
+
+
+def _run(
+    model: Model,
+    o: dict[str, Any],
+    threshold_m: float,
+    checkpoint: str | os.PathLike[str] | None,
+    restart: bool,
+    progress: bool | Any,
+    client: Any,
+) -> dict[str, Any]:
+    """One cascade with the library's options ``o``, in its folder inside ``checkpoint``."""
     folder = None
     if checkpoint is not None:
         folder = Path(_whirl.cascade_checkpoint(model._raw, o, os.fspath(checkpoint)))
@@ -306,4 +356,4 @@ def cascade(
         raw = _whirl.cascade(
             model._raw, o, threshold_m, None if folder is None else os.fspath(folder), report, runner
         )
-    return _result(model, raw, folder)
+    return {**raw, "folder": folder}

@@ -43,11 +43,14 @@ class StudyResult:
     sweeps: list[dict[str, Any]]
     ranking: list[dict[str, Any]]
     ranking_by_parameter: list[dict[str, Any]]
-    tables: ClassVar[tuple[str, ...]] = ("points", "sweeps")
+    tables: ClassVar[tuple[str, ...]] = ("points", "sweeps", "fits", "ranking", "ranking_by_parameter")
 
     def to_pandas(self, table: str = "points"):
-        """``points`` (one row per distinct point: its changes and NSV summary) or
-        ``sweeps`` (one row per sweep and value): the command line's CSV tables."""
+        """The command line's CSV tables: ``points`` (one row per distinct point: its
+        changes and NSV summary), ``sweeps`` (one row per sweep and value), ``fits`` (eq.
+        5.1's coefficients, highest power first, and R^2 of each sweep that asks for a
+        fit), ``ranking`` (the sweeps by their effect on the metric, largest first) or
+        ``ranking_by_parameter`` (each parameter by the largest effect among its sweeps)."""
         import pandas as pd
 
         if table == "points":
@@ -69,6 +72,23 @@ class StudyResult:
             ]
             columns = ["sweep", "name", "parameter", "value", "value_si", "largest_nsv_m",
                        "metric_nsv_m", "onset_speed_hz"]
+            return pd.DataFrame(rows, columns=columns)
+        if table == "fits":
+            rows = [
+                [i, s["name"], len(c) - 1, *c, *[None] * (4 - len(c)), f["r_squared"], f["rms_residual"]]
+                for i, s in enumerate(self.sweeps)
+                if (f := s["fit"]) is not None
+                for c in [f["coefficients"]]
+            ]
+            columns = ["sweep", "name", "degree", "p1", "p2", "p3", "p4", "r_squared", "rms_residual_m"]
+            return pd.DataFrame(rows, columns=columns)
+        if table in ("ranking", "ranking_by_parameter"):
+            effects = self.ranking if table == "ranking" else self.ranking_by_parameter
+            rows = [
+                [k + 1, e["sweep"], e["parameter"], e["smallest"], e["largest"], e["relative_change"]]
+                for k, e in enumerate(effects)
+            ]
+            columns = ["rank", "sweep", "parameter", "smallest_metric_m", "largest_metric_m", "relative_change"]
             return pd.DataFrame(rows, columns=columns)
         raise ValueError(f"no table `{table}`: choose one of {self.tables}")
 
