@@ -2,15 +2,18 @@
 //! Run with `cargo bench -p whirl --bench cascade`.
 
 mod common;
+// The test models; a benchmark uses only the reference rotor.
+#[allow(dead_code)]
+#[path = "../tests/common/reference.rs"]
+mod reference;
 
-use whirl::model::Model;
+use reference::reference_rotor;
 use whirl::nsv::{cascade, CascadeOptions};
 use whirl::units::{parse_range, Dimension};
 
 fn main() {
     faer::set_global_parallelism(faer::Par::Seq);
-    let model =
-        Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).expect("bundled model");
+    let model = reference_rotor();
     let speeds = parse_range("1:750Hz:150", Dimension::AngularSpeed).expect("range");
     // The defaults: 0.5 s settling + 0.5 s recorded, reduced 8 + 12, Hertz, Hann.
     let options = CascadeOptions::new(&model, speeds);

@@ -2,17 +2,20 @@
 //! BENCHMARKS.md. Run with `cargo bench -p whirl --bench hbm`.
 
 mod common;
+// The test models; a benchmark uses only the reference rotor.
+#[allow(dead_code)]
+#[path = "../tests/common/reference.rs"]
+mod reference;
 
 use std::f64::consts::TAU;
 
+use reference::reference_rotor;
 use whirl::hbm::{sweep, SweepOptions};
-use whirl::model::Model;
 
 fn main() {
     // faer's own threads off: the Hill solves of a branch run in parallel with rayon.
     faer::set_global_parallelism(faer::Par::Seq);
-    let model =
-        Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).expect("bundled model");
+    let model = reference_rotor();
     for (stability, reduction, name) in [
         (false, None, "1-750 Hz, H = 5, full model, no stability"),
         (true, None, "1-750 Hz, H = 5, full model, Hill stability"),

@@ -2,9 +2,14 @@
 //! Run with `cargo bench -p whirl --bench modal`; figures go to BENCHMARKS.md.
 
 mod common;
+// The test models; a benchmark uses only the reference rotor.
+#[allow(dead_code)]
+#[path = "../tests/common/reference.rs"]
+mod reference;
 
 use std::f64::consts::PI;
 
+use reference::reference_rotor;
 use whirl::fe::{assemble, Bearings};
 use whirl::modal::{campbell, undamped_modes, CampbellOptions};
 use whirl::model::Model;
@@ -13,8 +18,7 @@ use whirl::response::unbalance_response;
 fn main() {
     // Parallelism is across speeds (rayon); faer's own threads only oversubscribe 2 cores.
     faer::set_global_parallelism(faer::Par::Seq);
-    let model =
-        Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).expect("bundled model");
+    let model = reference_rotor();
     println!("threads: {}", rayon::current_num_threads());
 
     common::time("parse + validate reference_rotor.toml", 200, || {

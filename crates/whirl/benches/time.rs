@@ -2,11 +2,15 @@
 //! Run with `cargo bench -p whirl --bench time`.
 
 mod common;
+// The test models; a benchmark uses only the reference rotor.
+#[allow(dead_code)]
+#[path = "../tests/common/reference.rs"]
+mod reference;
 
 use std::f64::consts::PI;
 
+use reference::reference_rotor;
 use whirl::bearing::ContactLaw;
-use whirl::model::Model;
 use whirl::system::SpeedProfile;
 use whirl::time::{simulate, Initial, Method, NewmarkScheme, SimulationOptions};
 
@@ -30,8 +34,7 @@ fn options(step: f64, method: Method, reduction: Option<usize>) -> SimulationOpt
 
 fn main() {
     faer::set_global_parallelism(faer::Par::Seq);
-    let model =
-        Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).expect("bundled model");
+    let model = reference_rotor();
     let report = |name: &str, o: SimulationOptions, runs: usize| {
         let mut march = 0.0;
         common::time(name, runs, || {

@@ -10,13 +10,8 @@ use whirl::model::{Clearance, Model, Ring, RollerBearing, Waviness};
 use whirl::system::build;
 use whirl::time::static_equilibrium;
 
-fn reference() -> Model {
-    Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap()
-}
-
-fn reference_bearing() -> RollerBearing {
-    reference().roller_bearings[0].clone()
-}
+mod common;
+use common::{reference_bearing, reference_rotor};
 
 fn spinning(speed_hz: f64, t: f64) -> Kinematics {
     let w = 2.0 * PI * speed_hz;
@@ -219,7 +214,7 @@ fn hang_in_bearings(rollers: usize) {
     // Full reference rotor hanging in its two Hertz bearings under gravity: the contact
     // forces add up to the weight (to the solver tolerance) and the shaft drops by more
     // than the clearance at each bearing; u_x stays 0 (not unique with a bottom roller).
-    let mut model = reference();
+    let mut model = reference_rotor();
     for b in &mut model.roller_bearings {
         b.rollers = rollers;
     }

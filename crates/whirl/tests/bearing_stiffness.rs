@@ -8,19 +8,13 @@ use whirl::bearing::stiffness::{
     force_surface, gravity_load, passage_average, stiffness_versus_clearance, FrozenBearing,
     StiffnessOptions, StiffnessStudy,
 };
-use whirl::model::{Model, RollerBearing};
 
-fn reference() -> Model {
-    Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap()
-}
-
-fn reference_bearing() -> RollerBearing {
-    reference().roller_bearings[0].clone()
-}
+mod common;
+use common::{reference_bearing, reference_rotor};
 
 /// Half the reference rotor's weight, N, straight down: what each bearing carries.
 fn half_weight() -> [f64; 2] {
-    gravity_load(&reference(), 0).unwrap()
+    gravity_load(&reference_rotor(), 0).unwrap()
 }
 
 const UM: f64 = 1e-6;
@@ -154,7 +148,7 @@ fn equilibrium_balances_the_load() {
 #[test]
 fn gravity_load_is_half_the_weight_of_the_symmetric_rotor() {
     // 1.3 m of 55.9 mm steel shaft and the 10 kg disk, on two bearings at the ends.
-    let model = reference();
+    let model = reference_rotor();
     let area = PI / 4.0 * 0.0559f64.powi(2);
     let weight = (7810.0 * area * 1.3 + 10.0) * 9.81;
     for b in 0..2 {

@@ -6,6 +6,9 @@ use whirl::fe::{assemble, assemble_banded, Bearings, SystemMatrices};
 use whirl::modal::{campbell, solves_dense, CampbellOptions, CampbellResult, Whirl};
 use whirl::model::Model;
 
+mod common;
+use common::reference_rotor;
+
 fn system(text: &str) -> SystemMatrices {
     assemble(
         &Model::from_toml_str(text, None).unwrap(),
@@ -91,10 +94,7 @@ fn branches_are_followed_through_a_crossing() {
 fn the_banded_basis_of_a_large_model_matches_the_full_solve() {
     // 100 elements (404 DOFs): past the dense limit, so the basis comes from subspace
     // iteration and is projected on the bands; the full solve takes every mode, dense.
-    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None)
-        .unwrap()
-        .remeshed(&[100])
-        .unwrap();
+    let model = reference_rotor().remeshed(&[100]).unwrap();
     let banded = assemble_banded(&model, Bearings::Linearised);
     assert!(!solves_dense(
         banded.dofs(),

@@ -16,12 +16,11 @@ use whirl::progress::Progress;
 use whirl::response::unbalance_response;
 use whirl::Error;
 
+mod common;
+use common::reference_rotor;
+
 /// Tiny clearance of the linearity check, m: the rollers under the shaft stay loaded.
 const TINY_CLEARANCE: f64 = 1e-7;
-
-fn reference() -> Model {
-    Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap()
-}
 
 fn rad_s(hz: &[f64]) -> Vec<f64> {
     hz.iter().map(|f| 2.0 * PI * f).collect()
@@ -29,7 +28,7 @@ fn rad_s(hz: &[f64]) -> Vec<f64> {
 
 /// The reference rotor with `TINY_CLEARANCE` and a tenth of its unbalance (4 um).
 fn nearly_linear() -> Model {
-    let mut model = reference();
+    let mut model = reference_rotor();
     for b in &mut model.roller_bearings {
         b.clearance = Clearance::Constant(TINY_CLEARANCE);
     }
@@ -121,7 +120,7 @@ fn assert_same(a: &Cascade, b: &Cascade) {
 #[test]
 fn an_interrupted_cascade_resumes_to_the_uninterrupted_result() {
     faer::set_global_parallelism(faer::Par::Seq);
-    let model = reference();
+    let model = reference_rotor();
     let options = short_options(&model);
     let whole = cascade(&model, &options, None, None).unwrap();
     let dir = tempfile::tempdir().unwrap();
@@ -152,7 +151,7 @@ fn an_interrupted_cascade_resumes_to_the_uninterrupted_result() {
 #[test]
 fn the_thread_count_changes_nothing() {
     faer::set_global_parallelism(faer::Par::Seq);
-    let model = reference();
+    let model = reference_rotor();
     let options = short_options(&model);
     let run = |threads: usize| {
         rayon::ThreadPoolBuilder::new()
@@ -167,7 +166,7 @@ fn the_thread_count_changes_nothing() {
 #[test]
 fn a_checkpoint_of_another_cascade_is_refused() {
     faer::set_global_parallelism(faer::Par::Seq);
-    let model = reference();
+    let model = reference_rotor();
     let mut options = short_options(&model);
     options.speeds.truncate(1);
     let dir = tempfile::tempdir().unwrap();
@@ -194,7 +193,7 @@ fn a_checkpoint_of_another_cascade_is_refused() {
 
 #[test]
 fn bad_options_name_their_field() {
-    let model = reference();
+    let model = reference_rotor();
     let base = CascadeOptions::new(&model, rad_s(&[100.0]));
     type Spoil = Box<dyn Fn(&mut CascadeOptions)>;
     let cases: [(&str, Spoil); 5] = [
@@ -225,7 +224,7 @@ fn bad_options_name_their_field() {
 #[test]
 fn each_speed_settles_until_its_start_has_died() {
     faer::set_global_parallelism(faer::Par::Seq);
-    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let model = reference_rotor();
     let mut options = CascadeOptions::new(&model, rad_s(&[300.0]));
     options.refine.enabled = false;
     options.settle_max = options.settle;
@@ -261,7 +260,7 @@ fn each_speed_settles_until_its_start_has_died() {
 #[test]
 fn the_averaged_nsv_does_not_depend_on_the_start() {
     faer::set_global_parallelism(faer::Par::Seq);
-    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let model = reference_rotor();
     let mut options = CascadeOptions::new(&model, rad_s(&[207.1]));
     options.refine.enabled = false;
     let from_static = cascade(&model, &options, None, None).unwrap();
@@ -295,7 +294,7 @@ fn the_averaged_nsv_does_not_depend_on_the_start() {
 #[test]
 fn a_speed_whose_static_start_fails_starts_from_rest_and_says_so() {
     faer::set_global_parallelism(faer::Par::Seq);
-    let mut model = reference();
+    let mut model = reference_rotor();
     for b in &mut model.roller_bearings {
         b.rollers = 16;
     }

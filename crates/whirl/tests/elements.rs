@@ -6,6 +6,9 @@ use whirl::fe::{assemble, gravity_force, Bearings};
 use whirl::modal::undamped_modes;
 use whirl::model::Model;
 
+mod common;
+use common::reference_rotor;
+
 const E: f64 = 2.11e11;
 const RHO: f64 = 7810.0;
 const L: f64 = 1.3;
@@ -150,7 +153,7 @@ fn jeffcott_rotor_within_0_5_percent() {
 
 #[test]
 fn assembled_matrices_have_the_right_symmetries() {
-    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let model = reference_rotor();
     let s = assemble(&model, Bearings::Linearised);
     let n = s.dofs();
     assert_eq!(n, 84);
@@ -168,7 +171,7 @@ fn assembled_matrices_have_the_right_symmetries() {
 
 #[test]
 fn gravity_load_is_the_total_weight() {
-    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let model = reference_rotor();
     let s = assemble(&model, Bearings::Linearised);
     let f = gravity_force(&model, &s);
     let (a, _) = section();
@@ -182,7 +185,7 @@ fn gravity_load_is_the_total_weight() {
 #[test]
 fn reference_rotor_first_two_frequencies() {
     // docs/theory.md section 9: about 49.8 Hz and 254 Hz with 1e8 N/m bearings.
-    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let model = reference_rotor();
     let f = undamped_modes(&assemble(&model, Bearings::Linearised), 4)
         .unwrap()
         .frequencies_hz;
@@ -195,10 +198,7 @@ fn fine_mesh_keeps_isotropic_pairs_equal() {
     // An axisymmetric rotor on isotropic bearings has every frequency twice (x and y).
     // 40 elements give 164 DOFs, past the size at which a divide-and-conquer eigen-solver
     // once split the first pair by 0.03 %; equal to 1e-8 is round-off for these matrices.
-    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None)
-        .unwrap()
-        .remeshed(&[40])
-        .unwrap();
+    let model = reference_rotor().remeshed(&[40]).unwrap();
     let system = assemble(&model, Bearings::Linearised);
     assert!(system.mass.nrows() >= 128);
     let f = undamped_modes(&system, 6).unwrap().frequencies_hz;

@@ -4,8 +4,10 @@
 use std::f64::consts::PI;
 
 use whirl::fe::{assemble, Bearings};
-use whirl::model::Model;
 use whirl::response::{unbalance_response, unbalance_response_refined, ResponsePeak};
+
+mod common;
+use common::reference_rotor;
 
 /// `n` speeds (rad/s) evenly from `start_hz` to `stop_hz`.
 fn even_speeds(start_hz: f64, stop_hz: f64, n: usize) -> Vec<f64> {
@@ -20,7 +22,7 @@ fn relative(a: f64, b: f64) -> f64 {
 
 #[test]
 fn default_sweep_resolves_the_first_critical_as_a_fine_step_does() {
-    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let model = reference_rotor();
     let system = assemble(&model, Bearings::Linearised);
     // The CLI's default: 800 speeds from 1 Hz to 1.2 x the 750 Hz top operating speed.
     let coarse = even_speeds(1.0, 900.0, 800);
@@ -64,7 +66,7 @@ fn default_sweep_resolves_the_first_critical_as_a_fine_step_does() {
 
 #[test]
 fn refinement_keeps_the_requested_speeds() {
-    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let model = reference_rotor();
     let system = assemble(&model, Bearings::Linearised);
     let coarse = even_speeds(1.0, 900.0, 100);
     let refined = unbalance_response_refined(&model, &system, &coarse, &[10]).unwrap();

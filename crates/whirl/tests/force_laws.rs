@@ -10,14 +10,10 @@ use std::f64::consts::PI;
 use whirl::bearing::{ForcingBearing, HertzBearing};
 use whirl::force::{CubicSpring, Kinematics, LinearSupport, NonlinearForce};
 use whirl::hbm::{CageModel, CagedBearing};
-use whirl::model::{ForcingFunction, Model, RollerBearing};
+use whirl::model::ForcingFunction;
 
-/// The reference rotor's first roller bearing: 8 rollers, 20 um clearance, contact damping
-/// 200 N s/m per roller, no tilt or waviness.
-fn reference_bearing() -> RollerBearing {
-    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
-    model.roller_bearings[0].clone()
-}
+mod common;
+use common::reference_bearing;
 
 /// The clearance of the reference bearing, m (constant in speed).
 const CLEARANCE: f64 = 20e-6;

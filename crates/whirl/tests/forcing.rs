@@ -16,9 +16,8 @@ use whirl::time::{
     Method, SimulationOptions, STABLE_FRACTION,
 };
 
-fn reference() -> Model {
-    Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap()
-}
+mod common;
+use common::reference_rotor;
 
 /// A law with a speed trend in both coefficient and exponent.
 fn trending_law() -> ForcingFunction {
@@ -31,7 +30,7 @@ fn trending_law() -> ForcingFunction {
 }
 
 fn bearing_with(law: ForcingFunction, clearance: Clearance) -> RollerBearing {
-    let mut b = reference().roller_bearings[0].clone();
+    let mut b = reference_rotor().roller_bearings[0].clone();
     b.forcing_function = Some(law);
     b.clearance = clearance;
     b
@@ -121,7 +120,7 @@ fn at_the_centre_with_zero_clearance_the_tangent_is_the_radial_slope() {
 
 #[test]
 fn a_bearing_without_a_law_names_itself_and_the_fix() {
-    let model = reference();
+    let model = reference_rotor();
     let e = match forcing_bearings(&model, &Some) {
         Ok(_) => panic!("a bearing without a forcing function was accepted"),
         Err(e) => e.to_string(),
@@ -208,7 +207,7 @@ const CHECK_SETTLE: f64 = 2.0;
 
 #[test]
 fn a_fitted_law_reproduces_the_hertz_1x_response() {
-    let mut model = reference();
+    let mut model = reference_rotor();
     let speeds: Vec<f64> = [100.0, 200.0, 300.0, 400.0, 500.0]
         .iter()
         .map(|hz| 2.0 * PI * hz)

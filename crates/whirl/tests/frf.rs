@@ -10,6 +10,9 @@ use whirl::modal::critical_speed_map;
 use whirl::model::Model;
 use whirl::response::{frf, unbalance_response, FrfKind};
 
+mod common;
+use common::reference_rotor;
+
 const E: f64 = 2.1e11;
 const RHO: f64 = 7800.0;
 const L: f64 = 1.0;
@@ -108,7 +111,7 @@ fn receptance_matches_modal_superposition_of_a_pinned_beam() {
 fn frf_reproduces_the_unbalance_response_at_the_same_speed_and_force() {
     // The unbalance m e at node 10 is the rotating force m e W^2 (1, -i) on (ux, uy): by
     // superposition its response is m e W^2 (H_o,ux - i H_o,uy) at frequency W = speed.
-    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let model = reference_rotor();
     let system = assemble(&model, Bearings::Linearised);
     let me = model.unbalances[0].mass_radius;
     let node = model.unbalances[0].station.node;

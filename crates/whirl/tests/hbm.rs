@@ -7,8 +7,6 @@ use std::ops::ControlFlow;
 use std::time::Instant;
 
 use faer::Mat;
-use whirl::fe::SystemMatrices;
-use whirl::force::CubicSpring;
 use whirl::hbm::{
     continuation, resume, BifurcationKind, Branch, BranchEnd, ContinuationOptions, HarmonicBalance,
     HbOptions,
@@ -16,42 +14,35 @@ use whirl::hbm::{
 use whirl::system::{SpeedProfile, System};
 use whirl::time::{runge_kutta, MarchOptions, RkTolerances};
 
-const MASS: f64 = 1.0;
-const DAMPING: f64 = 0.1;
-const STIFFNESS: f64 = 1.0;
-const CUBIC: f64 = 1.0;
-const FORCE: f64 = 0.3;
+mod common;
+use common::Duffing;
+
+/// m = 1, c = 0.1, k = 1, k3 = 1, F = 0.3: a hardening peak that bends over and jumps.
+const DUFFING: Duffing = Duffing {
+    mass: 1.0,
+    damping: 0.1,
+    stiffness: 1.0,
+    cubic: 1.0,
+    force: 0.3,
+    reach: 5.0,
+};
 /// The sweep: below the linear resonance to well past the jump-down of the hardening peak.
 const FROM: f64 = 0.5;
 const TO: f64 = 3.0;
-
-/// The Duffing oscillator, unforced.
-fn duffing() -> System {
-    let one = |v: f64| Mat::from_fn(1, 1, |_, _| v);
-    System {
-        nonlinear: vec![Box::new(CubicSpring::new(0, 0.0, CUBIC, 5.0))],
-        ..System::unloaded(SystemMatrices {
-            mass: one(MASS),
-            stiffness: one(STIFFNESS),
-            damping: one(DAMPING),
-            gyroscopic: one(0.0),
-        })
-    }
-}
 
 /// The Duffing oscillator forced for time marching, which has no fixed-amplitude force: the
 /// unbalance force Re(f w^2 e^{i w t}) is F cos(w t) at this one speed.
 fn duffing_time_problem(frequency: f64) -> System {
     System {
-        unbalance_re: vec![FORCE / (frequency * frequency)],
-        ..duffing()
+        unbalance_re: vec![DUFFING.force / (frequency * frequency)],
+        ..DUFFING.system()
     }
 }
 
 fn duffing_hb(harmonics: usize) -> HarmonicBalance {
     let problem = System {
-        harmonic_re: vec![FORCE],
-        ..duffing()
+        harmonic_re: vec![DUFFING.force],
+        ..DUFFING.system()
     };
     HarmonicBalance::new(problem, HbOptions::new(harmonics)).unwrap()
 }
@@ -76,39 +67,6 @@ fn first_harmonic(coefficients: &[f64]) -> f64 {
     coefficients[1].hypot(coefficients[2])
 }
 
-/// The one-harmonic relation [(k - m w^2 + 3/4 k3 A^2)^2 + (c w)^2] A^2 - F^2, over F^2.
-fn closed_form_defect(frequency: f64, amplitude: f64) -> f64 {
-    let stiffness = STIFFNESS - MASS * frequency * frequency + 0.75 * CUBIC * amplitude.powi(2);
-    let damping = DAMPING * frequency;
-    ((stiffness * stiffness + damping * damping) * amplitude * amplitude - FORCE * FORCE)
-        / (FORCE * FORCE)
-}
-
-/// Folds of the one-harmonic relation: with u = A^2, a = k - m w^2, b = 3/4 k3, the curve
-/// g(u, w) = ((a + b u)^2 + (c w)^2) u - F^2 = 0 turns where dg/du = 0. Newton on both from
-/// a nearby start gives them to round-off.
-fn closed_form_fold(mut u: f64, mut w: f64) -> f64 {
-    let b = 0.75 * CUBIC;
-    for _ in 0..50 {
-        let a = STIFFNESS - MASS * w * w;
-        let da = -2.0 * MASS * w;
-        let cw2 = (DAMPING * w).powi(2);
-        let g = ((a + b * u).powi(2) + cw2) * u - FORCE * FORCE;
-        let gu = (a + b * u).powi(2) + cw2 + 2.0 * b * u * (a + b * u);
-        let gw = (2.0 * (a + b * u) * da + 2.0 * DAMPING * DAMPING * w) * u;
-        let guu = 4.0 * b * (a + b * u) + 2.0 * b * (a + b * u) + 2.0 * b * b * u;
-        let guw = 2.0 * (a + b * u) * da + 2.0 * DAMPING * DAMPING * w + 2.0 * b * u * da;
-        let det = gu * guw - gw * guu;
-        let (du, dw) = ((g * guw - gw * gu) / det, (gu * gu - guu * g) / det);
-        u -= du;
-        w -= dw;
-        if du.abs() + dw.abs() < 1e-15 {
-            break;
-        }
-    }
-    w
-}
-
 #[test]
 fn one_harmonic_matches_the_closed_form_along_the_overhang() {
     let branch = branch(1);
@@ -116,7 +74,11 @@ fn one_harmonic_matches_the_closed_form_along_the_overhang() {
     let mut worst = 0.0f64;
     for p in &branch.points {
         let s = &p.solution;
-        worst = worst.max(closed_form_defect(s.frequency, first_harmonic(&s.coefficients)).abs());
+        worst = worst.max(
+            DUFFING
+                .defect(s.frequency, first_harmonic(&s.coefficients))
+                .abs(),
+        );
     }
     let overhang = branch
         .points
@@ -136,7 +98,7 @@ fn both_folds_are_located_at_the_closed_form_frequencies() {
     assert_eq!(branch.folds.len(), 2, "{:?}", branch.folds);
     for fold in &branch.folds {
         let p = &branch.points[fold.after].solution;
-        let exact = closed_form_fold(first_harmonic(&p.coefficients).powi(2), p.frequency);
+        let exact = DUFFING.fold(first_harmonic(&p.coefficients).powi(2), p.frequency);
         let error = (fold.frequency - exact).abs() / exact;
         eprintln!(
             "fold at {:.10} rad/s, closed form {exact:.10}, relative error {error:e}",
@@ -295,7 +257,7 @@ fn a_branch_resumes_from_a_saved_point_on_the_middle_branch() {
     assert_eq!(resumed.folds.len(), 1);
     let fold = resumed.folds[0];
     let before = &resumed.points[fold.after].solution;
-    let exact = closed_form_fold(
+    let exact = DUFFING.fold(
         first_harmonic(&before.coefficients).powi(2),
         before.frequency,
     );
@@ -309,7 +271,12 @@ fn a_branch_resumes_from_a_saved_point_on_the_middle_branch() {
     assert!(error < 1e-9);
     for p in &resumed.points {
         let s = &p.solution;
-        assert!(closed_form_defect(s.frequency, first_harmonic(&s.coefficients)).abs() < 1e-8);
+        assert!(
+            DUFFING
+                .defect(s.frequency, first_harmonic(&s.coefficients))
+                .abs()
+                < 1e-8
+        );
     }
 }
 
@@ -319,8 +286,8 @@ fn linear_rotor_matches_the_unbalance_response() {
     // must reproduce the complex unbalance response, gyroscopic and damping terms included,
     // and leave the higher harmonics at zero.
     use faer::c64;
-    use whirl::{fe, model::Model};
-    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    use whirl::fe;
+    let model = common::reference_rotor();
     let system = fe::assemble(&model, fe::Bearings::Linearised);
     let n = system.dofs();
     let unbalance = fe::unbalance_force(&model, n);

@@ -9,15 +9,12 @@
 
 use std::f64::consts::TAU;
 
-use faer::Mat;
-use whirl::fe::SystemMatrices;
 use whirl::force::{Kinematics, NonlinearForce};
 use whirl::hbm::{continuation, BifurcationKind, ContinuationOptions, HarmonicBalance, HbOptions};
 use whirl::system::System;
 
-fn diagonal(n: usize, v: f64) -> Mat<f64> {
-    Mat::from_fn(n, n, |i, j| if i == j { v } else { 0.0 })
-}
+mod common;
+use common::{Jeffcott, Oscillator};
 
 /// Internal damping c_i acts on the velocity relative to the spinning shaft: in the fixed
 /// frame F = -c_i (v - w J q), J the quarter turn, (F_x, F_y) = -c_i (x' + w y, y' - w x).
@@ -62,22 +59,18 @@ const INTERNAL: f64 = 0.04;
 
 #[test]
 fn internal_damping_loses_stability_by_neimark_sacker_at_the_threshold_speed() {
+    let rotor = Jeffcott {
+        mass: 1.0,
+        stiffness: 1.0,
+        damping: EXTERNAL,
+        unbalance: 0.01,
+    };
     let problem = System {
-        matrices: SystemMatrices {
-            mass: diagonal(2, 1.0),
-            stiffness: diagonal(2, 1.0),
-            damping: diagonal(2, EXTERNAL),
-            gyroscopic: diagonal(2, 0.0),
-        },
-        constant_force: vec![0.0; 2],
-        unbalance_re: vec![0.01, 0.0],
-        unbalance_im: vec![0.0, -0.01],
-        harmonic_re: vec![0.0; 2],
-        harmonic_im: vec![0.0; 2],
         nonlinear: vec![Box::new(InternalDamping {
             dofs: [0, 1],
             coefficient: INTERNAL,
         })],
+        ..rotor.system()
     };
     let mut hb = HarmonicBalance::new(problem, HbOptions::new(3)).unwrap();
     let guess = vec![0.0; hb.unknowns()];
@@ -203,22 +196,18 @@ fn period_doubling_boundary(mut lo: f64, mut hi: f64) -> f64 {
 
 #[test]
 fn mathieu_tongue_is_bounded_by_period_doublings_where_the_monodromy_matrix_says() {
+    let oscillator = Oscillator {
+        mass: 1.0,
+        stiffness: 1.0,
+        damping: MATHIEU_DAMPING,
+    };
     let problem = System {
-        matrices: SystemMatrices {
-            mass: diagonal(1, 1.0),
-            stiffness: diagonal(1, 1.0),
-            damping: diagonal(1, MATHIEU_DAMPING),
-            gyroscopic: diagonal(1, 0.0),
-        },
         constant_force: vec![1.0],
-        unbalance_re: vec![0.0],
-        unbalance_im: vec![0.0],
-        harmonic_re: vec![0.0],
-        harmonic_im: vec![0.0],
         nonlinear: vec![Box::new(Parametric {
             dofs: [0],
             amplitude: MATHIEU_DEPTH,
         })],
+        ..oscillator.system()
     };
     let mut options = HbOptions::new(8);
     options.samples = 64;

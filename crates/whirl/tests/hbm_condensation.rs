@@ -6,13 +6,13 @@
 use std::f64::consts::TAU;
 use std::time::Instant;
 
-use faer::Mat;
-use whirl::force::{CubicSpring, Kinematics, NonlinearForce};
+use whirl::fe;
+use whirl::force::{CubicSpring, NonlinearForce};
 use whirl::hbm::{continuation, CondensedBalance, ContinuationOptions, HarmonicBalance, HbOptions};
-
-use whirl::fe::SystemMatrices;
 use whirl::system::System;
-use whirl::{fe, model::Model};
+
+mod common;
+use common::{Jeffcott, RingRotor};
 
 const HARMONICS: usize = 3;
 
@@ -20,7 +20,7 @@ const HARMONICS: usize = 3;
 /// directions of bearing A (node 0) and bearing B (node 20): four nonlinear coordinates out
 /// of 84. `cubic` k3 in N/m^3.
 fn reference_rotor(cubic: f64) -> System {
-    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let model = common::reference_rotor();
     let system = fe::assemble(&model, fe::Bearings::Linearised);
     let n = system.dofs();
     let unbalance = fe::unbalance_force(&model, n);
@@ -198,163 +198,19 @@ fn the_condensed_frequency_derivative_is_exact() {
     assert!(worst < 1e-6 * size, "worst {worst:e} of {size:e}");
 }
 
-/// A rigid ring of clearance gamma around an isotropic rotor, contact linear in the
-/// penetration: F = -k_c (r - gamma)_+ e_r on (x, y).
-struct ClearanceRing {
-    dofs: [usize; 2],
-    stiffness: f64,
-    clearance: f64,
-}
-
-impl NonlinearForce for ClearanceRing {
-    fn name(&self) -> String {
-        "clearance ring".into()
-    }
-    fn dofs(&self) -> &[usize] {
-        &self.dofs
-    }
-    fn force(&mut self, _: &Kinematics, q: &[f64], _: &[f64], out: &mut [f64]) {
-        let r = q[0].hypot(q[1]);
-        let factor = if r > self.clearance {
-            self.stiffness * (1.0 - self.clearance / r)
-        } else {
-            0.0
-        };
-        out[0] = -factor * q[0];
-        out[1] = -factor * q[1];
-    }
-    fn jacobian(
-        &mut self,
-        _: &Kinematics,
-        q: &[f64],
-        _: &[f64],
-        dfdq: &mut [f64],
-        dfdv: &mut [f64],
-    ) {
-        // d/dq of -k_c (1 - gamma / r) q = -k_c ((1 - gamma / r) I + gamma q q^T / r^3).
-        let r = q[0].hypot(q[1]);
-        dfdv.fill(0.0);
-        if r <= self.clearance {
-            dfdq.fill(0.0);
-            return;
-        }
-        let (k, g3) = (self.stiffness, self.clearance / r.powi(3));
-        let diagonal = 1.0 - self.clearance / r;
-        dfdq.copy_from_slice(&[
-            -k * (diagonal + g3 * q[0] * q[0]),
-            -k * g3 * q[0] * q[1],
-            -k * g3 * q[0] * q[1],
-            -k * (diagonal + g3 * q[1] * q[1]),
-        ]);
-    }
-    fn stiffness_bound(&self) -> Vec<f64> {
-        vec![self.stiffness, 0.0, 0.0, self.stiffness]
-    }
-}
-
 /// Jeffcott rotor in the ring: m = 1, k = 1, damping ratio 2.5 %, contact 10 times stiffer
 /// than the shaft, unbalance m e = 0.2 whose free resonance amplitude 4 is far beyond the
 /// clearance 1, so the orbit hits the ring and the resonance bends over (multi-valued).
-const RING_MASS: f64 = 1.0;
-const RING_SHAFT: f64 = 1.0;
-const RING_DAMPING: f64 = 0.05;
-const RING_CONTACT: f64 = 10.0;
-const RING_CLEARANCE: f64 = 1.0;
-const RING_UNBALANCE: f64 = 0.2;
-
-fn ring_rotor(unbalance: f64) -> System {
-    let diagonal = |v: f64| Mat::from_fn(2, 2, |i, j| if i == j { v } else { 0.0 });
-    System {
-        // m e w^2 (cos w t, sin w t) = Re(m e w^2 (1, -i) e^{i w t}).
-        unbalance_re: vec![unbalance, 0.0],
-        unbalance_im: vec![0.0, -unbalance],
-        nonlinear: vec![Box::new(ClearanceRing {
-            dofs: [0, 1],
-            stiffness: RING_CONTACT,
-            clearance: RING_CLEARANCE,
-        })],
-        ..System::unloaded(SystemMatrices {
-            mass: diagonal(RING_MASS),
-            stiffness: diagonal(RING_SHAFT),
-            damping: diagonal(RING_DAMPING),
-            gyroscopic: diagonal(0.0),
-        })
-    }
-}
-
-/// Defect of the closed form m e w^2 = |k_eff - m w^2 + i c w| r, with
-/// k_eff = k + k_c (1 - gamma / r) in contact (r > gamma) and k out of it, relative to the
-/// size of the terms that cancel in it (as the solver's residual is).
-fn ring_closed_form_defect(w: f64, r: f64) -> f64 {
-    let contact = if r > RING_CLEARANCE {
-        RING_CONTACT * (1.0 - RING_CLEARANCE / r)
-    } else {
-        0.0
-    };
-    let real = RING_SHAFT + contact - RING_MASS * w * w;
-    let forcing = RING_UNBALANCE * w * w;
-    let terms = (RING_SHAFT + contact + RING_MASS * w * w + RING_DAMPING * w) * r + forcing;
-    (real.hypot(RING_DAMPING * w) * r - forcing) / terms
-}
-
-/// The closed form squared is a quadratic in u = w^2 for each radius r > gamma:
-/// (m^2 r^2 - (m e)^2) u^2 + (c^2 - 2 k_eff m) r^2 u + k_eff^2 r^2 = 0. Its coefficients
-/// (a, b, c).
-fn ring_quadratic(r: f64, unbalance: f64) -> (f64, f64, f64) {
-    let k_eff = RING_SHAFT + RING_CONTACT * (1.0 - RING_CLEARANCE / r);
-    (
-        RING_MASS * RING_MASS * r * r - unbalance * unbalance,
-        (RING_DAMPING * RING_DAMPING - 2.0 * k_eff * RING_MASS) * r * r,
-        k_eff * k_eff * r * r,
-    )
-}
-
-/// The frequency of the contact branch on its upper side at radius r (the larger root).
-fn ring_upper_frequency(r: f64, unbalance: f64) -> f64 {
-    let (a, b, c) = ring_quadratic(r, unbalance);
-    ((-b + (b * b - 4.0 * a * c).sqrt()) / (2.0 * a)).sqrt()
-}
-
-/// The fold of the contact branch: the largest w on it. Radii with a solution end where
-/// the discriminant vanishes (found by bisection); below that the largest w of the upper
-/// root is bracketed by a scan and refined by golden section.
-fn ring_closed_form_fold(unbalance: f64) -> f64 {
-    let discriminant = |r: f64| {
-        let (a, b, c) = ring_quadratic(r, unbalance);
-        b * b - 4.0 * a * c
-    };
-    let (mut lo, mut hi) = (2.0 * RING_CLEARANCE, 100.0 * RING_CLEARANCE);
-    assert!(discriminant(lo) > 0.0 && discriminant(hi) < 0.0);
-    while hi - lo > 1e-14 * hi {
-        let mid = 0.5 * (lo + hi);
-        if discriminant(mid) > 0.0 {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    let (from, width) = (RING_CLEARANCE, (lo - RING_CLEARANCE) / 1000.0);
-    let best = (1..=1000)
-        .map(|i| from + width * i as f64)
-        .fold(lo, |best, r| {
-            if ring_upper_frequency(r, unbalance) > ring_upper_frequency(best, unbalance) {
-                r
-            } else {
-                best
-            }
-        });
-    let (mut a, mut b) = (best - width, (best + width).min(lo));
-    let golden = (5f64.sqrt() - 1.0) / 2.0;
-    while b - a > 1e-10 * best {
-        let (x1, x2) = (b - golden * (b - a), a + golden * (b - a));
-        if ring_upper_frequency(x1, unbalance) > ring_upper_frequency(x2, unbalance) {
-            b = x2;
-        } else {
-            a = x1;
-        }
-    }
-    ring_upper_frequency(0.5 * (a + b), unbalance)
-}
+const RING: RingRotor = RingRotor {
+    rotor: Jeffcott {
+        mass: 1.0,
+        stiffness: 1.0,
+        damping: 0.05,
+        unbalance: 0.2,
+    },
+    contact: 10.0,
+    clearance: 1.0,
+};
 
 /// Radius of the first harmonic of x, and the largest departure from a forward circular
 /// orbit relative to it: y = r sin(w t - phi) has y_cos = -x_sin and y_sin = x_cos, and the
@@ -376,7 +232,7 @@ fn clearance_ring_reproduces_the_exact_circular_orbit_through_the_overhang() {
     let options = HbOptions::new(HARMONICS);
     // Every coordinate carries the contact force: the condensation keeps both and
     // condenses nothing, and continuation runs on the condensed problem.
-    let mut hb = CondensedBalance::new(ring_rotor(RING_UNBALANCE), options).unwrap();
+    let mut hb = CondensedBalance::new(RING.system(), options).unwrap();
     let guess = vec![0.0; hb.unknowns()];
     let path = ContinuationOptions {
         stability: false,
@@ -392,7 +248,7 @@ fn clearance_ring_reproduces_the_exact_circular_orbit_through_the_overhang() {
     let mut check = |x: &[f64], w: f64| {
         let (r, orbit) = ring_orbit(x);
         worst_orbit = worst_orbit.max(orbit);
-        worst_closed = worst_closed.max(ring_closed_form_defect(w, r).abs());
+        worst_closed = worst_closed.max(RING.defect(w, r).abs());
         r
     };
     for p in &branch.points {
@@ -414,7 +270,7 @@ fn clearance_ring_reproduces_the_exact_circular_orbit_through_the_overhang() {
         .filter(|p| p.frequency_slope < 0.0)
         .map(|p| p.solution.frequency)
         .fold(f64::INFINITY, f64::min);
-    let fold = ring_closed_form_fold(RING_UNBALANCE);
+    let fold = RING.fold();
     let fold_error = (branch.folds[0].frequency - fold).abs() / fold;
     eprintln!("clearance ring: closed-form fold {fold:.12} rad/s, located to {fold_error:.2e}");
     eprintln!(
@@ -430,20 +286,15 @@ fn clearance_ring_reproduces_the_exact_circular_orbit_through_the_overhang() {
     // and the free one, all three on the path.
     assert_eq!(branch.folds.len(), 2);
     assert_eq!(crossings.len(), 3);
-    assert!(crossings[..2].iter().all(|&r| r > RING_CLEARANCE));
-    assert!(crossings[2] < RING_CLEARANCE && free_radius < RING_CLEARANCE);
-    assert!(widest > 2.0 * RING_CLEARANCE);
+    assert!(crossings[..2].iter().all(|&r| r > RING.clearance));
+    assert!(crossings[2] < RING.clearance && free_radius < RING.clearance);
+    assert!(widest > 2.0 * RING.clearance);
     assert!(matches!(branch.end, whirl::hbm::BranchEnd::Reached));
     // The corner, where the free orbit's radius m e w^2 / |k - m w^2 + i c w| equals
     // gamma: with u = w^2, (m^2 - (m e)^2 / gamma^2) u^2 + (c^2 - 2 k m) u + k^2 = 0 (larger
     // root). The tangent jumps there, yet the sign change of its frequency component is
     // bracketed down to the corner itself by the regula falsi (measured 1.7e-12).
-    let (a, b, c) = (
-        RING_MASS * RING_MASS - (RING_UNBALANCE / RING_CLEARANCE).powi(2),
-        RING_DAMPING * RING_DAMPING - 2.0 * RING_SHAFT * RING_MASS,
-        RING_SHAFT * RING_SHAFT,
-    );
-    let corner = ((-b + (b * b - 4.0 * a * c).sqrt()) / (2.0 * a)).sqrt();
+    let corner = RING.corner();
     let corner_error = (branch.folds[1].frequency - corner).abs() / corner;
     eprintln!("clearance ring: corner {corner:.6} rad/s, located to {corner_error:.1e}");
     assert!(
@@ -470,8 +321,14 @@ fn clearance_ring_reproduces_the_exact_circular_orbit_through_the_overhang() {
 /// grow with the orbit and the fold is reached and located.
 #[test]
 fn clearance_ring_fold_is_reached_from_a_small_start_amplitude() {
-    let unbalance = 0.15;
-    let mut hb = CondensedBalance::new(ring_rotor(unbalance), HbOptions::new(HARMONICS)).unwrap();
+    let ring = RingRotor {
+        rotor: Jeffcott {
+            unbalance: 0.15,
+            ..RING.rotor
+        },
+        ..RING
+    };
+    let mut hb = CondensedBalance::new(ring.system(), HbOptions::new(HARMONICS)).unwrap();
     let guess = vec![0.0; hb.unknowns()];
     let branch = continuation(&mut hb, 0.2, 5.0, &guess, &ContinuationOptions::default()).unwrap();
     let start = ring_orbit(&branch.points[0].solution.coefficients).0;
@@ -480,7 +337,7 @@ fn clearance_ring_fold_is_reached_from_a_small_start_amplitude() {
         .iter()
         .map(|p| ring_orbit(&p.solution.coefficients).0)
         .fold(0.0f64, f64::max);
-    let fold = ring_closed_form_fold(unbalance);
+    let fold = ring.fold();
     eprintln!(
         "clearance ring, m e = 0.15: {} points, start radius {start:.2e}, largest {widest:.3}, \
          folds {:?} (closed form {fold:.10}), jumps {:?}, {:?}",

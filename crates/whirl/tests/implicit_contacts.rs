@@ -12,7 +12,7 @@
 use std::f64::consts::PI;
 
 use whirl::bearing::ContactLaw;
-use whirl::fe::{assemble, dof, gravity_force, Bearings, Direction, SystemMatrices, DOFS_PER_NODE};
+use whirl::fe::{assemble, dof, gravity_force, Bearings, Direction, DOFS_PER_NODE};
 use whirl::force::{Kinematics, NonlinearForce};
 use whirl::model::{Clearance, Model};
 use whirl::post::order_component;
@@ -23,8 +23,11 @@ use whirl::time::{
 };
 use whirl::Result;
 
+mod common;
+use common::{reference_rotor, Oscillator};
+
 fn reference(clearance: f64) -> Model {
-    let mut model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let mut model = reference_rotor();
     for b in &mut model.roller_bearings {
         b.clearance = Clearance::Constant(clearance);
     }
@@ -145,19 +148,18 @@ impl NonlinearForce for Breaking {
 fn a_step_without_a_root_at_any_size_stops_with_the_time_and_the_sub_step() {
     // Mass 1 kg on the breaking spring, 1e-4 s steps: the steps up to 0.01 s converge,
     // the one ending there fails at every sub-step down to 1e-4 / 2^12.
-    let one = |x: f64| faer::Mat::from_fn(1, 1, |_, _| x);
+    let mass = Oscillator {
+        mass: 1.0,
+        stiffness: 0.0,
+        damping: 0.0,
+    };
     let mut problem = System {
         nonlinear: vec![Box::new(Breaking {
             dof: [0],
             stiffness: 1e4,
             from: 0.01,
         })],
-        ..System::unloaded(SystemMatrices {
-            mass: one(1.0),
-            stiffness: one(0.0),
-            damping: one(0.0),
-            gyroscopic: one(0.0),
-        })
+        ..mass.system()
     };
     let options = MarchOptions {
         speed: SpeedProfile::Constant(0.0),

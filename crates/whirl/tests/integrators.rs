@@ -9,7 +9,6 @@ use whirl::bearing::ContactLaw;
 use whirl::fe::SystemMatrices;
 use whirl::fe::{assemble, Bearings};
 use whirl::force::CubicSpring;
-use whirl::model::Model;
 use whirl::progress::Progress;
 use whirl::response::unbalance_response;
 use whirl::system::{SpeedProfile, System};
@@ -17,6 +16,9 @@ use whirl::time::{
     central_difference, newmark, runge_kutta, simulate, stable_step, Initial, MarchOptions, Method,
     NewmarkScheme, RkTolerances, RunStatus, SimulationOptions,
 };
+
+mod common;
+use common::Oscillator;
 
 const M: f64 = 2.0;
 const WN: f64 = 2.0 * PI * 10.0;
@@ -31,22 +33,14 @@ fn mat1(x: f64) -> Mat<f64> {
 /// m x'' + c x' + k x = F0 cos(W t), written as an "unbalance" F0 / W^2 turning at W.
 fn oscillator() -> System {
     System {
-        constant_force: vec![0.0],
         unbalance_re: vec![F0 / (W * W)],
-        unbalance_im: vec![0.0],
-        ..System::unloaded(SystemMatrices {
-            mass: mat1(M),
-            stiffness: mat1(M * WN * WN),
-            damping: mat1(2.0 * ZETA * M * WN),
-            gyroscopic: mat1(0.0),
-        })
+        ..Oscillator::tuned(M, WN, ZETA).system()
     }
 }
 
 /// Steady state X = F0 / (k - m W^2 + i c W), as (amplitude, phase).
 fn closed_form() -> (f64, f64) {
-    let x = num_complex::Complex64::new(F0, 0.0)
-        / num_complex::Complex64::new(M * (WN * WN - W * W), 2.0 * ZETA * M * WN * W);
+    let x = Oscillator::tuned(M, WN, ZETA).steady_state(F0, W);
     (x.norm(), x.arg())
 }
 
@@ -148,7 +142,7 @@ fn central_difference_and_newmark_are_second_order() {
 
 #[test]
 fn undamped_free_vibration_conserves_energy() {
-    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let model = common::reference_rotor();
     let mut sys = assemble(&model, Bearings::Linearised);
     sys.damping = Mat::zeros(84, 84);
     let cb = whirl::reduce::CraigBampton::new(&sys, &whirl::reduce::boundary_dofs(&model, &[]), 12)
@@ -210,7 +204,7 @@ fn undamped_free_vibration_conserves_energy() {
 }
 
 fn reference_simulation(method: Method, step: f64, reduction: Option<usize>) -> f64 {
-    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let model = common::reference_rotor();
     let options = SimulationOptions {
         speed: SpeedProfile::Constant(2.0 * PI * 100.0),
         duration: 2.0,
@@ -234,7 +228,7 @@ fn reference_simulation(method: Method, step: f64, reduction: Option<usize>) -> 
 
 #[test]
 fn settled_unbalance_response_matches_the_frequency_domain() {
-    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let model = common::reference_rotor();
     let sys = assemble(&model, Bearings::Linearised);
     let linear = unbalance_response(&model, &sys, &[2.0 * PI * 100.0], &[10]).unwrap();
     let expected = linear.nodes[0].ux_amplitude[0];
@@ -260,7 +254,7 @@ fn settled_unbalance_response_matches_the_frequency_domain() {
 
 #[test]
 fn an_unstable_central_difference_step_is_refused() {
-    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let model = common::reference_rotor();
     let options = SimulationOptions {
         speed: SpeedProfile::Constant(2.0 * PI * 50.0),
         duration: 0.01,
@@ -285,7 +279,7 @@ fn an_unstable_central_difference_step_is_refused() {
 
 #[test]
 fn stable_step_is_the_limit_the_simulation_reports_and_progress_is_told() {
-    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let model = common::reference_rotor();
     let reports = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
     let seen = reports.clone();
     for reduction in [None, Some(12)] {
@@ -330,7 +324,7 @@ fn stable_step_is_the_limit_the_simulation_reports_and_progress_is_told() {
 
 #[test]
 fn a_progress_that_says_stop_ends_the_run_there() {
-    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let model = common::reference_rotor();
     let options = SimulationOptions {
         duration: 0.02,
         reduction: Some(12),

@@ -15,6 +15,9 @@ use whirl::time::{
     central_difference, central_difference_constrained, central_difference_limit, MarchOptions,
 };
 
+mod common;
+use common::reference_rotor;
+
 const SPEED_HZ: f64 = 100.0;
 const DURATION: f64 = 0.4;
 const SETTLE: f64 = 0.2;
@@ -77,7 +80,7 @@ fn run(
 
 #[test]
 fn lagrange_contacts_never_penetrate_and_never_pull() {
-    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let model = reference_rotor();
     let (mut p, cb) = problem(&model, None);
     let map = |d: usize| cb.reduced_index(d);
     let coordinates: Vec<usize> = model
@@ -183,7 +186,7 @@ fn crowded_bearings_settle_at_the_default_step() {
 
 #[test]
 fn tilt_and_skew_are_refused_by_rigid_rollers() {
-    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let model = reference_rotor();
     for (field, edit) in [
         ("roller_tilt", "roller_tilt = true\nslices = 5\n"),
         ("skew_angle", "skew_angle = 1.0\nslices = 5\n"),

@@ -5,7 +5,6 @@
 //! the DOF that left the bound.
 
 use std::f64::consts::PI;
-use std::path::Path;
 
 use whirl::bearing::{contact_frequencies, ContactLaw};
 use whirl::fe::{assemble, gravity_force, Bearings, DOFS_PER_NODE};
@@ -17,11 +16,11 @@ use whirl::time::{
     SimulationResult,
 };
 
+mod common;
+use common::{example_path, reference_rotor};
+
 fn example(name: &str) -> Model {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(name);
-    Model::from_file(&path).unwrap()
+    Model::from_file(&example_path(name)).unwrap()
 }
 
 /// Spin speed of the spectrum checks, Hz. At 20 Hz the weight (171 N per bearing) is 27
@@ -175,7 +174,7 @@ fn mean_lift(r: &SimulationResult, record: &RollerRecord) -> f64 {
 
 #[test]
 fn hertz_rollers_penetrate_by_micrometres_and_carry_the_weight() {
-    let model = example("reference_rotor.toml");
+    let model = reference_rotor();
     let o = options(&model, 1.0, 0.5, vec![10]);
     let r = simulate(&model, &o).unwrap();
     assert_eq!(r.rollers.len(), 2);
@@ -209,7 +208,7 @@ fn hertz_rollers_penetrate_by_micrometres_and_carry_the_weight() {
 
 #[test]
 fn lagrange_rollers_never_penetrate_and_carry_the_weight() {
-    let model = example("reference_rotor.toml");
+    let model = reference_rotor();
     let mut o = options(&model, 1.0, 0.5, vec![10]);
     o.step = Some(0.9 * stable_step(&model, Some(MODES), ContactLaw::Lagrange).unwrap());
     o.contact = Some(ContactLaw::Lagrange);
@@ -250,7 +249,7 @@ fn lagrange_rollers_never_penetrate_and_carry_the_weight() {
 
 #[test]
 fn a_thinned_recording_is_the_full_one_thinned() {
-    let model = example("reference_rotor.toml");
+    let model = reference_rotor();
     let o = options(&model, 0.1, 0.05, vec![10]);
     let full = simulate(&model, &o).unwrap();
     let thin = simulate(
@@ -278,7 +277,7 @@ fn a_thinned_recording_is_the_full_one_thinned() {
 
 #[test]
 fn a_divergence_names_the_dof() {
-    let model = example("reference_rotor.toml");
+    let model = reference_rotor();
     // The disk sags 140 um under gravity: beyond a 1 um bound at once.
     let mut o = options(&model, 0.01, 0.0, vec![10]);
     o.divergence_bound = 1e-6;

@@ -7,6 +7,9 @@ use std::f64::consts::PI;
 use whirl::model::Model;
 use whirl::statics::{static_response, RollerSupport, StaticResult};
 
+mod common;
+use common::reference_rotor;
+
 const E: f64 = 2.1e11;
 const RHO: f64 = 7800.0;
 const NU: f64 = 0.3;
@@ -203,7 +206,7 @@ fn overhung_shaft_is_a_cantilever_on_an_elastic_root() {
 
 #[test]
 fn reference_rotor_hangs_in_its_roller_bearings() {
-    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let model = reference_rotor();
     let r = static_response(&model, RollerSupport::Hertz).unwrap();
     let total = r.total_reaction();
     println!(

@@ -1,25 +1,22 @@
 //! Study files: parameter edits by path, sweep expansion and validation messages.
 
-use std::path::PathBuf;
-
 use whirl::model::{Clearance, Model};
 use whirl::study::Study;
 
-fn reference_model() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/reference_rotor.toml")
-}
+mod common;
+use common::{example_path, reference_rotor_path};
 
 /// A study of the reference rotor whose body (after `model = ...`) is `body`.
 fn study(body: &str) -> whirl::Result<Study> {
     let text = format!(
         "model = {:?}\n{body}",
-        reference_model().display().to_string()
+        reference_rotor_path().display().to_string()
     );
     Study::from_toml_str(&text, std::path::Path::new("study.toml"))
 }
 
 fn base() -> Model {
-    Model::from_file(&reference_model()).unwrap()
+    Model::from_file(&reference_rotor_path()).unwrap()
 }
 
 fn error(body: &str) -> String {
@@ -135,8 +132,7 @@ fn a_bad_path_or_field_is_named_with_the_fix() {
 
 #[test]
 fn the_shipped_thesis_study_is_valid_and_shares_its_base_points() {
-    let path =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/thesis_chapter5_study.toml");
+    let path = example_path("thesis_chapter5_study.toml");
     let s = Study::from_file(&path).unwrap();
     assert_eq!(s.sweeps.len(), 11);
     // Figs. 5.1-5.6 share their points down to 14 distinct Hertz cascades (figs. 5.2 and

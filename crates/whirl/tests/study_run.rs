@@ -3,11 +3,14 @@
 //! is checked on its own, exactly.
 
 use std::cell::Cell;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use whirl::study::results::{analyse, run_points, CascadeMap, NsvSummary, PointResult, Source};
 use whirl::study::store::Store;
 use whirl::study::{Point, Study};
+
+mod common;
+use common::reference_rotor_path;
 
 /// Table 5.1 of the thesis in SI: delta_nsv(gamma) = P1 g^3 + P2 g^2 + P3 g + P4.
 const TABLE_5_1: [f64; 4] = [-3.125e8, 7.162e4, -1.956, 4.296e-5];
@@ -17,8 +20,7 @@ fn table_5_1(gamma: f64) -> f64 {
 }
 
 fn study() -> Study {
-    let model =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/reference_rotor.toml");
+    let model = reference_rotor_path();
     let text = format!(
         "model = {:?}\n\
          [[sweep]]\nname = \"clearance\"\nparameter = \"roller_bearing[*].clearance\"\n\

@@ -8,6 +8,9 @@ use whirl::fe::{assemble, Bearings, SystemMatrices};
 use whirl::modal::undamped_modes;
 use whirl::model::{circular_shear_factor, Model};
 
+mod common;
+use common::reference_rotor;
+
 const E: f64 = 2.1e11;
 const RHO: f64 = 7800.0;
 const NU: f64 = 0.3;
@@ -166,7 +169,7 @@ fn a_section_can_choose_its_own_theory_and_shear_factor() {
             .unwrap()
             .frequencies_hz
     };
-    let eb = f(&Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap());
+    let eb = f(&reference_rotor());
     let t = f(&model);
     assert!(t[2] < eb[2], "{t:?} vs {eb:?}");
 }

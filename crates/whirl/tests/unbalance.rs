@@ -7,48 +7,31 @@ use whirl::modal::Whirl;
 use whirl::model::Model;
 use whirl::response::unbalance_response;
 
-/// A one-mass rotor: a 10 kg disk on an isotropic spring-damper at node 0. The single
-/// 1 cm shaft element hangs free from it and weighs 1e-9 kg, so the disk's translation
-/// obeys m x'' + c x' + k x = m_u e Omega^2 cos(Omega t + phi) to about 1e-10.
-const ONE_MASS: &str = r#"
-[[material]]
-name = "steel"
-young_modulus = 2.11e11
-density = 1e-3
-[[shaft]]
-length = 0.01
-outer_diameter = 0.01
-material = "steel"
-elements = 1
-[[disk]]
-node = 0
-mass = 10
-polar_inertia = 0.05
-diametral_inertia = 0.025
-[[bearing]]
-node = 0
-kxx = 1e6
-kyy = 1e6
-cxx = 150
-cyy = 150
-[[unbalance]]
-node = 0
-mass_radius = 4e-4
-phase = 30
-"#;
+mod common;
+use common::{reference_rotor, Jeffcott};
+
+/// A one-mass rotor: a 10 kg disk on an isotropic spring-damper at node 0, its unbalance
+/// at 30 degrees. The single 1 cm shaft element hangs free from it and weighs 1e-9 kg, so
+/// the disk's translation obeys m x'' + c x' + k x = m_u e Omega^2 cos(Omega t + phi) to
+/// about 1e-10.
+const ONE_MASS: Jeffcott = Jeffcott {
+    mass: 10.0,
+    stiffness: 1e6,
+    damping: 150.0,
+    unbalance: 4e-4,
+};
+const PHASE_DEG: f64 = 30.0;
 
 #[test]
 fn one_mass_rotor_matches_the_closed_form() {
-    let model = Model::from_toml_str(ONE_MASS, None).unwrap();
+    let model = Model::from_toml_str(&ONE_MASS.model_file(PHASE_DEG), None).unwrap();
     let sys = assemble(&model, Bearings::Linearised);
     let speeds: Vec<f64> = (1..=200).map(|i| 2.0 * PI * i as f64).collect();
     let r = unbalance_response(&model, &sys, &speeds, &[0]).unwrap();
     let node = &r.nodes[0];
-    let (m, k, c, u, phi) = (10.0, 1e6, 150.0, 4e-4, 30f64.to_radians());
     for (i, &w) in speeds.iter().enumerate() {
         // X = u w^2 e^{i phi} / (k - m w^2 + i c w); Y = -i X (forward circular orbit).
-        let den = num_complex::Complex64::new(k - m * w * w, c * w);
-        let x = num_complex::Complex64::from_polar(u * w * w, phi) / den;
+        let x = ONE_MASS.response(w, PHASE_DEG.to_radians());
         let y = num_complex::Complex64::new(0.0, -1.0) * x;
         // The shaft element's 1e-9 kg is the only difference: 1e-6 is ample.
         assert!((node.ux_amplitude[i] - x.norm()).abs() < 1e-6 * x.norm());
@@ -68,9 +51,8 @@ fn one_mass_rotor_matches_the_closed_form() {
     }
     // One peak: with a force growing as w^2 the amplitude peaks above wn, at
     // w = wn / sqrt(1 - 2 zeta^2).
-    let wn = (k / m).sqrt();
-    let zeta = c / (2.0 * (k * m).sqrt());
-    let expected_hz = wn / (1.0 - 2.0 * zeta * zeta).sqrt() / (2.0 * PI);
+    let zeta = ONE_MASS.damping_ratio();
+    let expected_hz = ONE_MASS.peak_speed() / (2.0 * PI);
     assert_eq!(node.peaks.len(), 1);
     let p = &node.peaks[0];
     // Parabolic refinement on a 1 Hz grid around a peak of half-width ~0.6 Hz: 0.1 Hz.
@@ -90,7 +72,7 @@ fn one_mass_rotor_matches_the_closed_form() {
 
 #[test]
 fn reference_rotor_peaks_at_its_first_critical_speed() {
-    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let model = reference_rotor();
     let sys = assemble(&model, Bearings::Linearised);
     let speeds: Vec<f64> = (1..=800).map(|i| 2.0 * PI * i as f64 * 0.5).collect();
     let r = unbalance_response(&model, &sys, &speeds, &[10]).unwrap();
@@ -115,7 +97,7 @@ fn reference_rotor_peaks_at_its_first_critical_speed() {
 
 #[test]
 fn nodes_outside_the_shaft_are_refused() {
-    let model = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let model = reference_rotor();
     let sys = assemble(&model, Bearings::Linearised);
     let e = unbalance_response(&model, &sys, &[100.0], &[21]).unwrap_err();
     assert!(e.to_string().contains("node 21"), "{e}");

@@ -1,0 +1,38 @@
+//! The reference rotor of docs/theory.md section 9: a 1.3 m shaft in 20 elements, a 10 kg disk
+//! at node 10, roller bearings (8 rollers, 20 um clearance) at nodes 0 and 20. The model
+//! file is bundled with the library (`whirl::examples::REFERENCE_ROTOR`) and linked from
+//! the repository's `examples/` for the command line.
+
+use std::path::{Path, PathBuf};
+
+use whirl::model::{Model, RollerBearing};
+
+/// The validated reference rotor.
+pub fn reference_rotor() -> Model {
+    Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None)
+        .expect("the bundled reference rotor is valid")
+}
+
+/// The reference rotor's first roller bearing (bearing A, node 0): 8 rollers, 20 um
+/// clearance, contact damping 200 N s/m per roller, no tilt or waviness.
+pub fn reference_bearing() -> RollerBearing {
+    reference_rotor().roller_bearings[0].clone()
+}
+
+/// A file of the repository's `examples/` folder (the library's and the command line's
+/// crates are both two levels below the repository).
+pub fn example_path(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(name)
+}
+
+/// `examples/reference_rotor.toml`, the file the command line reads.
+pub fn reference_rotor_path() -> PathBuf {
+    example_path("reference_rotor.toml")
+}
+
+/// The text of `examples/reference_rotor.toml`, for edits that the command line then reads.
+pub fn reference_rotor_text() -> String {
+    std::fs::read_to_string(reference_rotor_path()).expect("examples/reference_rotor.toml")
+}
