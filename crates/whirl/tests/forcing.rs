@@ -182,7 +182,7 @@ fn one_x(model: &Model, forces: ForceBuilder<'_>, hz: f64, step: f64, node: usiz
     };
     let hooks = Hooks {
         forces: Some((Bearings::NonlinearApart, forces)),
-        until: None,
+        ..Hooks::default()
     };
     let r = simulate_with(model, &options, hooks)
         .unwrap()

@@ -312,7 +312,7 @@ fn on_saturating_supports(model: &Model, initial: Initial, limit: f64) -> Simula
         };
     let hooks = Hooks {
         forces: Some((Bearings::NonlinearApart, &forces)),
-        until: None,
+        ..Hooks::default()
     };
     simulate_with(model, &start_options(initial), hooks).unwrap()
 }

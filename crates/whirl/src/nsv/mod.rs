@@ -95,6 +95,7 @@ use crate::fe::{assemble_banded, Bearings};
 use crate::modal::{campbell, CampbellOptions};
 use crate::model::Model;
 use crate::progress::{tell, Progress};
+use crate::system::Linear;
 use checkpoint::Checkpoint;
 use classify::Context;
 
@@ -198,8 +199,9 @@ pub fn distributed_cascade(
 /// [`Error::Input`] for bad options; what the simulation reports for a model it cannot run.
 pub fn cascade_point(model: &Model, options: &CascadeOptions, speed: f64) -> Result<CascadePoint> {
     let resolved = options::resolve(model, options)?;
+    let linear = point::linear_system(model, options)?;
     let mut planners = point::Planners::new(options, &resolved)?;
-    point::compute(model, options, &resolved, speed, &mut planners)
+    point::compute(model, options, &resolved, &linear, speed, &mut planners)
 }
 
 fn run_cascade(
@@ -215,10 +217,12 @@ fn run_cascade(
         .map(|dir| Checkpoint::open(dir, model, options, &resolved))
         .transpose()?;
     let planners = point::Planners::new(options, &resolved)?;
+    let linear = point::linear_system(model, options)?;
     let mut run = Run {
         model,
         options,
         resolved: &resolved,
+        linear: &linear,
         store: store.as_ref(),
         planners: &planners,
         progress,
@@ -272,6 +276,8 @@ struct Run<'a> {
     model: &'a Model,
     options: &'a CascadeOptions,
     resolved: &'a Resolved,
+    /// The model's linear system, shared by every speed.
+    linear: &'a Linear,
     store: Option<&'a Checkpoint>,
     planners: &'a point::Planners,
     progress: Option<&'a Progress>,
@@ -354,8 +360,13 @@ impl Run<'_> {
             }
             return Ok(());
         }
-        let (model, options, resolved, store) =
-            (self.model, self.options, self.resolved, self.store);
+        let (model, options, resolved, linear, store) = (
+            self.model,
+            self.options,
+            self.resolved,
+            self.linear,
+            self.store,
+        );
         let speeds = &self.speeds;
         let computed = missing
             .par_iter()
@@ -363,7 +374,8 @@ impl Run<'_> {
             .map_init(
                 || self.planners.clone(),
                 |planners, &i| {
-                    let mut point = point::compute(model, options, resolved, speeds[i], planners)?;
+                    let mut point =
+                        point::compute(model, options, resolved, linear, speeds[i], planners)?;
                     point.added = i >= requested;
                     if let Some(s) = store {
                         s.save(i, &point)?;

@@ -38,7 +38,7 @@ use crate::post::{
     amplitude_at, largest_non_synchronous_below, window_mean, FullSpectrumPlanner, Spectrum,
     SpectrumOptions, SpectrumPlanner, Window,
 };
-use crate::system::SpeedProfile;
+use crate::system::{linear, Linear, SpeedProfile};
 use crate::time::{simulate_with, Hooks, RunStatus, SimulationOptions, Until};
 use crate::units::rad_s_to_hz;
 
@@ -421,12 +421,23 @@ impl Estimate {
     }
 }
 
+/// The linear system every speed of the cascade marches (assembled and reduced once: it
+/// does not depend on the speed).
+///
+/// # Errors
+/// Those of [`linear`].
+pub(super) fn linear_system(model: &Model, o: &CascadeOptions) -> Result<Linear> {
+    let run = o.run_settings();
+    linear(model, run.reduction, run.contact_law(model).bearings())
+}
+
 /// Simulates and analyses one speed (rad/s). A run that diverges is a point with its
 /// message and no spectra, not an error: the cascade goes on.
 pub(super) fn compute(
     model: &Model,
     o: &CascadeOptions,
     r: &Resolved,
+    linear: &Linear,
     speed: f64,
     planners: &mut Planners,
 ) -> Result<CascadePoint> {
@@ -471,6 +482,7 @@ pub(super) fn compute(
     let hooks = Hooks {
         forces: None,
         until: Some(until),
+        linear: Some(linear),
     };
     let result = simulate_with(model, &simulation, hooks)?;
     if let Some(e) = failure {

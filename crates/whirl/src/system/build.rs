@@ -3,8 +3,11 @@
 //! coordinates.
 
 use super::System;
-use crate::error::Result;
-use crate::fe::{assemble_banded, dof_name, gravity_force, unbalance_force, Bearings};
+use crate::error::{Error, Result};
+use crate::fe::{
+    assemble_banded, dof_name, gravity_force, unbalance_force, Bearings, SystemMatrices,
+    DOFS_PER_NODE,
+};
 use crate::force::ForceBuilder;
 use crate::model::Model;
 use crate::reduce::{boundary_dofs, CraigBampton};
@@ -18,9 +21,26 @@ pub struct Built {
 }
 
 /// The solver's coordinates: the physical DOFs, or a Craig-Bampton reduction's.
+#[derive(Clone)]
 pub struct Coordinates {
     /// The reduction, `None` for the full model.
     pub reduction: Option<CraigBampton>,
+}
+
+/// Most DOFs of a full (unreduced) model: the solvers of the full model (the static start,
+/// the stability limit, the integrators' starting acceleration, harmonic balance) hold its
+/// four matrices dense, 32 n^2 bytes (about 0.5 GB at this size, 640 elements of the
+/// reference rotor at 2,564 DOFs take 0.2 GB), and its stability limit takes a full
+/// eigen-solve, O(n^3). Larger models are marched reduced, whose cost is linear in the DOFs.
+pub const MAX_FULL_DOFS: usize = 4_000;
+
+/// The error for a full model above [`MAX_FULL_DOFS`], raised before anything is allocated.
+fn full_model_too_large(dofs: usize) -> Error {
+    let gigabytes = 32.0 * (dofs as f64).powi(2) / 1e9;
+    Error::Unsupported(format!(
+        "the full model has {dofs} DOFs ({} nodes): its dense matrices would take {gigabytes:.1}          GB and its solves grow as the cube of that; the full model is limited to          {MAX_FULL_DOFS} DOFs. Reduce it (Craig-Bampton, e.g. `--reduce 12`, whose cost grows          linearly with the elements) or use fewer elements",
+        dofs / DOFS_PER_NODE
+    ))
 }
 
 /// Builds the system of `model`: full (`reduction` `None`) or Craig-Bampton reduced with
@@ -29,14 +49,43 @@ pub struct Coordinates {
 /// forces from `forces`, which receives the map from physical DOFs to the coordinates.
 ///
 /// # Errors
-/// Those of [`CraigBampton::new`] with `reduction`, of `forces`, and of [`System::check`]
-/// ([`crate::error::Error::InvalidOption`] for a force on a coordinate outside the system).
+/// Those of [`linear`], of `forces`, and of [`System::check`] ([`Error::InvalidOption`] for
+/// a force on a coordinate outside the system).
 pub fn build(
     model: &Model,
     reduction: Option<usize>,
     bearings: Bearings,
     forces: ForceBuilder<'_>,
 ) -> Result<Built> {
+    linear(model, reduction, bearings)?.into_built(model, forces)
+}
+
+/// The linear part of a model's [`System`]: its matrices and loads in the solver's
+/// coordinates, before the nonlinear forces (which keep state, so each run makes its own).
+/// Neither the reduction nor the loads depend on the spin speed (the gyroscopic matrix is
+/// reduced once and scaled by the speed in the solvers), so runs of one model at many
+/// speeds (a cascade's) share one.
+#[derive(Clone)]
+pub struct Linear {
+    reduction: Option<usize>,
+    bearings: Bearings,
+    matrices: SystemMatrices,
+    /// Gravity, the unbalance phasor's real and imaginary parts, in the coordinates.
+    loads: [Vec<f64>; 3],
+    coordinates: Coordinates,
+}
+
+/// Assembles `model` and reduces it as [`build`] does (`reduction`, `bearings`), without
+/// the nonlinear forces.
+///
+/// # Errors
+/// [`Error::Unsupported`] for a full model above [`MAX_FULL_DOFS`]; those of
+/// [`CraigBampton::new`] with `reduction`.
+pub fn linear(model: &Model, reduction: Option<usize>, bearings: Bearings) -> Result<Linear> {
+    let dofs = DOFS_PER_NODE * model.node_count();
+    if reduction.is_none() && dofs > MAX_FULL_DOFS {
+        return Err(full_model_too_large(dofs));
+    }
     // Banded: a reduction never needs the full model's dense matrices.
     let full = assemble_banded(model, bearings);
     let gravity = gravity_force(model, &full);
@@ -58,20 +107,51 @@ pub fn build(
             )
         }
     };
-    let map = |physical: usize| coordinates.coordinate_of(physical);
-    let nonlinear = forces(model, &map)?;
-    let system = System {
-        constant_force: coordinates.vector(&gravity),
-        unbalance_re: coordinates.vector(&ub_re),
-        unbalance_im: coordinates.vector(&ub_im),
-        nonlinear,
-        ..System::unloaded(matrices)
-    };
-    system.check()?;
-    Ok(Built {
-        system,
+    Ok(Linear {
+        reduction,
+        bearings,
+        matrices,
+        loads: [&gravity, &ub_re, &ub_im].map(|f| coordinates.vector(f)),
         coordinates,
     })
+}
+
+impl Linear {
+    /// Whether this is the linear part [`build`] would make with `reduction` and `bearings`.
+    pub fn is_built_with(&self, reduction: Option<usize>, bearings: Bearings) -> bool {
+        self.reduction == reduction && self.bearings == bearings
+    }
+
+    /// The whole system, with the nonlinear forces from `forces` (see [`build`]), keeping
+    /// this linear part for other runs.
+    ///
+    /// # Errors
+    /// Those of `forces` and of [`System::check`].
+    pub fn with_forces(&self, model: &Model, forces: ForceBuilder<'_>) -> Result<Built> {
+        self.clone().into_built(model, forces)
+    }
+
+    fn into_built(self, model: &Model, forces: ForceBuilder<'_>) -> Result<Built> {
+        let Linear {
+            matrices,
+            loads: [constant_force, unbalance_re, unbalance_im],
+            coordinates,
+            ..
+        } = self;
+        let map = |physical: usize| coordinates.coordinate_of(physical);
+        let system = System {
+            constant_force,
+            unbalance_re,
+            unbalance_im,
+            nonlinear: forces(model, &map)?,
+            ..System::unloaded(matrices)
+        };
+        system.check()?;
+        Ok(Built {
+            system,
+            coordinates,
+        })
+    }
 }
 
 impl Coordinates {
@@ -134,6 +214,23 @@ mod tests {
     use super::*;
     use crate::fe::{dof, Direction};
     use crate::force::no_forces;
+
+    #[test]
+    fn a_full_model_too_large_to_hold_dense_is_refused_before_assembly() {
+        let model = Model::from_toml_str(crate::examples::REFERENCE_ROTOR, None)
+            .unwrap()
+            .remeshed(&[1000])
+            .unwrap();
+        match build(&model, None, Bearings::Linearised, &no_forces) {
+            Err(Error::Unsupported(m)) => {
+                assert!(m.contains("4004 DOFs") && m.contains("--reduce"), "{m}");
+            }
+            other => panic!("expected a refusal, got {:?}", other.err()),
+        }
+        // Reduced, the same model is built.
+        let reduced = build(&model, Some(12), Bearings::Linearised, &no_forces).unwrap();
+        assert_eq!(reduced.system.size(), 8 + 12);
+    }
 
     #[test]
     fn coordinates_are_named_by_dof_or_mode() {

@@ -58,7 +58,7 @@ use crate::fe::{dof, dof_name, Bearings, Direction};
 use crate::force::ForceBuilder;
 use crate::model::Model;
 use crate::progress::{tell, Progress};
-use crate::system::{build, Built, SparseRow, SpeedProfile, System};
+use crate::system::{build, Built, Linear, SparseRow, SpeedProfile, System};
 use contacts::{
     fill_multipliers, lagrange_contacts, recorded_nodes, rigid_static_equilibrium, RollerProbe,
 };
@@ -283,6 +283,10 @@ pub struct Hooks<'a> {
     pub forces: Option<(Bearings, ForceBuilder<'a>)>,
     /// Ends the run once what it has recorded is enough.
     pub until: Option<Until<'a>>,
+    /// The model's linear system already made by [`crate::system::linear`] with this run's
+    /// reduction and bearings, so that many runs of one model (a cascade's speeds) assemble
+    /// and reduce it once; `None` to make it for this run.
+    pub linear: Option<&'a Linear>,
 }
 
 /// One recorded signal.
@@ -495,16 +499,30 @@ pub fn simulate_with(
     options: &SimulationOptions,
     hooks: Hooks<'_>,
 ) -> Result<SimulationResult> {
-    let Hooks { forces, until } = hooks;
-    match forces {
-        Some((bearings, forces)) => march_and_record(model, options, bearings, forces, None, until),
+    let Hooks {
+        forces,
+        until,
+        linear,
+    } = hooks;
+    let (bearings, forces, rollers) = match forces {
+        Some((bearings, forces)) => (bearings, forces, None),
         None => {
             let law = options.contact_law(model);
             // Linear bearings have no rollers to record.
             let rollers = (law != ContactLaw::Linear).then_some(law);
-            march_and_record(model, options, law.bearings(), law.forces(), rollers, until)
+            (law.bearings(), law.forces(), rollers)
         }
-    }
+    };
+    let built = || match linear {
+        Some(l) if l.is_built_with(options.reduction, bearings) => l.with_forces(model, forces),
+        Some(_) => Err(Error::Internal(
+            "the linear system handed to the simulation was made with another reduction or \
+             bearings than the run's"
+                .into(),
+        )),
+        None => build(model, options.reduction, bearings, forces),
+    };
+    march_and_record(model, options, built, rollers, until)
 }
 
 /// The central difference's stability limit (s) of `model` with its roller bearings
@@ -568,13 +586,12 @@ fn divergence_message(t: f64, what: &str, value: String, bound: f64) -> String {
     )
 }
 
-/// Builds, marches and records; `law` (when given) is the contact law whose rollers
-/// [`SimulationOptions::record_rollers`] records.
+/// Checks the settings, builds the system by `built`, marches and records; `law` (when
+/// given) is the contact law whose rollers [`SimulationOptions::record_rollers`] records.
 fn march_and_record(
     model: &Model,
     options: &SimulationOptions,
-    bearings: Bearings,
-    forces: ForceBuilder<'_>,
+    built: impl FnOnce() -> Result<Built>,
     law: Option<ContactLaw>,
     mut until: Option<Until<'_>>,
 ) -> Result<SimulationResult> {
@@ -597,7 +614,7 @@ fn march_and_record(
     let Built {
         system: mut problem,
         coordinates: coords,
-    } = build(model, options.reduction, bearings, forces)?;
+    } = built()?;
     let n = problem.size();
     let stable_step = central_difference_limit(&problem)?;
     let step = options.step_within(stable_step);
