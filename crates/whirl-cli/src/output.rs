@@ -25,6 +25,7 @@ use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use serde_json::Value;
+use whirl::report::{Cell, Table};
 
 use crate::error::{from_whirl, Diag};
 use crate::interrupt;
@@ -133,6 +134,28 @@ impl Output {
         write().map_err(|e| Diag::new(format!("cannot write `{}`: {e}", path.display())))?;
         self.files.push(name.to_string());
         Ok(())
+    }
+
+    /// Writes `table` as `<name>.csv`: its column names as the header, numbers in full
+    /// precision, a missing value as an empty cell.
+    pub fn table(&mut self, table: &Table) -> miette::Result<()> {
+        let header: Vec<String> = table.columns().iter().map(|c| c.name.clone()).collect();
+        let rows = (0..table.rows()).map(|r| {
+            (0..header.len()).map(move |c| match table.cell(r, c) {
+                Cell::Number(x) => num(x),
+                Cell::Text(t) => t.to_string(),
+                Cell::Missing => String::new(),
+            })
+        });
+        self.csv(&format!("{}.csv", table.name()), &header, rows)
+    }
+
+    /// Writes the table called `name` of `tables` (see [`Output::table`]).
+    pub fn table_named(&mut self, tables: &[Table], name: &str) -> miette::Result<()> {
+        match tables.iter().find(|t| t.name() == name) {
+            Some(t) => self.table(t),
+            None => Err(Diag::new(format!("the result has no table `{name}`")).into()),
+        }
     }
 
     /// Writes `name` (e.g. `model.toml`) with the text `content`.

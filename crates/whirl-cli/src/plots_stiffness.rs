@@ -7,7 +7,7 @@ use std::f64::consts::PI;
 use whirl::bearing::stiffness::{ForceSurface, Stiffness2, StiffnessStudy};
 use whirl_plot::{Colour, Figure2d, Grid, HeatMap, LegendPosition, Line, Marker, Series, Style};
 
-use crate::commands::stiffness::clearance_label;
+use whirl::bearing::stiffness::clearance_label;
 
 /// One force component of a surface.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

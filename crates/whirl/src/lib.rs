@@ -176,6 +176,7 @@ pub mod nsv;
 pub mod post;
 pub mod progress;
 pub mod reduce;
+pub mod report;
 pub mod response;
 pub mod statics;
 pub mod study;

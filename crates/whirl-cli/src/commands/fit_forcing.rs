@@ -14,17 +14,16 @@
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
-use serde_json::{json, Value};
-use whirl::bearing::valid_up_to;
-use whirl::model::{ForcingFunction, Model};
-use whirl::time::{fit_forcing, ForcingFit, ForcingFitOptions, DEFAULT_MODES};
+use whirl::model::Model;
+use whirl::report::Report;
+use whirl::time::{fit_forcing, ForcingFit, ForcingFitOptions, ForcingFitReport, DEFAULT_MODES};
 use whirl_plot::{Colour, Figure2d, LegendPosition, Marker, PlotError, Series, Style};
 
 use super::{
-    finish, hz, lib, load, mode_count, speeds, summary_head, time, Common, Outcome, Speeds,
+    finish, hz, lib, load, mode_count, report_summary, speeds, time, Common, Outcome, Speeds,
 };
 use crate::error::Diag;
-use crate::output::{header, num, Output};
+use crate::output::Output;
 
 /// `whirl fit-forcing`
 #[derive(Debug, clap::Args)]
@@ -65,41 +64,19 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         ..ForcingFitOptions::default()
     };
     let fit = lib(fit_forcing(model, args.bearing, &args.speeds.0, &options))?;
-    let limit = valid_up_to(&fit.law);
-    let warning = extrapolation_warning(model, limit);
-
-    let mut s = summary_head("fit-forcing", &loaded);
-    s.insert(
-        "bearing".into(),
-        json!({"index": args.bearing, "name": fit.bearing}),
-    );
-    s.insert(
-        "law".into(),
-        "F = (a0 + a1 W) (u_r - gamma)_+^(b0 + b1 W)".into(),
-    );
-    s.insert("coefficients".into(), coefficients_json(&fit.law));
-    s.insert(
-        "samples".into(),
-        "cage-averaged elastic Hertz force at the recorded bearing deflection".into(),
-    );
-    s.insert("r_squared".into(), fit.r_squared.into());
-    s.insert("rms_relative_error".into(), fit.rms_relative_error.into());
-    s.insert("points".into(), fit.points.len().into());
-    s.insert("iterations".into(), fit.iterations.into());
-    s.insert("time_step_s".into(), fit.step.into());
-    s.insert("speeds".into(), speeds_json(&fit));
-    s.insert("valid_up_to_hz".into(), json!(limit.map(hz)));
-    if let Some(why) = &warning {
-        s.insert("warning".into(), why.clone().into());
-    }
-
-    let text = summary_text(model, &fit, warning.as_deref());
+    let report = ForcingFitReport::new(model, args.bearing, fit);
+    let summary = report_summary("fit-forcing", &loaded, &report)?;
+    let text = summary_text(model, &report.fit, report.warning.as_deref());
     let mut out = Output::begin(&args.common.out_dir("fit-forcing"))?;
-    write_points(&mut out, &fit)?;
-    let block = toml_block(&fit, &args.speeds.0);
+    for table in report.tables() {
+        out.table(&table)?;
+    }
+    let block = toml_block(&report.fit, &args.speeds.0);
     out.plot("forcing_function", |stem| write_text(stem, "toml", &block))?;
-    out.plot("force_deflection", |stem| force_deflection(&fit).save(stem))?;
-    finish(out, Value::Object(s), text, &args.common)
+    out.plot("force_deflection", |stem| {
+        force_deflection(&report.fit).save(stem)
+    })?;
+    finish(out, summary, text, &args.common)
 }
 
 fn check_bearing(model: &Model, index: usize) -> miette::Result<()> {
@@ -117,47 +94,6 @@ fn check_bearing(model: &Model, index: usize) -> miette::Result<()> {
             .help(help)
             .into(),
     )
-}
-
-/// A warning when the law stops giving force (a(W) or b(W) reaches zero at `limit`, rad/s)
-/// below the model's top operating speed.
-fn extrapolation_warning(model: &Model, limit: Option<f64>) -> Option<String> {
-    let (limit, top) = (limit?, model.operating?.1);
-    (limit < top).then(|| {
-        format!(
-            "the law's coefficient or exponent reaches zero at {:.1} Hz, below the top \
-             operating speed {:.1} Hz: above it the bearing would carry nothing; fit over \
-             speeds that reach the top of the range",
-            hz(limit),
-            hz(top)
-        )
-    })
-}
-
-/// Each coefficient with its SI unit (W in rad/s).
-fn coefficients_json(law: &ForcingFunction) -> Value {
-    json!({
-        "a0": {"value": law.a0, "unit": "N/m^b"},
-        "a1": {"value": law.a1, "unit": "N/m^b per rad/s"},
-        "b0": {"value": law.b0, "unit": "1"},
-        "b1": {"value": law.b1, "unit": "1 per rad/s"},
-    })
-}
-
-fn speeds_json(fit: &ForcingFit) -> Value {
-    fit.speeds
-        .iter()
-        .map(|s| {
-            json!({
-                "speed_hz": hz(s.speed), "speed_rad_s": s.speed,
-                "points": s.points, "excluded": s.excluded,
-                "r_squared": s.r_squared, "rms_relative_error": s.rms_relative_error,
-                "own_coefficient": s.coefficient, "own_exponent": s.exponent,
-                "wall_time_s": s.wall_time_s,
-            })
-        })
-        .collect::<Vec<_>>()
-        .into()
 }
 
 fn summary_text(model: &Model, fit: &ForcingFit, warning: Option<&str>) -> String {
@@ -197,26 +133,6 @@ fn summary_text(model: &Model, fit: &ForcingFit, warning: Option<&str>) -> Strin
         let _ = writeln!(text, "  warning: {why}");
     }
     text
-}
-
-fn write_points(out: &mut Output, fit: &ForcingFit) -> miette::Result<()> {
-    let h = header(&[
-        "speed_hz",
-        "speed_rad_s",
-        "deflection_m",
-        "force_n",
-        "fitted_force_n",
-    ]);
-    let rows = fit.points.iter().map(|p| {
-        [
-            num(hz(p.speed)),
-            num(p.speed),
-            num(p.deflection),
-            num(p.force),
-            num(fit.fitted(p)),
-        ]
-    });
-    out.csv("fit.csv", &h, rows)
 }
 
 /// The text of forcing_function.toml: comments saying where the law comes from, then the

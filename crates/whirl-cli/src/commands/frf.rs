@@ -11,16 +11,16 @@
 
 use std::fmt::Write;
 
-use serde_json::{json, Value};
 use whirl::fe::{assemble, dof, Bearings, Direction};
 use whirl::modal::undamped_modes;
 use whirl::model::Model;
-use whirl::response::{frf, FrfKind};
+use whirl::report::Report;
+use whirl::response::{frf, FrfKind, FrfReport};
 use whirl::units::{parse_quantity, Dimension};
 
-use super::{finish, hz, lib, load, speed, speeds, summary_head, Common, Outcome, Speeds};
+use super::{finish, hz, lib, load, report_summary, speed, speeds, Common, Outcome, Speeds};
 use crate::error::Diag;
-use crate::output::{header, num, opt, Output};
+use crate::output::Output;
 use crate::plots;
 
 /// `whirl frf`
@@ -119,33 +119,12 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let result = lib(frf(&system, args.speed, input, &outputs, &w))?;
     let (f0, f1) = (result.frequencies_hz[0], result.frequencies_hz[w.len() - 1]);
 
-    let mut s = summary_head("frf", &loaded);
-    s.insert("speed_hz".into(), hz(args.speed).into());
-    s.insert("speed_rpm".into(), (60.0 * hz(args.speed)).into());
-    s.insert("input".into(), result.input.1.clone().into());
-    s.insert("force_n".into(), args.force.into());
-    s.insert("frequency_range_hz".into(), json!([f0, f1]));
-    s.insert("frequency_count".into(), w.len().into());
-    s.insert(
-        "outputs".into(),
-        result
-            .outputs
-            .iter()
-            .map(|o| {
-                json!({
-                    "output": o.name,
-                    "peaks": o.peaks.iter().map(|p| json!({
-                        "frequency_hz": p.speed_hz,
-                        "receptance_m_per_n": p.amplitude,
-                        "response_m": p.amplitude * args.force,
-                        "half_power_hz": p.half_power_hz.map(|(a, b)| [a, b]),
-                        "amplification_factor": p.amplification_factor,
-                    })).collect::<Vec<_>>(),
-                })
-            })
-            .collect::<Vec<_>>()
-            .into(),
-    );
+    let report = FrfReport {
+        result,
+        force: args.force,
+    };
+    let summary = report_summary("frf", &loaded, &report)?;
+    let result = &report.result;
 
     let mut text = String::new();
     let _ = writeln!(
@@ -177,63 +156,13 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     }
 
     let mut out = Output::begin(&args.common.out_dir("frf"))?;
-    let mut h = header(&["frequency_hz"]);
-    for o in &result.outputs {
-        for kind in FrfKind::ALL {
-            for part in ["re", "im", "magnitude", "phase_deg"] {
-                h.push(format!("{}_{}_{part}", o.name, kind.name()));
-            }
-        }
-        h.push(format!("{}_response_amplitude", o.name));
+    for table in report.tables() {
+        out.table(&table)?;
     }
-    let rows: Vec<Vec<String>> = (0..w.len())
-        .map(|k| {
-            let mut row = vec![num(result.frequencies_hz[k])];
-            for (j, o) in result.outputs.iter().enumerate() {
-                for kind in FrfKind::ALL {
-                    let v = result.value(kind, j, k);
-                    row.extend([
-                        num(v.re),
-                        num(v.im),
-                        num(v.norm()),
-                        num(v.arg().to_degrees()),
-                    ]);
-                }
-                row.push(num(o.receptance[k].norm() * args.force));
-            }
-            row
-        })
-        .collect();
-    out.csv("frf.csv", &h, &rows)?;
-    let h = header(&[
-        "output",
-        "frequency_hz",
-        "receptance_magnitude",
-        "half_power_low_hz",
-        "half_power_high_hz",
-        "amplification_factor",
-    ]);
-    let rows: Vec<Vec<String>> = result
-        .outputs
-        .iter()
-        .flat_map(|o| {
-            o.peaks.iter().map(|p| {
-                vec![
-                    o.name.clone(),
-                    num(p.speed_hz),
-                    num(p.amplitude),
-                    opt(p.half_power_hz.map(|b| b.0)),
-                    opt(p.half_power_hz.map(|b| b.1)),
-                    opt(p.amplification_factor),
-                ]
-            })
-        })
-        .collect();
-    out.csv("peaks.csv", &h, &rows)?;
     for kind in FrfKind::ALL {
         out.plot(kind.name(), |stem| {
-            plots::frf(model, &result, kind).save(stem)
+            plots::frf(model, result, kind).save(stem)
         })?;
     }
-    finish(out, Value::Object(s), text, &args.common)
+    finish(out, summary, text, &args.common)
 }

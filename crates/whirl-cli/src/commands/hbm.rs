@@ -24,24 +24,24 @@ use std::f64::consts::TAU;
 use std::fmt::Write;
 
 use clap::ValueEnum;
-use serde_json::{json, Value};
 use whirl::bearing::ContactLaw;
 use whirl::fe::{dof, Direction};
 use whirl::hbm::{
-    settled_response, sweep_with_progress, AtSpeed, BifurcationKind, BranchEnd, CageModel,
-    MarchSettings, SettledResponse, Sweep, SweepOptions, DEFAULT_STABILITY_MODES,
+    settled_response, sweep_with_progress, BifurcationKind, CageModel, MarchSettings,
+    SettledResponse, Sweep, SweepOptions, SweepReport, DEFAULT_STABILITY_MODES,
 };
 use whirl::model::Model;
 
 use whirl_plot::{Colour, Figure2d, LegendPosition, Marker, RefLine, Series, SpeedAxis, Style};
 
 use super::{
-    finish, hz, lib, load, mode_count, report_nodes, speed, speeds, summary_head, time, Common,
+    finish, hz, lib, load, mode_count, report_nodes, report_summary, speed, speeds, time, Common,
     Outcome, Speeds,
 };
 use crate::error::Diag;
-use crate::output::{header, num, Output};
+use crate::output::Output;
 use crate::progress::{duration_text, progress_line};
+use whirl::report::Report;
 
 /// Periodic approximations of the roller passage.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -215,28 +215,37 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         None => Vec::new(),
     };
 
-    let summary = summary(&loaded, &options, &result, &nodes, &comparisons, &study);
-    let text = text_summary(model, &result, &comparisons);
+    let report = SweepReport {
+        options,
+        sweep: result,
+        nodes,
+        comparisons,
+        study,
+    };
+    let summary = report_summary("hbm", &loaded, &report)?;
+    let text = text_summary(model, &report);
+    let tables = report.tables();
+    let (result, node) = (&report.sweep, report.nodes[0]);
     let mut out = Output::begin(&args.common.out_dir("hbm"))?;
-    write_branch(&mut out, &result, &nodes)?;
-    write_bifurcations(&mut out, &result)?;
+    out.table_named(&tables, "branch")?;
+    out.table_named(&tables, "bifurcations")?;
     let common = &args.common;
-    let figure = harmonics_plot(&result, nodes[0], &comparisons);
+    let figure = harmonics_plot(result, node, &report.comparisons);
     out.plot("harmonics", |p| {
         common.speed_axis(figure, SpeedAxis::X).save(p)
     })?;
-    if options.stability {
-        let figure = stability_plot(&result);
+    if report.options.stability {
+        let figure = stability_plot(result);
         out.plot("stability", |p| {
             common.speed_axis(figure, SpeedAxis::X).save(p)
         })?;
     }
-    if !comparisons.is_empty() {
-        write_comparisons(&mut out, &result, &comparisons)?;
+    if !report.comparisons.is_empty() {
+        out.table_named(&tables, "compare_time")?;
     }
-    if !study.is_empty() {
-        write_study(&mut out, &study, nodes[0])?;
-        let figure = study_plot(&study, nodes[0]);
+    if !report.study.is_empty() {
+        out.table_named(&tables, "harmonics_study")?;
+        let figure = study_plot(&report.study, node);
         out.plot("harmonics_study", |p| {
             common.speed_axis(figure, SpeedAxis::X).save(p)
         })?;
@@ -316,199 +325,9 @@ fn compare_at(model: &Model, args: &Args, w: f64, node: usize) -> miette::Result
     lib(settled_response(model, w, node, args.harmonics, &settings))
 }
 
-/// The harmonic-balance solutions at exactly the comparison's speed, in path order, and
-/// the one compared: the first stable one (time marching settles on a stable orbit), or
-/// the first when none is.
-fn hb_at(result: &Sweep, speed: f64) -> (Vec<&AtSpeed>, Option<&AtSpeed>) {
-    let all: Vec<&AtSpeed> = result
-        .at_speeds
-        .iter()
-        .filter(|a| a.speed == speed)
-        .collect();
-    let compared = all
-        .iter()
-        .find(|a| a.stability.stable)
-        .or(all.first())
-        .copied();
-    (all, compared)
-}
-
-/// What the comparison means when the harmonic-balance solution is unstable: time
-/// marching leaves it, and the difference is the non-synchronous vibration it settles
-/// into.
-fn unstable_note(a: &AtSpeed, c: &Comparison) -> Option<String> {
-    if a.stability.stable {
-        return None;
-    }
-    let nsv = c.non_synchronous.map_or_else(
-        || "no non-synchronous peak was found in the time response".to_string(),
-        |(f, amp)| {
-            format!(
-                "time marching shows a non-synchronous component of {:.3} um at {f:.2} Hz",
-                1e6 * amp
-            )
-        },
-    );
-    Some(format!(
-        "the harmonic-balance solution is unstable (largest Floquet exponent {:.3e} 1/s): \
-         time marching leaves it, and the difference is the non-synchronous vibration; {nsv}",
-        a.stability.max_real
-    ))
-}
-
-fn end_reason(end: &BranchEnd) -> String {
-    match end {
-        BranchEnd::Reached => "reached the last speed".into(),
-        BranchEnd::LeftRange => "turned back below the first speed".into(),
-        BranchEnd::PointLimit => "stopped at the point limit".into(),
-        BranchEnd::EndNotConverged { message } => {
-            format!("the last speed itself did not converge: {message}")
-        }
-        BranchEnd::StepTooSmall { frequency, message } => format!(
-            "stopped at {:.3} Hz, the corrector failing at the smallest step: {message}",
-            hz(*frequency)
-        ),
-    }
-}
-
-fn kind_name(kind: BifurcationKind) -> &'static str {
-    match kind {
-        BifurcationKind::Fold => "fold",
-        BifurcationKind::SymmetryBreaking => "symmetry breaking",
-        BifurcationKind::PeriodDoubling => "period doubling",
-        BifurcationKind::NeimarkSacker => "Neimark-Sacker",
-    }
-}
-
-fn summary(
-    loaded: &super::Loaded,
-    options: &SweepOptions,
-    result: &Sweep,
-    nodes: &[usize],
-    comparisons: &[Comparison],
-    study: &[(usize, Sweep)],
-) -> Value {
-    let mut s = summary_head("hbm", loaded);
-    let branch = &result.branch;
-    s.insert("bearings".into(), result.bearings.clone().into());
-    s.insert("harmonics".into(), options.harmonics.into());
-    s.insert("samples_per_period".into(), branch.options.samples.into());
-    s.insert(
-        "speed_range_hz".into(),
-        json!([hz(options.from), hz(options.to)]),
-    );
-    s.insert("points".into(), branch.points.len().into());
-    s.insert("end".into(), end_reason(&branch.end).into());
-    s.insert("wall_time_s".into(), result.wall_time_s.into());
-    s.insert("stability".into(), options.stability.into());
-    s.insert("stability_modes".into(), options.stability_modes.into());
-    s.insert(
-        "model".into(),
-        match options.reduction {
-            Some(m) => format!("Craig-Bampton, {m} fixed-interface modes"),
-            None => "full finite-element model".into(),
-        }
-        .into(),
-    );
-    s.insert("nodes".into(), json!(nodes));
-    s.insert(
-        "folds_hz".into(),
-        json!(branch
-            .folds
-            .iter()
-            .map(|f| hz(f.frequency))
-            .collect::<Vec<_>>()),
-    );
-    s.insert(
-        "corners_hz".into(),
-        json!(branch.corners.iter().map(|c| hz(*c)).collect::<Vec<_>>()),
-    );
-    s.insert(
-        "jumps_hz".into(),
-        json!(branch
-            .jumps
-            .iter()
-            .map(|(a, b)| [hz(*a), hz(*b)])
-            .collect::<Vec<_>>()),
-    );
-    s.insert(
-        "bifurcations".into(),
-        branch
-            .bifurcations
-            .iter()
-            .map(|b| {
-                json!({
-                    "kind": kind_name(b.kind),
-                    "speed_hz": hz(b.frequency),
-                    "exponent_frequency_hz": hz(b.exponent_frequency),
-                    "loses_stability": b.loses_stability,
-                })
-            })
-            .collect::<Vec<_>>()
-            .into(),
-    );
-    let first_loss = branch
-        .bifurcations
-        .iter()
-        .find(|b| b.loses_stability)
-        .map(|b| hz(b.frequency));
-    s.insert("first_stability_loss_hz".into(), json!(first_loss));
-    if !comparisons.is_empty() {
-        s.insert(
-            "compare_time".into(),
-            comparisons
-                .iter()
-                .map(|c| comparison_json(result, c))
-                .collect::<Vec<_>>()
-                .into(),
-        );
-    }
-    if !study.is_empty() {
-        s.insert(
-            "harmonics_study".into(),
-            study
-                .iter()
-                .map(|(h, r)| json!({"harmonics": h, "points": r.branch.points.len(), "wall_time_s": r.wall_time_s}))
-                .collect::<Vec<_>>()
-                .into(),
-        );
-    }
-    Value::Object(s)
-}
-
-fn comparison_json(result: &Sweep, c: &Comparison) -> Value {
-    let (ux, uy) = (dof(c.node, Direction::Ux), dof(c.node, Direction::Uy));
-    let (all, compared) = hb_at(result, c.speed);
-    let solutions: Vec<Value> = all
-        .iter()
-        .map(|a| {
-            let hb = result.amplitude_of(&a.coefficients, uy, 1);
-            json!({
-                "after_point": a.after,
-                "stable": a.stability.stable,
-                "max_real_exponent_per_s": a.stability.max_real,
-                "hb_1x_ux_m": result.amplitude_of(&a.coefficients, ux, 1),
-                "hb_1x_uy_m": hb,
-                "difference_pct": 100.0 * (hb - c.uy[0]) / c.uy[0],
-            })
-        })
-        .collect();
-    let hb = compared.map(|a| result.amplitude_of(&a.coefficients, uy, 1));
-    json!({
-        "speed_hz": hz(c.speed),
-        "node": c.node,
-        "hb_solutions": solutions,
-        "hb_stable": compared.map(|a| a.stability.stable),
-        "hb_1x_uy_m": hb,
-        "time_1x_uy_m": c.uy[0],
-        "difference_pct": hb.map(|h| 100.0 * (h - c.uy[0]) / c.uy[0]),
-        "time_non_synchronous": c.non_synchronous.map(|(f, a)| json!({"frequency_hz": f, "amplitude_m": a})),
-        "note": compared.and_then(|a| unstable_note(a, c)),
-    })
-}
-
-fn text_summary(model: &Model, result: &Sweep, comparisons: &[Comparison]) -> String {
+fn text_summary(model: &Model, report: &SweepReport) -> String {
     let mut text = String::new();
+    let result = &report.sweep;
     let branch = &result.branch;
     let _ = writeln!(
         text,
@@ -518,7 +337,7 @@ fn text_summary(model: &Model, result: &Sweep, comparisons: &[Comparison]) -> St
         branch.points.len(),
         result.wall_time_s,
         result.bearings,
-        end_reason(&branch.end)
+        branch.end.reason()
     );
     for (a, b) in &branch.jumps {
         let _ = writeln!(
@@ -532,7 +351,7 @@ fn text_summary(model: &Model, result: &Sweep, comparisons: &[Comparison]) -> St
         let _ = writeln!(
             text,
             "  {} at {:.2} Hz: stability {}, exponent at {:.2} Hz",
-            kind_name(b.kind),
+            b.kind.name(),
             hz(b.frequency),
             if b.loses_stability {
                 "lost"
@@ -542,8 +361,8 @@ fn text_summary(model: &Model, result: &Sweep, comparisons: &[Comparison]) -> St
             hz(b.exponent_frequency)
         );
     }
-    for c in comparisons {
-        let (all, _) = hb_at(result, c.speed);
+    for c in &report.comparisons {
+        let (all, _) = report.solutions_at(c.speed);
         if all.is_empty() {
             let _ = writeln!(
                 text,
@@ -554,7 +373,7 @@ fn text_summary(model: &Model, result: &Sweep, comparisons: &[Comparison]) -> St
             );
         }
         for a in &all {
-            let hb = result.amplitude_of(&a.coefficients, dof(c.node, Direction::Uy), 1);
+            let hb = report.hb_1x_uy(a, c);
             let _ = writeln!(
                 text,
                 "  {:.1} Hz, node {}: 1X uy harmonic balance {:.4e} m ({}, after point {}), time marching {:.4e} m ({:+.2} %)",
@@ -566,149 +385,12 @@ fn text_summary(model: &Model, result: &Sweep, comparisons: &[Comparison]) -> St
                 c.uy[0],
                 100.0 * (hb - c.uy[0]) / c.uy[0]
             );
-            if let Some(note) = unstable_note(a, c) {
+            if let Some(note) = whirl::hbm::report::unstable_note(a, c) {
                 let _ = writeln!(text, "    {note}");
             }
         }
     }
     text
-}
-
-fn write_branch(out: &mut Output, result: &Sweep, nodes: &[usize]) -> miette::Result<()> {
-    let h = result.harmonics();
-    let mut head = header(&[
-        "point",
-        "speed_hz",
-        "stable",
-        "max_real_exponent_per_s",
-        "iterations",
-    ]);
-    for &n in nodes {
-        for axis in ["ux", "uy"] {
-            head.push(format!("n{n}_{axis}_mean_m"));
-            for r in 1..=h {
-                head.push(format!("n{n}_{axis}_{r}x_m"));
-            }
-        }
-    }
-    let rows = result.branch.points.iter().enumerate().map(|(i, p)| {
-        let (stable, real) = p
-            .stability
-            .as_ref()
-            .map_or((String::new(), String::new()), |s| {
-                (s.stable.to_string(), num(s.max_real))
-            });
-        let mut row = vec![
-            i.to_string(),
-            num(hz(p.solution.frequency)),
-            stable,
-            real,
-            p.solution.iterations.to_string(),
-        ];
-        for &n in nodes {
-            for d in [Direction::Ux, Direction::Uy] {
-                row.extend((0..=h).map(|r| num(result.amplitude(i, dof(n, d), r))));
-            }
-        }
-        row
-    });
-    out.csv("branch.csv", &head, rows)
-}
-
-fn write_bifurcations(out: &mut Output, result: &Sweep) -> miette::Result<()> {
-    let rows = result.branch.bifurcations.iter().map(|b| {
-        vec![
-            kind_name(b.kind).to_string(),
-            num(hz(b.frequency)),
-            num(60.0 * hz(b.frequency)),
-            num(hz(b.exponent_frequency)),
-            if b.loses_stability {
-                "lost"
-            } else {
-                "regained"
-            }
-            .to_string(),
-        ]
-    });
-    out.csv(
-        "bifurcations.csv",
-        &header(&[
-            "kind",
-            "speed_hz",
-            "speed_rpm",
-            "exponent_frequency_hz",
-            "stability",
-        ]),
-        rows,
-    )
-}
-
-fn write_comparisons(
-    out: &mut Output,
-    result: &Sweep,
-    comparisons: &[Comparison],
-) -> miette::Result<()> {
-    let rows = comparisons.iter().flat_map(|c| {
-        let (ux, uy) = (dof(c.node, Direction::Ux), dof(c.node, Direction::Uy));
-        let (nsv_f, nsv_a) = c
-            .non_synchronous
-            .map_or((String::new(), String::new()), |(f, a)| (num(f), num(a)));
-        let (all, _) = hb_at(result, c.speed);
-        all.into_iter()
-            .map(|a| {
-                let hb_x = result.amplitude_of(&a.coefficients, ux, 1);
-                let hb_y = result.amplitude_of(&a.coefficients, uy, 1);
-                vec![
-                    num(hz(c.speed)),
-                    c.node.to_string(),
-                    a.after.to_string(),
-                    a.stability.stable.to_string(),
-                    num(hb_x),
-                    num(c.ux[0]),
-                    num(hb_y),
-                    num(c.uy[0]),
-                    num(100.0 * (hb_y - c.uy[0]) / c.uy[0]),
-                    nsv_f.clone(),
-                    nsv_a.clone(),
-                ]
-            })
-            .collect::<Vec<_>>()
-    });
-    out.csv(
-        "compare_time.csv",
-        &header(&[
-            "speed_hz",
-            "node",
-            "hb_after_point",
-            "hb_stable",
-            "hb_1x_ux_m",
-            "time_1x_ux_m",
-            "hb_1x_uy_m",
-            "time_1x_uy_m",
-            "uy_difference_pct",
-            "time_nsv_hz",
-            "time_nsv_m",
-        ]),
-        rows,
-    )
-}
-
-fn write_study(out: &mut Output, study: &[(usize, Sweep)], node: usize) -> miette::Result<()> {
-    let uy = dof(node, Direction::Uy);
-    let rows = study.iter().flat_map(|(h, r)| {
-        r.branch.points.iter().enumerate().map(move |(i, p)| {
-            vec![
-                h.to_string(),
-                num(hz(p.solution.frequency)),
-                num(r.amplitude(i, uy, 1)),
-            ]
-        })
-    });
-    out.csv(
-        "harmonics_study.csv",
-        &header(&["harmonics", "speed_hz", &format!("n{node}_uy_1x_m")]),
-        rows,
-    )
 }
 
 /// Runs of consecutive points with the same stability, as (stable, indices).

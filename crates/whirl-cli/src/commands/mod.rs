@@ -23,6 +23,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 use serde_json::Value;
 use whirl::model::Model;
+use whirl::report::Report;
 use whirl::units::{parse_quantity, parse_range, Dimension};
 use whirl_plot::{SpeedAxis, SpeedInRpm};
 
@@ -182,6 +183,24 @@ pub fn summary_head(command: &'static str, loaded: &Loaded) -> serde_json::Map<S
         Ok(Value::Object(m)) => m,
         _ => serde_json::Map::new(),
     }
+}
+
+/// The summary of a library report under the run's [`Head`]: the head's keys, then the
+/// report's.
+pub fn report_summary<R: Report>(
+    command: &'static str,
+    loaded: &Loaded,
+    report: &R,
+) -> miette::Result<Value> {
+    let mut s = summary_head(command, loaded);
+    match serde_json::to_value(report.summary()) {
+        Ok(Value::Object(keys)) => s.extend(keys),
+        Ok(other) => {
+            return Err(Diag::new(format!("the summary is not a JSON object: {other}")).into())
+        }
+        Err(e) => return Err(Diag::new(format!("cannot encode the summary: {e}")).into()),
+    }
+    Ok(Value::Object(s))
 }
 
 /// Clap parser of one speed: `3000rpm`, `50Hz`, or a plain number in rad/s (the one rule

@@ -24,38 +24,18 @@
 
 use std::fmt::Write;
 
-use serde_json::{json, Map, Value};
 use whirl::bearing::stiffness::{
-    force_surface, gravity_load, stiffness_versus_clearance, ClearanceStiffness, ForceSurface,
-    FrozenBearing, Stiffness2, StiffnessOptions, StiffnessStudy,
+    clearance_label, force_surface, gravity_load, stiffness_versus_clearance, ForceSurface,
+    FrozenBearing, StiffnessOptions, StiffnessReport, StiffnessStudy,
 };
 use whirl::model::{Model, RollerBearing};
+use whirl::report::{index_list, Report};
 use whirl::units::{parse_quantity, parse_range, Dimension};
 
-use super::{finish, lib, load, summary_head, Common, Outcome};
+use super::{finish, lib, load, report_summary, Common, Outcome};
 use crate::error::Diag;
-use crate::output::{header, num, Output};
+use crate::output::Output;
 use crate::plots_stiffness;
-
-/// What each kind of stiffness is, for the summary.
-const KINDS: [(&str, &str); 3] = [
-    (
-        "frozen",
-        "tangent at the static equilibrium under the load, cage frozen; with one roller on \
-         the load line it does not depend on the clearance (statically determinate)",
-    ),
-    (
-        "averaged",
-        "mean of the equilibrium tangents over one roller passage (cage turned through \
-         2 pi / N_b, equilibrium solved again at each position); it too does not depend on \
-         the clearance while no more than two rollers carry the load (most_rollers <= 2)",
-    ),
-    (
-        "fixed",
-        "tangent at the same journal displacement for every clearance: the frozen \
-         equilibrium of the largest clearance; it falls as the clearance grows",
-    ),
-];
 
 /// `whirl stiffness`
 #[derive(Debug, clap::Args)]
@@ -228,141 +208,9 @@ fn bearing_load(args: &Args, model: &Model) -> miette::Result<([f64; 2], &'stati
     }
 }
 
-/// "20um", "12.5um": a clearance for file names and labels.
-pub fn clearance_label(c: f64) -> String {
-    let text = format!("{:.3}", c * 1e6);
-    format!("{}um", text.trim_end_matches('0').trim_end_matches('.'))
-}
-
-/// µm from m.
-fn um(x: f64) -> f64 {
-    x * 1e6
-}
-
-/// Roller indices separated by spaces.
-fn roller_list(indices: impl Iterator<Item = usize>) -> String {
-    indices.map(|i| i.to_string()).collect::<Vec<_>>().join(" ")
-}
-
-/// The four entries in CSV order.
-fn entries(k: &Stiffness2) -> [f64; 4] {
-    [k.kxx, k.kxy, k.kyx, k.kyy]
-}
-
-fn stiffness_json(k: &Stiffness2) -> Value {
-    json!({"kxx": k.kxx, "kxy": k.kxy, "kyx": k.kyx, "kyy": k.kyy})
-}
-
-fn clearance_json(c: &ClearanceStiffness) -> Value {
-    let f = &c.frozen.tangent;
-    json!({
-        "clearance_um": um(c.clearance),
-        "frozen": {
-            "displacement_um": f.displacement.map(um),
-            "rollers": f.rollers.iter().map(|r| json!({
-                "index": r.index, "angle_deg": r.angle.to_degrees(),
-                "approach_um": um(r.approach), "force_n": r.force,
-            })).collect::<Vec<_>>(),
-            "stiffness_n_per_m": stiffness_json(&f.stiffness),
-            "newton_iterations": c.frozen.iterations,
-            "relative_residual": c.frozen.relative_residual,
-        },
-        "averaged": {
-            "mean_displacement_um": c.averaged.mean_displacement.map(um),
-            "most_rollers": c.averaged.most_rollers,
-            "stiffness_n_per_m": stiffness_json(&c.averaged.mean),
-            "min_n_per_m": stiffness_json(&c.averaged.min),
-            "max_n_per_m": stiffness_json(&c.averaged.max),
-        },
-        "fixed": {
-            "rollers": c.fixed.rollers.iter().map(|r| r.index).collect::<Vec<_>>(),
-            "force_n": c.fixed.force,
-            "stiffness_n_per_m": stiffness_json(&c.fixed.stiffness),
-        },
-    })
-}
-
-/// Clearances at which the equilibrium is statically determinate at every cage position.
-fn determinate_clearances(study: &StiffnessStudy) -> Vec<f64> {
-    study
-        .clearances
-        .iter()
-        .filter(|c| c.averaged.most_rollers <= 2)
-        .map(|c| c.clearance)
-        .collect()
-}
-
-fn summary(
-    loaded: &super::Loaded,
-    bearing: &RollerBearing,
-    study: &StiffnessStudy,
-    load_source: &str,
-    surfaces: &[ForceSurface],
-) -> Value {
-    let mut s: Map<String, Value> = summary_head("stiffness", loaded);
-    s.insert(
-        "bearing".into(),
-        json!({
-            "name": bearing.name, "node": bearing.station.node, "rollers": bearing.rollers,
-            "contact_stiffness": bearing.contact_stiffness,
-            "contact_exponent": bearing.contact_exponent,
-            "model_clearance_at_rest_um": um(bearing.clearance.at_speed(0.0)),
-        }),
-    );
-    s.insert("load_n".into(), json!(study.load));
-    s.insert(
-        "load_magnitude_n".into(),
-        json!(study.load[0].hypot(study.load[1])),
-    );
-    s.insert("load_source".into(), load_source.into());
-    s.insert(
-        "cage_angle_deg".into(),
-        json!(study.cage_angle.to_degrees()),
-    );
-    s.insert("cage_steps".into(), study.cage_steps.into());
-    s.insert(
-        "fixed_displacement_um".into(),
-        json!(study.fixed_displacement.map(um)),
-    );
-    s.insert(
-        "kinds".into(),
-        KINDS
-            .iter()
-            .map(|(k, d)| (k.to_string(), json!(d)))
-            .collect(),
-    );
-    s.insert(
-        "statically_determinate_clearances_um".into(),
-        json!(determinate_clearances(study)
-            .into_iter()
-            .map(um)
-            .collect::<Vec<_>>()),
-    );
-    s.insert(
-        "clearances".into(),
-        study.clearances.iter().map(clearance_json).collect(),
-    );
-    s.insert(
-        "surfaces".into(),
-        surfaces
-            .iter()
-            .map(|f| {
-                let largest = f.fr.iter().flatten().copied().fold(0.0, f64::max);
-                json!({
-                    "clearance_um": um(f.clearance),
-                    "file": format!("surfaces_{}.csv", clearance_label(f.clearance)),
-                    "extent_um": f.ux.last().copied().map(um),
-                    "grid": f.ux.len(),
-                    "largest_radial_force_n": largest,
-                })
-            })
-            .collect(),
-    );
-    Value::Object(s)
-}
-
 fn text(bearing: &RollerBearing, study: &StiffnessStudy, load_source: &str) -> String {
     let mut t = String::new();
+    let um = |x: f64| x * 1e6;
     let w = study.load;
     let _ = writeln!(
         t,
@@ -397,7 +245,7 @@ fn text(bearing: &RollerBearing, study: &StiffnessStudy, load_source: &str) -> S
             "  {:>9} | {:14.3} {:>7} {:8.2} {:8.2} | {:14.2} {:8.2} {:5} | {:12.2} {:8.2}",
             clearance_label(c.clearance),
             um(f.displacement[1]),
-            roller_list(f.rollers.iter().map(|r| r.index)),
+            index_list(f.rollers.iter().map(|r| r.index)),
             mn(f.stiffness.kxx),
             mn(f.stiffness.kyy),
             mn(c.averaged.mean.kxx),
@@ -407,7 +255,7 @@ fn text(bearing: &RollerBearing, study: &StiffnessStudy, load_source: &str) -> S
             mn(c.fixed.stiffness.kyy),
         );
     }
-    let determinate = determinate_clearances(study);
+    let determinate = study.determinate_clearances();
     if !determinate.is_empty() {
         let _ = writeln!(
             t,
@@ -418,113 +266,6 @@ fn text(bearing: &RollerBearing, study: &StiffnessStudy, load_source: &str) -> S
         );
     }
     t
-}
-
-fn write_stiffness_csv(out: &mut Output, study: &StiffnessStudy) -> miette::Result<()> {
-    let mut h = header(&["clearance_um"]);
-    let k = ["kxx", "kxy", "kyx", "kyy"].map(|e| format!("{e}_n_per_m"));
-    h.extend(header(&["frozen_ux_um", "frozen_uy_um", "frozen_rollers"]));
-    h.extend(k.iter().map(|e| format!("frozen_{e}")));
-    h.extend(header(&[
-        "averaged_ux_um",
-        "averaged_uy_um",
-        "averaged_most_rollers",
-    ]));
-    h.extend(k.iter().map(|e| format!("averaged_{e}")));
-    h.extend(header(&[
-        "averaged_kxx_min_n_per_m",
-        "averaged_kxx_max_n_per_m",
-        "averaged_kyy_min_n_per_m",
-        "averaged_kyy_max_n_per_m",
-        "fixed_rollers",
-        "fixed_fx_n",
-        "fixed_fy_n",
-    ]));
-    h.extend(k.iter().map(|e| format!("fixed_{e}")));
-    let rows: Vec<Vec<String>> = study
-        .clearances
-        .iter()
-        .map(|c| {
-            let (f, a, x) = (&c.frozen.tangent, &c.averaged, &c.fixed);
-            let mut row = vec![num(um(c.clearance))];
-            row.extend(f.displacement.map(|u| num(um(u))));
-            row.push(roller_list(f.rollers.iter().map(|r| r.index)));
-            row.extend(entries(&f.stiffness).map(num));
-            row.extend(a.mean_displacement.map(|u| num(um(u))));
-            row.push(a.most_rollers.to_string());
-            row.extend(entries(&a.mean).map(num));
-            row.extend([a.min.kxx, a.max.kxx, a.min.kyy, a.max.kyy].map(num));
-            row.push(roller_list(x.rollers.iter().map(|r| r.index)));
-            row.extend(x.force.map(num));
-            row.extend(entries(&x.stiffness).map(num));
-            row
-        })
-        .collect();
-    out.csv("stiffness.csv", &h, &rows)
-}
-
-fn write_passage_csv(out: &mut Output, study: &StiffnessStudy) -> miette::Result<()> {
-    let h = header(&[
-        "clearance_um",
-        "cage_angle_deg",
-        "ux_um",
-        "uy_um",
-        "rollers",
-        "kxx_n_per_m",
-        "kxy_n_per_m",
-        "kyx_n_per_m",
-        "kyy_n_per_m",
-    ]);
-    let rows: Vec<Vec<String>> = study
-        .clearances
-        .iter()
-        .flat_map(|c| {
-            c.averaged.samples.iter().map(move |s| {
-                let mut row = vec![num(um(c.clearance)), num(s.cage_angle.to_degrees())];
-                row.extend(s.displacement.map(|u| num(um(u))));
-                row.push(roller_list(s.rollers.iter().copied()));
-                row.extend(entries(&s.stiffness).map(num));
-                row
-            })
-        })
-        .collect();
-    out.csv("passage.csv", &h, &rows)
-}
-
-fn write_surface(out: &mut Output, surface: &ForceSurface) -> miette::Result<()> {
-    let label = clearance_label(surface.clearance);
-    let h = header(&[
-        "ux_um",
-        "uy_um",
-        "fx_n",
-        "fy_n",
-        "fr_n",
-        "rollers_in_contact",
-    ]);
-    let rows: Vec<Vec<String>> = surface
-        .uy
-        .iter()
-        .enumerate()
-        .flat_map(|(j, &y)| {
-            surface.ux.iter().enumerate().map(move |(i, &x)| {
-                vec![
-                    num(um(x)),
-                    num(um(y)),
-                    num(surface.fx[j][i]),
-                    num(surface.fy[j][i]),
-                    num(surface.fr[j][i]),
-                    surface.contacts[j][i].to_string(),
-                ]
-            })
-        })
-        .collect();
-    out.csv(&format!("surfaces_{label}.csv"), &h, &rows)?;
-    for component in plots_stiffness::Component::ALL {
-        out.plot(&format!("surface_{label}_{}", component.name()), |stem| {
-            plots_stiffness::force_surface(surface, component).save(stem)
-        })?;
-    }
-    Ok(())
 }
 
 /// Half-width of the surfaces' grid, m: twice the largest surface clearance, so that the
@@ -587,16 +328,30 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     ))?;
     let surfaces = surfaces(args, bearing, &study)?;
 
+    let report = StiffnessReport {
+        bearing: bearing.clone(),
+        study,
+        load_source: load_source.into(),
+        surfaces,
+    };
+    let tables = report.tables();
     let mut out = Output::begin(&args.common.out_dir("stiffness"))?;
-    write_stiffness_csv(&mut out, &study)?;
-    write_passage_csv(&mut out, &study)?;
+    out.table_named(&tables, "stiffness")?;
+    out.table_named(&tables, "passage")?;
+    let study = &report.study;
     out.plot("stiffness_vs_clearance", |stem| {
-        plots_stiffness::stiffness_vs_clearance(&study).save(stem)
+        plots_stiffness::stiffness_vs_clearance(study).save(stem)
     })?;
-    for s in &surfaces {
-        write_surface(&mut out, s)?;
+    for surface in &report.surfaces {
+        let label = clearance_label(surface.clearance);
+        out.table_named(&tables, &format!("surfaces_{label}"))?;
+        for component in plots_stiffness::Component::ALL {
+            out.plot(&format!("surface_{label}_{}", component.name()), |stem| {
+                plots_stiffness::force_surface(surface, component).save(stem)
+            })?;
+        }
     }
-    let summary = summary(&loaded, bearing, &study, load_source, &surfaces);
-    let text = text(bearing, &study, load_source);
+    let summary = report_summary("stiffness", &loaded, &report)?;
+    let text = text(bearing, study, load_source);
     finish(out, summary, text, &args.common)
 }

@@ -9,14 +9,14 @@
 
 use std::fmt::Write;
 
-use serde_json::{json, Value};
 use whirl::modal::critical_speed_map;
 use whirl::model::Model;
+use whirl::report::Report;
 
 use whirl_plot::SpeedAxis;
 
-use super::{finish, lib, load, mode_count, summary_head, Common, Outcome};
-use crate::output::{header, num, opt, Output};
+use super::{finish, lib, load, mode_count, report_summary, Common, Outcome};
+use crate::output::Output;
 use crate::plots;
 
 /// `whirl ucs`
@@ -119,24 +119,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     ))?;
     let (k0, k1) = (stiffness[0], stiffness[stiffness.len() - 1]);
 
-    let mut s = summary_head("ucs", &loaded);
-    s.insert("synchronous".into(), map.synchronous.into());
-    s.insert("stiffness_range_n_per_m".into(), json!([k0, k1]));
-    s.insert("stiffness_count".into(), stiffness.len().into());
-    s.insert("modes".into(), args.modes.into());
-    s.insert(
-        "bearings".into(),
-        map.bearings
-            .iter()
-            .map(|b| {
-                json!({
-                    "bearing": b.label, "stiffness_n_per_m": b.stiffness,
-                    "critical_speeds_hz": b.critical_speeds_hz,
-                })
-            })
-            .collect::<Vec<_>>()
-            .into(),
-    );
+    let summary = report_summary("ucs", &loaded, &map)?;
 
     let mut text = String::new();
     let _ = writeln!(
@@ -169,34 +152,13 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     }
 
     let mut out = Output::begin(&args.common.out_dir("ucs"))?;
-    let mut h = header(&["stiffness_n_per_m"]);
-    h.extend((1..=args.modes).map(|m| format!("mode{m}_hz")));
-    let rows: Vec<Vec<String>> = stiffness
-        .iter()
-        .enumerate()
-        .map(|(i, k)| {
-            let mut row = vec![num(*k)];
-            row.extend(map.critical_speeds_hz.iter().map(|c| num(c[i])));
-            row
-        })
-        .collect();
-    out.csv("ucs.csv", &h, &rows)?;
-    let mut h = header(&["bearing", "stiffness_n_per_m"]);
-    h.extend((1..=args.modes).map(|m| format!("mode{m}_hz")));
-    let rows: Vec<Vec<String>> = map
-        .bearings
-        .iter()
-        .map(|b| {
-            let mut row = vec![b.label.clone(), num(b.stiffness)];
-            row.extend(b.critical_speeds_hz.iter().map(|c| opt(*c)));
-            row
-        })
-        .collect();
-    out.csv("bearings.csv", &h, &rows)?;
+    for table in map.tables() {
+        out.table(&table)?;
+    }
     out.plot("ucs", |stem| {
         args.common
             .speed_axis(plots::critical_speed_map(model, &map), SpeedAxis::Y)
             .save(stem)
     })?;
-    finish(out, Value::Object(s), text, &args.common)
+    finish(out, summary, text, &args.common)
 }

@@ -37,6 +37,10 @@
 //! block of eq. 3.22-3.23 is computed (the thesis ignores the angular one). Roller skew,
 //! a constant part of each slice's approach, is kept.
 
+mod report;
+
+pub use report::{clearance_label, StiffnessReport, StiffnessSummary};
+
 use std::f64::consts::PI;
 
 use faer::Mat;

@@ -17,7 +17,8 @@
 //! - [`continuation()`]: pseudo-arclength continuation in w through turning points.
 //! - [`bearings`]: roller bearings made periodic in the running speed ([`CageModel`]).
 //! - [`compare`]: time marching read in the same terms, to check harmonic balance against.
-//! - [`sweep()`]: a model's periodic response over a speed range, as `whirl hbm` runs it.
+//! - [`sweep()`]: a model's periodic response over a speed range, as `whirl hbm` runs it;
+//!   [`SweepReport`]: what it reports (summary and tables).
 //! - [`stability`]: Hill's method for each periodic solution; [`bifurcation`]: where and
 //!   how it changes, named by the crossing Floquet multiplier (fold or symmetry breaking,
 //!   period doubling, Neimark-Sacker).
@@ -32,6 +33,7 @@ pub mod compare;
 mod condensation;
 pub mod continuation;
 pub mod fourier;
+pub mod report;
 pub mod stability;
 pub mod sweep;
 
@@ -45,6 +47,7 @@ pub use continuation::{
     Crossing, Derivatives, Fold, Periodic,
 };
 pub use fourier::aliasing_free_samples;
+pub use report::SweepReport;
 pub use stability::{hill_stability, HillProblem, Stability};
 pub use sweep::{sweep, sweep_with_progress, AtSpeed, Sweep, SweepOptions};
 

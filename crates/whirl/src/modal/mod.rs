@@ -18,6 +18,8 @@ mod undamped;
 pub use campbell::{campbell, CampbellOptions, CampbellResult, CriticalSpeed, ModeBranch};
 pub use complex::{branch_labels, complex_modes, ComplexMode, ModalBasis, Whirl, FULL_LIMIT};
 pub use convergence::{convergence, ConvergenceResult};
-pub use ucs::{critical_speed_map, BearingStiffness, CriticalSpeedMap};
+pub use ucs::{
+    critical_speed_map, BearingCut, BearingStiffness, CriticalSpeedMap, CriticalSpeedSummary,
+};
 pub(crate) use undamped::{lowest_modes, symmetric_modes};
 pub use undamped::{solves_dense, undamped_modes, UndampedModes, DENSE_LIMIT};

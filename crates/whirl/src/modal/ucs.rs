@@ -18,6 +18,10 @@
 //! has no forward critical speed), but K_p is once every bearing has k > 0, so the pencil is
 //! solved as M_eff v = mu K_p v with w = 1 / sqrt(mu) for each mu > 0.
 
+mod report;
+
+pub use report::{BearingCut, CriticalSpeedSummary};
+
 use serde::Serialize;
 
 use super::symmetric_modes;

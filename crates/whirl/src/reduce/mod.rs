@@ -15,6 +15,12 @@
 //! and mixes the bearings' stiffness into the rotor's Rayleigh damping, so whirl projects
 //! each matrix instead. Boundary DOFs stay physical, so bearing forces act on the reduced
 //! model directly.
+//!
+//! [`reduction_report`] compares a reduced model with the full one, as `whirl reduce` does.
+
+mod report;
+
+pub use report::{reduction_report, ReductionReport, ReductionSummary, StudyRow};
 
 use faer::Mat;
 use serde::Serialize;

@@ -13,6 +13,10 @@
 //! case w = Omega with F = Omega^2 f rotating (see [`super::unbalance`]). One complex LU per
 //! frequency, frequencies in parallel.
 
+mod report;
+
+pub use report::{FrfReport, FrfSummary};
+
 use faer::{c64, Mat};
 use rayon::prelude::*;
 use serde::Serialize;

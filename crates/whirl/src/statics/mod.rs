@@ -24,9 +24,11 @@
 //! Every interior node is reported twice, as the end of the element on its left and the
 //! start of the one on its right, so the shear force's jumps at disks and bearings show.
 
+mod report;
 mod sections;
 mod supports;
 
+pub use report::StaticSummary;
 pub use sections::{station_forces, Station};
 pub use supports::{BearingReaction, RollerLoad};
 
@@ -76,6 +78,8 @@ pub struct StaticResult {
     pub max_deflection: MaxDeflection,
     /// How roller bearings carried the load.
     pub roller_support: RollerSupport,
+    /// Gravity, m/s^2.
+    pub gravity: f64,
     /// Every DOF's displacement, m or rad (global numbering, see [`crate::fe`]).
     pub displacements: Vec<f64>,
 }
@@ -131,6 +135,7 @@ pub fn static_response(model: &Model, rollers: RollerSupport) -> Result<StaticRe
         weight,
         max_deflection,
         roller_support: rollers,
+        gravity: model.gravity,
         displacements: q,
     })
 }

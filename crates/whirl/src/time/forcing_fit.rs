@@ -20,6 +20,10 @@
 //! The law is then fitted to the samples ([`crate::bearing::forcing_regression`]). The speeds run in
 //! parallel.
 
+mod report;
+
+pub use report::{ForcingFitReport, ForcingFitSummary};
+
 use std::f64::consts::PI;
 use std::time::Instant;
 

@@ -29,7 +29,7 @@ mod statics;
 
 use crate::system::SpeedProfile;
 pub use central::{central_difference, central_difference_constrained, central_difference_limit};
-pub use forcing_fit::{fit_forcing, ForcingFit, ForcingFitOptions, SpeedFit};
+pub use forcing_fit::{fit_forcing, ForcingFit, ForcingFitOptions, ForcingFitReport, SpeedFit};
 pub use newmark::{newmark, NewmarkScheme};
 pub use rk::{runge_kutta, RkStats, RkTolerances};
 pub use rollers::{peak_near, ContactSummary, RollerRecord};
