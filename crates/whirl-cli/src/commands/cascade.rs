@@ -28,15 +28,15 @@
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
-use serde_json::{json, Value};
 use whirl::bearing::ContactLaw;
 use whirl::model::Model;
 use whirl::nsv::{
-    cascade, checkpoint, compare_starts, other_start_options, Cascade, CascadeOptions, Component,
-    NsvSummary, StartComparison, DEFAULT_MAX_ADDED, DEFAULT_MAX_RECORDS, DEFAULT_RELATIVE_ERROR,
-    DEFAULT_THRESHOLD_M, DEFAULT_TOLERANCE_BINS, STARTS_DIFFER_SIGMAS,
+    cascade, checkpoint, compare_starts, other_start_options, Cascade, CascadeOptions,
+    CascadeReport, Component, NsvSummary, StartComparison, DEFAULT_MAX_ADDED, DEFAULT_MAX_RECORDS,
+    DEFAULT_RELATIVE_ERROR, DEFAULT_THRESHOLD_M, DEFAULT_TOLERANCE_BINS, STARTS_DIFFER_SIGMAS,
 };
 use whirl::post::Window;
+use whirl::report::Report;
 use whirl::time::Initial;
 use whirl::time::DEFAULT_MODES;
 use whirl::units::{parse_quantity, parse_range, Dimension};
@@ -44,12 +44,12 @@ use whirl::units::{parse_quantity, parse_range, Dimension};
 use whirl_plot::SpeedAxis;
 
 use super::{
-    finish, hz, load, mode_count, node_index, positive_length, speeds, summary_head, time,
+    finish, hz, load, mode_count, node_index, positive_length, report_summary, speeds, time,
 };
-use super::{Common, Loaded, Outcome, Speeds};
+use super::{Common, Outcome, Speeds};
 use crate::error::{from_whirl, Diag};
 use crate::interrupt;
-use crate::output::{header, num, Output};
+use crate::output::Output;
 use crate::plots;
 use crate::progress::{duration_text, progress_line};
 
@@ -196,37 +196,48 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         None
     };
 
-    let mut summary = summary(&loaded, args, &result, &nsv, &checkpoint);
     let mut text = text(model, &result, &nsv, &checkpoint);
+    let report = CascadeReport {
+        cascade: result,
+        threshold_m: args.threshold,
+        starts,
+        checkpoint_folder: Some(checkpoint.display().to_string()),
+    };
+    let summary = report_summary("cascade", &loaded, &report)?;
+    let tables = report.tables();
+    let result = &report.cascade;
     let mut out = Output::begin(&out_dir)?;
-    write_tables(&mut out, &result)?;
+    out.table_named(&tables, "cascade")?;
+    if result.options.full {
+        out.table_named(&tables, "full_cascade")?;
+    }
+    out.table_named(&tables, "nsv")?;
     let common = &args.common;
-    if let Some(starts) = &starts {
-        summary["starts"] = starts_summary(starts, args.threshold);
+    if let Some(starts) = &report.starts {
         text.push_str(&starts_text(starts));
-        write_starts(&mut out, starts)?;
-        let figure = plots::nsv_from_both_starts(&result, starts, args.threshold);
+        out.table_named(&tables, "starts")?;
+        let figure = plots::nsv_from_both_starts(result, starts, args.threshold);
         out.plot("starts", |stem| {
             common.speed_axis(figure, SpeedAxis::X).save(stem)
         })?;
     }
-    let figure = plots::waterfall(&result);
+    let figure = plots::waterfall(result);
     out.plot("waterfall", |stem| {
         common.speed_axis(figure, SpeedAxis::Y).save(stem)
     })?;
     let map_top = args
         .map_max_frequency
-        .unwrap_or_else(|| plots::default_map_top_hz(&result));
-    let figure = plots::cascade_map(&result, args.threshold, map_top);
+        .unwrap_or_else(|| plots::default_map_top_hz(result));
+    let figure = plots::cascade_map(result, args.threshold, map_top);
     out.plot("cascade_map", |stem| {
         common.speed_axis(figure, SpeedAxis::X).save(stem)
     })?;
-    let figure = plots::nsv_amplitude(&result, args.threshold);
+    let figure = plots::nsv_amplitude(result, args.threshold);
     out.plot("nsv", |stem| {
         common.speed_axis(figure, SpeedAxis::X).save(stem)
     })?;
     if args.full {
-        let figure = plots::full_map(&result, map_top);
+        let figure = plots::full_map(result, map_top);
         out.plot("full_map", |stem| {
             common.speed_axis(figure, SpeedAxis::X).save(stem)
         })?;
@@ -263,17 +274,6 @@ fn start_name(start: Initial) -> &'static str {
     }
 }
 
-fn starts_summary(s: &StartComparison, threshold: f64) -> Value {
-    json!({
-        "other_start": s.other,
-        "compared_speeds": s.compared(),
-        "differing_speeds_hz": s.differing_speeds_hz(),
-        "sigmas": STARTS_DIFFER_SIGMAS,
-        "other_start_nsv": s.cascade.nsv_summary(threshold),
-        "note": "differing: the NSV amplitudes from the two starts differ by more than `sigmas` standard errors of their difference and the larger reaches the threshold: most likely two coexisting steady motions (starts.csv)",
-    })
-}
-
 fn starts_text(s: &StartComparison) -> String {
     let differing = s.differing_speeds_hz();
     let list: Vec<String> = differing.iter().map(|f| format!("{f:.1}")).collect();
@@ -292,30 +292,6 @@ fn starts_text(s: &StartComparison) -> String {
             list.join(", ")
         )
     }
-}
-
-fn write_starts(out: &mut Output, s: &StartComparison) -> miette::Result<()> {
-    let rows = s.pairs.iter().map(|p| {
-        [
-            num(p.speed_hz),
-            num(p.first_m),
-            num(p.first_error_m),
-            num(p.other_m),
-            num(p.other_error_m),
-            flag01(p.comparable),
-            flag01(p.differs),
-        ]
-    });
-    let h = header(&[
-        "speed_hz",
-        "nsv_m",
-        "nsv_standard_error_m",
-        "other_start_nsv_m",
-        "other_start_standard_error_m",
-        "comparable",
-        "differs",
-    ]);
-    out.csv("starts.csv", &h, rows)
 }
 
 /// Computing time of one central-difference step of the reduced reference rotor on Hertz
@@ -493,71 +469,9 @@ fn flag(field: &str) -> Option<&'static str> {
     })
 }
 
-fn summary(
-    loaded: &Loaded,
-    args: &Args,
-    c: &Cascade,
-    nsv: &NsvSummary,
-    checkpoint: &Path,
-) -> Value {
-    let o = &c.options;
-    let r = &c.resolved;
-    let mut s = summary_head("cascade", loaded);
-    s.insert("speeds".into(), c.points.len().into());
-    s.insert("speed_range_hz".into(), json!(speed_range(c)));
-    s.insert("contact".into(), o.law.name().into());
-    s.insert("reduction_modes".into(), json!(o.reduction));
-    s.insert("node".into(), o.node.into());
-    s.insert("component".into(), json!(o.component));
-    s.insert("settle_s".into(), o.settle.into());
-    s.insert("settle_max_s".into(), o.settle_max.into());
-    s.insert("start".into(), json!(o.initial));
-    s.insert("refinement".into(), json!(o.refine));
-    s.insert("record_s".into(), o.record.into());
-    s.insert("averaging".into(), json!(o.averaging));
-    s.insert("step_s".into(), r.step.into());
-    s.insert("sample_interval_s".into(), (1.0 / r.sample_rate_hz).into());
-    s.insert("samples_per_record".into(), r.samples.into());
-    s.insert("window".into(), o.window.to_string().into());
-    s.insert("resolution_hz".into(), r.resolution_hz.into());
-    s.insert("max_frequency_hz".into(), r.max_frequency_hz.into());
-    s.insert("tolerance_bins".into(), o.tolerance_bins.into());
-    s.insert("full_spectrum".into(), args.full.into());
-    s.insert("nsv".into(), json!(nsv));
-    s.insert("resumed_speeds".into(), c.resumed.into());
-    s.insert("wall_time_s".into(), c.wall_time_s.into());
-    s.insert(
-        "checkpoint_folder".into(),
-        checkpoint.display().to_string().into(),
-    );
-    s.insert(
-        "notes".into(),
-        json!([
-            "amplitudes are zero-to-peak, m, of the analysed component with the window-weighted mean removed; peaks refined between bins",
-            "nsv: the largest spectral peak in the band not within tolerance_bins of a multiple of the running speed; classes and their rules: whirl::nsv::classify",
-            "each speed settles until its largest non-synchronous peak stops dying away (or is negligible), from settle_s up to settle_max_s; an unsettled speed (still dying away at settle_max_s) has no NSV class and never makes the onset, the largest, the statistics or the dominant class",
-            "each settled speed power-averages the spectra of consecutive records until the NSV's standard error is within averaging.relative_error of it (or averaging.absolute_error_m), from min_records to max_records records; nsv.csv gives records, nsv_standard_error_m and nsv_variation (record-to-record scatter: near 0 for a steady vibration)",
-            "started_from_rest_hz: speeds where no static equilibrium was found, so the run started from rest (nsv.csv: start_fallback)",
-            "speeds are refined where the NSV changes sharply, around the largest NSV and below each onset level (nsv.csv: added = 1); largest.neighbours and largest.spacing_hz say how finely the largest NSV is resolved",
-            "statistics: each settled speed weighed by the stretch of speed it stands for, so they do not depend on how many speeds a region holds",
-            "onsets[].sustained_hz: the lowest speed from which the NSV reaches the level over at least half of the next 5 % of the speed range (a narrow resonance below it does not count)",
-            "direction: forward when the full spectrum of x + i y is larger at +f than at -f",
-        ]),
-    );
-    Value::Object(s)
-}
-
-/// Lowest and highest speed, Hz.
-fn speed_range(c: &Cascade) -> (f64, f64) {
-    let s = c.speeds_hz();
-    let low = s.iter().copied().fold(f64::INFINITY, f64::min);
-    let high = s.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    (low, high)
-}
-
 fn text(model: &Model, c: &Cascade, nsv: &NsvSummary, checkpoint: &Path) -> String {
     let mut t = String::new();
-    let (low, high) = speed_range(c);
+    let (low, high) = c.speed_range_hz();
     let _ = writeln!(
         t,
         "{}: cascade of {} speeds {low:.1}-{high:.1} Hz ({} added by refinement; {} contact, \
@@ -674,81 +588,4 @@ fn text(model: &Model, c: &Cascade, nsv: &NsvSummary, checkpoint: &Path) -> Stri
         );
     }
     t
-}
-
-/// `1` or `0`, as numpy and spreadsheets read a flag.
-fn flag01(b: bool) -> String {
-    String::from(if b { "1" } else { "0" })
-}
-
-fn write_tables(out: &mut Output, c: &Cascade) -> miette::Result<()> {
-    let rows = c.points.iter().flat_map(|p| {
-        p.amplitude
-            .iter()
-            .zip(&c.frequency_hz)
-            .map(move |(a, f)| [num(p.speed_hz), num(*f), num(*a), flag01(p.added)])
-    });
-    let h = header(&["speed_hz", "frequency_hz", "amplitude_m", "added"]);
-    out.csv("cascade.csv", &h, rows)?;
-    if c.options.full {
-        let rows = c.points.iter().flat_map(|p| {
-            p.full_amplitude
-                .iter()
-                .zip(&c.full_frequency_hz)
-                .map(move |(a, f)| [num(p.speed_hz), num(*f), num(*a), flag01(p.added)])
-        });
-        out.csv("full_cascade.csv", &h, rows)?;
-    }
-    let rows = c.points.iter().zip(&c.nsv).map(|(p, n)| {
-        let peak = n.as_ref().map(|n| n.peak);
-        let cell =
-            |f: fn(&whirl::nsv::NsvPeak) -> f64| peak.as_ref().map_or(String::new(), |p| num(f(p)));
-        vec![
-            num(p.speed_hz),
-            flag01(p.added),
-            flag01(p.settled),
-            num(p.settle_s),
-            p.records.to_string(),
-            num(p.one_x_m),
-            cell(|p| p.frequency_hz),
-            cell(|p| p.amplitude_m),
-            cell(|p| p.order),
-            n.as_ref().map_or(String::new(), |n| n.class.name().into()),
-            n.as_ref()
-                .map_or(String::new(), |n| n.direction.name().into()),
-            cell(|p| p.forward_m),
-            cell(|p| p.backward_m),
-            cell(|p| p.decay_ratio),
-            peak.and_then(|p| p.settling_ratio)
-                .map_or(String::new(), num),
-            cell(|p| p.standard_error_m),
-            cell(|p| p.variation),
-            n.as_ref().map_or(String::new(), |n| n.explanation.clone()),
-            p.diverged.clone().unwrap_or_default(),
-            p.start_fallback.clone().unwrap_or_default(),
-        ]
-    });
-    let h = header(&[
-        "speed_hz",
-        "added",
-        "settled",
-        "settle_s",
-        "records",
-        "one_x_m",
-        "nsv_frequency_hz",
-        "nsv_amplitude_m",
-        "nsv_order",
-        "class",
-        "direction",
-        "forward_m",
-        "backward_m",
-        "decay_ratio",
-        "settling_ratio",
-        "nsv_standard_error_m",
-        "nsv_variation",
-        "explanation",
-        "diverged",
-        "start_fallback",
-    ]);
-    out.csv("nsv.csv", &h, rows)
 }

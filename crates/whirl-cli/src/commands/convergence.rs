@@ -11,12 +11,12 @@
 
 use std::fmt::Write;
 
-use serde_json::{json, Value};
-use whirl::modal::{convergence, ConvergenceResult};
+use whirl::modal::convergence;
+use whirl::report::Report;
 
-use super::{finish, lib, load, mode_count, summary_head, Common, Outcome};
+use super::{finish, lib, load, mode_count, report_summary, Common, Outcome};
 use crate::error::Diag;
-use crate::output::{num, Output};
+use crate::output::Output;
 use crate::plots;
 
 /// `whirl convergence`
@@ -64,32 +64,11 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         .into());
     }
 
-    let short = meshes_with_fewer_modes(&result, args.modes);
+    let short = result.meshes_with_fewer_modes();
     if !short.is_empty() {
         eprintln!("note: {}", fewer_modes_note(&short, args.modes));
     }
-
-    let mut s = summary_head("convergence", &loaded);
-    s.insert("element_counts".into(), json!(result.element_counts));
-    s.insert("modes_requested".into(), json!(args.modes));
-    s.insert("modes_found".into(), json!(result.modes_found));
-    s.insert(
-        "meshes_with_fewer_modes".into(),
-        json!(short
-            .iter()
-            .map(|(n, m)| json!({"elements": n, "modes": m}))
-            .collect::<Vec<_>>()),
-    );
-    s.insert("skipped_element_counts".into(), json!(result.skipped));
-    s.insert("frequencies_hz".into(), json!(result.frequencies_hz));
-    s.insert(
-        "finest_mesh_frequencies_hz".into(),
-        json!(result.frequencies_hz.last()),
-    );
-    s.insert(
-        "finest_mesh_relative_change".into(),
-        json!(result.relative_change.last()),
-    );
+    let summary = report_summary("convergence", &loaded, &result)?;
 
     let mut text = String::new();
     let _ = writeln!(
@@ -122,39 +101,14 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     }
 
     let mut out = Output::begin(&args.common.out_dir("convergence"))?;
-    let modes = result.frequencies_hz.first().map_or(0, |f| f.len());
-    let mut h = vec!["elements".to_string()];
-    h.extend((1..=modes).map(|j| format!("mode{j}_frequency_hz")));
-    h.extend((1..=modes).map(|j| format!("mode{j}_relative_change")));
-    let rows: Vec<Vec<String>> = result
-        .element_counts
-        .iter()
-        .zip(&result.frequencies_hz)
-        .zip(&result.relative_change)
-        .map(|((n, f), c)| {
-            let mut row = vec![n.to_string()];
-            row.extend(f.iter().map(|x| num(*x)));
-            row.extend(c.iter().map(|x| num(*x)));
-            row
-        })
-        .collect();
-    out.csv("convergence.csv", &h, &rows)?;
+    for table in result.tables() {
+        out.table(&table)?;
+    }
     out.plot("convergence", |stem| plots::convergence(&result).save(stem))?;
     out.plot("convergence_change", |stem| {
         plots::convergence_change(&result).save(stem)
     })?;
-    finish(out, Value::Object(s), text, &args.common)
-}
-
-/// (element count, modes found) of each mesh with fewer modes than `requested`.
-fn meshes_with_fewer_modes(result: &ConvergenceResult, requested: usize) -> Vec<(usize, usize)> {
-    result
-        .element_counts
-        .iter()
-        .zip(&result.modes_found)
-        .filter(|(_, &found)| found < requested)
-        .map(|(&n, &found)| (n, found))
-        .collect()
+    finish(out, summary, text, &args.common)
 }
 
 /// What the user is told about meshes that cannot give every mode asked for.

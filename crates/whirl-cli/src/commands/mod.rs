@@ -359,9 +359,6 @@ pub fn mode_count(text: &str) -> Result<usize, String> {
     }
 }
 
-/// Names branches by whirl direction and rank (`1F`, `1B`, ...).
-pub use whirl::modal::branch_labels as whirl_labels;
-
 /// Speed in Hz from rad/s.
 pub fn hz(w: f64) -> f64 {
     whirl::units::rad_s_to_hz(w)

@@ -37,24 +37,21 @@ mod contacts;
 
 use std::fmt::Write;
 
-use clap::ValueEnum;
-use serde_json::{json, Value};
 use whirl::bearing::ContactLaw;
 use whirl::model::Model;
-use whirl::post::{SpectralPeak, Window};
+use whirl::report::Report;
 use whirl::system::SpeedProfile;
 use whirl::time::{
     simulate, Initial, Method, NewmarkScheme, RkTolerances, RunStatus, SettledChannel,
-    SimulationOptions, SimulationResult, ORDER_TOLERANCE_BINS,
+    SimulationOptions, SimulationReport, SimulationResult,
 };
 
-use super::campbell::order_name;
 use super::{
-    finish, hz, lib, load, mode_count, node_index, positive_length, report_nodes, speed,
-    summary_head, time, Common, Loaded, Outcome,
+    finish, lib, load, mode_count, node_index, positive_length, report_nodes, report_summary,
+    speed, time, Common, Outcome,
 };
 use crate::error::Diag;
-use crate::output::{header, num, Output};
+use crate::output::{num, Output};
 use crate::plots;
 use crate::progress::progress_line;
 
@@ -150,11 +147,9 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         progress: Some(progress.clone()),
         ..SimulationOptions::new(SpeedProfile::Constant(args.speed))
     };
-    let law = options.contact_law(model);
     let settle = options.settle_time();
     check_settling(args, settle)?;
     options.speed = speed_profile(args, settle)?;
-    let speed = options.speed;
     let result = simulate(model, &options);
     line.clear();
     let result = lib(result)?;
@@ -169,33 +164,33 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         RunStatus::Stopped { .. } => lib(result.completed())?,
         RunStatus::Completed => result,
     };
-    let final_speed = speed.at(args.duration).0.speed;
-    let running_hz = hz(final_speed);
-    let reports = channel_reports(&result, &speed)?;
-    let bearings = contacts::bearing_reports(model, &result, &reports, final_speed, running_hz);
+    check_settled_part(&result)?;
+    let report = lib(SimulationReport::new(model, &options, result))?;
+    let (final_speed, running_hz) = (report.final_speed(), report.running_hz());
+    let result = &report.result;
     // Every recorded node: those asked for and the bearing nodes a contact law adds.
     let mut recorded: Vec<usize> = result.channels.iter().map(|c| c.node).collect();
     recorded.dedup();
 
-    let mut summary = summary(&loaded, args, law, &result, running_hz, &reports);
-    if let Value::Object(map) = &mut summary {
-        map.insert("bearings".into(), contacts::summary(&bearings));
-    }
-    let mut text = text(model, args, &result, running_hz, &reports);
-    contacts::text(&mut text, &bearings);
+    let summary = report_summary("simulate", &loaded, &report)?;
+    let mut text = text(model, args, result, running_hz, &report.channels);
+    contacts::text(&mut text, &report);
     let mut out = Output::begin(&args.common.out_dir("simulate"))?;
-    write_tables(&mut out, &result, &reports, running_hz)?;
-    contacts::write(&mut out, &result, &bearings)?;
+    write_time_history(&mut out, result)?;
+    for table in report.tables() {
+        out.table(&table)?;
+    }
+    contacts::write(&mut out, &report)?;
     out.plot("time_history", |stem| {
-        plots::time_history(&result, &recorded).save(stem)
+        plots::time_history(result, &recorded).save(stem)
     })?;
     let circles = contacts::clearance_circles(model, final_speed);
     out.plot("orbits", |stem| {
-        plots::orbits(&result, &recorded, &circles).save(stem)
+        plots::orbits(result, &recorded, &circles).save(stem)
     })?;
-    let markers = contacts::spectrum_markers(&bearings);
+    let markers = contacts::spectrum_markers(&report.bearings);
     out.plot("spectrum", |stem| {
-        plots::spectrum(&reports, running_hz, &markers).save(stem)
+        plots::spectrum(&report.channels, running_hz, &markers).save(stem)
     })?;
     finish(out, summary, text, &args.common)
 }
@@ -225,14 +220,6 @@ fn time_step(args: &Args) -> miette::Result<Option<f64>> {
         Some(h) if h <= 0.0 => Err(Diag::option("--step", "the time step must be positive").into()),
         given => Ok(given),
     }
-}
-
-/// The name a value has on the command line.
-fn value_name(value: impl ValueEnum) -> String {
-    value
-        .to_possible_value()
-        .map(|v| v.get_name().to_string())
-        .unwrap_or_default()
 }
 
 /// The duration must be positive and the settling time (given, or the library's default)
@@ -275,12 +262,8 @@ fn speed_profile(args: &Args, settle: f64) -> miette::Result<SpeedProfile> {
     }
 }
 
-/// What the settled part of each channel shows; too short a settled part is said in terms
-/// of the flags.
-fn channel_reports(
-    result: &SimulationResult,
-    speed: &SpeedProfile,
-) -> miette::Result<Vec<SettledChannel>> {
+/// Too short a settled part for a spectrum, said in terms of the flags.
+fn check_settled_part(result: &SimulationResult) -> miette::Result<()> {
     let settled = result.time.len() - result.settled_start();
     if settled < whirl::post::spectrum::MIN_SAMPLES {
         return Err(Diag::option(
@@ -293,97 +276,7 @@ fn channel_reports(
         .help("shorten --settle, lengthen --duration, or use a smaller --step")
         .into());
     }
-    lib(result.settled(speed))
-}
-
-/// `1X`, `2X` at multiples of the running speed, `0.5X`, `1.5X` at half orders (where
-/// sub-synchronous whirl sits), otherwise `non-synchronous`.
-pub fn order_label(frequency_hz: f64, running_hz: f64, tolerance_hz: f64) -> String {
-    if running_hz > 0.0 {
-        let halves = (2.0 * frequency_hz / running_hz).round();
-        if halves >= 1.0 && (frequency_hz - 0.5 * halves * running_hz).abs() <= tolerance_hz {
-            return order_name(0.5 * halves);
-        }
-    }
-    "non-synchronous".into()
-}
-
-fn peak_json(p: &SpectralPeak, running_hz: f64, tolerance_hz: f64) -> Value {
-    json!({
-        "frequency_hz": p.frequency_hz, "amplitude_m": p.amplitude,
-        "order": p.order.is_finite().then_some(p.order),
-        "label": order_label(p.frequency_hz, running_hz, tolerance_hz),
-    })
-}
-
-fn summary(
-    loaded: &Loaded,
-    args: &Args,
-    law: ContactLaw,
-    result: &SimulationResult,
-    running_hz: f64,
-    reports: &[SettledChannel],
-) -> Value {
-    let mut s = summary_head("simulate", loaded);
-    s.insert("method".into(), result.method.clone().into());
-    s.insert("contact".into(), law.name().into());
-    s.insert("speed_hz".into(), hz(args.speed).into());
-    s.insert("ramp_to_hz".into(), json!(args.ramp_to.map(hz)));
-    s.insert("running_speed_hz".into(), running_hz.into());
-    s.insert("duration_s".into(), args.duration.into());
-    s.insert("settle_s".into(), result.settle.into());
-    s.insert("step_s".into(), result.step.into());
-    s.insert("stable_step_s".into(), result.stable_step.into());
-    s.insert("reduction_modes".into(), json!(args.reduce));
-    s.insert("coordinates".into(), result.coordinates.into());
-    s.insert("start".into(), value_name(args.start).into());
-    s.insert("start_fallback".into(), json!(result.start_fallback));
-    s.insert("samples".into(), result.time.len().into());
-    s.insert("record_every".into(), result.record_every.into());
-    s.insert("sample_interval_s".into(), result.sample_interval().into());
-    s.insert("wall_time_s".into(), result.wall_time_s.into());
-    s.insert("rk_stats".into(), json!(result.rk_stats));
-    // "completed" or "diverged", without the divergence's details (a diverged run stops
-    // before anything is written).
-    s.insert("status".into(), json!(result.status)["status"].clone());
-    let resolution = reports
-        .first()
-        .map_or(f64::NAN, |r| r.spectrum.resolution_hz);
-    s.insert("spectrum_window".into(), Window::FlatTop.to_string().into());
-    s.insert("spectrum_resolution_hz".into(), resolution.into());
-    let tolerance_hz = ORDER_TOLERANCE_BINS * resolution;
-    s.insert(
-        "channels".into(),
-        reports
-            .iter()
-            .map(|r| {
-                json!({
-                    "name": r.name, "node": r.node,
-                    "mean_m": r.mean,
-                    "one_x_amplitude_m": r.one_x.map(|c| c.amplitude),
-                    "one_x_phase_deg": r.one_x.map(|c| c.phase.to_degrees()),
-                    "peak_to_peak_m": r.peak_to_peak,
-                    "largest_non_synchronous": r.non_synchronous
-                        .map(|p| peak_json(&p, running_hz, tolerance_hz)),
-                    "peaks": r.peaks.iter()
-                        .map(|p| peak_json(p, running_hz, tolerance_hz))
-                        .collect::<Vec<_>>(),
-                })
-            })
-            .collect::<Vec<_>>()
-            .into(),
-    );
-    s.insert(
-        "notes".into(),
-        json!([
-            "1X amplitude and phase by order tracking of the settled part; phase as in `whirl unbalance` (x = A cos(Omega t + phase))",
-            "spectra: flat-top window, mean removed, zero-to-peak amplitude",
-            "divergence_bound (m) applies to the recorded displacements (ux, uy of the recorded nodes, bearing nodes included); any integrated coordinate beyond 1000 times it, rotations and modal coordinates too, also counts as divergence",
-            "bearings: contact statistics over the settled part; a roller is in contact when it carries load (for the forcing-function law, when it penetrates); measured peaks are the largest spectral peak of the bearing node's channel within 3 bins of the prediction",
-        ]),
-    );
-    s.insert("divergence_bound".into(), args.divergence_bound.into());
-    Value::Object(s)
+    Ok(())
 }
 
 fn text(
@@ -429,12 +322,8 @@ fn text(
     t
 }
 
-fn write_tables(
-    out: &mut Output,
-    result: &SimulationResult,
-    reports: &[SettledChannel],
-    running_hz: f64,
-) -> miette::Result<()> {
+/// `time_history.csv` and `.npy`, written from the record row by row.
+fn write_time_history(out: &mut Output, result: &SimulationResult) -> miette::Result<()> {
     let mut h = vec!["time_s".to_string()];
     h.extend(result.channels.iter().map(|c| c.name.clone()));
     let rows = result.time.iter().enumerate().map(|(i, t)| {
@@ -443,31 +332,5 @@ fn write_tables(
     out.csv("time_history.csv", &h, rows)?;
     let mut columns: Vec<&[f64]> = vec![&result.time];
     columns.extend(result.channels.iter().map(|c| c.values.as_slice()));
-    out.npy("time_history.npy", &columns)?;
-
-    let mut h = vec!["frequency_hz".to_string()];
-    h.extend(reports.iter().map(|r| r.name.clone()));
-    let frequencies = reports
-        .first()
-        .map_or(&[][..], |r| &r.spectrum.frequency_hz);
-    let rows = frequencies.iter().enumerate().map(|(k, f)| {
-        std::iter::once(num(*f)).chain(reports.iter().map(move |r| num(r.spectrum.amplitude[k])))
-    });
-    out.csv("spectrum.csv", &h, rows)?;
-
-    let mut rows = Vec::new();
-    for r in reports {
-        let tolerance_hz = ORDER_TOLERANCE_BINS * r.spectrum.resolution_hz;
-        for p in &r.peaks {
-            rows.push(vec![
-                r.name.clone(),
-                num(p.frequency_hz),
-                num(p.amplitude),
-                num(p.order),
-                order_label(p.frequency_hz, running_hz, tolerance_hz),
-            ]);
-        }
-    }
-    let h = header(&["channel", "frequency_hz", "amplitude_m", "order", "label"]);
-    out.csv("peaks.csv", &h, &rows)
+    out.npy("time_history.npy", &columns)
 }

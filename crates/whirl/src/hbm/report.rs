@@ -90,7 +90,7 @@ pub struct ComparisonSummary {
     pub node: usize,
     /// Every harmonic-balance solution at this speed, in path order.
     pub hb_solutions: Vec<SolutionSummary>,
-    /// Stability of the solution compared ([`SweepReport::compared`]).
+    /// Stability of the solution compared ([`SweepReport::solutions_at`]).
     pub hb_stable: Option<bool>,
     /// 1X of u_y of the solution compared, m.
     pub hb_1x_uy_m: Option<f64>,

@@ -13,6 +13,10 @@
 //! Critical speeds: where a branch crosses an excitation line f = k Omega / 2 pi, found by
 //! a sign change between two speeds and linear interpolation.
 
+mod report;
+
+pub use report::CampbellSummary;
+
 use rayon::prelude::*;
 use serde::Serialize;
 

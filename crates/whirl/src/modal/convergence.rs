@@ -5,6 +5,10 @@
 //! has fewer modes than a fine one (4 DOFs per node, less the constrained ones): the modes
 //! it lacks are NaN, so that every mesh has the same columns.
 
+mod report;
+
+pub use report::ConvergenceSummary;
+
 use serde::Serialize;
 
 use super::undamped::undamped_modes;
@@ -28,6 +32,8 @@ pub struct ConvergenceResult {
     pub modes_found: Vec<usize>,
     /// Element counts left out because a feature would not sit on a node.
     pub skipped: Vec<usize>,
+    /// The number of modes asked for.
+    pub modes_requested: usize,
 }
 
 /// Elements per section for a total count, in proportion to the section lengths.
@@ -65,6 +71,7 @@ pub fn convergence(model: &Model, counts: &[usize], modes: usize) -> Result<Conv
         relative_change: Vec::new(),
         modes_found: Vec::new(),
         skipped: Vec::new(),
+        modes_requested: modes,
     };
     for total in counts {
         let Ok(mesh) = model.remeshed(&split(model, total)) else {

@@ -7,17 +7,26 @@
 //!   critical speeds where a branch crosses an excitation order.
 //! - [`convergence`]: frequencies versus element count (thesis fig. 2.8).
 //! - [`critical_speed_map`]: undamped critical speeds against bearing stiffness (API 684).
+//! - [`check_model`]: a model as read with its first undamped frequencies (`whirl check`).
+//! - [`modal_report`]: the undamped and damped modes at one speed, as `whirl modal`
+//!   reports them.
 
 mod campbell;
+mod check;
 mod complex;
 mod convergence;
+mod report;
 mod subspace;
 mod ucs;
 mod undamped;
 
-pub use campbell::{campbell, CampbellOptions, CampbellResult, CriticalSpeed, ModeBranch};
+pub use campbell::{
+    campbell, CampbellOptions, CampbellResult, CampbellSummary, CriticalSpeed, ModeBranch,
+};
+pub use check::{check_model, CheckSummary, ModelCheck};
 pub use complex::{branch_labels, complex_modes, ComplexMode, ModalBasis, Whirl, FULL_LIMIT};
-pub use convergence::{convergence, ConvergenceResult};
+pub use convergence::{convergence, ConvergenceResult, ConvergenceSummary};
+pub use report::{modal_report, DampedSummary, ModalReport, ModalSummary};
 pub use ucs::{
     critical_speed_map, BearingCut, BearingStiffness, CriticalSpeedMap, CriticalSpeedSummary,
 };

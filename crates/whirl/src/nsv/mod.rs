@@ -58,6 +58,7 @@ pub mod classify;
 mod options;
 mod point;
 mod refine;
+mod report;
 mod starts;
 mod summary;
 
@@ -80,6 +81,7 @@ pub use point::{
     NEGLIGIBLE_M, TRANSIENT_DECAY,
 };
 pub use refine::SHARP_RATIO;
+pub use report::{CascadeReport, CascadeSummary, StartsSummary};
 pub use starts::{
     compare_starts, other_start, other_start_options, StartComparison, StartPair,
     STARTS_DIFFER_SIGMAS,

@@ -13,5 +13,6 @@ mod unbalance;
 pub use frf::{frf, harmonic_response, FrfChannel, FrfKind, FrfReport, FrfResult, FrfSummary};
 pub use peaks::{margins_not_applicable, separation_margin, ResponsePeak, API617_MIN_SPEED_RATIO};
 pub use unbalance::{
-    unbalance_response, unbalance_response_refined, NodeResponse, UnbalanceResult, BAND_SAMPLES,
+    unbalance_response, unbalance_response_refined, NodeResponse, UnbalanceResult,
+    UnbalanceSummary, BAND_SAMPLES,
 };

@@ -20,6 +20,10 @@
 //! [`BAND_SAMPLES`] steps, so the peak, its amplification factor and the polar loop
 //! come out of the samples rather than out of the interpolation between them.
 
+mod report;
+
+pub use report::UnbalanceSummary;
+
 use faer::c64;
 use rayon::prelude::*;
 use serde::Serialize;

@@ -38,6 +38,12 @@
 //! `n7.tx`, or a fixed-interface mode of the reduction.
 
 mod contacts;
+mod report;
+
+pub use report::{
+    order_label, BearingReport, FrequencyCheck, SimulationReport, SimulationSummary,
+    CONTACT_LINE_CAGE_TURNS, MATCH_BINS,
+};
 
 use std::ops::ControlFlow;
 use std::time::Instant;
