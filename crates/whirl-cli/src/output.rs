@@ -315,11 +315,6 @@ pub fn num(x: f64) -> String {
     }
 }
 
-/// An optional number for a CSV cell.
-pub fn opt(x: Option<f64>) -> String {
-    x.map(num).unwrap_or_default()
-}
-
 /// A list of header names from string slices.
 pub fn header(names: &[&str]) -> Vec<String> {
     names.iter().map(|s| s.to_string()).collect()

@@ -19,8 +19,10 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use serde_json::{json, Value};
+use serde_json::Value;
+use whirl::report::Report;
 use whirl::study::ranking::Effect;
+use whirl::study::report::StudyReport;
 use whirl::study::results::{analyse, run_points, PointOutcome, PointResult, Source, StudyResults};
 use whirl::study::store::Store;
 use whirl::study::{point, Point, Study};
@@ -28,7 +30,7 @@ use whirl::study::{point, Point, Study};
 use super::{finish_json, lib, Outcome};
 use crate::error::{from_whirl, Diag};
 use crate::interrupt;
-use crate::output::{header, num, opt, Output};
+use crate::output::Output;
 use crate::plots_study;
 use crate::progress::progress_line;
 
@@ -92,8 +94,16 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let results = lib(results)?;
     check_failures(&study, &results)?;
     let outcome = analyse(&study, &results);
+    let report = StudyReport {
+        study,
+        results,
+        outcome,
+    };
+    let (study, results, outcome) = (&report.study, &report.results, &report.outcome);
     let mut out = Output::begin(&out_dir)?;
-    write_tables(&mut out, &study, &results, &outcome)?;
+    for table in report.tables() {
+        out.table(&table)?;
+    }
     for (i, sweep) in outcome.sweeps.iter().enumerate() {
         let maps: Vec<_> = study.sweeps[i]
             .points
@@ -107,8 +117,8 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
             plots_study::nsv_versus_parameter(sweep, study.metric).save(stem)
         })?;
     }
-    let summary = summary(args, &study, &store, &results, &outcome, start);
-    let text = text(&study, &outcome, &store);
+    let summary = summary(args, &report, &store, start)?;
+    let text = text(study, outcome, &store);
     finish_json(out, summary, text, args.json)
 }
 
@@ -209,185 +219,28 @@ fn tell(k: usize, total: usize, p: &Point, source: Source, outcome: &PointOutcom
     eprintln!("{clear}[{}/{total}] {}: {what}", k + 1, p.label());
 }
 
-fn write_tables(
-    out: &mut Output,
-    study: &Study,
-    results: &[PointOutcome],
-    outcome: &StudyResults,
-) -> miette::Result<()> {
-    out.csv(
-        "points.csv",
-        &header(&[
-            "point",
-            "changes",
-            "largest_nsv_m",
-            "largest_nsv_speed_hz",
-            "largest_nsv_frequency_hz",
-            "largest_nsv_class",
-            "onset_speed_hz",
-            "median_nsv_m",
-            "p90_nsv_m",
-            "mean_nsv_m",
-            "dominant_class",
-            "largest_1x_m",
-            "wall_time_s",
-            "error",
-        ]),
-        study
-            .points
-            .iter()
-            .zip(results)
-            .enumerate()
-            .map(|(k, (p, r))| {
-                let mut row = vec![k.to_string(), p.label()];
-                row.extend(match r {
-                    Ok(r) => vec![
-                        num(r.nsv.largest),
-                        opt(r.nsv.largest_speed_hz),
-                        opt(r.nsv.largest_frequency_hz),
-                        r.nsv.largest_class.clone().unwrap_or_default(),
-                        opt(r.nsv.onset_speed_hz),
-                        num(r.nsv.median),
-                        num(r.nsv.p90),
-                        num(r.nsv.mean),
-                        r.nsv.dominant_class.clone().unwrap_or_default(),
-                        num(r.nsv.largest_synchronous),
-                        num(r.wall_time_s),
-                        String::new(),
-                    ],
-                    Err(e) => {
-                        let mut failed = vec![String::new(); 11];
-                        failed.push(e.clone());
-                        failed
-                    }
-                });
-                row
-            }),
-    )?;
-    let rows = outcome.sweeps.iter().enumerate().flat_map(|(i, s)| {
-        (0..s.values.len()).map(move |j| {
-            vec![
-                i.to_string(),
-                s.name.clone(),
-                s.parameter.clone(),
-                s.values[j].clone(),
-                opt(s.values_si[j]),
-                opt(s.largest_nsv[j]),
-                opt(s.metric_nsv[j]),
-                opt(s.onset_speed_hz[j]),
-            ]
-        })
-    });
-    out.csv(
-        "sweeps.csv",
-        &header(&[
-            "sweep",
-            "name",
-            "parameter",
-            "value",
-            "value_si",
-            "largest_nsv_m",
-            "metric_nsv_m",
-            "onset_speed_hz",
-        ]),
-        rows,
-    )?;
-    let fits = outcome.sweeps.iter().enumerate().filter_map(|(i, s)| {
-        let f = s.fit.as_ref()?;
-        let mut row = vec![
-            i.to_string(),
-            s.name.clone(),
-            (f.coefficients.len() - 1).to_string(),
-        ];
-        row.extend(f.coefficients.iter().map(|c| num(*c)));
-        row.extend((f.coefficients.len()..4).map(|_| String::new()));
-        row.extend([num(f.r_squared), num(f.rms_residual)]);
-        Some(row)
-    });
-    out.csv(
-        "fits.csv",
-        &header(&[
-            "sweep",
-            "name",
-            "degree",
-            "p1",
-            "p2",
-            "p3",
-            "p4",
-            "r_squared",
-            "rms_residual_m",
-        ]),
-        fits,
-    )?;
-    write_ranking(out, "ranking.csv", &outcome.ranking)?;
-    write_ranking(
-        out,
-        "ranking_by_parameter.csv",
-        &outcome.ranking_by_parameter,
-    )
-}
-
-/// Effects on the study's metric, largest first, as `name`.
-fn write_ranking(out: &mut Output, name: &str, effects: &[Effect]) -> miette::Result<()> {
-    out.csv(
-        name,
-        &header(&[
-            "rank",
-            "sweep",
-            "parameter",
-            "smallest_metric_m",
-            "largest_metric_m",
-            "relative_change",
-        ]),
-        effects.iter().enumerate().map(|(k, e)| {
-            vec![
-                (k + 1).to_string(),
-                e.sweep.clone(),
-                e.parameter.clone(),
-                num(e.smallest),
-                num(e.largest),
-                opt(e.relative_change),
-            ]
-        }),
-    )
-}
-
+/// summary.json: the run's head (command, study file, checkpoint, wall time) and the
+/// study's report.
 fn summary(
     args: &Args,
-    study: &Study,
+    report: &StudyReport,
     store: &Store,
-    results: &[PointOutcome],
-    outcome: &StudyResults,
     start: Instant,
-) -> Value {
-    let points: Vec<Value> = study
-        .points
-        .iter()
-        .zip(results)
-        .map(|(p, r)| match r {
-            Ok(r) => json!({ "key": p.key, "label": p.label(), "nsv": r.nsv,
-                             "wall_time_s": r.wall_time_s }),
-            Err(e) => json!({ "key": p.key, "label": p.label(), "error": e }),
-        })
-        .collect();
-    let done = || results.iter().flatten();
-    json!({
-        "command": "study",
-        "whirl_version": env!("CARGO_PKG_VERSION"),
-        "study_file": args.study.display().to_string(),
-        "model_file": study.model_file.display().to_string(),
-        "title": study.title,
-        "metric": study.metric,
-        "metric_description": study.metric.describe(),
-        "checkpoint": store.dir().display().to_string(),
-        "points": points,
-        "sweeps": outcome.sweeps,
-        "ranking": outcome.ranking,
-        "ranking_by_parameter": outcome.ranking_by_parameter,
-        "failed_points": results.iter().filter(|r| r.is_err()).count(),
-        "cascade_time_s": done().map(|r| r.wall_time_s).sum::<f64>(),
-        "wall_time_s": start.elapsed().as_secs_f64(),
-    })
+) -> miette::Result<Value> {
+    let mut s = match serde_json::to_value(report.summary()) {
+        Ok(Value::Object(keys)) => keys,
+        _ => return Err(Diag::new("cannot encode the summary").into()),
+    };
+    for (key, value) in [
+        ("command", Value::from("study")),
+        ("whirl_version", env!("CARGO_PKG_VERSION").into()),
+        ("study_file", args.study.display().to_string().into()),
+        ("checkpoint", store.dir().display().to_string().into()),
+        ("wall_time_s", start.elapsed().as_secs_f64().into()),
+    ] {
+        s.insert(key.into(), value);
+    }
+    Ok(Value::Object(s))
 }
 
 fn text(study: &Study, outcome: &StudyResults, store: &Store) -> String {

@@ -23,6 +23,7 @@ pub mod fit;
 pub mod path;
 pub mod point;
 pub mod ranking;
+pub mod report;
 pub mod results;
 pub mod settings;
 pub mod store;
