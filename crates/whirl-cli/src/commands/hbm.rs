@@ -35,8 +35,8 @@ use whirl::model::Model;
 use whirl_plot::{Colour, Figure2d, LegendPosition, Marker, RefLine, Series, SpeedAxis, Style};
 
 use super::{
-    finish, hz, lib, load, mode_count, report_nodes, report_summary, speed, speeds, time, Common,
-    Outcome, Speeds,
+    finish, hz, lib, load, mode_count, report_summary, speed, speeds, time, Common, Nodes, Outcome,
+    Speeds,
 };
 use crate::error::Diag;
 use crate::output::Output;
@@ -69,10 +69,8 @@ pub struct Args {
     /// Harmonics H of the running speed (1 to 50).
     #[arg(long, value_name = "H", default_value = "5", value_parser = harmonic_count)]
     pub harmonics: usize,
-    /// Nodes to report, comma-separated; the first is plotted [default: every disk and
-    /// bearing node].
-    #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = super::node_index)]
-    pub nodes: Vec<usize>,
+    #[command(flatten)]
+    pub nodes: Nodes,
     /// Contact law of the roller bearings: hertz or forcing (harmonic balance needs a
     /// force law of the displacement).
     #[arg(long, value_enum, default_value = "hertz")]
@@ -184,8 +182,8 @@ fn harmonic_list(text: &str) -> Result<HarmonicList, String> {
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     let model = &loaded.model;
-    let mut nodes = report_nodes(model, &args.nodes)?;
-    if args.nodes.is_empty() {
+    let mut nodes = args.nodes.resolve(model)?;
+    if args.nodes.is_default() {
         // Disks first: the first node is plotted and compared.
         nodes.sort_by_key(|n| !model.disks.iter().any(|d| d.station.node == *n));
     }

@@ -64,6 +64,29 @@ impl Common {
     }
 }
 
+/// `--nodes`, shared by the commands that report or record chosen nodes (`unbalance`,
+/// `hbm`, `simulate`).
+#[derive(Debug, clap::Args)]
+pub struct Nodes {
+    /// Nodes to report, comma-separated, in this order (`hbm` plots and compares the first)
+    /// [default: every disk and bearing node].
+    #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = node_index)]
+    pub nodes: Vec<usize>,
+}
+
+impl Nodes {
+    /// The nodes given (checked, repeats removed), or every disk and bearing node
+    /// ([`report_nodes`]).
+    pub fn resolve(&self, model: &Model) -> miette::Result<Vec<usize>> {
+        report_nodes(model, &self.nodes)
+    }
+
+    /// Whether none were given.
+    pub fn is_default(&self) -> bool {
+        self.nodes.is_empty()
+    }
+}
+
 /// `--out` when given, else `out/<command>`.
 pub fn out_or_default(out: &Option<PathBuf>, command: &str) -> PathBuf {
     out.clone()

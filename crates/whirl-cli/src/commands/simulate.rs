@@ -47,8 +47,8 @@ use whirl::time::{
 };
 
 use super::{
-    finish, lib, load, mode_count, node_index, positive_length, report_nodes, report_summary,
-    speed, time, Common, Outcome,
+    finish, lib, load, mode_count, positive_length, report_summary, speed, time, Common, Nodes,
+    Outcome,
 };
 use crate::error::Diag;
 use crate::output::{num, Output};
@@ -95,9 +95,8 @@ pub struct Args {
     /// Time discarded before the steady-state numbers [default: half the duration].
     #[arg(long, value_name = "TIME", value_parser = time, allow_hyphen_values = true)]
     pub settle: Option<f64>,
-    /// Nodes to record, comma-separated [default: every disk and bearing node].
-    #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = node_index)]
-    pub nodes: Vec<usize>,
+    #[command(flatten)]
+    pub nodes: Nodes,
     /// Contact law of the roller bearings [default: hertz when the model has roller
     /// bearings, linear otherwise].
     #[arg(long, value_name = "LAW", value_enum)]
@@ -131,7 +130,7 @@ fn record_every(text: &str) -> Result<usize, String> {
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     let model = &loaded.model;
-    let nodes = report_nodes(model, &args.nodes)?;
+    let nodes = args.nodes.resolve(model)?;
     let (progress, line) = progress_line("simulating".into());
     let mut options = SimulationOptions {
         duration: args.duration,

@@ -19,9 +19,7 @@ use whirl::response::{unbalance_response_refined, UnbalanceResult};
 
 use whirl_plot::SpeedAxis;
 
-use super::{
-    finish, lib, load, node_index, report_nodes, report_summary, speeds, Common, Outcome, Speeds,
-};
+use super::{finish, lib, load, report_summary, speeds, Common, Nodes, Outcome, Speeds};
 use crate::output::Output;
 use crate::plots;
 
@@ -34,15 +32,14 @@ pub struct Args {
     /// [default: 800 speeds from 1 Hz to 1.2 x the model's top operating speed].
     #[arg(long, value_name = "RANGE", value_parser = speeds)]
     pub speeds: Option<Speeds>,
-    /// Nodes to report, comma-separated [default: every disk and bearing node].
-    #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = node_index)]
-    pub nodes: Vec<usize>,
+    #[command(flatten)]
+    pub nodes: Nodes,
 }
 
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     let model = &loaded.model;
-    let nodes = report_nodes(model, &args.nodes)?;
+    let nodes = args.nodes.resolve(model)?;
     let system = assemble(model, Bearings::Linearised);
     let result = lib(unbalance_response_refined(
         model,
