@@ -1,21 +1,17 @@
 //! Bad input, end to end: every case exits nonzero, says what is wrong (the field or the
 //! cause, and for model files the file:line:column), never panics, and writes nothing.
 
-use std::path::{Path, PathBuf};
-
 use assert_cmd::Command;
 
-fn reference_path() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/reference_rotor.toml")
-}
-
-fn reference() -> String {
-    std::fs::read_to_string(reference_path()).unwrap()
-}
+// The shared test models (a test binary uses a part of them).
+#[allow(dead_code)]
+#[path = "../../whirl/tests/common/reference.rs"]
+mod reference;
+use reference::{reference_rotor_path, reference_rotor_text};
 
 /// The reference rotor with the first `from` replaced by `to` (which must be there).
 fn edited(from: &str, to: &str) -> String {
-    let text = reference();
+    let text = reference_rotor_text();
     assert!(text.contains(from), "the reference rotor has no `{from}`");
     text.replacen(from, to, 1)
 }
@@ -237,7 +233,7 @@ fn missing_file() {
 
 #[test]
 fn bad_speed_ranges() {
-    let m = reference();
+    let m = reference_rotor_text();
     let campbell = |range: &str, expected: &[&str]| {
         fails(
             Some(&m),
@@ -252,7 +248,7 @@ fn bad_speed_ranges() {
 
 #[test]
 fn bad_single_speeds() {
-    let m = reference();
+    let m = reference_rotor_text();
     fails(
         Some(&m),
         &["modal", "{model}", "--speed", "20 furlongs"],
@@ -273,7 +269,7 @@ fn bad_single_speeds() {
 #[test]
 fn nodes_outside_the_shaft() {
     fails(
-        Some(&reference()),
+        Some(&reference_rotor_text()),
         &[
             "unbalance",
             "{model}",
@@ -288,7 +284,7 @@ fn nodes_outside_the_shaft() {
 
 #[test]
 fn unbalance_response_of_a_model_without_unbalance() {
-    let text = reference();
+    let text = reference_rotor_text();
     let cut = text.find("[[unbalance]]").unwrap();
     let end = text.find("[operating]").unwrap();
     let m = format!("{}{}", &text[..cut], &text[end..]);
@@ -302,7 +298,7 @@ fn unbalance_response_of_a_model_without_unbalance() {
 #[test]
 fn meshes_that_miss_the_features() {
     fails(
-        Some(&reference()),
+        Some(&reference_rotor_text()),
         &["convergence", "{model}", "--counts", "3,5"],
         &["--counts", "[3, 5]"],
     );
@@ -311,7 +307,7 @@ fn meshes_that_miss_the_features() {
 #[test]
 fn unknown_command() {
     fails(
-        Some(&reference()),
+        Some(&reference_rotor_text()),
         &["frobnicate", "{model}"],
         &["unrecognized subcommand", "frobnicate"],
     );
@@ -326,7 +322,7 @@ fn out_folder_that_is_not_a_whirl_result_is_left_alone() {
     let output = Command::cargo_bin("whirl")
         .unwrap()
         .arg("check")
-        .arg(reference_path())
+        .arg(reference_rotor_path())
         .arg("--out")
         .arg(&docs)
         .output()
@@ -359,36 +355,36 @@ fn huge_speed_counts_are_refused_before_any_allocation() {
     let huge = "1:750Hz:10000000000";
     for command in ["campbell", "unbalance", "cascade", "fit-forcing"] {
         fails(
-            Some(&reference()),
+            Some(&reference_rotor_text()),
             &[command, "{model}", "--speeds", huge],
             &["at most 100000 values"],
         );
     }
     fails(
-        Some(&reference()),
+        Some(&reference_rotor_text()),
         &["hbm", "{model}", "--speeds", huge],
         &["at most 100000 values"],
     );
     fails(
-        Some(&reference()),
+        Some(&reference_rotor_text()),
         &["hbm", "{model}", "--samples", "1000000000"],
         &["--samples", "at most 65536"],
     );
     // 1e-8 s makes a speed's longest run (4 s settling + 32 records of 0.5 s) 2e9 steps,
     // beyond the 5e8 a run may take: refused before any speed starts.
     fails(
-        Some(&reference()),
+        Some(&reference_rotor_text()),
         &["cascade", "{model}", "--step", "1e-8s"],
         &["--step", "2.000e9 time steps", "at most 5e8"],
     );
     // 200 harmonics would make each point minutes of Hill eigenvalues: refused at once.
     fails(
-        Some(&reference()),
+        Some(&reference_rotor_text()),
         &["hbm", "{model}", "--harmonics", "200"],
         &["--harmonics", "from 1 to 50"],
     );
     fails(
-        Some(&reference()),
+        Some(&reference_rotor_text()),
         &["hbm", "{model}", "--harmonics-study", "1..60"],
         &["--harmonics-study", "from 1 to 50"],
     );
@@ -399,13 +395,13 @@ fn a_speed_that_overflows_in_rad_per_second_is_an_input_error() {
     // 1e308 Hz is finite, 2 pi 1e308 rad/s is not: refused where it is read, not by the
     // eigen-solver.
     fails(
-        Some(&reference()),
+        Some(&reference_rotor_text()),
         &["modal", "{model}", "--speed", "1e308Hz"],
         &["--speed", "1e308Hz", "is inf rad/s, beyond the 1e7 rad/s"],
     );
     // Finite in rad/s, but far beyond any rotor: it made faer's Schur solver panic.
     fails(
-        Some(&reference()),
+        Some(&reference_rotor_text()),
         &["modal", "{model}", "--speed", "1e308"],
         &["--speed", "beyond the 1e7 rad/s (1.6 MHz) whirl accepts"],
     );
@@ -459,7 +455,7 @@ fn check_warnings(model: &str) -> String {
 
 #[test]
 fn the_reference_rotor_draws_no_warning() {
-    let stderr = check_warnings(&reference());
+    let stderr = check_warnings(&reference_rotor_text());
     assert!(!stderr.contains("warning"), "{stderr}");
 }
 
@@ -572,7 +568,7 @@ fn a_forcing_law_negative_at_speed_is_refused() {
 fn a_rotor_on_one_bearing_or_none_is_refused() {
     let one = edited("node = 20\nrollers", "node = 0\nrollers");
     check_fails(&one, &["`bearing`", "one node only (0)", "free to tilt"]);
-    let text = reference();
+    let text = reference_rotor_text();
     let start = text.find("[[roller_bearing]]").unwrap();
     let end = text.find("[damping]").unwrap();
     let none = format!("{}{}", &text[..start], &text[end..]);
@@ -590,7 +586,7 @@ fn a_structure_unstable_at_rest_says_so_instead_of_zero_hertz() {
 #[test]
 fn a_load_no_bearing_can_carry_is_refused() {
     fails(
-        Some(&reference()),
+        Some(&reference_rotor_text()),
         &["stiffness", "{model}", "--load", "1e30N"],
         &["--load", "more than a tenth of its diameter"],
     );

@@ -10,7 +10,11 @@ use std::process::Output;
 use assert_cmd::Command;
 use serde_json::Value;
 
-const MODEL: &str = "../../examples/reference_rotor.toml";
+// The shared test models (a test binary uses a part of them).
+#[allow(dead_code)]
+#[path = "../../whirl/tests/common/reference.rs"]
+mod reference;
+use reference::reference_rotor_path;
 
 /// Four speeds, 0.1 s settled (fixed) and 0.1 s recorded, no refinement: a quick cascade
 /// (10 Hz bins).
@@ -38,7 +42,7 @@ fn whirl_on(out: &Path, args: &[&str], threads: Option<usize>) -> Output {
     }
     command
         .arg("cascade")
-        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join(MODEL))
+        .arg(reference_rotor_path())
         .args(args)
         .arg("--out")
         .arg(out)

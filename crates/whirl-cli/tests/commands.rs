@@ -1,18 +1,23 @@
 //! Every command on the reference rotor: exit status, the folder's files, key numbers.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use assert_cmd::Command;
 use serde_json::Value;
 
-fn reference() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/reference_rotor.toml")
-}
+// The shared test models (a test binary uses a part of them).
+#[allow(dead_code)]
+#[path = "../../whirl/tests/common/reference.rs"]
+mod reference;
+use reference::reference_rotor_path;
 
 /// Runs `whirl <args> reference --out <dir>` and returns summary.json.
 fn run(dir: &Path, args: &[&str]) -> Value {
     let mut cmd = Command::cargo_bin("whirl").unwrap();
-    cmd.args(args).arg(reference()).arg("--out").arg(dir);
+    cmd.args(args)
+        .arg(reference_rotor_path())
+        .arg("--out")
+        .arg(dir);
     cmd.assert().success();
     let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
     serde_json::from_str(&text).unwrap()
@@ -180,7 +185,7 @@ fn convergence_leaves_modes_a_coarse_mesh_lacks_empty() {
     let dir = tmp.path().join("convergence");
     let mut cmd = Command::cargo_bin("whirl").unwrap();
     cmd.args(["convergence", "--counts", "2,4,20", "--modes", "40"])
-        .arg(reference())
+        .arg(reference_rotor_path())
         .arg("--out")
         .arg(&dir);
     let output = cmd.output().unwrap();
@@ -393,7 +398,7 @@ fn json_prints_the_summary_and_a_rerun_replaces_the_folder() {
         .unwrap()
         .args(["check", "--json", "--out"])
         .arg(&dir)
-        .arg(reference())
+        .arg(reference_rotor_path())
         .output()
         .unwrap();
     assert!(output.status.success());
@@ -421,7 +426,7 @@ fn every_speed_is_announced_in_hz_and_a_misspelt_unit_named_where_written() {
     let out = Command::cargo_bin("whirl")
         .unwrap()
         .args(["campbell", "--speeds", "0:800:11"])
-        .arg(reference())
+        .arg(reference_rotor_path())
         .arg("--out")
         .arg(tmp.path().join("c"))
         .output()
@@ -436,7 +441,7 @@ fn every_speed_is_announced_in_hz_and_a_misspelt_unit_named_where_written() {
     let out = Command::cargo_bin("whirl")
         .unwrap()
         .args(["campbell", "--speeds", "0:800Hx:161"])
-        .arg(reference())
+        .arg(reference_rotor_path())
         .arg("--out")
         .arg(tmp.path().join("d"))
         .output()

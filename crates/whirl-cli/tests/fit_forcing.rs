@@ -1,15 +1,16 @@
 //! `whirl fit-forcing` end to end: the files, the coefficients with units, the pasted line
 //! accepted by the model file, and a missing bearing refused without an output folder.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use assert_cmd::Command;
 use serde_json::Value;
 
-fn reference() -> String {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/reference_rotor.toml");
-    std::fs::read_to_string(path).unwrap()
-}
+// The shared test models (a test binary uses a part of them).
+#[allow(dead_code)]
+#[path = "../../whirl/tests/common/reference.rs"]
+mod reference;
+use reference::reference_rotor_text;
 
 /// Runs `whirl <args> <model> --out <tmp>/out` on `model` text; returns the output, the
 /// folder and the temporary directory that holds both.
@@ -38,7 +39,7 @@ fn run(
 fn fits_the_reference_bearing_and_the_line_pastes_back() {
     let (output, out, _tmp) = run(
         "fit-forcing",
-        &reference(),
+        &reference_rotor_text(),
         &["--speeds", "100Hz:500Hz:3", "--bearing", "1"],
     );
     assert!(output.status.success(), "{output:?}");
@@ -74,7 +75,7 @@ fn fits_the_reference_bearing_and_the_line_pastes_back() {
         .lines()
         .find(|l| l.starts_with("forcing_function = {"))
         .unwrap();
-    let model = reference().replacen("\n[damping]", &format!("{line}\n\n[damping]"), 1);
+    let model = reference_rotor_text().replacen("\n[damping]", &format!("{line}\n\n[damping]"), 1);
     let (checked, _, _tmp) = run("check", &model, &[]);
     assert!(checked.status.success(), "{checked:?}");
 }
@@ -83,7 +84,7 @@ fn fits_the_reference_bearing_and_the_line_pastes_back() {
 fn a_missing_bearing_is_refused_without_output() {
     let (output, out, _tmp) = run(
         "fit-forcing",
-        &reference(),
+        &reference_rotor_text(),
         &["--speeds", "100Hz:200Hz:2", "--bearing", "2"],
     );
     let stderr = String::from_utf8_lossy(&output.stderr);

@@ -28,6 +28,12 @@ use whirl::fe::{assemble, Bearings};
 use whirl::modal::undamped_modes;
 use whirl::model::Model;
 
+// The shared test models (a test binary uses a part of them).
+#[allow(dead_code)]
+#[path = "../../whirl/tests/common/reference.rs"]
+mod reference;
+use reference::example_path;
+
 /// One model file in this many also runs through `whirl check` (a process start costs
 /// about as much as a hundred in-process models).
 const PROCESS_EVERY: u64 = 50;
@@ -142,14 +148,13 @@ const COMMANDS: &[(&str, &[&str])] = &[
 
 /// The model files mutations start from.
 fn seeds() -> Vec<String> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
     [
         "reference_rotor.toml",
         "reference_rotor_soft.toml",
         "reference_rotor_waviness.toml",
     ]
     .iter()
-    .map(|f| std::fs::read_to_string(dir.join(f)).expect("bundled example"))
+    .map(|f| std::fs::read_to_string(example_path(f)).expect("bundled example"))
     .collect()
 }
 

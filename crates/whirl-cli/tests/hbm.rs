@@ -7,11 +7,11 @@ use std::path::{Path, PathBuf};
 use assert_cmd::Command;
 use serde_json::Value;
 
-fn example(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(name)
-}
+// The shared test models (a test binary uses a part of them).
+#[allow(dead_code)]
+#[path = "../../whirl/tests/common/reference.rs"]
+mod reference;
+use reference::{example_path, reference_rotor_path};
 
 /// Runs `whirl hbm <model> <args> --out <tmp>`; returns the output, the folder and the
 /// temporary directory that holds it.
@@ -33,7 +33,7 @@ fn run(model: &Path, args: &[&str]) -> (std::process::Output, PathBuf, tempfile:
 #[test]
 fn branch_through_the_first_resonance_with_stability_and_time_comparison() {
     let (output, out, _tmp) = run(
-        &example("reference_rotor.toml"),
+        &reference_rotor_path(),
         &[
             "--speeds",
             "1:60Hz",
@@ -101,7 +101,7 @@ fn bad_input_is_refused_with_the_cause() {
         ),
     ];
     for (model, args, expected) in cases {
-        let (output, out, _tmp) = run(&example(model), args);
+        let (output, out, _tmp) = run(&example_path(model), args);
         let stderr = String::from_utf8_lossy(&output.stderr);
         assert!(!output.status.success(), "{args:?} succeeded");
         assert!(!stderr.contains("panicked"), "{stderr}");

@@ -6,19 +6,21 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
+// The shared test models (a test binary uses a part of them).
+#[allow(dead_code)]
+#[path = "../../whirl/tests/common/reference.rs"]
+mod reference;
+use reference::reference_rotor_path;
+
 fn whirl() -> Command {
     Command::new(env!("CARGO_BIN_EXE_whirl"))
-}
-
-fn reference_path() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/reference_rotor.toml")
 }
 
 /// A cascade of 40 speeds: long enough (a few seconds) to be met or interrupted.
 fn cascade(out: &Path) -> Command {
     let mut c = whirl();
     c.arg("cascade")
-        .arg(reference_path())
+        .arg(reference_rotor_path())
         .args(["--speeds", "1:750Hz:40", "--out"])
         .arg(out);
     c
@@ -153,7 +155,7 @@ fn leftovers_of_a_killed_run_are_removed_by_the_next() {
     std::fs::create_dir(tmp.path().join(".other.whirl-tmp-1")).unwrap();
     let run = whirl()
         .arg("modal")
-        .arg(reference_path())
+        .arg(reference_rotor_path())
         .arg("--out")
         .arg(&out)
         .output()
@@ -167,7 +169,7 @@ fn a_cascade_that_diverged_at_every_speed_exits_nonzero() {
     let tmp = tempfile::tempdir().unwrap();
     // A 4 mm eccentricity throws the disk into the rings; with the step just under the
     // limit of the contacts at rest, every speed diverges.
-    let model = std::fs::read_to_string(reference_path())
+    let model = std::fs::read_to_string(reference_rotor_path())
         .unwrap()
         .replace("eccentricity = \"40 um\"", "eccentricity = \"4 mm\"");
     let file = tmp.path().join("thrown.toml");
@@ -193,7 +195,7 @@ fn a_cascade_that_diverged_at_every_speed_exits_nonzero() {
 fn a_bearing_name_of_300_characters_does_not_fail_at_write_time() {
     let tmp = tempfile::tempdir().unwrap();
     let name = "b".repeat(300);
-    let model = std::fs::read_to_string(reference_path())
+    let model = std::fs::read_to_string(reference_rotor_path())
         .unwrap()
         .replace("name = \"bearing A\"", &format!("name = \"{name}\""));
     let file = tmp.path().join("long_name.toml");
@@ -263,7 +265,7 @@ fn long_work_says_how_far_it_is_also_into_a_pipe() {
     let tmp = tempfile::tempdir().unwrap();
     let mut run = whirl()
         .arg("hbm")
-        .arg(reference_path())
+        .arg(reference_rotor_path())
         .args(["--harmonics", "50", "--out"])
         .arg(tmp.path().join("hbm"))
         .stdout(Stdio::null())
@@ -295,7 +297,7 @@ fn quick_study(dir: &Path) -> PathBuf {
          settle = \"0.1 s\"\nsettle_max = \"0.1 s\"\nrecord = \"0.1 s\"\nrefine = false\n\n\
          [[sweep]]\nname = \"unbalance\"\nparameter = \"unbalance[0].eccentricity\"\n\
          values = [\"10 um\", \"20 um\", \"40 um\"]\n",
-        reference_path().display().to_string()
+        reference_rotor_path().display().to_string()
     );
     std::fs::write(&path, text).unwrap();
     path

@@ -2,24 +2,20 @@
 //! refused steps and bad arguments; with roller bearings the contact outputs and the
 //! contact frequencies in the spectrum.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use assert_cmd::Command;
 use serde_json::Value;
 
-fn example(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(name)
-}
-
-fn reference() -> PathBuf {
-    example("reference_rotor.toml")
-}
+// The shared test models (a test binary uses a part of them).
+#[allow(dead_code)]
+#[path = "../../whirl/tests/common/reference.rs"]
+mod reference;
+use reference::{example_path, reference_rotor_path};
 
 /// Runs `whirl <args> reference --out <dir>`, expects success and returns summary.json.
 fn run(dir: &Path, args: &[&str]) -> Value {
-    run_on(&reference(), dir, args)
+    run_on(&reference_rotor_path(), dir, args)
 }
 
 /// Runs `whirl <args> <model> --out <dir>`, expects success and returns summary.json.
@@ -49,7 +45,7 @@ fn fails(args: &[&str], expected: &[&str]) {
     let output = Command::cargo_bin("whirl")
         .unwrap()
         .arg("simulate")
-        .arg(reference())
+        .arg(reference_rotor_path())
         .args(args)
         .arg("--out")
         .arg(&out)
@@ -363,7 +359,7 @@ fn the_spectrum_shows_the_contact_frequencies() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().join("sim");
     let s = run_on(
-        &example("reference_rotor_waviness.toml"),
+        &example_path("reference_rotor_waviness.toml"),
         &dir,
         &[
             "simulate",
@@ -515,7 +511,9 @@ fn lagrange_contacts_hold_the_rollers_rigid() {
 fn a_forcing_function_law_records_approaches_without_roller_forces() {
     let tmp = tempfile::tempdir().unwrap();
     // The reference rotor with a forcing function on both bearings.
-    let text = std::fs::read_to_string(reference()).unwrap().replace(
+    let text = std::fs::read_to_string(reference_rotor_path())
+        .unwrap()
+        .replace(
         "linear_stiffness = 1e8",
         "linear_stiffness = 1e8\nforcing_function = { a0 = 1.5e9, a1 = 0.0, b0 = 1.15, b1 = 0.0 }",
     );

@@ -1,18 +1,16 @@
 //! `whirl stiffness` end to end: the files and key numbers on the reference rotor, and bad
 //! input refused with a clear message and no output folder.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use assert_cmd::Command;
 use serde_json::Value;
 
-fn reference_path() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/reference_rotor.toml")
-}
-
-fn reference() -> String {
-    std::fs::read_to_string(reference_path()).unwrap()
-}
+// The shared test models (a test binary uses a part of them).
+#[allow(dead_code)]
+#[path = "../../whirl/tests/common/reference.rs"]
+mod reference;
+use reference::reference_rotor_text;
 
 fn f(v: &Value) -> f64 {
     v.as_f64().unwrap_or(f64::NAN)
@@ -59,7 +57,7 @@ fn fails(model: &str, args: &[&str], expected: &[&str]) {
 #[test]
 fn stiffness_of_the_reference_bearing() {
     let (output, dir, _tmp) = run(
-        &reference(),
+        &reference_rotor_text(),
         &[
             "--clearances",
             "10um:60um:6",
@@ -119,7 +117,7 @@ fn stiffness_of_the_reference_bearing() {
 
 #[test]
 fn a_model_without_roller_bearings_is_refused() {
-    let text = reference();
+    let text = reference_rotor_text();
     let cut = text.find("[[roller_bearing]]").unwrap();
     let end = text.find("[damping]").unwrap();
     let linear = "[[bearing]]\nnode = 0\nkxx = 1e8\nkyy = 1e8\n\n\
@@ -131,7 +129,7 @@ fn a_model_without_roller_bearings_is_refused() {
 #[test]
 fn a_bearing_index_out_of_range_is_refused() {
     fails(
-        &reference(),
+        &reference_rotor_text(),
         &["--bearing", "5"],
         &[
             "--bearing",
@@ -143,7 +141,7 @@ fn a_bearing_index_out_of_range_is_refused() {
 
 #[test]
 fn negative_clearances_are_refused() {
-    let m = reference();
+    let m = reference_rotor_text();
     fails(
         &m,
         &["--clearances=-10um:60um:8"],
@@ -158,7 +156,7 @@ fn negative_clearances_are_refused() {
 
 #[test]
 fn bad_loads_are_refused() {
-    let m = reference();
+    let m = reference_rotor_text();
     fails(&m, &["--load", "0N"], &["--load", "must be positive"]);
     fails(&m, &["--load", "60 kg"], &["--load", "kg"]);
     // A direction without a load: the weight's direction is not the user's to change.

@@ -7,16 +7,18 @@ use std::path::{Path, PathBuf};
 use assert_cmd::Command;
 use serde_json::Value;
 
-fn reference_path() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/reference_rotor.toml")
-}
+// The shared test models (a test binary uses a part of them).
+#[allow(dead_code)]
+#[path = "../../whirl/tests/common/reference.rs"]
+mod reference;
+use reference::reference_rotor_path;
 
 /// A study file in `dir` on the reference rotor with this body after `model = ...`.
 fn write_study(dir: &Path, body: &str) -> PathBuf {
     let file = dir.join("study.toml");
     let text = format!(
         "model = {:?}\n{body}",
-        reference_path().display().to_string()
+        reference_rotor_path().display().to_string()
     );
     std::fs::write(&file, text).unwrap();
     file
