@@ -244,7 +244,7 @@ fn reference_rotor_hangs_in_its_roller_bearings() {
 fn the_full_model_hangs_in_its_rollers_at_any_mesh() {
     // The static start of the full (unreduced) model once failed from 80 elements on; the
     // disk stays at mid-span and the bearings at the ends on every mesh.
-    let reference = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let reference = reference_rotor();
     let bearing = &reference.roller_bearings[0];
     for elements in [80, 640] {
         let model = reference.remeshed(&[elements]).unwrap();
