@@ -81,6 +81,10 @@ pub struct Args {
     /// Cage positions per roller pitch of the passage average.
     #[arg(long, value_name = "N", default_value = "8", value_parser = mode_count)]
     pub cage_positions: usize,
+    /// Approach below which the Hertz law is blended to bounded curvature (harmonic balance
+    /// only; docs/theory.md section 7), e.g. `0.01um`; 0 for the exact law.
+    #[arg(long, value_name = "LENGTH", default_value = "0", value_parser = smoothing_length)]
+    pub contact_smoothing: f64,
     /// Time samples per period of the alternating frequency-time transform [default: 16 H,
     /// at least 64].
     #[arg(long, value_name = "N")]
@@ -118,6 +122,14 @@ fn speed_span(text: &str) -> Result<Speeds, String> {
     } else {
         speeds(text)
     }
+}
+
+/// Clap parser of the contact smoothing: a positive length, or 0 for the exact law.
+fn smoothing_length(text: &str) -> Result<f64, String> {
+    if text.trim().parse::<f64>() == Ok(0.0) {
+        return Ok(0.0);
+    }
+    super::positive_length(text)
 }
 
 /// Harmonic counts of a study.
@@ -280,6 +292,7 @@ fn sweep_options(args: &Args, model: &Model, harmonics: usize) -> miette::Result
         },
         Cage::Frozen => CageModel::Frozen,
     };
+    options.contact_smoothing = args.contact_smoothing;
     if let Some(samples) = args.samples {
         if samples > MAX_SAMPLES {
             return Err(Diag::option(

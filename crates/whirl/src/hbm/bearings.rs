@@ -208,8 +208,9 @@ impl NonlinearForce for CagedBearing {
     }
 }
 
-/// Hertz contacts of every roller bearing of `model` with their cages fixed by `cage` (a
-/// [`crate::force::ForceBuilder`] once `cage` is bound).
+/// Hertz contacts of every roller bearing of `model` with their cages fixed by `cage` and
+/// the law smoothed below the approach `smoothing` (m; [`HertzBearing::smoothed`]), a
+/// [`crate::force::ForceBuilder`] once both are bound.
 ///
 /// # Errors
 /// As [`CagedBearing::new`], or when a bearing's coordinates are missing.
@@ -217,12 +218,14 @@ pub fn caged_bearings(
     model: &Model,
     coordinate: &dyn Fn(usize) -> Option<usize>,
     cage: CageModel,
+    smoothing: f64,
 ) -> Result<Vec<Box<dyn NonlinearForce>>> {
     model
         .roller_bearings
         .iter()
         .map(|b| {
-            let hertz = HertzBearing::new(b, contact_coordinates(b, coordinate)?)?;
+            let hertz =
+                HertzBearing::new(b, contact_coordinates(b, coordinate)?)?.smoothed(smoothing);
             Ok(Box::new(CagedBearing::new(hertz, cage)?) as Box<dyn NonlinearForce>)
         })
         .collect()
