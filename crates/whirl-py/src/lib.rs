@@ -1,16 +1,21 @@
 //! `whirl._whirl`, the compiled half of the Python package `whirl`.
 //!
 //! A thin layer over the library, like the command line: it reads models, calls the same
-//! library functions with the options given, and hands the results to Python as dicts of
-//! numpy arrays and plain values. Names, defaults, tables and summaries are the Python
-//! package's (`whirl/`), which mirror the command line's.
+//! library functions with the options given, and hands the results to Python. An analysis
+//! the library reports whole (`whirl::report::Report`: hbm, reduce) comes back as the one
+//! result type of `report.rs`, its summary and tables the library's own, as the command
+//! line writes them; the others as dicts of numpy arrays and plain values, which the Python
+//! package (`whirl/`) shapes into the command line's tables and summaries.
 
 #![forbid(unsafe_code)]
 
+mod analyses;
 mod error;
+mod hbm;
 mod modal;
 mod model;
 mod nsv;
+mod report;
 mod response;
 mod ross;
 mod study;
@@ -35,6 +40,13 @@ fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("DEFAULT_TOLERANCE_BINS", whirl::nsv::DEFAULT_TOLERANCE_BINS)?;
     m.add("DEFAULT_THRESHOLD_M", whirl::nsv::DEFAULT_THRESHOLD_M)?;
     m.add("DEFAULT_MODES", whirl::time::DEFAULT_MODES)?;
+    m.add(
+        "DEFAULT_STABILITY_MODES",
+        whirl::hbm::DEFAULT_STABILITY_MODES,
+    )?;
+    m.add_class::<report::PyReport>()?;
+    m.add_function(wrap_pyfunction!(hbm::hbm, m)?)?;
+    m.add_function(wrap_pyfunction!(analyses::reduce, m)?)?;
     m.add_class::<model::PyModel>()?;
     m.add_function(wrap_pyfunction!(units::parse_speed, m)?)?;
     m.add_function(wrap_pyfunction!(units::parse_speeds, m)?)?;

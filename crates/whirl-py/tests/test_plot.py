@@ -18,7 +18,10 @@ def test_every_figure_draws(tmp_path):
     diagram = whirl.campbell(model, "0:400Hz:21", modes=4)
     response = whirl.unbalance(model, "1:100Hz:40", nodes=[10])
     run = whirl.simulate(model, "50Hz", duration="0.4s", reduce=12, nodes=[10], progress=False)
-    cascade = whirl.cascade(model, "100Hz:300Hz:4", no_refine=True, max_records=1, progress=False)
+    cascade = whirl.cascade(
+        model, "100Hz:300Hz:4", no_refine=True, max_records=1, compare_starts=True, progress=False
+    )
+    branch = whirl.hbm(model, "1:60Hz", harmonics=2, progress=False)
     axes = [
         whirl.plot.campbell(diagram),
         whirl.plot.bode(response),
@@ -28,6 +31,9 @@ def test_every_figure_draws(tmp_path):
         whirl.plot.waterfall(cascade),
         whirl.plot.cascade_map(cascade),
         whirl.plot.nsv(cascade),
+        whirl.plot.starts(cascade),
+        whirl.plot.hb_branch(branch),
+        whirl.plot.hb_stability(branch),
     ]
     for i, ax in enumerate(axes):
         assert ax.lines or ax.collections, f"figure {i} drew nothing"
@@ -35,3 +41,7 @@ def test_every_figure_draws(tmp_path):
     # The Campbell figure has a line per branch and per order.
     assert len(axes[0].lines) >= len(diagram.branches) + len(diagram.orders)
     np.testing.assert_array_equal(axes[0].lines[0].get_xdata(), diagram.speeds_hz)
+    # The branch figure has a line per harmonic and stability run: solid and dashed both
+    # (the branch loses stability in the first resonance).
+    styles = {line.get_linestyle() for line in axes[9].lines}
+    assert {"-", "--"} <= styles, styles

@@ -15,6 +15,8 @@ as numbers in rad/s (SI, as everywhere in the model file).
 """
 
 from ._whirl import BUILD_ID, InputError, NumericalError, WhirlError, __version__
+from .analyses import reduce
+from .hbm import hbm
 from .model import Model, WhirlWarning
 from .modal import (
     CampbellResult,
@@ -27,6 +29,7 @@ from .modal import (
     modal,
 )
 from .nsv import CascadeResult, cascade
+from .report import Report
 from .response import UnbalanceResult, unbalance
 from .ross import from_ross, read_ross
 from .study import StudyResult, study
@@ -42,6 +45,7 @@ __all__ = [
     "Model",
     "ModalResult",
     "NumericalError",
+    "Report",
     "SimulationResult",
     "StudyResult",
     "UnbalanceResult",
@@ -53,8 +57,10 @@ __all__ = [
     "check",
     "convergence",
     "from_ross",
+    "hbm",
     "modal",
     "read_ross",
+    "reduce",
     "simulate",
     "study",
     "unbalance",

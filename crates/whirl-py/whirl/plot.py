@@ -130,3 +130,70 @@ def nsv(cascade, ax=None):
     ax.set(xlabel="speed [Hz]", ylabel="amplitude [m]", title="NSV by class")
     ax.legend(fontsize="small")
     return ax
+
+
+def starts(cascade, ax=None):
+    """The NSV from both starts over speed (``compare_starts=True``), the speeds where they
+    differ (coexisting motions) circled."""
+    if cascade.starts is None:
+        raise ValueError("the cascade has no second start: run it with compare_starts=True")
+    ax = _axes(ax)
+    t = cascade.to_pandas("starts")
+    other = cascade.starts["other_start"]
+    ax.semilogy(t["speed_hz"], t["nsv_m"], "o-", ms=3, label="first start")
+    ax.semilogy(t["speed_hz"], t["other_start_nsv_m"], "s--", ms=3, label=f"from {other}")
+    differ = t[t["differs"] == 1]
+    ax.plot(differ["speed_hz"], differ["nsv_m"], "o", mfc="none", mec="red", ms=9, label="differ")
+    ax.set(xlabel="speed [Hz]", ylabel="NSV amplitude [m]", title="NSV from both starts")
+    ax.legend(fontsize="small")
+    return ax
+
+
+def _stable_runs(stable: list) -> list[tuple[int, int, bool]]:
+    """(first, last + 1, stable) of each run of points of equal stability; a point whose
+    stability was not computed counts as stable."""
+    runs: list[tuple[int, int, bool]] = []
+    for i, s in enumerate(stable):
+        s = s != "false"
+        if runs and runs[-1][2] == s:
+            runs[-1] = (runs[-1][0], i + 1, s)
+        else:
+            # Each run starts at the last point of the one before, so the line is unbroken.
+            runs.append((max(i - 1, 0), i + 1, s))
+    return runs
+
+
+def hb_branch(result, node=None, direction="uy", ax=None):
+    """Harmonic balance (``whirl.hbm``): the amplitude of each harmonic of ``direction`` at
+    ``node`` (default the first reported) along the branch over speed, stable solid and
+    unstable dashed, the bifurcations marked."""
+    ax = _axes(ax)
+    node = result.nodes[0] if node is None else node
+    branch = result.columns("branch")
+    speed, runs = branch["speed_hz"], _stable_runs(branch["stable"])
+    for r in range(1, result.harmonics + 1):
+        y = branch[f"n{node}_{direction}_{r}x_m"]
+        line = None
+        for a, b, stable in runs:
+            kwargs = {"color": line.get_color()} if line is not None else {"label": f"{r}X"}
+            (drawn,) = ax.semilogy(speed[a:b], y[a:b], "-" if stable else "--", **kwargs)
+            line = line or drawn
+    for b in result.bifurcations:
+        ax.axvline(b["speed_hz"], color="grey", lw=0.8, ls=":")
+        ax.annotate(b["kind"], (b["speed_hz"], 1), xycoords=("data", "axes fraction"),
+                    rotation=90, va="top", ha="right", fontsize="small")
+    ax.set(xlabel="speed [Hz]", ylabel=f"{direction} amplitude [m]",
+           title=f"harmonic balance, node {node} (dashed: unstable)")
+    ax.legend(fontsize="small")
+    return ax
+
+
+def hb_stability(result, ax=None):
+    """Harmonic balance: the largest real part of the Floquet exponents along the branch
+    (above zero: unstable)."""
+    ax = _axes(ax)
+    branch = result.columns("branch")
+    ax.plot(branch["speed_hz"], branch["max_real_exponent_per_s"])
+    ax.axhline(0.0, color="grey", lw=0.8)
+    ax.set(xlabel="speed [Hz]", ylabel="largest real part [1/s]", title="Hill stability")
+    return ax

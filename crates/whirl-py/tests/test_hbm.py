@@ -1,0 +1,49 @@
+"""Harmonic balance from Python against the command line's own outputs, digit for digit."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import whirl
+from conftest import REFERENCE, assert_same_table, timeless
+
+#: Through the first resonance with H = 2 (seconds): the branch folds there and loses
+#: stability (a bifurcation), time marching compared at 60 Hz, and H = 1 and 2 studied.
+FLAGS = ["--speeds", "1:60Hz", "--harmonics", "2", "--compare-time", "60Hz", "--harmonics-study", "1..2"]
+
+
+@pytest.fixture(scope="module")
+def result():
+    return whirl.hbm(
+        REFERENCE, "1:60Hz", harmonics=2, compare_time=["60Hz"], harmonics_study="1..2", progress=False
+    )
+
+
+def test_hbm_equals_the_command_line(run_cli, result):
+    cli = run_cli("hbm", str(REFERENCE), *FLAGS)
+    assert len(result.to_pandas("bifurcations")) > 0, "no bifurcation: the test would miss them"
+    assert result.tables == ("branch", "bifurcations", "compare_time", "harmonics_study")
+    assert timeless(result.to_dict()) == timeless(cli.summary())
+    for table in result.tables:
+        assert_same_table(result.to_pandas(table), cli.table(table))
+
+
+def test_the_branch_runs_over_the_speeds_asked_for(result):
+    branch = result.columns("branch")
+    # Continuation starts at the first speed and ends at the last (the summary says it
+    # reached it): 1 Hz and 60 Hz to round-off.
+    assert result.end == "reached the last speed"
+    np.testing.assert_allclose(branch["speed_hz"][[0, -1]], [1.0, 60.0], rtol=1e-12)
+    assert set(branch["stable"]) <= {"true", "false"}
+
+
+def test_bad_hbm_options_name_the_keyword():
+    with pytest.raises(whirl.InputError, match="invalid `harmonics`"):
+        whirl.hbm(REFERENCE, "1:60Hz", harmonics=0)
+    with pytest.raises(whirl.InputError, match="invalid `speeds`"):
+        whirl.hbm(REFERENCE, "60Hz:1Hz")
+    with pytest.raises(whirl.InputError, match="invalid `cage`"):
+        whirl.hbm(REFERENCE, "1:60Hz", cage="loose")
+    with pytest.raises(whirl.InputError, match="invalid `samples`"):
+        whirl.hbm(REFERENCE, "1:60Hz", harmonics=5, samples=10)
