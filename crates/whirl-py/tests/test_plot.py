@@ -22,6 +22,7 @@ def test_every_figure_draws(tmp_path):
         model, "100Hz:300Hz:4", no_refine=True, max_records=1, compare_starts=True, progress=False
     )
     branch = whirl.hbm(model, "1:60Hz", harmonics=2, progress=False)
+    reduced = whirl.reduce(model)
     axes = [
         whirl.plot.campbell(diagram),
         whirl.plot.bode(response),
@@ -34,6 +35,7 @@ def test_every_figure_draws(tmp_path):
         whirl.plot.starts(cascade),
         whirl.plot.hb_branch(branch),
         whirl.plot.hb_stability(branch),
+        whirl.plot.reduction_error(reduced),
     ]
     for i, ax in enumerate(axes):
         assert ax.lines or ax.collections, f"figure {i} drew nothing"

@@ -197,3 +197,19 @@ def hb_stability(result, ax=None):
     ax.axhline(0.0, color="grey", lw=0.8)
     ax.set(xlabel="speed [Hz]", ylabel="largest real part [1/s]", title="Hill stability")
     return ax
+
+
+def reduction_error(result, modes=4, ax=None):
+    """Craig-Bampton (``whirl.reduce``): the relative error of the first ``modes`` natural
+    frequencies over the number of fixed-interface modes kept (log scale)."""
+    ax = _axes(ax)
+    study = result.columns("study")
+    kept = study["fixed_interface_modes"]
+    for j in range(1, modes + 1):
+        name = f"mode{j}_relative_error"
+        if name in study:
+            ax.semilogy(kept, np.abs(study[name]), "o-", ms=3, label=f"mode {j}")
+    ax.set(xlabel="fixed-interface modes", ylabel="relative frequency error",
+           title="Craig-Bampton reduction error")
+    ax.legend(fontsize="small")
+    return ax
