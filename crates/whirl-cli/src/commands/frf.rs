@@ -12,10 +12,9 @@
 use std::fmt::Write;
 
 use whirl::fe::{assemble, dof, Bearings, Direction};
-use whirl::modal::undamped_modes;
 use whirl::model::Model;
 use whirl::report::Report;
-use whirl::response::{frf, FrfKind, FrfReport};
+use whirl::response::{default_frequencies, frf, FrfKind, FrfReport};
 use whirl::units::{parse_quantity, Dimension};
 
 use super::{finish, hz, lib, load, report_summary, speed, speeds, Common, Outcome, Speeds};
@@ -86,10 +85,7 @@ fn frequencies(args: &Args, model: &Model) -> miette::Result<Vec<f64>> {
     if let Some(f) = &args.frequencies {
         return Ok(f.0.clone());
     }
-    let modes = lib(undamped_modes(&assemble(model, Bearings::Linearised), 6))?;
-    let top =
-        1.5 * 2.0 * std::f64::consts::PI * modes.frequencies_hz.last().copied().unwrap_or(100.0);
-    let w: Vec<f64> = (0..1001).map(|i| top * i as f64 / 1000.0).collect();
+    let w = lib(default_frequencies(model))?;
     super::announce(None, "frequencies", &w);
     Ok(w)
 }

@@ -9,8 +9,7 @@
 
 use std::fmt::Write;
 
-use whirl::modal::critical_speed_map;
-use whirl::model::Model;
+use whirl::modal::{critical_speed_map, default_stiffnesses, log_space};
 use whirl::report::Report;
 
 use whirl_plot::SpeedAxis;
@@ -78,38 +77,12 @@ fn stiffness_range(text: &str) -> Result<StiffnessRange, String> {
     Ok(StiffnessRange(log_space(lo, hi, count)))
 }
 
-fn log_space(lo: f64, hi: f64, count: usize) -> Vec<f64> {
-    let (a, b) = (lo.log10(), hi.log10());
-    (0..count)
-        .map(|i| 10f64.powf(a + (b - a) * i as f64 / (count - 1) as f64))
-        .collect()
-}
-
-/// Two decades either side of the bearings' stiffnesses, in whole decades.
-fn default_range(model: &Model) -> Vec<f64> {
-    let ks: Vec<f64> = model
-        .bearings
-        .iter()
-        .flat_map(|b| [b.stiffness[0][0], b.stiffness[1][1]])
-        .chain(model.roller_bearings.iter().map(|b| b.linear_stiffness))
-        .filter(|k| *k > 0.0)
-        .collect();
-    let lo = ks.iter().copied().fold(f64::INFINITY, f64::min);
-    let hi = ks.iter().copied().fold(0.0, f64::max);
-    let (lo, hi) = if lo.is_finite() && hi > 0.0 {
-        ((lo / 100.0).log10().floor(), (hi * 100.0).log10().ceil())
-    } else {
-        (5.0, 10.0)
-    };
-    log_space(10f64.powf(lo), 10f64.powf(hi), 61)
-}
-
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     let model = &loaded.model;
     let stiffness = match &args.stiffness {
         Some(s) => s.0.clone(),
-        None => default_range(model),
+        None => default_stiffnesses(model),
     };
     let map = lib(critical_speed_map(
         model,

@@ -28,7 +28,8 @@ pub use complex::{branch_labels, complex_modes, ComplexMode, ModalBasis, Whirl, 
 pub use convergence::{convergence, ConvergenceResult, ConvergenceSummary};
 pub use report::{modal_report, DampedSummary, ModalReport, ModalSummary};
 pub use ucs::{
-    critical_speed_map, BearingCut, BearingStiffness, CriticalSpeedMap, CriticalSpeedSummary,
+    critical_speed_map, default_stiffnesses, log_space, BearingCut, BearingStiffness,
+    CriticalSpeedMap, CriticalSpeedSummary,
 };
 pub(crate) use undamped::{lowest_modes, symmetric_modes};
 pub use undamped::{solves_dense, undamped_modes, UndampedModes, DENSE_LIMIT};

@@ -54,6 +54,36 @@ pub struct CriticalSpeedMap {
     pub bearings: Vec<BearingStiffness>,
 }
 
+/// Stiffnesses of a map when none are given: 61, spaced logarithmically over two decades
+/// either side of the bearings' own stiffnesses (linear bearings' k_xx and k_yy, roller
+/// bearings' linear stiffness), widened to whole decades; 1e5 to 1e10 N/m without any.
+pub fn default_stiffnesses(model: &Model) -> Vec<f64> {
+    let ks: Vec<f64> = model
+        .bearings
+        .iter()
+        .flat_map(|b| [b.stiffness[0][0], b.stiffness[1][1]])
+        .chain(model.roller_bearings.iter().map(|b| b.linear_stiffness))
+        .filter(|k| *k > 0.0)
+        .collect();
+    let lo = ks.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = ks.iter().copied().fold(0.0, f64::max);
+    let (lo, hi) = if lo.is_finite() && hi > 0.0 {
+        ((lo / 100.0).log10().floor(), (hi * 100.0).log10().ceil())
+    } else {
+        (5.0, 10.0)
+    };
+    log_space(10f64.powf(lo), 10f64.powf(hi), 61)
+}
+
+/// `count` (2 or more) values from `lo` to `hi` (both positive), evenly spaced in their
+/// logarithm.
+pub fn log_space(lo: f64, hi: f64, count: usize) -> Vec<f64> {
+    let (a, b) = (lo.log10(), hi.log10());
+    (0..count)
+        .map(|i| 10f64.powf(a + (b - a) * i as f64 / (count - 1) as f64))
+        .collect()
+}
+
 /// The map over `stiffness` (N/m, positive), `modes` curves.
 ///
 /// # Errors

@@ -23,7 +23,9 @@ use serde::Serialize;
 
 use super::peaks::{find_peaks, ResponsePeak};
 use crate::error::{Error, Result};
-use crate::fe::{dof_name, SystemMatrices};
+use crate::fe::{assemble, dof_name, Bearings, SystemMatrices};
+use crate::modal::undamped_modes;
+use crate::model::Model;
 
 /// Which ratio of response to force.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -138,6 +140,19 @@ pub fn harmonic_response(
         ));
     }
     Ok(q)
+}
+
+/// Excitation frequencies of an FRF when none are given, rad/s: 1001 from 0 to 1.5 times
+/// the sixth undamped natural frequency of the linearised rotor at rest (100 Hz when it has
+/// fewer modes), so the first few resonances and what lies past them show.
+///
+/// # Errors
+/// As [`undamped_modes`].
+pub fn default_frequencies(model: &Model) -> Result<Vec<f64>> {
+    let modes = undamped_modes(&assemble(model, Bearings::Linearised), 6)?;
+    let top =
+        1.5 * 2.0 * std::f64::consts::PI * modes.frequencies_hz.last().copied().unwrap_or(100.0);
+    Ok((0..1001).map(|i| top * i as f64 / 1000.0).collect())
 }
 
 /// Receptances from a unit force at DOF `input` to the DOFs `outputs`, at spin speed `speed`

@@ -10,7 +10,10 @@ mod frf;
 mod peaks;
 mod unbalance;
 
-pub use frf::{frf, harmonic_response, FrfChannel, FrfKind, FrfReport, FrfResult, FrfSummary};
+pub use frf::{
+    default_frequencies, frf, harmonic_response, FrfChannel, FrfKind, FrfReport, FrfResult,
+    FrfSummary,
+};
 pub use peaks::{margins_not_applicable, separation_margin, ResponsePeak, API617_MIN_SPEED_RATIO};
 pub use unbalance::{
     unbalance_response, unbalance_response_refined, NodeResponse, UnbalanceResult,
