@@ -1,11 +1,18 @@
 //! The analyses the library reports whole ([`whirl::report::Report`]): each a thin call
 //! with the command line's options, its report wrapped as the one result type.
 
+use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
+use whirl::fe::{assemble, dof, Bearings, Direction};
+use whirl::modal::{critical_speed_map, default_stiffnesses, log_space};
 use whirl::reduce::reduction_report;
+use whirl::response::{default_frequencies, frf as receptances, FrfReport};
+use whirl::statics::static_response;
+use whirl::time::{fit_forcing as fit, ForcingFitOptions, ForcingFitReport};
 
-use crate::error::lib;
+use crate::error::{lib, option};
 use crate::model::PyModel;
+use crate::nsv::choice;
 use crate::report::PyReport;
 
 /// The Craig-Bampton reduction (`whirl reduce`): `modes` fixed-interface modes, every DOF
@@ -20,4 +27,119 @@ pub fn reduce(
 ) -> PyResult<PyReport> {
     let report = lib(py.detach(|| reduction_report(&model.model, modes, &nodes)))?;
     PyReport::of(&report)
+}
+
+/// The static response under gravity (`whirl static`), the roller bearings carrying the
+/// load by Hertz contact or by their linear stiffness (`rollers`).
+#[pyfunction]
+pub fn statics(py: Python<'_>, model: &PyModel, rollers: &str) -> PyResult<PyReport> {
+    let rollers = choice("rollers", rollers)?;
+    let result = lib(py.detach(|| static_response(&model.model, rollers)))?;
+    PyReport::of(&result)
+}
+
+/// The undamped critical-speed map (`whirl ucs`) over the bearing stiffnesses `stiffness`
+/// (N/m), `modes` curves, synchronous forward whirl or at rest.
+#[pyfunction]
+pub fn ucs(
+    py: Python<'_>,
+    model: &PyModel,
+    stiffness: Vec<f64>,
+    modes: usize,
+    synchronous: bool,
+) -> PyResult<PyReport> {
+    let map = lib(py.detach(|| critical_speed_map(&model.model, &stiffness, modes, synchronous)))?;
+    PyReport::of(&map)
+}
+
+/// The stiffnesses of a critical-speed map when none are given (N/m).
+#[pyfunction]
+pub fn ucs_default_stiffnesses<'py>(py: Python<'py>, model: &PyModel) -> Bound<'py, PyArray1<f64>> {
+    default_stiffnesses(&model.model).into_pyarray(py)
+}
+
+/// `count` stiffnesses from `low` to `high` (N/m), spaced logarithmically, as the map's
+/// ranges are.
+#[pyfunction]
+pub fn ucs_stiffnesses<'py>(
+    py: Python<'py>,
+    low: f64,
+    high: f64,
+    count: usize,
+) -> Bound<'py, PyArray1<f64>> {
+    log_space(low, high, count).into_pyarray(py)
+}
+
+/// The global DOF of `(node, direction)`, the direction named `ux`, `uy`, `tx` or `ty`.
+fn global_dof(name: &str, (node, direction): (usize, String)) -> PyResult<usize> {
+    let d = Direction::ALL
+        .into_iter()
+        .find(|d| d.name() == direction)
+        .ok_or_else(|| {
+            option(
+                name,
+                format!("the direction `{direction}` is not one of ux, uy, tx, ty"),
+            )
+        })?;
+    Ok(dof(node, d))
+}
+
+/// Frequency response functions (`whirl frf`): from a harmonic force of `force` N at
+/// `input` to each of `outputs`, `(node, direction)` pairs, at spin speed `speed` over the
+/// circular frequencies `frequencies` (rad/s; default the library's).
+#[pyfunction]
+#[pyo3(signature = (model, input, outputs, speed, frequencies, force))]
+pub fn frf(
+    py: Python<'_>,
+    model: &PyModel,
+    input: (usize, String),
+    outputs: Vec<(usize, String)>,
+    speed: f64,
+    frequencies: Option<Vec<f64>>,
+    force: f64,
+) -> PyResult<PyReport> {
+    let input = global_dof("input", input)?;
+    let outputs = outputs
+        .into_iter()
+        .map(|o| global_dof("output", o))
+        .collect::<PyResult<Vec<_>>>()?;
+    let model = &model.model;
+    let result = lib(py.detach(|| {
+        let w = match frequencies {
+            Some(w) => w,
+            None => default_frequencies(model)?,
+        };
+        receptances(
+            &assemble(model, Bearings::Linearised),
+            speed,
+            input,
+            &outputs,
+            &w,
+        )
+    }))?;
+    PyReport::of(&FrfReport { result, force })
+}
+
+/// The forcing-function fit (`whirl fit-forcing`) of roller bearing `bearing` at `speeds`
+/// (rad/s), each simulated for `duration` s with the first `settle` s discarded, on a
+/// Craig-Bampton model with `reduce` modes.
+#[pyfunction]
+pub fn fit_forcing(
+    py: Python<'_>,
+    model: &PyModel,
+    speeds: Vec<f64>,
+    bearing: usize,
+    duration: f64,
+    settle: f64,
+    reduce: usize,
+) -> PyResult<PyReport> {
+    let options = ForcingFitOptions {
+        duration,
+        settle,
+        reduction: Some(reduce),
+        ..ForcingFitOptions::default()
+    };
+    let model = &model.model;
+    let result = lib(py.detach(|| fit(model, bearing, &speeds, &options)))?;
+    PyReport::of(&ForcingFitReport::new(model, bearing, result))
 }

@@ -47,6 +47,12 @@ fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<report::PyReport>()?;
     m.add_function(wrap_pyfunction!(hbm::hbm, m)?)?;
     m.add_function(wrap_pyfunction!(analyses::reduce, m)?)?;
+    m.add_function(wrap_pyfunction!(analyses::statics, m)?)?;
+    m.add_function(wrap_pyfunction!(analyses::ucs, m)?)?;
+    m.add_function(wrap_pyfunction!(analyses::ucs_default_stiffnesses, m)?)?;
+    m.add_function(wrap_pyfunction!(analyses::ucs_stiffnesses, m)?)?;
+    m.add_function(wrap_pyfunction!(analyses::frf, m)?)?;
+    m.add_function(wrap_pyfunction!(analyses::fit_forcing, m)?)?;
     m.add_class::<model::PyModel>()?;
     m.add_function(wrap_pyfunction!(units::parse_speed, m)?)?;
     m.add_function(wrap_pyfunction!(units::parse_speeds, m)?)?;

@@ -33,13 +33,15 @@ pub fn parse_speeds<'py>(py: Python<'py>, text: &str) -> PyResult<Bound<'py, PyA
     Ok(w.into_pyarray(py))
 }
 
-/// A quantity in SI from text with a unit: `dimension` is `time`, `length`, `frequency`
-/// (returned in Hz) or `speed` (rad/s); a plain number is SI (rad/s for a frequency).
+/// A quantity in SI from text with a unit: `dimension` is `time`, `length`, `force`,
+/// `frequency` (returned in Hz) or `speed` (rad/s); a plain number is SI (rad/s for a
+/// frequency).
 #[pyfunction(name = "parse_quantity")]
 pub fn quantity(name: &str, text: &str, dimension: &str) -> PyResult<f64> {
     let (d, hz) = match dimension {
         "time" => (Dimension::Time, false),
         "length" => (Dimension::Length, false),
+        "force" => (Dimension::Force, false),
         "frequency" => (Dimension::AngularSpeed, true),
         _ => (Dimension::AngularSpeed, false),
     };

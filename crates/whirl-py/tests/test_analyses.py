@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import whirl
-from conftest import REFERENCE, assert_matches_cli
+from conftest import REFERENCE, assert_matches_cli, assert_same_table, timeless
 
 
 def test_reduce_equals_the_command_line(run_cli):
@@ -33,3 +33,56 @@ def test_bad_reduce_options_name_the_keyword():
         whirl.reduce(REFERENCE, modes=0)
     with pytest.raises(whirl.InputError, match="invalid `nodes`"):
         whirl.reduce(REFERENCE, nodes=[999])
+
+
+def test_static_equals_the_command_line(run_cli):
+    cli = run_cli("static", str(REFERENCE))
+    result = whirl.static(REFERENCE)
+    assert "rollers" in result.tables, "no roller table: the test would miss it"
+    assert_matches_cli(result, cli)
+
+
+def test_static_reactions_carry_the_weight():
+    result = whirl.static(REFERENCE, rollers="linear")
+    # Equilibrium: the bearings' vertical reactions sum to the weight, to the linear
+    # solve's round-off (1e-9 relative).
+    assert result.reaction_sum_over_weight == pytest.approx(1.0, rel=1e-9)
+
+
+def test_ucs_equals_the_command_line(run_cli):
+    cli = run_cli("ucs", str(REFERENCE), "--modes", "3")
+    assert_matches_cli(whirl.ucs(REFERENCE, modes=3), cli)
+    cli = run_cli("ucs", str(REFERENCE), "--stiffness", "1e6:1e9:7", "--at-rest")
+    assert_matches_cli(whirl.ucs(REFERENCE, stiffness="1e6:1e9:7", at_rest=True), cli)
+
+
+def test_frf_equals_the_command_line(run_cli):
+    flags = ["--input", "10:uy", "--output", "10:uy,0:ux", "--speed", "100Hz",
+             "--frequencies", "0:400Hz:201", "--force", "2kN"]
+    cli = run_cli("frf", str(REFERENCE), *flags)
+    result = whirl.frf(REFERENCE, "10:uy", output=["10:uy", "0:ux"], speed="100Hz",
+                       frequencies="0:400Hz:201", force="2kN")
+    assert_matches_cli(result, cli)
+    cli = run_cli("frf", str(REFERENCE), "--input", "10:ux")
+    assert_matches_cli(whirl.frf(REFERENCE, (10, "ux")), cli)
+
+
+def test_fit_forcing_equals_the_command_line(run_cli):
+    cli = run_cli("fit-forcing", str(REFERENCE), "--speeds", "200Hz:300Hz:2", "--duration", "0.2s",
+                  "--settle", "0.1s")
+    result = whirl.fit_forcing(REFERENCE, "200Hz:300Hz:2", duration="0.2s", settle="0.1s")
+    assert timeless(result.to_dict()) == timeless(cli.summary())
+    assert_same_table(result.to_pandas("fit"), cli.table("fit"))
+
+
+def test_bad_options_of_the_reports_name_the_keyword():
+    with pytest.raises(whirl.InputError, match="invalid `rollers`"):
+        whirl.static(REFERENCE, rollers="glued")
+    with pytest.raises(whirl.InputError, match="invalid `stiffness`"):
+        whirl.ucs(REFERENCE, stiffness="1e9:1e6:7")
+    with pytest.raises(whirl.InputError, match="invalid `input`"):
+        whirl.frf(REFERENCE, "10:uz")
+    with pytest.raises(whirl.InputError, match="invalid `output`: node 99"):
+        whirl.frf(REFERENCE, "10:uy", output=["99:uy"])
+    with pytest.raises(whirl.InputError, match="roller bearing 5 does not exist"):
+        whirl.fit_forcing(REFERENCE, "200Hz:300Hz:2", bearing=5)

@@ -15,7 +15,7 @@ as numbers in rad/s (SI, as everywhere in the model file).
 """
 
 from ._whirl import BUILD_ID, InputError, NumericalError, WhirlError, __version__
-from .analyses import reduce
+from .analyses import fit_forcing, frf, reduce, static, ucs
 from .hbm import hbm
 from .model import Model, WhirlWarning
 from .modal import (
@@ -56,12 +56,16 @@ __all__ = [
     "cascade",
     "check",
     "convergence",
+    "fit_forcing",
+    "frf",
     "from_ross",
     "hbm",
     "modal",
     "read_ross",
     "reduce",
     "simulate",
+    "static",
     "study",
+    "ucs",
     "unbalance",
 ]

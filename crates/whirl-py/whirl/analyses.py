@@ -4,11 +4,15 @@ summary.json and CSV tables."""
 
 from __future__ import annotations
 
+import math
 import os
 from collections.abc import Sequence
 
+import numpy as np
+
 from . import _options, _whirl
 from .model import Model, as_model
+from .nsv import _time
 from .report import Report
 from .response import report_nodes
 
@@ -37,3 +41,161 @@ def reduce(
     boundary = report_nodes(model, nodes) if nodes else []
     raw = _whirl.reduce(model._raw, _options.mode_count(modes), boundary)
     return Report("reduce", model, raw)
+
+
+def static(model: Model | str | os.PathLike[str], *, rollers: str = "hertz") -> Report:
+    """The static response under gravity (``whirl static``): deflection, slope, bending
+    moment and shear along the shaft, the bearing reactions and the roller loads.
+
+    Args:
+        model: a :class:`Model` or a model file path.
+        rollers: how roller bearings carry the load: ``hertz`` (their contacts) or
+            ``linear`` (their linear stiffness).
+
+    Returns:
+        A :class:`whirl.Report` with the command line's tables ``stations`` (per node),
+        ``reactions`` and, with roller bearings, ``rollers``.
+    """
+    model = as_model(model)
+    return Report("static", model, _whirl.statics(model._raw, rollers))
+
+
+def _stiffnesses(given: str | Sequence[float]) -> np.ndarray:
+    """Stiffnesses in N/m: ``"1e5:1e10:51"`` (spaced logarithmically) or the values."""
+    if isinstance(given, str):
+        parts = [p.strip().removesuffix("N/m").strip() for p in given.split(":")]
+        try:
+            low, high, count = float(parts[0]), float(parts[1]), int(parts[2])
+        except (ValueError, IndexError):
+            raise _whirl.InputError(
+                f"invalid `stiffness`: `{given}`: expected start:stop:count in N/m, e.g. 1e5:1e10:51"
+            ) from None
+        if len(parts) != 3 or not (0 < low < high and math.isfinite(high) and 2 <= count <= 10_000):
+            raise _whirl.InputError(
+                f"invalid `stiffness`: `{given}`: give 0 < start < stop and a count from 2 to 10000"
+            )
+        return _whirl.ucs_stiffnesses(low, high, count)
+    k = np.asarray(given, dtype=float).ravel()
+    if k.size == 0 or not np.all(np.isfinite(k) & (k > 0)):
+        raise _whirl.InputError("invalid `stiffness`: give positive stiffnesses in N/m")
+    return k
+
+
+def ucs(
+    model: Model | str | os.PathLike[str],
+    *,
+    stiffness: str | Sequence[float] | None = None,
+    modes: int = 4,
+    at_rest: bool = False,
+) -> Report:
+    """The undamped critical-speed map (``whirl ucs``, API 684): the lowest critical speeds
+    against a stiffness every bearing shares, and where the bearings' own stiffness cuts
+    them.
+
+    Args:
+        model: a :class:`Model` or a model file path.
+        stiffness: ``"1e5:1e10:51"`` (N/m, spaced logarithmically) or the values; default
+            61 values from 1/100 of the softest bearing's stiffness to 100 times the
+            stiffest's, widened to whole decades.
+        modes: number of critical speeds (curves), 1-200.
+        at_rest: natural frequencies at rest instead of synchronous critical speeds (no
+            gyroscopic moments).
+
+    Returns:
+        A :class:`whirl.Report` with the tables ``ucs`` and ``bearings``.
+    """
+    model = as_model(model)
+    k = _whirl.ucs_default_stiffnesses(model._raw) if stiffness is None else _stiffnesses(stiffness)
+    raw = _whirl.ucs(model._raw, [float(x) for x in k], _options.mode_count(modes), not at_rest)
+    return Report("ucs", model, raw)
+
+
+def _dof(name: str, spec: str | tuple[int, str], model: Model) -> tuple[int, str]:
+    """``"10:uy"`` or ``(10, "uy")`` as (node, direction), the node checked."""
+    if isinstance(spec, str):
+        node, sep, direction = spec.partition(":")
+        if not sep or not node.strip().isdigit():
+            raise _whirl.InputError(f"invalid `{name}`: `{spec}`: expected NODE:DIR, e.g. 10:uy")
+        spec = (int(node), direction.strip())
+    node, direction = spec
+    last = model.node_count - 1
+    if isinstance(node, bool) or not isinstance(node, (int, np.integer)) or not 0 <= node <= last:
+        raise _whirl.InputError(
+            f"invalid `{name}`: node {node} is not on the shaft\n"
+            f"  help: nodes are numbered 0 (z = 0) to {last} (z = {model.length} m)"
+        )
+    return int(node), str(direction)
+
+
+def frf(
+    model: Model | str | os.PathLike[str],
+    input: str | tuple[int, str],
+    *,
+    output: Sequence[str | tuple[int, str]] = (),
+    speed: str | float = 0.0,
+    frequencies: _options.Speeds = None,
+    force: str | float = 1.0,
+) -> Report:
+    """Frequency response functions (``whirl frf``): receptance, mobility and accelerance
+    from a harmonic force to displacements, at a spin speed.
+
+    Args:
+        model: a :class:`Model` or a model file path.
+        input: where the force acts, ``"10:uy"`` or ``(10, "uy")`` (ux, uy, tx, ty).
+        output: where the response is read; default the input DOF.
+        speed: spin speed, ``"50Hz"``, ``"3000rpm"`` or rad/s.
+        frequencies: excitation frequencies ``"0:500Hz:1001"`` or rad/s; default 1001 from
+            0 to 1.5 x the sixth undamped natural frequency.
+        force: amplitude of the harmonic force (``100``, ``"2kN"``), for the response
+            columns.
+
+    Returns:
+        A :class:`whirl.Report` with the tables ``frf`` and ``peaks``.
+    """
+    model = as_model(model)
+    source = _dof("input", input, model)
+    outputs = [_dof("output", o, model) for o in output] or [source]
+    w = None if frequencies is None else [float(x) for x in _options.speeds(frequencies, model, 0.0, 1001, "frequencies")]
+    raw = _whirl.frf(
+        model._raw,
+        source,
+        outputs,
+        _whirl.parse_speed(str(speed)),
+        w,
+        _whirl.parse_quantity("force", str(force), "force"),
+    )
+    return Report("frf", model, raw)
+
+
+def fit_forcing(
+    model: Model | str | os.PathLike[str],
+    speeds: _options.Speeds,
+    *,
+    bearing: int = 0,
+    duration: str | float = "0.3s",
+    settle: str | float = "0.2s",
+    reduce: int = _whirl.DEFAULT_MODES,
+) -> Report:
+    """The forcing-function law (thesis eq. 3.12) fitted to a roller bearing's Hertz
+    response over speed (``whirl fit-forcing``).
+
+    Args:
+        model: a :class:`Model` or a model file path.
+        speeds: spin speeds to fit at, ``"100Hz:500Hz:5"`` or rad/s; the law is meant for
+            speeds inside this range.
+        bearing: the roller bearing, numbered from 0 in file order.
+        duration: simulated time per speed.
+        settle: time discarded before sampling.
+        reduce: Craig-Bampton fixed-interface modes (the bearing nodes are the boundary).
+
+    Returns:
+        A :class:`whirl.Report` with the fitted coefficients in its summary and the table
+        ``fit`` (the samples and the law's force at each).
+    """
+    model = as_model(model)
+    w = [float(x) for x in _options.speeds(speeds, model, 0.0, 5)]
+    raw = _whirl.fit_forcing(
+        model._raw, w, int(bearing), _time("duration", duration), _time("settle", settle),
+        _options.mode_count(reduce, "reduce"),
+    )
+    return Report("fit-forcing", model, raw)
