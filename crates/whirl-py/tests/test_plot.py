@@ -36,6 +36,9 @@ def test_every_figure_draws(tmp_path):
         whirl.plot.hb_branch(branch),
         whirl.plot.hb_stability(branch),
         whirl.plot.reduction_error(reduced),
+        whirl.plot.static_response(whirl.static(model)),
+        whirl.plot.ucs(whirl.ucs(model)),
+        whirl.plot.frf(whirl.frf(model, "10:uy", frequencies="0:400Hz:101")),
     ]
     for i, ax in enumerate(axes):
         assert ax.lines or ax.collections, f"figure {i} drew nothing"

@@ -213,3 +213,51 @@ def reduction_error(result, modes=4, ax=None):
            title="Craig-Bampton reduction error")
     ax.legend(fontsize="small")
     return ax
+
+
+def static_response(result, ax=None):
+    """The static response (``whirl.static``): the deflection along the shaft, the
+    bearings marked."""
+    ax = _axes(ax)
+    stations = result.to_pandas("stations")
+    ax.plot(stations["z_m"], stations["uy_m"], label="uy")
+    ax.plot(stations["z_m"], stations["ux_m"], "--", label="ux")
+    reactions = result.to_pandas("reactions")
+    ax.plot(reactions["z_m"], reactions["uy_m"], "^", color="black", label="bearings")
+    ax.set(xlabel="z [m]", ylabel="deflection [m]", title="static deflection under gravity")
+    ax.legend(fontsize="small")
+    return ax
+
+
+def ucs(result, ax=None):
+    """The undamped critical-speed map (``whirl.ucs``): each critical speed over the bearing
+    stiffness (log-log), where the bearings' own stiffness cuts the curves marked."""
+    ax = _axes(ax)
+    table = result.columns("ucs")
+    for name, speeds in table.items():
+        if name != "stiffness_n_per_m":
+            ax.loglog(table["stiffness_n_per_m"], speeds, label=name.removesuffix("_hz"))
+    for b in result.bearings:
+        ax.axvline(b["stiffness_n_per_m"], color="grey", ls=":", lw=0.8)
+        cuts = [c for c in b["critical_speeds_hz"] if c is not None]
+        ax.plot([b["stiffness_n_per_m"]] * len(cuts), cuts, "o", color="black")
+    ax.set(xlabel="bearing stiffness [N/m]", ylabel="critical speed [Hz]",
+           title="undamped critical-speed map")
+    ax.legend(fontsize="small")
+    return ax
+
+
+def frf(result, kind="receptance", ax=None):
+    """Frequency response functions (``whirl.frf``): the magnitude of ``kind``
+    (receptance, mobility or accelerance) of each output over frequency, peaks marked."""
+    ax = _axes(ax)
+    table = result.columns("frf")
+    for name in table:
+        if name.endswith(f"_{kind}_magnitude"):
+            ax.semilogy(table["frequency_hz"], table[name], label=name.removesuffix(f"_{kind}_magnitude"))
+    if kind == "receptance":
+        peaks = result.to_pandas("peaks")
+        ax.plot(peaks["frequency_hz"], peaks["receptance_magnitude"], "v", color="black")
+    ax.set(xlabel="frequency [Hz]", ylabel=f"{kind} magnitude", title=f"{kind} from {result.input}")
+    ax.legend(fontsize="small")
+    return ax
