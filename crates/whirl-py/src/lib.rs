@@ -56,7 +56,7 @@ fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<model::PyModel>()?;
     m.add_function(wrap_pyfunction!(units::parse_speed, m)?)?;
     m.add_function(wrap_pyfunction!(units::parse_speeds, m)?)?;
-    m.add_function(wrap_pyfunction!(modal::undamped_frequencies, m)?)?;
+    m.add_function(wrap_pyfunction!(modal::check, m)?)?;
     m.add_function(wrap_pyfunction!(modal::campbell, m)?)?;
     m.add_function(wrap_pyfunction!(modal::convergence, m)?)?;
     m.add_function(wrap_pyfunction!(modal::modal, m)?)?;

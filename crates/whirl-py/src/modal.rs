@@ -1,28 +1,23 @@
-//! Modal analyses of the linearised rotor: undamped frequencies (`check`), mesh
-//! convergence and the Campbell diagram, computed as the command line computes them.
+//! Modal analyses of the linearised rotor: the model check, mesh convergence, the Campbell
+//! diagram and the modes at a speed, each with the library's report (its summary and
+//! tables, as the command line writes them) beside its arrays.
 
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use pythonize::pythonize;
 use whirl::fe::{assemble, dof, Bearings, Direction, DOFS_PER_NODE};
-use whirl::modal::{branch_labels, CampbellOptions, ModalBasis};
+use whirl::modal::{check_model, modal_report, CampbellOptions};
 
 use crate::error::lib;
 use crate::model::PyModel;
+use crate::report::PyReport;
 
-/// The `count` lowest undamped natural frequencies, Hz, of the linearised rotor at rest.
+/// The model checked (`whirl check`): its summary and tables, with its first six undamped
+/// natural frequencies.
 #[pyfunction]
-pub fn undamped_frequencies<'py>(
-    py: Python<'py>,
-    model: &PyModel,
-    count: usize,
-) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
-    let modes = py.detach(|| {
-        let system = assemble(&model.model, Bearings::Linearised);
-        whirl::modal::undamped_modes(&system, count)
-    });
-    Ok(lib(modes)?.frequencies_hz.into_pyarray(py))
+pub fn check(py: Python<'_>, model: &PyModel) -> PyResult<PyReport> {
+    PyReport::of(&lib(py.detach(|| check_model(&model.model)))?)
 }
 
 /// The Campbell diagram over `speeds` (rad/s): `modes` branches, critical speeds at the
@@ -47,7 +42,8 @@ pub fn campbell<'py>(
         let system = assemble(&model.model, Bearings::Linearised);
         whirl::modal::campbell(&system, &options)
     }))?;
-    let labels = branch_labels(&result.branches.iter().map(|b| b.whirl).collect::<Vec<_>>());
+    let report = PyReport::of(&result)?;
+    let labels = result.labels();
     let branches = PyList::empty(py);
     for (b, label) in result.branches.into_iter().zip(labels) {
         let d = PyDict::new(py);
@@ -79,32 +75,27 @@ pub fn campbell<'py>(
     out.set_item("basis_size", result.basis_size)?;
     out.set_item("branches", branches)?;
     out.set_item("critical_speeds", critical)?;
+    out.set_item("report", report)?;
     Ok(out)
 }
 
-/// Undamped frequencies of the first `modes` modes for each total element count `counts`;
-/// the library's result as a dict.
+/// Undamped frequencies of the first `modes` modes for each total element count `counts`:
+/// the library's result as a dict, and its report.
 #[pyfunction]
 pub fn convergence<'py>(
     py: Python<'py>,
     model: &PyModel,
     counts: Vec<usize>,
     modes: usize,
-) -> PyResult<Bound<'py, PyAny>> {
+) -> PyResult<(Bound<'py, PyAny>, PyReport)> {
     let result = lib(py.detach(|| whirl::modal::convergence(&model.model, &counts, modes)))?;
-    Ok(pythonize(py, &result)?)
+    Ok((pythonize(py, &result)?, PyReport::of(&result)?))
 }
-
-/// Roots more damped than this are left out (overdamped or spurious), as in `whirl modal`.
-const MAX_DAMPING_RATIO: f64 = 0.9;
-
-/// Smallest speed solved, rad/s: at rest an isotropic rotor's forward and backward modes
-/// coincide and their shapes are any mix of the two (as in `whirl modal`).
-const SPEED_FLOOR: f64 = 1e-3;
 
 /// The `modes` undamped modes (frequencies, mass-normalised shapes `[dof, mode]`) and the
 /// first `modes` damped modes at `speed` (rad/s) with their labels and, per node, the
-/// amplitude and phase of ux and uy and the forward and backward orbit radii.
+/// amplitude and phase of ux and uy and the forward and backward orbit radii; with the
+/// library's report (`whirl modal`).
 #[pyfunction]
 pub fn modal<'py>(
     py: Python<'py>,
@@ -112,18 +103,8 @@ pub fn modal<'py>(
     speed: f64,
     modes: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let (undamped, mut damped) = lib(py.detach(|| {
-        let system = assemble(&model.model, Bearings::Linearised);
-        let undamped = whirl::modal::undamped_modes(&system, modes)?;
-        let damped = ModalBasis::full(&system)?.modes_at(
-            speed.max(SPEED_FLOOR),
-            MAX_DAMPING_RATIO,
-            modes,
-        )?;
-        Ok::<_, whirl::Error>((undamped, damped))
-    }))?;
-    damped.truncate(modes);
-    let labels = branch_labels(&damped.iter().map(|m| m.whirl).collect::<Vec<_>>());
+    let report = lib(py.detach(|| modal_report(&model.model, speed, modes)))?;
+    let (undamped, damped) = (&report.undamped, &report.damped);
     let nodes = model.model.node_count();
     let shapes = &undamped.shapes;
     let count = undamped.frequencies_hz.len();
@@ -133,7 +114,7 @@ pub fn modal<'py>(
     let shapes = numpy::ndarray::Array2::from_shape_vec((DOFS_PER_NODE * nodes, count), flat)
         .map_err(|e| crate::error::to_py(whirl::Error::Internal(e.to_string())))?;
     let list = PyList::empty(py);
-    for (m, label) in damped.iter().zip(labels) {
+    for (m, label) in damped.iter().zip(&report.labels) {
         let d = PyDict::new(py);
         d.set_item("label", label)?;
         d.set_item("damped_frequency_hz", m.damped_frequency_hz)?;
@@ -162,12 +143,13 @@ pub fn modal<'py>(
     let out = PyDict::new(py);
     out.set_item(
         "undamped_frequencies_hz",
-        undamped.frequencies_hz.into_pyarray(py),
+        undamped.frequencies_hz.clone().into_pyarray(py),
     )?;
     out.set_item(
         "undamped_shapes",
         numpy::PyArray2::from_owned_array(py, shapes),
     )?;
     out.set_item("damped", list)?;
+    out.set_item("report", PyReport::of(&report)?)?;
     Ok(out)
 }

@@ -7,19 +7,21 @@ use whirl::response::unbalance_response_refined;
 
 use crate::error::lib;
 use crate::model::PyModel;
+use crate::report::PyReport;
 
 /// The unbalance response at `nodes` over `speeds` (rad/s), with speeds added in each
-/// peak's half-power band, as `whirl unbalance` computes it; the library's result as a dict.
+/// peak's half-power band, as `whirl unbalance` computes it: the library's result as a
+/// dict, and its report.
 #[pyfunction]
 pub fn unbalance<'py>(
     py: Python<'py>,
     model: &PyModel,
     speeds: Vec<f64>,
     nodes: Vec<usize>,
-) -> PyResult<Bound<'py, PyAny>> {
+) -> PyResult<(Bound<'py, PyAny>, PyReport)> {
     let result = lib(py.detach(|| {
         let system = assemble(&model.model, Bearings::Linearised);
         unbalance_response_refined(&model.model, &system, &speeds, &nodes)
     }))?;
-    Ok(pythonize(py, &result)?)
+    Ok((pythonize(py, &result)?, PyReport::of(&result)?))
 }

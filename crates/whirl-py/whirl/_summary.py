@@ -18,12 +18,6 @@ def head(command: str, model: Model) -> dict[str, Any]:
     }
 
 
-def finite_or_none(x: float) -> float | None:
-    """A number as summary.json holds it: NaN and infinities are null there."""
-    x = float(x)
-    return x if x == x and abs(x) != float("inf") else None
-
-
 def jsonable(x: Any) -> Any:
     """``x`` as summary.json reads back: tuples (Rust's pairs) as lists, throughout."""
     if isinstance(x, dict):

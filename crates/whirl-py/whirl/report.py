@@ -63,3 +63,24 @@ class Report:
 
     def __repr__(self) -> str:
         return f"<whirl {self.command} result of {self.model.name!r}: tables {', '.join(self.tables)}>"
+
+
+class Reported:
+    """A result with attributes of its own (branches, modes, ...) whose summary and tables
+    are the library's report, ``self.report``."""
+
+    report: Report
+
+    @property
+    def tables(self) -> tuple[str, ...]:
+        """The names of the tables, in the order the command line writes them."""
+        return self.report.tables
+
+    def to_dict(self) -> dict[str, Any]:
+        """The command line's summary.json (without the output folder and file list)."""
+        return self.report.to_dict()
+
+    def to_pandas(self, table: str | None = None):
+        """Table ``table`` (default the first) as a DataFrame: the command line's
+        ``<table>.csv``, column for column."""
+        return self.report.to_pandas(table)

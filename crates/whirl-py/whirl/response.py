@@ -6,13 +6,12 @@ import math
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, ClassVar
 
 import numpy as np
 
 from . import _options, _whirl
-from ._summary import head
 from .model import Model, as_model
+from .report import Report, Reported
 
 
 @dataclass(frozen=True)
@@ -55,7 +54,7 @@ class NodeResponse:
 
 
 @dataclass(frozen=True)
-class UnbalanceResult:
+class UnbalanceResult(Reported):
     """The steady unbalance response (``whirl unbalance``): per node the amplitude and phase
     of ux and uy and the orbit's semi-axes over speed, and the resonance peaks with their
     amplification factors and API 617 separation margins."""
@@ -68,8 +67,8 @@ class UnbalanceResult:
     operating_hz: tuple[float, float] | None
     #: Why the API 617 margins were not assessed, when they mean nothing for the range.
     api617_note: str | None
-    #: Table names of :meth:`to_pandas`.
-    tables: ClassVar[tuple[str, ...]] = ("unbalance", "peaks")
+    #: The library's report: tables ``unbalance`` and ``peaks``, the summary.
+    report: Report
 
     def node(self, node: int) -> NodeResponse:
         """The response at node ``node``."""
@@ -89,91 +88,6 @@ class UnbalanceResult:
             "no operating range: give [operating] min_speed and max_speed to assess "
             "separation margins"
         )
-
-    def to_pandas(self, table: str = "unbalance"):
-        """``unbalance`` (one row per speed; per node ``n{node}_`` amplitudes, phases,
-        semi-axes, whirl) or ``peaks``: the command line's CSV tables."""
-        import pandas as pd
-
-        if table == "unbalance":
-            columns: dict[str, Any] = {"speed_hz": self.speeds_hz, "speed_rpm": 60.0 * self.speeds_hz}
-            for r in self.nodes:
-                n = f"n{r.node}_"
-                columns[n + "ux_amplitude_m"] = r.ux_amplitude
-                columns[n + "ux_phase_deg"] = r.ux_phase_deg
-                columns[n + "uy_amplitude_m"] = r.uy_amplitude
-                columns[n + "uy_phase_deg"] = r.uy_phase_deg
-                columns[n + "major_semi_axis_m"] = r.major
-                columns[n + "minor_semi_axis_m"] = r.minor
-                columns[n + "whirl"] = r.whirl
-            return pd.DataFrame(columns)
-        if table == "peaks":
-            rows = []
-            for r in self.nodes:
-                for p in r.peaks:
-                    low, high = p.half_power_hz if p.half_power_hz is not None else (None, None)
-                    if p.meets_api617 is not None:
-                        meets: Any = p.meets_api617
-                    else:
-                        meets = "not applicable" if self.api617_note is not None else None
-                    rows.append(
-                        [r.node, r.z, p.speed_hz, 60.0 * p.speed_hz, p.amplitude, low, high,
-                         p.amplification_factor, p.required_margin_pct, p.actual_margin_pct, meets]
-                    )
-            return pd.DataFrame(
-                rows,
-                columns=[
-                    "node", "z_m", "speed_hz", "speed_rpm", "major_semi_axis_m",
-                    "half_power_low_hz", "half_power_high_hz", "amplification_factor",
-                    "api617_required_margin_pct", "api617_actual_margin_pct", "meets_api617",
-                ],
-            )
-        raise ValueError(f"no table `{table}`: choose one of {self.tables}")
-
-    def to_dict(self) -> dict[str, Any]:
-        """The command line's summary.json (without the output folder and file list)."""
-        s = self.speeds_hz
-        summary = head("unbalance", self.model)
-        summary.update(
-            speed_range_hz=[float(s[0]), float(s[-1])] if len(s) else [None, None],
-            speed_count=len(s),
-            operating_speed_hz=None if self.operating_hz is None else list(self.operating_hz),
-            api617_status=self.api617_status,
-            nodes=[_node_summary(r, s) for r in self.nodes],
-        )
-        return summary
-
-
-def _node_summary(r: NodeResponse, speeds_hz: np.ndarray) -> dict[str, Any]:
-    k, largest = _largest(r.major)
-    return {
-        "node": r.node,
-        "z_m": r.z,
-        "max_major_semi_axis_m": None if math.isnan(largest) else largest,
-        "max_major_semi_axis_speed_hz": float(speeds_hz[k]) if k < len(speeds_hz) else None,
-        "peaks": [
-            {
-                "speed_hz": p.speed_hz,
-                "speed_rpm": 60.0 * p.speed_hz,
-                "major_semi_axis_m": p.amplitude,
-                "half_power_hz": None if p.half_power_hz is None else list(p.half_power_hz),
-                "amplification_factor": p.amplification_factor,
-                "api617_required_margin_pct": p.required_margin_pct,
-                "api617_actual_margin_pct": p.actual_margin_pct,
-                "meets_api617": p.meets_api617,
-            }
-            for p in r.peaks
-        ],
-    }
-
-
-def _largest(values: np.ndarray) -> tuple[int, float]:
-    """The index and value of the largest entry: the first of equals, NaN when all are."""
-    k, best = 0, math.nan
-    for i, v in enumerate(values.tolist()):
-        if v > best or math.isnan(best):
-            k, best = i, v
-    return k, best
 
 
 def report_nodes(model: Model, given: Sequence[int] | None) -> list[int]:
@@ -217,7 +131,7 @@ def unbalance(
         nodes: nodes to report; default every disk and bearing node.
     """
     model = as_model(model)
-    raw = _whirl.unbalance(
+    raw, report = _whirl.unbalance(
         model._raw,
         _options.speeds(speeds, model, 2.0 * math.pi, 800),
         report_nodes(model, nodes),
@@ -237,6 +151,7 @@ def unbalance(
         ],
         operating_hz=None if raw["operating_hz"] is None else tuple(raw["operating_hz"]),
         api617_note=raw["api617_note"],
+        report=Report("unbalance", model, report),
     )
 
 
