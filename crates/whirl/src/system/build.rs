@@ -38,7 +38,10 @@ pub const MAX_FULL_DOFS: usize = 4_000;
 fn full_model_too_large(dofs: usize) -> Error {
     let gigabytes = 32.0 * (dofs as f64).powi(2) / 1e9;
     Error::Unsupported(format!(
-        "the full model has {dofs} DOFs ({} nodes): its dense matrices would take {gigabytes:.1}          GB and its solves grow as the cube of that; the full model is limited to          {MAX_FULL_DOFS} DOFs. Reduce it (Craig-Bampton, e.g. `--reduce 12`, whose cost grows          linearly with the elements) or use fewer elements",
+        "the full model has {dofs} DOFs ({} nodes): its dense matrices would take \
+         {gigabytes:.1} GB and its solves grow as the cube of that; the full model is \
+         limited to {MAX_FULL_DOFS} DOFs. Reduce it (Craig-Bampton, e.g. `--reduce 12`, \
+         whose cost grows linearly with the elements) or use fewer elements",
         dofs / DOFS_PER_NODE
     ))
 }
@@ -224,6 +227,7 @@ mod tests {
         match build(&model, None, Bearings::Linearised, &no_forces) {
             Err(Error::Unsupported(m)) => {
                 assert!(m.contains("4004 DOFs") && m.contains("--reduce"), "{m}");
+                assert!(!m.contains("  "), "{m}");
             }
             other => panic!("expected a refusal, got {:?}", other.err()),
         }
