@@ -11,7 +11,7 @@
 
 use std::fmt::Write;
 
-use whirl::fe::{assemble, dof, Bearings, Direction};
+use whirl::fe::{assemble_banded, dof, Bearings, Direction};
 use whirl::model::Model;
 use whirl::report::Report;
 use whirl::response::{default_frequencies, frf, FrfKind, FrfReport};
@@ -111,7 +111,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     if w.is_empty() {
         return Err(Diag::option("--frequencies", "no frequencies to compute").into());
     }
-    let system = assemble(model, Bearings::Linearised);
+    let system = assemble_banded(model, Bearings::Linearised);
     let result = lib(frf(&system, args.speed, input, &outputs, &w))?;
     let (f0, f1) = (result.frequencies_hz[0], result.frequencies_hz[w.len() - 1]);
 

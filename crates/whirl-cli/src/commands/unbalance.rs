@@ -13,7 +13,7 @@
 
 use std::fmt::Write;
 
-use whirl::fe::{assemble, Bearings};
+use whirl::fe::{assemble_banded, Bearings};
 use whirl::report::Report;
 use whirl::response::{unbalance_response_refined, UnbalanceResult};
 
@@ -40,7 +40,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     let model = &loaded.model;
     let nodes = args.nodes.resolve(model)?;
-    let system = assemble(model, Bearings::Linearised);
+    let system = assemble_banded(model, Bearings::Linearised);
     let result = lib(unbalance_response_refined(
         model,
         &system,

@@ -31,7 +31,7 @@ use serde::Serialize;
 use super::frf::harmonic_response;
 use super::peaks::{find_peaks, is_peak, margins_not_applicable, samples_below, ResponsePeak};
 use crate::error::{Error, Result};
-use crate::fe::{dof, unbalance_force, Direction, SystemMatrices};
+use crate::fe::{dof, unbalance_force, Direction, Matrices};
 use crate::modal::Whirl;
 use crate::model::Model;
 
@@ -79,7 +79,7 @@ pub struct UnbalanceResult {
 /// # Errors
 /// [`Error::Singular`] when the dynamic stiffness is singular at `omega` (see
 /// [`harmonic_response`]).
-pub fn unbalance_phasor(system: &SystemMatrices, force: &[c64], omega: f64) -> Result<Vec<c64>> {
+pub fn unbalance_phasor(system: &impl Matrices, force: &[c64], omega: f64) -> Result<Vec<c64>> {
     let scaled: Vec<c64> = force.iter().map(|f| f * (omega * omega)).collect();
     harmonic_response(system, omega, omega, &scaled)
 }
@@ -101,12 +101,12 @@ const REFINE_PASSES: usize = 16;
 /// a model without unbalance, [`Error::Singular`] as in `unbalance_phasor`.
 pub fn unbalance_response(
     model: &Model,
-    system: &SystemMatrices,
+    system: &impl Matrices,
     speeds: &[f64],
     nodes: &[usize],
 ) -> Result<UnbalanceResult> {
     let force = checked_force(model, system, nodes)?;
-    let phasors = phasors_at(system, &force, speeds)?;
+    let phasors = phasors_at(system, &force, speeds, nodes)?;
     Ok(result_from(model, speeds, &phasors, nodes))
 }
 
@@ -118,7 +118,7 @@ pub fn unbalance_response(
 /// As [`unbalance_response`].
 pub fn unbalance_response_refined(
     model: &Model,
-    system: &SystemMatrices,
+    system: &impl Matrices,
     speeds: &[f64],
     nodes: &[usize],
 ) -> Result<UnbalanceResult> {
@@ -126,13 +126,13 @@ pub fn unbalance_response_refined(
     let mut speeds = speeds.to_vec();
     speeds.sort_by(f64::total_cmp);
     speeds.dedup();
-    let mut phasors = phasors_at(system, &force, &speeds)?;
+    let mut phasors = phasors_at(system, &force, &speeds, nodes)?;
     for _ in 0..REFINE_PASSES {
         let added = refinement_speeds(&speeds, &phasors, nodes);
         if added.is_empty() {
             break;
         }
-        let new_phasors = phasors_at(system, &force, &added)?;
+        let new_phasors = phasors_at(system, &force, &added, nodes)?;
         (speeds, phasors) = merge_sorted(speeds, phasors, added, new_phasors);
     }
     Ok(result_from(model, &speeds, &phasors, nodes))
@@ -149,8 +149,8 @@ const REFINE_LEVEL: f64 = 0.25;
 /// the sweep's end, so a broad rise is left alone.
 fn refinement_speeds(speeds: &[f64], phasors: &[Vec<c64>], nodes: &[usize]) -> Vec<f64> {
     let mut added = Vec::new();
-    for &node in nodes {
-        let major: Vec<f64> = phasors.iter().map(|q| orbit(q, node).major()).collect();
+    for slot in 0..nodes.len() {
+        let major: Vec<f64> = phasors.iter().map(|q| orbit(q, slot).major()).collect();
         for k in 1..major.len().saturating_sub(1) {
             if !is_peak(&major, k) {
                 continue;
@@ -195,7 +195,7 @@ fn merge_sorted(
 }
 
 /// The unbalance force vector, after checking `nodes` and that the model has unbalance.
-fn checked_force(model: &Model, system: &SystemMatrices, nodes: &[usize]) -> Result<Vec<c64>> {
+fn checked_force(model: &Model, system: &impl Matrices, nodes: &[usize]) -> Result<Vec<c64>> {
     let count = model.node_count();
     if let Some(&bad) = nodes.iter().find(|&&n| n >= count) {
         return Err(Error::InvalidOption(format!(
@@ -211,11 +211,24 @@ fn checked_force(model: &Model, system: &SystemMatrices, nodes: &[usize]) -> Res
     Ok(unbalance_force(model, system.dofs()))
 }
 
-/// The response phasors at `speeds` (rad/s), in parallel.
-fn phasors_at(system: &SystemMatrices, force: &[c64], speeds: &[f64]) -> Result<Vec<Vec<c64>>> {
+/// The response phasors at `speeds` (rad/s), in parallel: of each speed, u_x and u_y of
+/// `nodes` in their order (what the result reports; every DOF of every speed would take
+/// 1.3 GB for a 10,000-element rotor over the default speeds and refinement).
+fn phasors_at(
+    system: &impl Matrices,
+    force: &[c64],
+    speeds: &[f64],
+    nodes: &[usize],
+) -> Result<Vec<Vec<c64>>> {
     speeds
         .par_iter()
-        .map(|&w| unbalance_phasor(system, force, w))
+        .map(|&w| {
+            let q = unbalance_phasor(system, force, w)?;
+            Ok(nodes
+                .iter()
+                .flat_map(|&n| [q[dof(n, Direction::Ux)], q[dof(n, Direction::Uy)]])
+                .collect())
+        })
         .collect()
 }
 
@@ -239,7 +252,8 @@ fn result_from(
     let z = model.node_positions();
     let nodes = nodes
         .iter()
-        .map(|&node| node_response(node, z[node], phasors, &speeds_hz, operating_hz))
+        .enumerate()
+        .map(|(slot, &node)| node_response(node, slot, z[node], phasors, &speeds_hz, operating_hz))
         .collect();
     UnbalanceResult {
         speeds_hz,
@@ -263,9 +277,11 @@ impl NodeOrbit {
     }
 }
 
-fn orbit(q: &[c64], node: usize) -> NodeOrbit {
+/// The orbit of the node in `slot` of the reported nodes, from its phasors `q` (see
+/// `phasors_at`).
+fn orbit(q: &[c64], slot: usize) -> NodeOrbit {
     let i = c64::new(0.0, 1.0);
-    let (ux, uy) = (q[dof(node, Direction::Ux)], q[dof(node, Direction::Uy)]);
+    let (ux, uy) = (q[2 * slot], q[2 * slot + 1]);
     NodeOrbit {
         ux,
         uy,
@@ -276,6 +292,7 @@ fn orbit(q: &[c64], node: usize) -> NodeOrbit {
 
 fn node_response(
     node: usize,
+    slot: usize,
     z: f64,
     phasors: &[Vec<c64>],
     speeds_hz: &[f64],
@@ -294,7 +311,7 @@ fn node_response(
         peaks: Vec::new(),
     };
     for q in phasors {
-        let o = orbit(q, node);
+        let o = orbit(q, slot);
         r.ux_amplitude.push(o.ux.norm());
         r.ux_phase_deg.push(o.ux.arg().to_degrees());
         r.uy_amplitude.push(o.uy.norm());
