@@ -3,7 +3,7 @@
 
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
-use whirl::fe::{assemble, dof, Bearings, Direction};
+use whirl::fe::{assemble_banded, dof, Bearings, Direction};
 use whirl::modal::{critical_speed_map, default_stiffnesses, log_space};
 use whirl::reduce::reduction_report;
 use whirl::response::{default_frequencies, frf as receptances, FrfReport};
@@ -110,7 +110,7 @@ pub fn frf(
             None => default_frequencies(model)?,
         };
         receptances(
-            &assemble(model, Bearings::Linearised),
+            &assemble_banded(model, Bearings::Linearised),
             speed,
             input,
             &outputs,

@@ -6,7 +6,7 @@ use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use pythonize::pythonize;
-use whirl::fe::{assemble, dof, Bearings, Direction, DOFS_PER_NODE};
+use whirl::fe::{assemble_banded, dof, Bearings, Direction, DOFS_PER_NODE};
 use whirl::modal::{check_model, modal_report, CampbellOptions};
 
 use crate::error::lib;
@@ -39,7 +39,7 @@ pub fn campbell<'py>(
         ..CampbellOptions::new(Vec::new())
     };
     let result = lib(py.detach(|| {
-        let system = assemble(&model.model, Bearings::Linearised);
+        let system = assemble_banded(&model.model, Bearings::Linearised);
         whirl::modal::campbell(&system, &options)
     }))?;
     let report = PyReport::of(&result)?;

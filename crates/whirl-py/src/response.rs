@@ -2,7 +2,7 @@
 
 use pyo3::prelude::*;
 use pythonize::pythonize;
-use whirl::fe::{assemble, Bearings};
+use whirl::fe::{assemble_banded, Bearings};
 use whirl::response::unbalance_response_refined;
 
 use crate::error::lib;
@@ -20,7 +20,7 @@ pub fn unbalance<'py>(
     nodes: Vec<usize>,
 ) -> PyResult<(Bound<'py, PyAny>, PyReport)> {
     let result = lib(py.detach(|| {
-        let system = assemble(&model.model, Bearings::Linearised);
+        let system = assemble_banded(&model.model, Bearings::Linearised);
         unbalance_response_refined(&model.model, &system, &speeds, &nodes)
     }))?;
     Ok((pythonize(py, &result)?, PyReport::of(&result)?))
