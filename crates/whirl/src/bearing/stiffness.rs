@@ -48,7 +48,7 @@ use serde::Serialize;
 
 use super::hertz::HertzBearing;
 use crate::error::{Error, InputError, Result};
-use crate::fe::{assemble, dof, gravity_force, Bearings, Direction};
+use crate::fe::{assemble_dense, dof, gravity_force, Bearings, Direction};
 use crate::force::{Kinematics, NonlinearForce};
 use crate::model::{Clearance, Model, RollerBearing};
 
@@ -673,7 +673,8 @@ pub fn force_surface(
 /// # Errors
 /// [`Error::Input`] naming `bearing` when `index` is not a roller bearing of `model`;
 /// [`Error::Singular`] when the linearised rotor cannot carry its weight (the reaction is
-/// not finite: a support that leaves it free).
+/// not finite: a support that leaves it free); [`Error::Unsupported`] above
+/// [`crate::fe::MAX_DENSE_DOFS`].
 pub fn gravity_load(model: &Model, index: usize) -> Result<[f64; 2]> {
     let bearing = model.roller_bearings.get(index).ok_or_else(|| {
         Error::from(InputError::field(
@@ -684,7 +685,12 @@ pub fn gravity_load(model: &Model, index: usize) -> Result<[f64; 2]> {
             ),
         ))
     })?;
-    let system = assemble(model, Bearings::Linearised);
+    let system = assemble_dense(
+        model,
+        Bearings::Linearised,
+        "the bearing's gravity load comes from a dense static solve; give the load with \
+         `--load` or use fewer elements",
+    )?;
     let f = gravity_force(model, &system);
     let n = f.len();
     let mut q = Mat::<f64>::from_fn(n, 1, |i, _| f[i]);

@@ -16,8 +16,9 @@ pub mod beam;
 pub mod timoshenko;
 
 pub use assembly::{
-    assemble, assemble_banded, element_matrices, gravity_force, unbalance_force, BandedSystem,
-    Bearings, Matrices, SystemMatrices, HALF_BANDWIDTH,
+    assemble, assemble_banded, assemble_dense, element_matrices, gravity_force,
+    too_large_for_dense, unbalance_force, BandedSystem, Bearings, Matrices, SystemMatrices,
+    HALF_BANDWIDTH, MAX_DENSE_DOFS,
 };
 
 use serde::Serialize;

@@ -26,7 +26,7 @@ use serde::Serialize;
 
 use super::symmetric_modes;
 use crate::error::{Error, Result};
-use crate::fe::{assemble, dof, Bearings, Direction};
+use crate::fe::{assemble_dense, dof, Bearings, Direction};
 use crate::model::Model;
 
 /// A bearing's actual stiffness, drawn over the map.
@@ -88,7 +88,8 @@ pub fn log_space(lo: f64, hi: f64, count: usize) -> Vec<f64> {
 ///
 /// # Errors
 /// [`Error::InvalidOption`] for a stiffness that is not positive, [`Error::Unsupported`]
-/// for a model without bearings, [`Error::Singular`] when the rotor is not held.
+/// for a model without bearings or above [`crate::fe::MAX_DENSE_DOFS`], [`Error::Singular`]
+/// when the rotor is not held.
 pub fn critical_speed_map(
     model: &Model,
     stiffness: &[f64],
@@ -151,7 +152,11 @@ fn critical_speeds(model: &Model, k: f64, modes: usize, synchronous: bool) -> Re
         b.linear_stiffness = k;
         b.linear_damping = 0.0;
     }
-    let s = assemble(&m, Bearings::Linearised);
+    let s = assemble_dense(
+        &m,
+        Bearings::Linearised,
+        "the critical-speed map solves every mode of the plane problem; use fewer elements",
+    )?;
     let nodes = m.node_count();
     let plane: Vec<usize> = (0..nodes)
         .flat_map(|n| [dof(n, Direction::Ux), dof(n, Direction::Ty)])

@@ -6,7 +6,7 @@ use serde::Serialize;
 
 use super::{boundary_dofs, reduction_study, ReductionRow, ReductionStudy};
 use crate::error::{Error, Result};
-use crate::fe::{assemble, dof_name, Bearings};
+use crate::fe::{assemble_dense, dof_name, Bearings};
 use crate::model::Model;
 use crate::report::{Report, Table};
 
@@ -75,14 +75,20 @@ pub struct StudyRow {
 /// with the full model's, for it and for 1 to max(24, 2 `modes`) modes.
 ///
 /// # Errors
-/// [`Error::InvalidOption`] when every DOF is on the boundary; the errors of
-/// [`reduction_study`].
+/// [`Error::InvalidOption`] when every DOF is on the boundary; [`Error::Unsupported`] above
+/// [`crate::fe::MAX_DENSE_DOFS`]; the errors of [`reduction_study`].
 pub fn reduction_report(
     model: &Model,
     modes: usize,
     extra_nodes: &[usize],
 ) -> Result<ReductionReport> {
-    let system = assemble(model, Bearings::Linearised);
+    // The comparison takes every mode of the full model: it is dense by nature.
+    let system = assemble_dense(
+        model,
+        Bearings::Linearised,
+        "`reduce` compares the reduced model with every mode of the full one; use fewer \
+         elements (the reduced model itself runs at any size: `simulate --reduce`)",
+    )?;
     let boundary = boundary_dofs(model, extra_nodes);
     let internal = system.dofs() - boundary.len();
     if internal == 0 {

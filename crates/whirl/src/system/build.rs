@@ -6,7 +6,7 @@ use super::System;
 use crate::error::{Error, Result};
 use crate::fe::{
     assemble_banded, dof_name, gravity_force, unbalance_force, Bearings, SystemMatrices,
-    DOFS_PER_NODE,
+    DOFS_PER_NODE, MAX_DENSE_DOFS,
 };
 use crate::force::ForceBuilder;
 use crate::model::Model;
@@ -27,23 +27,15 @@ pub struct Coordinates {
     pub reduction: Option<CraigBampton>,
 }
 
-/// Most DOFs of a full (unreduced) model: the solvers of the full model (the static start,
-/// the stability limit, the integrators' starting acceleration, harmonic balance) hold its
-/// four matrices dense, 32 n^2 bytes (about 0.5 GB at this size, 640 elements of the
-/// reference rotor at 2,564 DOFs take 0.2 GB), and its stability limit takes a full
-/// eigen-solve, O(n^3). Larger models are marched reduced, whose cost is linear in the DOFs.
-pub const MAX_FULL_DOFS: usize = 4_000;
-
-/// The error for a full model above [`MAX_FULL_DOFS`], raised before anything is allocated.
+/// The error for a full model above [`MAX_DENSE_DOFS`]: its solvers (the static start, the
+/// stability limit, the integrators' starting acceleration, harmonic balance) hold its four
+/// matrices dense; larger models are marched reduced, whose cost is linear in the DOFs.
 fn full_model_too_large(dofs: usize) -> Error {
-    let gigabytes = 32.0 * (dofs as f64).powi(2) / 1e9;
-    Error::Unsupported(format!(
-        "the full model has {dofs} DOFs ({} nodes): its dense matrices would take \
-         {gigabytes:.1} GB and its solves grow as the cube of that; the full model is \
-         limited to {MAX_FULL_DOFS} DOFs. Reduce it (Craig-Bampton, e.g. `--reduce 12`, \
-         whose cost grows linearly with the elements) or use fewer elements",
-        dofs / DOFS_PER_NODE
-    ))
+    crate::fe::too_large_for_dense(
+        dofs,
+        "Reduce it (Craig-Bampton, e.g. `--reduce 12`, whose cost grows linearly with the \
+         elements) or use fewer elements",
+    )
 }
 
 /// Builds the system of `model`: full (`reduction` `None`) or Craig-Bampton reduced with
@@ -82,11 +74,11 @@ pub struct Linear {
 /// the nonlinear forces.
 ///
 /// # Errors
-/// [`Error::Unsupported`] for a full model above [`MAX_FULL_DOFS`]; those of
+/// [`Error::Unsupported`] for a full model above [`MAX_DENSE_DOFS`]; those of
 /// [`CraigBampton::new`] with `reduction`.
 pub fn linear(model: &Model, reduction: Option<usize>, bearings: Bearings) -> Result<Linear> {
     let dofs = DOFS_PER_NODE * model.node_count();
-    if reduction.is_none() && dofs > MAX_FULL_DOFS {
+    if reduction.is_none() && dofs > MAX_DENSE_DOFS {
         return Err(full_model_too_large(dofs));
     }
     // Banded: a reduction never needs the full model's dense matrices.

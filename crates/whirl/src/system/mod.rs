@@ -20,7 +20,7 @@ mod build;
 mod speed;
 
 pub(crate) use build::SparseRow;
-pub use build::{build, linear, Built, Coordinates, Linear, MAX_FULL_DOFS};
+pub use build::{build, linear, Built, Coordinates, Linear};
 pub use speed::SpeedProfile;
 
 use faer::Mat;
