@@ -450,3 +450,41 @@ fn every_speed_is_announced_in_hz_and_a_misspelt_unit_named_where_written() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("`800Hx`"), "{stderr}");
 }
+
+#[test]
+fn every_default_is_stated_once_in_the_help() {
+    // clap appends `[default: ...]` for an argument with a default value; a doc comment that
+    // also states it printed it twice ("[default: 0] [default: 0]").
+    for command in [
+        "check",
+        "modal",
+        "campbell",
+        "convergence",
+        "unbalance",
+        "reduce",
+        "simulate",
+        "stiffness",
+        "fit-forcing",
+        "hbm",
+        "cascade",
+        "study",
+        "static",
+        "frf",
+        "ucs",
+        "import-ross",
+    ] {
+        let output = Command::cargo_bin("whirl")
+            .unwrap()
+            .args([command, "--help"])
+            .output()
+            .unwrap();
+        assert!(output.status.success(), "`whirl {command} --help` failed");
+        let help = String::from_utf8_lossy(&output.stdout);
+        for line in help.lines() {
+            assert!(
+                line.matches("[default:").count() <= 1,
+                "`whirl {command} --help` states a default twice: {line}"
+            );
+        }
+    }
+}

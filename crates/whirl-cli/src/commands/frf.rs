@@ -33,14 +33,14 @@ pub struct Args {
     /// Where the response is read, comma-separated `NODE:DIR` [default: the input DOF].
     #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = dof_spec)]
     pub output: Vec<DofSpec>,
-    /// Spin speed, e.g. `3000rpm`, `50Hz`; a plain number is rad/s [default: 0].
+    /// Spin speed, e.g. `3000rpm`, `50Hz`; a plain number is rad/s.
     #[arg(long, value_name = "SPEED", value_parser = speed, default_value = "0")]
     pub speed: f64,
     /// Excitation frequencies `start:stop:count`, e.g. `0:500Hz:1001`; plain numbers are
     /// rad/s [default: 1001 from 0 to 1.5 x the sixth undamped natural frequency].
     #[arg(long, value_name = "RANGE", value_parser = speeds)]
     pub frequencies: Option<Speeds>,
-    /// Amplitude of the harmonic force, N (`100`, `2kN`), for the response columns [default: 1].
+    /// Amplitude of the harmonic force, N (`100`, `2kN`), for the response columns.
     #[arg(long, value_name = "FORCE", value_parser = force, default_value = "1")]
     pub force: f64,
 }

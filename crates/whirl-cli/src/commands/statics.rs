@@ -21,7 +21,7 @@ use crate::plots;
 pub struct Args {
     #[command(flatten)]
     pub common: Common,
-    /// How roller bearings carry the load [default: hertz].
+    /// How roller bearings carry the load.
     #[arg(long, value_enum, default_value = "hertz")]
     pub rollers: RollerSupport,
 }

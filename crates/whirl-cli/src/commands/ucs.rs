@@ -28,7 +28,7 @@ pub struct Args {
     /// 100 times the stiffest's, widened to whole decades].
     #[arg(long, value_name = "RANGE", value_parser = stiffness_range)]
     pub stiffness: Option<StiffnessRange>,
-    /// Number of critical speeds (curves) [default: 4].
+    /// Number of critical speeds (curves).
     #[arg(long, value_name = "N", value_parser = mode_count, default_value = "4")]
     pub modes: usize,
     /// Natural frequencies at rest instead of synchronous critical speeds (no gyroscopic
