@@ -83,7 +83,7 @@ pub struct Args {
     #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_ADDED)]
     pub refine_budget: usize,
     /// Smallest spacing of an added speed from its neighbours: `0.5Hz`, or a plain number
-    /// in Hz.
+    /// in rad/s.
     #[arg(long, value_name = "FREQ", default_value = "0.5Hz", value_parser = frequency, allow_hyphen_values = true)]
     pub refine_spacing: f64,
     /// Time recorded at each speed; its inverse is the bin spacing (0.5 s: 2 Hz).
