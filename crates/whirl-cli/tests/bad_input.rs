@@ -375,7 +375,24 @@ fn huge_speed_counts_are_refused_before_any_allocation() {
     fails(
         Some(&reference_rotor_text()),
         &["cascade", "{model}", "--step", "1e-8s"],
-        &["--step", "2.000e9 time steps", "at most 5e8"],
+        &[
+            "--step",
+            "1.000e-8 s steps make 2.000e9 time steps",
+            "at most 5e8",
+        ],
+    );
+    // A 1e9 s record is 1e14 samples: its spectrum's plan was a 123 TB allocation
+    // (SIGABRT, found by the long fuzz run).
+    fails(
+        Some(&reference_rotor_text()),
+        &["cascade", "{model}", "--record", "1000000000"],
+        &["--record", "from 8 to 4194304"],
+    );
+    // With the default step too: settling up to 1e5 s is some 1e11 steps a speed.
+    fails(
+        Some(&reference_rotor_text()),
+        &["cascade", "{model}", "--settle-max", "100000s"],
+        &["--settle-max", "time steps", "at most 5e8"],
     );
     // 200 harmonics would make each point minutes of Hill eigenvalues: refused at once.
     fails(

@@ -6,7 +6,7 @@ use serde::Serialize;
 use crate::bearing::{contact_frequencies, ContactLaw};
 use crate::error::{Error, InputError, Result};
 use crate::model::Model;
-use crate::post::spectrum::MIN_SAMPLES;
+use crate::post::spectrum::{MAX_SAMPLES, MIN_SAMPLES};
 use crate::post::Window;
 use crate::system::SpeedProfile;
 use crate::time::{
@@ -252,17 +252,23 @@ pub(super) fn resolve(model: &Model, o: &CascadeOptions) -> Result<Resolved> {
     let record_every = run.record_interval(step);
     let interval = step * record_every as f64;
     let samples = (o.record / interval + 1e-9).floor() as usize;
-    if samples < MIN_SAMPLES {
+    if !(MIN_SAMPLES..=MAX_SAMPLES).contains(&samples) {
+        let fix = if samples < MIN_SAMPLES {
+            "longer"
+        } else {
+            "shorter"
+        };
         return Err(bad(
             "record",
             format!(
                 "{} s recorded at {interval:.3e} s per sample gives {samples} samples; a \
-                 spectrum needs at least {MIN_SAMPLES}",
+                 spectrum takes from {MIN_SAMPLES} to {MAX_SAMPLES}",
                 o.record
             ),
-            "record longer (0.5 s gives 2 Hz bins)",
+            &format!("record {fix} (0.5 s gives 2 Hz bins)"),
         ));
     }
+    check_longest_run(o, step)?;
     let sample_rate_hz = 1.0 / interval;
     let resolution_hz = sample_rate_hz / samples as f64;
     let nyquist = 0.5 * sample_rate_hz;
@@ -280,6 +286,35 @@ pub(super) fn resolve(model: &Model, o: &CascadeOptions) -> Result<Resolved> {
         max_frequency_hz,
         bins,
     })
+}
+
+/// Refused before any speed starts: every speed's run would be refused anyway. The field
+/// blamed is the step when one was given, else the longer of the settling and the records.
+fn check_longest_run(o: &CascadeOptions, step: f64) -> Result<()> {
+    let records = o.averaging.max_records as f64 * o.record;
+    let longest = o.settle_max.max(o.settle) + records;
+    if longest / step <= MAX_STEPS {
+        return Ok(());
+    }
+    let (field, help) = match o.step {
+        Some(_) => ("step", "leave it out for 0.9 times the stability limit"),
+        None if records > o.settle_max.max(o.settle) => {
+            ("record", "record shorter, or average fewer records")
+        }
+        None => ("settle_max", "settle for less time"),
+    };
+    Err(bad(
+        field,
+        format!(
+            "{step:.3e} s steps make {:.3e} time steps in a speed's longest run (settling up to {} s \
+             and up to {} records of {} s): at most {MAX_STEPS:.0e}",
+            longest / step,
+            o.settle_max,
+            o.averaging.max_records,
+            o.record
+        ),
+        help,
+    ))
 }
 
 /// The default band's top: 2.5X of the top speed, or 1.25 times the highest contact
@@ -380,22 +415,6 @@ fn check(model: &Model, o: &CascadeOptions) -> Result<()> {
         return Err(bad(
             "step",
             format!("the time step must be positive, got {h} s"),
-            "leave it out for 0.9 times the stability limit",
-        ));
-    }
-    // Refused here, before any speed starts: every speed's run would be refused anyway.
-    let longest = o.settle_max.max(o.settle) + o.averaging.max_records as f64 * o.record;
-    if let Some(h) = o.step.filter(|h| longest / h > MAX_STEPS) {
-        return Err(bad(
-            "step",
-            format!(
-                "{h} s makes {:.3e} time steps in a speed's longest run (settling up to {} s and \
-                 up to {} records of {} s): at most {MAX_STEPS:.0e}",
-                longest / h,
-                o.settle_max,
-                o.averaging.max_records,
-                o.record
-            ),
             "leave it out for 0.9 times the stability limit",
         ));
     }

@@ -40,6 +40,12 @@ use crate::{Error, Result};
 /// The fewest samples a spectrum is taken of.
 pub const MIN_SAMPLES: usize = 8;
 
+/// The most samples a spectrum is taken of: a plan, its window and buffers cost about 60
+/// bytes a sample (a cascade holds two per thread), so 2^22 samples are a quarter of a GB,
+/// and 42 s recorded at the default 100 kHz already resolves 0.024 Hz, finer than any
+/// whirl an NSV question needs. Longer runs record less often.
+pub const MAX_SAMPLES: usize = 1 << 22;
+
 /// Coefficients of HFT90D (G. Heinzel, A. Ruediger, R. Schilling, "Spectrum and spectral
 /// density estimation by the Discrete Fourier Transform", 2002, appendix D): -90 dB side
 /// lobes, amplitude flat to 0.0039 dB (0.045 %) across a bin, 3.88 bins noise bandwidth.
@@ -255,7 +261,8 @@ impl SpectrumPlanner {
     /// Plans spectra of `len` samples taken at `sample_rate_hz`.
     ///
     /// # Errors
-    /// [`Error::InvalidOption`] when `len < 8` or the sample rate is not finite and positive.
+    /// [`Error::InvalidOption`] when `len` is outside [`MIN_SAMPLES`]..=[`MAX_SAMPLES`] or the
+    /// sample rate is not finite and positive.
     pub fn new(len: usize, sample_rate_hz: f64, options: SpectrumOptions) -> Result<Self> {
         check_length("spectrum", len)?;
         check_rate("spectrum", sample_rate_hz)?;
@@ -367,7 +374,8 @@ impl FullSpectrumPlanner {
     /// Plans full spectra of `len` samples taken at `sample_rate_hz`.
     ///
     /// # Errors
-    /// [`Error::InvalidOption`] when `len < 8` or the sample rate is not finite and positive.
+    /// [`Error::InvalidOption`] when `len` is outside [`MIN_SAMPLES`]..=[`MAX_SAMPLES`] or the
+    /// sample rate is not finite and positive.
     pub fn new(len: usize, sample_rate_hz: f64, options: SpectrumOptions) -> Result<Self> {
         check_length("full spectrum", len)?;
         check_rate("full spectrum", sample_rate_hz)?;
@@ -461,6 +469,11 @@ fn check_length(what: &str, len: usize) -> Result<()> {
         Err(Error::InvalidOption(format!(
             "{what}: the signal has {len} samples; at least {MIN_SAMPLES} are needed"
         )))
+    } else if len > MAX_SAMPLES {
+        Err(Error::InvalidOption(format!(
+            "{what}: the signal has {len} samples; at most {MAX_SAMPLES} are taken (record \
+             less often or a shorter part)"
+        )))
     } else {
         Ok(())
     }
@@ -500,6 +513,25 @@ fn check_finite(what: &str, name: &str, signal: &[f64]) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_plan_past_the_sample_limit_is_refused_before_it_is_allocated() {
+        // usize::MAX samples could not be allocated at all: refused, not aborted.
+        let options = SpectrumOptions {
+            window: Window::Hann,
+            remove_mean: true,
+        };
+        for len in [MAX_SAMPLES + 1, usize::MAX] {
+            let e = SpectrumPlanner::new(len, 1e5, options)
+                .err()
+                .map(|e| e.to_string());
+            assert!(e.is_some_and(|e| e.contains("at most 4194304")), "{len}");
+            assert!(
+                FullSpectrumPlanner::new(len, 1e5, options).is_err(),
+                "{len}"
+            );
+        }
+    }
 
     /// Slow, obviously correct reference: the DFT sum itself.
     fn naive_amplitude(signal: &[f64], window: Window) -> Vec<f64> {
