@@ -3,6 +3,7 @@
 
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
+use whirl::bearing::stiffness::{stiffness_report, GivenLoad, StiffnessRequest};
 use whirl::fe::{assemble_banded, dof, Bearings, Direction};
 use whirl::modal::{critical_speed_map, default_stiffnesses, log_space};
 use whirl::reduce::reduction_report;
@@ -10,7 +11,7 @@ use whirl::response::{default_frequencies, frf as receptances, FrfReport};
 use whirl::statics::static_response;
 use whirl::time::{fit_forcing as fit, ForcingFitOptions, ForcingFitReport};
 
-use crate::error::{lib, option};
+use crate::error::{keyword_lib, lib, option};
 use crate::model::PyModel;
 use crate::nsv::choice;
 use crate::report::PyReport;
@@ -26,6 +27,41 @@ pub fn reduce(
     nodes: Vec<usize>,
 ) -> PyResult<PyReport> {
     let report = lib(py.detach(|| reduction_report(&model.model, modes, &nodes)))?;
+    PyReport::of(&report)
+}
+
+/// The stiffness of roller bearing `bearing` versus clearance (`whirl stiffness`): at the
+/// clearances `clearances` (m) under `load` (N, at `load_angle` degrees; None for the
+/// bearing's share of the weight), the cage at `cage_angle` degrees (None: on the load
+/// line) or over `cage_steps` positions, and the force-deflection surfaces at
+/// `surface_clearances` (m) on a `grid` x `grid` grid.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+pub fn stiffness(
+    py: Python<'_>,
+    model: &PyModel,
+    bearing: usize,
+    clearances: Vec<f64>,
+    load: Option<f64>,
+    load_angle: f64,
+    cage_angle: Option<f64>,
+    cage_steps: usize,
+    surface_clearances: Vec<f64>,
+    grid: usize,
+) -> PyResult<PyReport> {
+    let request = StiffnessRequest {
+        bearing,
+        clearances,
+        load: load.map(|magnitude| GivenLoad {
+            magnitude,
+            angle_deg: load_angle,
+        }),
+        cage_angle_deg: cage_angle,
+        cage_steps,
+        surface_clearances,
+        grid,
+    };
+    let report = keyword_lib(py.detach(|| stiffness_report(&model.model, &request)))?;
     PyReport::of(&report)
 }
 

@@ -57,3 +57,21 @@ pub fn lib<T>(r: whirl::Result<T>) -> PyResult<T> {
 pub fn option(name: &str, why: impl std::fmt::Display) -> PyErr {
     InputError::new_err(format!("invalid `{name}`: {why}"))
 }
+
+/// A library result whose errors about an option's field are named as the Python keyword
+/// (the library names the field as the keyword: `cage_steps`): "invalid `cage_steps`: why".
+pub fn keyword_lib<T>(r: whirl::Result<T>) -> PyResult<T> {
+    r.map_err(|e| match &e {
+        whirl::Error::Input(input) if input.file.is_none() && input.field.is_some() => {
+            let help = input
+                .help
+                .as_ref()
+                .map_or(String::new(), |h| format!("\n  help: {h}"));
+            option(
+                input.field.as_deref().unwrap_or_default(),
+                format!("{}{help}", input.message),
+            )
+        }
+        _ => to_py(e),
+    })
+}

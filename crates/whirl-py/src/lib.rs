@@ -44,10 +44,28 @@ fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
         "DEFAULT_STABILITY_MODES",
         whirl::hbm::DEFAULT_STABILITY_MODES,
     )?;
+    m.add(
+        "DEFAULT_STIFFNESS_CLEARANCES",
+        whirl::bearing::stiffness::DEFAULT_CLEARANCES,
+    )?;
+    m.add(
+        "DEFAULT_SURFACE_CLEARANCES",
+        whirl::bearing::stiffness::DEFAULT_SURFACE_CLEARANCES,
+    )?;
+    m.add(
+        "DEFAULT_LOAD_ANGLE_DEG",
+        whirl::bearing::stiffness::DEFAULT_LOAD_ANGLE_DEG,
+    )?;
+    m.add(
+        "DEFAULT_CAGE_STEPS",
+        whirl::bearing::stiffness::DEFAULT_CAGE_STEPS,
+    )?;
+    m.add("DEFAULT_GRID", whirl::bearing::stiffness::DEFAULT_GRID)?;
     m.add_class::<report::PyReport>()?;
     m.add_function(wrap_pyfunction!(hbm::hbm, m)?)?;
     m.add_function(wrap_pyfunction!(analyses::reduce, m)?)?;
     m.add_function(wrap_pyfunction!(analyses::statics, m)?)?;
+    m.add_function(wrap_pyfunction!(analyses::stiffness, m)?)?;
     m.add_function(wrap_pyfunction!(analyses::ucs, m)?)?;
     m.add_function(wrap_pyfunction!(analyses::ucs_default_stiffnesses, m)?)?;
     m.add_function(wrap_pyfunction!(analyses::ucs_stiffnesses, m)?)?;
@@ -69,6 +87,7 @@ fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(nsv::compare_starts, m)?)?;
     m.add_class::<nsv::RawCascade>()?;
     m.add_function(wrap_pyfunction!(units::quantity, m)?)?;
+    m.add_function(wrap_pyfunction!(units::range, m)?)?;
     m.add_function(wrap_pyfunction!(study::study, m)?)?;
     m.add_function(wrap_pyfunction!(time::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(study::study_point, m)?)?;

@@ -49,7 +49,8 @@ impl PyReport {
     }
 
     /// Table `name` as a dict of its columns in order: numbers as a float array (NaN where
-    /// a value does not exist), text as a list (None where it does not exist).
+    /// a value does not exist), counts as an int64 array, text as a list (None where it
+    /// does not exist).
     fn table<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyDict>> {
         let table = self
             .tables
@@ -65,6 +66,14 @@ impl PyReport {
         for c in table.columns() {
             match &c.values {
                 Values::Numbers(v) => out.set_item(&c.name, v.clone().into_pyarray(py))?,
+                // As numpy and pandas hold whole numbers by default (a count fits).
+                Values::Counts(v) => out.set_item(
+                    &c.name,
+                    v.iter()
+                        .map(|&n| n as i64)
+                        .collect::<Vec<_>>()
+                        .into_pyarray(py),
+                )?,
                 Values::Text(v) => out.set_item(
                     &c.name,
                     v.iter()

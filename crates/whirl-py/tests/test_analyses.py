@@ -86,3 +86,41 @@ def test_bad_options_of_the_reports_name_the_keyword():
         whirl.frf(REFERENCE, "10:uy", output=["99:uy"])
     with pytest.raises(whirl.InputError, match="roller bearing 5 does not exist"):
         whirl.fit_forcing(REFERENCE, "200Hz:300Hz:2", bearing=5)
+
+
+def test_stiffness_equals_the_command_line(run_cli):
+    # The defaults (the weight's share of the load, 12 clearances, two surfaces), with a
+    # coarse passage and grid to keep the test short.
+    cli = run_cli("stiffness", str(REFERENCE), "--cage-steps", "4", "--grid", "5")
+    result = whirl.stiffness(REFERENCE, cage_steps=4, grid=5)
+    assert result.tables == ("stiffness", "passage", "surfaces_20um", "surfaces_60um")
+    assert_matches_cli(result, cli)
+    flags = ["--bearing", "1", "--clearances", "5um:50um:4", "--load", "2kN", "--load-angle",
+             "-60", "--cage-angle", "10", "--cage-steps", "3", "--surface-clearances",
+             "0um,30um,30um", "--grid", "4"]
+    cli = run_cli("stiffness", str(REFERENCE), *flags)
+    result = whirl.stiffness(REFERENCE, bearing=1, clearances="5um:50um:4", load="2kN",
+                             load_angle=-60, cage_angle=10, cage_steps=3,
+                             surface_clearances=["0um", 30e-6, "30um"], grid=4)
+    assert_matches_cli(result, cli)
+
+
+def test_stiffness_counts_come_back_as_integers():
+    result = whirl.stiffness(REFERENCE, clearances="10um:20um:2", cage_steps=2, grid=3)
+    assert result.to_pandas("stiffness")["averaged_most_rollers"].dtype == np.int64
+    surface = result.to_pandas("surfaces_20um")
+    assert surface["rollers_in_contact"].dtype == np.int64
+    assert surface["fr_n"].dtype == np.float64
+
+
+def test_bad_stiffness_options_name_the_keyword():
+    with pytest.raises(whirl.InputError, match="invalid `bearing`: .*there is no bearing 5"):
+        whirl.stiffness(REFERENCE, bearing=5)
+    with pytest.raises(whirl.InputError, match="invalid `clearances`: .*must not be negative"):
+        whirl.stiffness(REFERENCE, clearances=[-1e-6])
+    with pytest.raises(whirl.InputError, match="invalid `load`: .*more than a tenth"):
+        whirl.stiffness(REFERENCE, load="1e30N")
+    with pytest.raises(whirl.InputError, match="invalid `cage_steps`"):
+        whirl.stiffness(REFERENCE, cage_steps=0)
+    with pytest.raises(whirl.InputError, match="invalid `grid`"):
+        whirl.stiffness(REFERENCE, grid=1)

@@ -40,6 +40,8 @@ def test_every_figure_draws(tmp_path):
         whirl.plot.ucs(whirl.ucs(model)),
         whirl.plot.frf(whirl.frf(model, "10:uy", frequencies="0:400Hz:101")),
     ]
+    bearing = whirl.stiffness(model, clearances="10um:60um:3", cage_steps=2, grid=5)
+    axes += [whirl.plot.stiffness(bearing), whirl.plot.force_surface(bearing, "60um")]
     for i, ax in enumerate(axes):
         assert ax.lines or ax.collections, f"figure {i} drew nothing"
         ax.figure.savefig(tmp_path / f"{i}.png")

@@ -15,7 +15,7 @@ as numbers in rad/s (SI, as everywhere in the model file).
 """
 
 from ._whirl import BUILD_ID, InputError, NumericalError, WhirlError, __version__
-from .analyses import fit_forcing, frf, reduce, static, ucs
+from .analyses import fit_forcing, frf, reduce, static, stiffness, ucs
 from .hbm import hbm
 from .model import Model, WhirlWarning
 from .modal import (
@@ -65,6 +65,7 @@ __all__ = [
     "reduce",
     "simulate",
     "static",
+    "stiffness",
     "study",
     "ucs",
     "unbalance",

@@ -56,6 +56,25 @@ DEFAULT_THRESHOLD_M: float
 DEFAULT_MODES: int
 
 def parse_quantity(name: str, text: str, dimension: str) -> float: ...
+def parse_range(name: str, text: str, dimension: str) -> npt.NDArray[np.float64]: ...
+
+DEFAULT_STIFFNESS_CLEARANCES: str
+DEFAULT_SURFACE_CLEARANCES: str
+DEFAULT_LOAD_ANGLE_DEG: float
+DEFAULT_CAGE_STEPS: int
+DEFAULT_GRID: int
+
+def stiffness(
+    model: Model,
+    bearing: int,
+    clearances: list[float],
+    load: float | None,
+    load_angle: float,
+    cage_angle: float | None,
+    cage_steps: int,
+    surface_clearances: list[float],
+    grid: int,
+) -> Report: ...
 def cascade_checkpoint(model: Model, options: dict[str, Any], parent: str) -> Any: ...
 def cascade(
     model: Model,

@@ -60,6 +60,74 @@ def static(model: Model | str | os.PathLike[str], *, rollers: str = "hertz") -> 
     return Report("static", model, _whirl.statics(model._raw, rollers))
 
 
+def _lengths(name: str, given: str | float | Sequence[float | str]) -> list[float]:
+    """Lengths in m: a range ``"10um:120um:12"``, a comma-separated list ``"20um,60um"``,
+    or the values (plain numbers are m)."""
+    if isinstance(given, str):
+        if given.count(":") == 2:
+            return [float(x) for x in _whirl.parse_range(name, given, "length")]
+        given = given.split(",")
+    values = [given] if isinstance(given, (int, float)) else list(given)
+    return [_whirl.parse_quantity(name, str(v), "length") for v in values]
+
+
+def stiffness(
+    model: Model | str | os.PathLike[str],
+    *,
+    bearing: int = 0,
+    clearances: str | Sequence[float | str] = _whirl.DEFAULT_STIFFNESS_CLEARANCES,
+    load: str | float | None = None,
+    load_angle: float = _whirl.DEFAULT_LOAD_ANGLE_DEG,
+    cage_angle: float | None = None,
+    cage_steps: int = _whirl.DEFAULT_CAGE_STEPS,
+    surface_clearances: str | Sequence[float | str] = _whirl.DEFAULT_SURFACE_CLEARANCES,
+    grid: int = _whirl.DEFAULT_GRID,
+) -> Report:
+    """The equivalent stiffness of a roller bearing versus clearance and its
+    force-deflection surfaces (``whirl stiffness``): per clearance the tangent at the
+    frozen-cage equilibrium under the load, its average over one roller passage, and the
+    tangent at one fixed journal displacement.
+
+    Args:
+        model: a :class:`Model` or a model file path.
+        bearing: the roller bearing, numbered from 0 in file order.
+        clearances: ``"10um:120um:12"`` (start:stop:count) or the values (plain numbers
+            are m).
+        load: the load the rotor puts on the bearing (``"60N"``, ``2000``); default the
+            bearing's share of the rotor weight, from a linear static solve with gravity.
+        load_angle: direction of ``load``, degrees from +x towards +y (-90 = down).
+        cage_angle: angle of roller 0 of the frozen cage, degrees; default on the load line.
+        cage_steps: cage positions across one roller passage for the averaged stiffness
+            (1-1000).
+        surface_clearances: clearances of the force-deflection surfaces, ``"20um,60um"`` or
+            the values.
+        grid: points per side of the surfaces' displacement grid (2-401), spanning twice the
+            largest surface clearance each way.
+
+    Returns:
+        A :class:`whirl.Report` with the tables ``stiffness`` (one row per clearance),
+        ``passage`` (per clearance and cage position) and ``surfaces_<clearance>`` (F_x,
+        F_y, F_r on the grid), as the command line writes them.
+    """
+    model = as_model(model)
+    given = None if load is None else _whirl.parse_quantity("load", str(load), "force")
+    for name, n in (("bearing", bearing), ("cage_steps", cage_steps), ("grid", grid)):
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
+            raise _whirl.InputError(f"invalid `{name}`: `{n}` is not a whole number")
+    raw = _whirl.stiffness(
+        model._raw,
+        int(bearing),
+        _lengths("clearances", clearances),
+        given,
+        float(load_angle),
+        None if cage_angle is None else float(cage_angle),
+        int(cage_steps),
+        _lengths("surface_clearances", surface_clearances),
+        int(grid),
+    )
+    return Report("stiffness", model, raw)
+
+
 def _stiffnesses(given: str | Sequence[float]) -> np.ndarray:
     """Stiffnesses in N/m: ``"1e5:1e10:51"`` (spaced logarithmically) or the values."""
     if isinstance(given, str):

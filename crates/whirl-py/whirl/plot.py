@@ -261,3 +261,38 @@ def frf(result, kind="receptance", ax=None):
     ax.set(xlabel="frequency [Hz]", ylabel=f"{kind} magnitude", title=f"{kind} from {result.input}")
     ax.legend(fontsize="small")
     return ax
+
+
+def stiffness(result, entry="kyy", ax=None):
+    """Roller bearing stiffness (``whirl.stiffness``): ``entry`` (kxx, kxy, kyx or kyy) of
+    the frozen, passage-averaged (its spread shaded) and fixed-displacement stiffness over
+    the clearance, MN/m."""
+    ax = _axes(ax)
+    t = result.columns("stiffness")
+    c = t["clearance_um"]
+    for kind, style in (("frozen", "o-"), ("averaged", "s-"), ("fixed", "^-")):
+        ax.plot(c, 1e-6 * t[f"{kind}_{entry}_n_per_m"], style, ms=3, label=kind)
+    if entry in ("kxx", "kyy"):
+        low, high = t[f"averaged_{entry}_min_n_per_m"], t[f"averaged_{entry}_max_n_per_m"]
+        ax.fill_between(c, 1e-6 * low, 1e-6 * high, alpha=0.2, label="passage spread")
+    ax.set(xlabel="clearance [um]", ylabel=f"{entry} [MN/m]",
+           title=f"stiffness of {result.bearing['name']} versus clearance")
+    ax.legend(fontsize="small")
+    return ax
+
+
+def force_surface(result, clearance=None, component="fr", ax=None):
+    """A force-deflection surface (``whirl.stiffness``): ``component`` (fx, fy or fr, N) over
+    the journal displacement at ``clearance`` (a table's label such as ``"20um"``; default
+    the first surface), filled contours."""
+    ax = _axes(ax)
+    names = [n for n in result.tables if n.startswith("surfaces_")]
+    name = names[0] if clearance is None else f"surfaces_{clearance}"
+    t = result.columns(name)
+    n = int(round(np.sqrt(len(t["ux_um"]))))
+    grid = lambda key: np.asarray(t[key]).reshape(n, n)  # noqa: E731  (rows of uy)
+    drawn = ax.contourf(grid("ux_um"), grid("uy_um"), grid(f"{component}_n"), levels=20)
+    ax.figure.colorbar(drawn, ax=ax, label=f"{component} [N]")
+    ax.set(xlabel="ux [um]", ylabel="uy [um]", aspect="equal",
+           title=f"{component} at clearance {name.removeprefix('surfaces_')}")
+    return ax

@@ -40,7 +40,8 @@ class Report:
 
     def columns(self, table: str | None = None) -> dict[str, np.ndarray | list[str | None]]:
         """Table ``table`` (default the first) as its columns in order: numbers as float
-        arrays (NaN where a value does not exist), text as lists (None there)."""
+        arrays (NaN where a value does not exist), counts (indices, iterations, records,
+        0/1 flags) as int64 arrays, text as lists (None there)."""
         return self._raw.table(self.tables[0] if table is None else table)
 
     def to_pandas(self, table: str | None = None):

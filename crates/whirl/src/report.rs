@@ -7,9 +7,10 @@
 //! The CLI and the Python package both read these, so they report the same numbers under
 //! the same names.
 //!
-//! A table's columns hold numbers (f64) or text. A value that does not exist (a branch lost
-//! at a speed, a stability not computed) is a number that is not finite, or an empty text:
-//! an empty CSV cell either way.
+//! A table's columns hold numbers (f64), counts (whole numbers: indices, iterations,
+//! records, 0/1 flags) or text. A value that does not exist (a branch lost at a speed, a
+//! stability not computed) is a number that is not finite, or an empty text: an empty CSV
+//! cell either way; a count always exists.
 
 use serde::Serialize;
 
@@ -47,6 +48,9 @@ pub struct Column {
 pub enum Values {
     /// Numbers; one that is not finite does not exist.
     Numbers(Vec<f64>),
+    /// Whole numbers (written without a decimal point, as the numbers 1.0, 2.0 are too;
+    /// kept whole so that the Python package gives them as integers).
+    Counts(Vec<usize>),
     /// Text; an empty text does not exist.
     Text(Vec<String>),
 }
@@ -98,6 +102,8 @@ impl Table {
     pub fn cell(&self, row: usize, column: usize) -> Cell<'_> {
         match &self.columns[column].values {
             Values::Numbers(v) if v[row].is_finite() => Cell::Number(v[row]),
+            // Exact: a count is far below 2^53.
+            Values::Counts(v) => Cell::Number(v[row] as f64),
             Values::Text(v) if !v[row].is_empty() => Cell::Text(&v[row]),
             _ => Cell::Missing,
         }
@@ -130,7 +136,17 @@ impl Table {
         name: impl Into<String>,
         values: impl IntoIterator<Item = usize>,
     ) -> &mut Table {
-        self.numbers(name, values.into_iter().map(|n| n as f64))
+        self.push(name, Values::Counts(values.into_iter().collect()))
+    }
+
+    /// Adds a column of yes/no values written 1 and 0, as numpy and spreadsheets read a
+    /// flag.
+    pub fn bits(
+        &mut self,
+        name: impl Into<String>,
+        values: impl IntoIterator<Item = bool>,
+    ) -> &mut Table {
+        self.counts(name, values.into_iter().map(usize::from))
     }
 
     /// Adds a column of numbers that may not exist.
@@ -174,6 +190,7 @@ impl Values {
     pub fn len(&self) -> usize {
         match self {
             Values::Numbers(v) => v.len(),
+            Values::Counts(v) => v.len(),
             Values::Text(v) => v.len(),
         }
     }
@@ -205,6 +222,10 @@ mod tests {
             .flags("stable", [Some(true), None]);
         assert_eq!(t.rows(), 2);
         assert_eq!(t.cell(0, 0), Cell::Number(1.0));
+        assert_eq!(
+            t.column("n").map(|c| &c.values),
+            Some(&Values::Counts(vec![1, 2]))
+        );
         assert_eq!(t.cell(1, 1), Cell::Missing);
         assert_eq!(t.cell(0, 2), Cell::Text("true"));
         assert_eq!(t.cell(1, 2), Cell::Missing);

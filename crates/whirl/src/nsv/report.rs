@@ -119,15 +119,6 @@ impl Cascade {
     }
 }
 
-/// 1 or 0, as numpy and spreadsheets read a flag.
-fn flag(b: bool) -> f64 {
-    if b {
-        1.0
-    } else {
-        0.0
-    }
-}
-
 impl Report for CascadeReport {
     type Summary = CascadeSummary;
 
@@ -196,8 +187,8 @@ impl Report for CascadeReport {
                     "other_start_standard_error_m",
                     p.iter().map(|p| p.other_error_m),
                 )
-                .numbers("comparable", p.iter().map(|p| flag(p.comparable)))
-                .numbers("differs", p.iter().map(|p| flag(p.differs)));
+                .bits("comparable", p.iter().map(|p| p.comparable))
+                .bits("differs", p.iter().map(|p| p.differs));
             tables.push(t);
         }
         tables
@@ -220,7 +211,7 @@ fn spectra(
     t.numbers("speed_hz", cells.iter().map(|(p, _)| p.speed_hz))
         .numbers("frequency_hz", cells.iter().map(|&(_, k)| frequencies[k]))
         .numbers("amplitude_m", cells.iter().map(|&(p, k)| amplitude(p)[k]))
-        .numbers("added", cells.iter().map(|(p, _)| flag(p.added)));
+        .bits("added", cells.iter().map(|(p, _)| p.added));
     t
 }
 
@@ -235,8 +226,8 @@ fn nsv_table(c: &Cascade) -> Table {
         |f: fn(&super::Nsv) -> String| n.iter().map(move |n| n.as_ref().map_or(String::new(), f));
     let mut t = Table::new("nsv");
     t.numbers("speed_hz", p.iter().map(|p| p.speed_hz))
-        .numbers("added", p.iter().map(|p| flag(p.added)))
-        .numbers("settled", p.iter().map(|p| flag(p.settled)))
+        .bits("added", p.iter().map(|p| p.added))
+        .bits("settled", p.iter().map(|p| p.settled))
         .numbers("settle_s", p.iter().map(|p| p.settle_s))
         .counts("records", p.iter().map(|p| p.records))
         .numbers("one_x_m", p.iter().map(|p| p.one_x_m))
