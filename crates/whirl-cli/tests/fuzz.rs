@@ -1,13 +1,14 @@
 //! Fuzzing (issue 16): model files and command lines generated and mutated from the bundled
 //! examples, checking that nothing panics or aborts and that every rejection is located.
 //!
-//! Model files run in this process: read and validated, and when accepted, assembled and
-//! solved for their first modes (as `whirl check` does). A rejected model must name its
-//! field or its line and column. Every [`PROCESS_EVERY`]-th model file, and every command
-//! line, runs through the `whirl` binary, so the error printer is fuzzed too: its exit status
-//! must be 0, 1 or 2 (never a panic's 101 or a signal), a failure must say why on stderr,
-//! and a run still going after [`RUN_LIMIT`] (valid long work, e.g. 200 harmonics) must have
-//! said how far it is on stderr by then.
+//! Model files run in this process, on every core: read and validated, and when accepted,
+//! assembled and solved for their first modes (as `whirl check` does). A rejected model must
+//! name its field or its line and column. Beside them, one thread runs the `whirl` binary
+//! without pause, alternately `whirl check` on a mutated model (so the error printer is
+//! fuzzed too) and a generated command line: its exit status must be 0, 1 or 2 (never a
+//! panic's 101 or a signal), a failure must say why on stderr, and a run still going after
+//! [`RUN_LIMIT`] (valid long work, e.g. a cascade) must have said how far it is on stderr by
+//! then, unless it had too little CPU time to owe a word ([`STARVED_CPU`]; counted apart).
 //!
 //! The test suite runs it for a few seconds (`fuzz_briefly`). For hours:
 //!
@@ -22,6 +23,8 @@
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
+use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use whirl::fe::{assemble, Bearings};
@@ -33,10 +36,6 @@ use whirl::model::Model;
 #[path = "../../whirl/tests/common/reference.rs"]
 mod reference;
 use reference::example_path;
-
-/// One model file in this many also runs through `whirl check` (a process start costs
-/// about as much as a hundred in-process models).
-const PROCESS_EVERY: u64 = 50;
 
 /// How long a generated run may go on before it is stopped, in the long run; by then it must
 /// have printed its progress (a line every 5 s), or it counts as a run that went silent.
@@ -230,19 +229,38 @@ struct Failure {
     input: String,
 }
 
-/// Counts of what the inputs did.
+/// Counts of what the inputs did, shared by the threads that make them.
 #[derive(Debug, Default)]
 struct Tally {
-    models: u64,
-    accepted: u64,
-    processes: u64,
-    failures: Vec<Failure>,
+    models: AtomicU64,
+    accepted: AtomicU64,
+    processes: AtomicU64,
+    /// Runs stopped at the limit without a word that had too little CPU time to have owed
+    /// one: a starved run (a loaded machine, `nice`) is no verdict on the program.
+    starved: AtomicU64,
+    failures: Mutex<Vec<Failure>>,
+}
+
+impl Tally {
+    fn fail(&self, what: String, input: &str) {
+        eprintln!("fuzz failure: {what}");
+        if let Ok(mut f) = self.failures.lock() {
+            f.push(Failure {
+                what,
+                input: input.to_string(),
+            });
+        }
+    }
+
+    fn failure_count(&self) -> usize {
+        self.failures.lock().map_or(0, |f| f.len())
+    }
 }
 
 /// Reads, validates and (when small) solves one model text in this process, as the command
 /// line does; a panic or an unlocated rejection is a failure.
-fn run_model(text: &str, tally: &mut Tally) {
-    tally.models += 1;
+fn run_model(text: &str, tally: &Tally) {
+    tally.models.fetch_add(1, Relaxed);
     let outcome = catch_unwind(AssertUnwindSafe(|| -> Result<bool, String> {
         let model = match Model::from_toml_str(text, Some(PathBuf::from("fuzz.toml"))) {
             Ok(m) => m,
@@ -259,29 +277,22 @@ fn run_model(text: &str, tally: &mut Tally) {
         Ok(true)
     }));
     match outcome {
-        Ok(Ok(accepted)) => tally.accepted += u64::from(accepted),
-        Ok(Err(what)) => {
-            eprintln!("fuzz failure: {what}");
-            tally.failures.push(Failure {
-                what,
-                input: text.to_string(),
-            })
+        Ok(Ok(accepted)) => {
+            tally.accepted.fetch_add(u64::from(accepted), Relaxed);
         }
-        Err(_) => tally.failures.push(Failure {
-            what: "panic".into(),
-            input: text.to_string(),
-        }),
+        Ok(Err(what)) => tally.fail(what, text),
+        Err(_) => tally.fail("panic".into(), text),
     }
 }
 
 /// Runs `whirl` with `args` (model file `model`), checking how it ends.
-fn run_process(dir: &Path, model: &str, args: &[String], limit: Duration, tally: &mut Tally) {
-    tally.processes += 1;
+fn run_process(dir: &Path, model: &str, args: &[String], limit: Duration, tally: &Tally) {
+    let n = tally.processes.fetch_add(1, Relaxed) + 1;
     let file = dir.join("fuzz.toml");
     if std::fs::write(&file, model).is_err() {
         return;
     }
-    let out = dir.join(format!("out{}", tally.processes));
+    let out = dir.join(format!("out{n}"));
     let mut child = match Command::new(env!("CARGO_BIN_EXE_whirl"))
         .args(&args[..1])
         .arg(&file)
@@ -297,10 +308,12 @@ fn run_process(dir: &Path, model: &str, args: &[String], limit: Duration, tally:
     };
     let start = Instant::now();
     let mut stopped = false;
+    let mut starved = false;
     let status = loop {
         match child.try_wait() {
             Ok(Some(status)) => break Some(status),
             Ok(None) if start.elapsed() > limit => {
+                starved = cpu_seconds(child.id()).is_some_and(|cpu| cpu < STARVED_CPU);
                 let _ = child.kill();
                 let _ = child.wait();
                 stopped = true;
@@ -318,6 +331,10 @@ fn run_process(dir: &Path, model: &str, args: &[String], limit: Duration, tally:
     let _ = std::fs::remove_dir_all(&out);
     let what = match status.and_then(|s| s.code()) {
         None if stopped && !stderr.trim().is_empty() => None,
+        None if stopped && starved => {
+            tally.starved.fetch_add(1, Relaxed);
+            None
+        }
         None if stopped => Some(format!("silent for {} s", limit.as_secs())),
         None => Some("killed by a signal".to_string()),
         Some(0) => None,
@@ -326,12 +343,24 @@ fn run_process(dir: &Path, model: &str, args: &[String], limit: Duration, tally:
         Some(code) => Some(format!("exit status {code}: {}", tail(&stderr))),
     };
     if let Some(what) = what {
-        eprintln!("fuzz failure: whirl {}: {what}", args.join(" "));
-        tally.failures.push(Failure {
-            what: format!("whirl {}: {what}", args.join(" ")),
-            input: model.to_string(),
-        });
+        tally.fail(format!("whirl {}: {what}", args.join(" ")), model);
     }
+}
+
+/// A run that had less CPU time than this by the limit was starved, not silent: it owed a
+/// progress line only after 5 s of its own work.
+const STARVED_CPU: f64 = 10.0;
+
+/// The CPU time (user + system) process `pid` has had, s, where the system tells it
+/// (Linux's /proc).
+fn cpu_seconds(pid: u32) -> Option<f64> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    // Fields after the command name (which may hold spaces) in parentheses; utime and
+    // stime are the 14th and 15th fields, in clock ticks of 1/100 s on Linux.
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: f64 = fields.get(11)?.parse::<f64>().ok()? + fields.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
 }
 
 fn tail(text: &str) -> String {
@@ -355,69 +384,105 @@ fn command_line(rng: &mut Rng) -> Vec<String> {
     args
 }
 
-/// Fuzzes for `seconds`; returns the tally.
+/// Fuzzes for `seconds` on every core: model files in this process on one thread per core,
+/// and beside them `whirl` runs one after another (a run may take its whole `limit`, and
+/// the model files should not wait for it). Each thread's inputs are a fixed sequence of
+/// `seed`, so a failure reproduces. Returns the tally.
 fn fuzz(seconds: f64, seed: u64, limit: Duration) -> Tally {
-    let mut rng = Rng(seed.max(1));
     let seeds = seeds();
-    let dir = tempfile::tempdir().expect("temporary folder");
-    let mut tally = Tally::default();
+    let tally = Tally::default();
     let start = Instant::now();
-    let mut last_report = Instant::now();
-    while start.elapsed().as_secs_f64() < seconds {
-        let base = rng.pick(&seeds).clone();
-        let text = mutate(&mut rng, &base);
-        run_model(&text, &mut tally);
-        if tally.models % PROCESS_EVERY == 0 {
-            // Alternately the mutated model through `whirl check` (the error printer) and a
-            // random command line on the unmutated reference (the options are fuzzed).
-            if tally.processes % 2 == 0 {
-                run_process(dir.path(), &text, &["check".to_string()], limit, &mut tally);
-            } else {
-                let args = command_line(&mut rng);
-                run_process(dir.path(), &seeds[0], &args, limit, &mut tally);
+    let deadline = start + Duration::from_secs_f64(seconds);
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    std::thread::scope(|s| {
+        let workers: Vec<_> = (0..threads)
+            .map(|k| {
+                let (seeds, tally) = (&seeds, &tally);
+                s.spawn(move || fuzz_models(seeds, stream(seed, k), deadline, tally))
+            })
+            .chain(std::iter::once({
+                let (seeds, tally) = (&seeds, &tally);
+                s.spawn(move || fuzz_runs(seeds, stream(seed, threads), deadline, limit, tally))
+            }))
+            .collect();
+        let mut last_report = Instant::now();
+        while !workers.iter().all(|w| w.is_finished()) {
+            std::thread::sleep(Duration::from_millis(100));
+            if last_report.elapsed() > Duration::from_secs(60) {
+                last_report = Instant::now();
+                report(&tally, start.elapsed());
             }
         }
-        if last_report.elapsed() > Duration::from_secs(60) {
-            last_report = Instant::now();
-            report(&tally, start.elapsed());
-        }
-    }
+    });
     report(&tally, start.elapsed());
     tally
 }
 
+/// The generator of thread `k` of the run seeded `seed`.
+fn stream(seed: u64, k: usize) -> Rng {
+    Rng((seed ^ (k as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15)).max(1))
+}
+
+fn fuzz_models(seeds: &[String], mut rng: Rng, deadline: Instant, tally: &Tally) {
+    while Instant::now() < deadline {
+        let base = rng.pick(seeds).clone();
+        run_model(&mutate(&mut rng, &base), tally);
+    }
+}
+
+/// Alternately a mutated model through `whirl check` (the error printer) and a random
+/// command line on the unmutated reference (the options are fuzzed).
+fn fuzz_runs(seeds: &[String], mut rng: Rng, deadline: Instant, limit: Duration, tally: &Tally) {
+    let Ok(dir) = tempfile::tempdir() else {
+        return tally.fail("no temporary folder".into(), "");
+    };
+    let mut check = true;
+    while Instant::now() < deadline {
+        if check {
+            let base = rng.pick(seeds).clone();
+            let text = mutate(&mut rng, &base);
+            run_process(dir.path(), &text, &["check".to_string()], limit, tally);
+        } else {
+            let args = command_line(&mut rng);
+            run_process(dir.path(), &seeds[0], &args, limit, tally);
+        }
+        check = !check;
+    }
+}
+
 fn report(tally: &Tally, elapsed: Duration) {
     let s = elapsed.as_secs_f64();
+    let (models, processes) = (tally.models.load(Relaxed), tally.processes.load(Relaxed));
     eprintln!(
-        "fuzz: {:.0} s: {} model files ({} accepted), {} whirl runs, {:.0} inputs/s, {} failures",
+        "fuzz: {:.0} s: {} model files ({} accepted), {} whirl runs ({} starved), {:.0} inputs/s, \
+         {} failures",
         s,
-        tally.models,
-        tally.accepted,
-        tally.processes,
-        (tally.models + tally.processes) as f64 / s.max(1e-9),
-        tally.failures.len()
+        models,
+        tally.accepted.load(Relaxed),
+        processes,
+        tally.starved.load(Relaxed),
+        (models + processes) as f64 / s.max(1e-9),
+        tally.failure_count()
     );
 }
 
 /// Writes the failing inputs where they can be replayed, and fails with the first few.
 fn assert_clean(tally: &Tally) {
-    if tally.failures.is_empty() {
+    let Ok(failures) = tally.failures.lock() else {
+        panic!("a fuzzing thread panicked while recording a failure");
+    };
+    if failures.is_empty() {
         return;
     }
     let dir = std::env::temp_dir().join("whirl-fuzz-failures");
     let _ = std::fs::create_dir_all(&dir);
-    for (i, f) in tally.failures.iter().enumerate() {
+    for (i, f) in failures.iter().enumerate() {
         let _ = std::fs::write(dir.join(format!("failure-{i}.toml")), &f.input);
     }
-    let first: Vec<&str> = tally
-        .failures
-        .iter()
-        .take(5)
-        .map(|f| f.what.as_str())
-        .collect();
+    let first: Vec<&str> = failures.iter().take(5).map(|f| f.what.as_str()).collect();
     panic!(
         "{} failures (inputs in {}); first: {first:#?}",
-        tally.failures.len(),
+        failures.len(),
         dir.display()
     );
 }
@@ -434,7 +499,7 @@ fn fuzz_briefly() {
     // A few seconds in the suite (and the whirl run under way when they are up): some
     // thousands of model files and a few tens of whirl runs.
     let tally = fuzz(4.0, 0x5eed, BRIEF_RUN_LIMIT);
-    assert!(tally.models > 100, "{tally:?}");
+    assert!(tally.models.load(Relaxed) > 100, "{tally:?}");
     assert_clean(&tally);
 }
 
