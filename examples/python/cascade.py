@@ -12,7 +12,7 @@ for clearance in ("20 um", "60 um"):
     result = whirl.cascade(
         rotor, "100Hz:400Hz:8", no_refine=True, max_records=2, checkpoint="out/python-cascade.partial"
     )
-    largest = result.summary["largest"]
+    largest = result.to_dict()["nsv"]["largest"]
     print(
         f"clearance {clearance}: largest NSV {largest['amplitude_m'] * 1e6:.2f} um "
         f"at {largest['frequency_hz']:.1f} Hz when running at {largest['speed_hz']:.1f} Hz"

@@ -84,7 +84,7 @@ fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(nsv::cascade_point, m)?)?;
     m.add_function(wrap_pyfunction!(nsv::cascade_checkpoint, m)?)?;
     m.add_function(wrap_pyfunction!(nsv::other_start, m)?)?;
-    m.add_function(wrap_pyfunction!(nsv::compare_starts, m)?)?;
+    m.add_function(wrap_pyfunction!(nsv::cascade_report, m)?)?;
     m.add_class::<nsv::RawCascade>()?;
     m.add_function(wrap_pyfunction!(units::quantity, m)?)?;
     m.add_function(wrap_pyfunction!(units::range, m)?)?;

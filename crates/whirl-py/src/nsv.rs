@@ -12,12 +12,13 @@ use pyo3::types::PyDict;
 use pythonize::pythonize;
 use whirl::nsv::{
     checkpoint, compare_starts as compare, other_start_options, Cascade, CascadeOptions,
-    CascadePoint, STARTS_DIFFER_SIGMAS,
+    CascadePoint, CascadeReport,
 };
 use whirl::progress::Progress;
 
 use crate::error::{lib, option, to_py};
 use crate::model::PyModel;
+use crate::report::PyReport;
 use crate::watch::run_watched;
 
 /// The cascade's options, resolved by the Python package from its keyword arguments (the
@@ -105,18 +106,18 @@ pub fn cascade_checkpoint(
 /// `progress(done, total)` and stopping on Ctrl-C. With `runner`, the missing speeds of each
 /// round go to `runner(batch)`, a Python callable given `[(index, speed)]` that yields
 /// `(index, point_json)` as each point arrives (from [`cascade_point`] on a worker).
-/// Returns the library's cascade as a dict, with its NSV summary at `threshold` (m).
+/// Returns the library's cascade as a dict (its speeds, spectra and per-speed NSV) and as
+/// it is held, for [`cascade_report`].
 #[pyfunction]
-#[pyo3(signature = (model, options, threshold, checkpoint = None, progress = None, runner = None))]
+#[pyo3(signature = (model, options, checkpoint = None, progress = None, runner = None))]
 pub fn cascade<'py>(
     py: Python<'py>,
     model: &PyModel,
     options: CascadeArgs,
-    threshold: f64,
     checkpoint: Option<PathBuf>,
     progress: Option<Bound<'py, PyAny>>,
     runner: Option<Py<PyAny>>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<(Bound<'py, PyAny>, RawCascade)> {
     let o = cascade_options(model, &options)?;
     let result = run_watched(py, progress.as_ref(), |watch| {
         let told = Arc::clone(watch);
@@ -141,13 +142,7 @@ pub fn cascade<'py>(
         }
     })?
     .map_err(to_py)?;
-    let out = PyDict::new(py);
-    out.set_item("cascade", pythonize(py, &result)?)?;
-    out.set_item("nsv", pythonize(py, &result.nsv_summary(threshold))?)?;
-    out.set_item("contact", result.options.law.name())?;
-    out.set_item("window", result.options.window.to_string())?;
-    out.set_item("raw", RawCascade(result))?;
-    Ok(out)
+    Ok((pythonize(py, &result)?, RawCascade(result)))
 }
 
 /// A computed cascade as the library holds it, kept to be compared with another.
@@ -166,28 +161,27 @@ pub fn other_start<'py>(py: Python<'py>, first: &RawCascade) -> PyResult<Bound<'
     Ok(out)
 }
 
-/// `first` and `second` (its cascade from the other start) compared speed by speed: the
-/// other start, the pairs, the speeds compared and differing, and `second`'s NSV summary
-/// at `threshold` (m).
+/// The library's report of cascade `first` read at `threshold` (m), kept in
+/// `checkpoint_folder`; with `second` (`first` from the other start, at its speeds) the two
+/// compared speed by speed: the summary and tables the command line writes.
 #[pyfunction]
-pub fn compare_starts<'py>(
-    py: Python<'py>,
+#[pyo3(signature = (first, threshold, checkpoint_folder = None, second = None))]
+pub fn cascade_report(
     first: &RawCascade,
-    second: &RawCascade,
     threshold: f64,
-) -> PyResult<Bound<'py, PyDict>> {
-    let c = lib(compare(&first.0, second.0.clone(), threshold))?;
-    let out = PyDict::new(py);
-    out.set_item("other_start", pythonize(py, &c.other)?)?;
-    out.set_item("compared_speeds", c.compared())?;
-    out.set_item("differing_speeds_hz", c.differing_speeds_hz())?;
-    out.set_item("sigmas", STARTS_DIFFER_SIGMAS)?;
-    out.set_item(
-        "other_start_nsv",
-        pythonize(py, &c.cascade.nsv_summary(threshold))?,
-    )?;
-    out.set_item("pairs", pythonize(py, &c.pairs)?)?;
-    Ok(out)
+    checkpoint_folder: Option<String>,
+    second: Option<&RawCascade>,
+) -> PyResult<PyReport> {
+    let starts = second
+        .map(|s| compare(&first.0, s.0.clone(), threshold))
+        .transpose()
+        .map_err(to_py)?;
+    PyReport::of(&CascadeReport {
+        cascade: first.0.clone(),
+        threshold_m: threshold,
+        starts,
+        checkpoint_folder,
+    })
 }
 
 /// An option's value by the name the command line gives it, e.g. `static`.

@@ -6,16 +6,17 @@ use std::ops::ControlFlow;
 use numpy::{IntoPyArray, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use pythonize::pythonize;
 use whirl::progress::Progress;
 use whirl::system::SpeedProfile;
 use whirl::time::{
-    simulate_with, Hooks, Method, NewmarkScheme, RkTolerances, SimulationOptions, Until,
+    simulate_with, Hooks, Method, NewmarkScheme, RkTolerances, SimulationOptions, SimulationReport,
+    Until,
 };
 
-use crate::error::{option, to_py};
+use crate::error::{lib, option, to_py, NumericalError};
 use crate::model::PyModel;
 use crate::nsv::choice;
+use crate::report::PyReport;
 use crate::watch::run_watched;
 
 /// Progress steps reported per run.
@@ -112,8 +113,9 @@ fn simulation_options(a: &SimulateArgs) -> PyResult<SimulationOptions> {
 }
 
 /// Simulates the model; `progress(done, 1000)` is told the fraction of simulated time done.
-/// Returns the library's result as a dict, its channels as one array (`values[channel,
-/// sample]`).
+/// Returns the recorded channels as arrays (`time`, `values[channel, sample]`, `names`,
+/// `nodes`, and the `settle`, `step` and `record_every` that place them) and the library's
+/// report (summary and tables, as the command line writes them).
 #[pyfunction]
 #[pyo3(signature = (model, options, progress = None))]
 pub fn simulate<'py>(
@@ -121,7 +123,7 @@ pub fn simulate<'py>(
     model: &PyModel,
     options: SimulateArgs,
     progress: Option<Bound<'py, PyAny>>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<(Bound<'py, PyDict>, PyReport)> {
     let mut o = simulation_options(&options)?;
     let result = run_watched(py, progress.as_ref(), |watch| {
         let told = watch.clone();
@@ -152,6 +154,9 @@ pub fn simulate<'py>(
             options.duration
         )));
     }
+    let result = result
+        .completed()
+        .map_err(|e| NumericalError::new_err(format!("{e}\n  help: nothing was kept")))?;
     let samples = result.time.len();
     let values: Vec<f64> = result
         .channels
@@ -179,15 +184,9 @@ pub fn simulate<'py>(
         "nodes",
         result.channels.iter().map(|c| c.node).collect::<Vec<_>>(),
     )?;
-    out.set_item("contact", o.contact_law(&model.model).name())?;
-    out.set_item("coordinates", result.coordinates)?;
-    out.set_item("step", result.step)?;
     out.set_item("settle", result.settle)?;
-    out.set_item("stable_step", result.stable_step)?;
-    out.set_item("wall_time_s", result.wall_time_s)?;
-    out.set_item("method", &result.method)?;
-    out.set_item("status", pythonize(py, &result.status)?)?;
+    out.set_item("step", result.step)?;
     out.set_item("record_every", result.record_every)?;
-    out.set_item("start_fallback", &result.start_fallback)?;
-    Ok(out)
+    let report = lib(SimulationReport::new(&model.model, &o, result))?;
+    Ok((out, PyReport::of(&report)?))
 }

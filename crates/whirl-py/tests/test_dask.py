@@ -32,7 +32,7 @@ def test_a_cascade_on_the_cluster_is_the_local_one(client, local, tmp_path):
     assert_same_cascade(remote, local)
     # Every speed, refined ones included, is in the checkpoint: a local run resumes them all.
     resumed = whirl.cascade(REFERENCE, SPEEDS, checkpoint=tmp_path, progress=False, **OPTIONS)
-    assert resumed.resumed == len(local.speeds_hz)
+    assert resumed.resumed_speeds == len(local.speeds_hz)
     assert_same_cascade(resumed, local)
 
 

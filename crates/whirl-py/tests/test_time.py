@@ -6,19 +6,25 @@ import numpy as np
 import pytest
 
 import whirl
-from conftest import REFERENCE, assert_same_table
+from conftest import REFERENCE, assert_same_table, timeless
 
 
 def test_simulate_equals_the_command_line(run_cli):
     args = ["--speed", "50Hz", "--duration", "0.3s", "--reduce", "12", "--nodes", "10"]
     cli = run_cli("simulate", str(REFERENCE), *args)
     result = whirl.simulate(REFERENCE, "50Hz", duration="0.3s", reduce=12, nodes=[10], progress=False)
-    assert result.status == {"status": "completed"}
-    # The roller bearings' nodes are recorded too, with a contact law.
+    assert result.status == "completed"
+    # The roller bearings' nodes are recorded too, with a contact law, and each has its
+    # table of roller contacts.
     assert result.names[:2] == ["n10.ux", "n10.uy"] and len(result.names) > 2
-    assert_same_table(result.to_pandas(), cli.table("time_history"))
-    summary = cli.summary()
-    assert (result.step, result.contact) == (summary["step_s"], summary["contact"])
+    assert result.tables[:3] == ("time_history", "spectrum", "peaks")
+    assert [t for t in result.tables if t.startswith("contacts_")] == ["contacts_bearing_a",
+                                                                      "contacts_bearing_b"]
+    assert timeless(result.to_dict()) == timeless(cli.summary())
+    for table in result.tables:
+        assert_same_table(result.to_pandas(table), cli.table(table))
+    assert result.to_pandas("contacts_bearing_a")["in_contact"].dtype == np.int64
+    np.testing.assert_array_equal(result.to_pandas()["n10.uy"], result.channel("n10.uy"))
 
 
 def test_a_linear_rotor_settles_to_its_unbalance_response():

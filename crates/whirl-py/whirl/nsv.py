@@ -10,13 +10,13 @@ import os
 import shutil
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import Any
 
 import numpy as np
 
 from . import _options, _progress, _whirl
-from ._summary import head, jsonable
 from .model import Model, as_model
+from .report import Report, Reported
 
 #: Speeds of a cascade without ``speeds``: this many over the model's operating range.
 DEFAULT_SPEEDS = 150
@@ -107,9 +107,14 @@ def options(
 
 
 @dataclass(frozen=True)
-class CascadeResult:
+class CascadeResult(Reported):
     """A computed cascade: per speed the spectrum of the analysed displacement and the
-    largest non-synchronous peak (NSV), classified; and the NSV summary."""
+    largest non-synchronous peak (NSV), classified; and the library's report:
+    ``to_dict()`` is the command line's summary.json (the NSV summary under ``nsv``, with
+    ``compare_starts=True`` the comparison under ``starts``), ``to_pandas(name)`` its tables
+    ``cascade``, ``full_cascade`` (with ``full=True``), ``nsv`` and ``starts`` (with
+    ``compare_starts=True``). The summary's keys read as attributes too
+    (``result.resumed_speeds``, ``result.checkpoint_folder``)."""
 
     model: Model
     #: Speeds, requested and added, ascending, Hz.
@@ -127,153 +132,25 @@ class CascadeResult:
     points: list[dict[str, Any]]
     #: Per speed, the classified NSV (class, explanation, direction, peak) or None.
     nsv: list[dict[str, Any] | None]
-    #: The NSV in a few numbers (onsets, largest, statistics, classes).
-    summary: dict[str, Any]
-    #: The library's options and the step, sampling and band they resolve to.
-    options: dict[str, Any]
-    resolved: dict[str, Any]
-    contact: str
-    window: str
-    #: Speeds loaded from the checkpoint rather than computed.
-    resumed: int
-    wall_time_s: float
-    #: The checkpoint folder of this cascade, when there was one.
-    checkpoint: str | None
-    #: With ``compare_starts=True``: the cascade again from the other start at the same
-    #: speeds, compared speed by speed (other_start, compared_speeds, differing_speeds_hz,
-    #: sigmas, other_start_nsv, and per speed the ``pairs``); else None.
-    starts: dict[str, Any] | None = None
-    tables: ClassVar[tuple[str, ...]] = ("cascade", "nsv")
-
-    def to_pandas(self, table: str = "nsv"):
-        """``nsv`` (one row per speed: 1X, the NSV with its class and whirl direction, ...),
-        ``cascade`` (speed_hz, frequency_hz, amplitude_m, added: every speed's spectrum),
-        ``full_cascade`` (with ``full=True``) or ``starts`` (with ``compare_starts=True``:
-        per speed the NSV and its standard error from both starts, whether they could be
-        compared and whether they differ): the command line's CSV tables."""
-        import pandas as pd
-
-        added = np.array([int(p["added"]) for p in self.points])
-        if table in ("cascade", "full_cascade"):
-            f, a = (
-                (self.frequency_hz, self.amplitude)
-                if table == "cascade"
-                else (self.full_frequency_hz, self.full_amplitude)
-            )
-            bins = len(f)
-            return pd.DataFrame(
-                {
-                    "speed_hz": np.repeat(self.speeds_hz, bins),
-                    "frequency_hz": np.tile(f, len(self.points)),
-                    "amplitude_m": a.reshape(-1),
-                    "added": np.repeat(added, bins),
-                }
-            )
-        if table == "nsv":
-            rows = []
-            for p, n in zip(self.points, self.nsv):
-                peak = None if n is None else n["peak"]
-                cell = lambda key: None if peak is None else peak[key]  # noqa: E731
-                rows.append(
-                    [
-                        p["speed_hz"], int(p["added"]), int(p["settled"]), p["settle_s"],
-                        p["records"], p["one_x_m"], cell("frequency_hz"), cell("amplitude_m"),
-                        cell("order"), None if n is None else n["class"],
-                        None if n is None else n["direction"], cell("forward_m"),
-                        cell("backward_m"), cell("decay_ratio"), cell("settling_ratio"),
-                        cell("standard_error_m"), cell("variation"),
-                        None if n is None else n["explanation"], p["diverged"], p["start_fallback"],
-                    ]
-                )
-            return pd.DataFrame(rows, columns=NSV_COLUMNS)
-        if table == "starts" and self.starts is not None:
-            rows = [
-                [p["speed_hz"], p["first_m"], p["first_error_m"], p["other_m"], p["other_error_m"],
-                 int(p["comparable"]), int(p["differs"])]
-                for p in self.starts["pairs"]
-            ]
-            return pd.DataFrame(rows, columns=STARTS_COLUMNS)
-        raise ValueError(
-            f"no table `{table}`: choose cascade, nsv, full_cascade (full=True) or starts "
-            "(compare_starts=True)"
-        )
-
-    def to_dict(self) -> dict[str, Any]:
-        """The command line's summary.json (without the output folder, the file list and
-        the notes that explain its fields)."""
-        o, r = self.options, self.resolved
-        s = head("cascade", self.model)
-        s.update(
-            speeds=len(self.points),
-            speed_range_hz=[float(self.speeds_hz.min()), float(self.speeds_hz.max())],
-            contact=self.contact,
-            reduction_modes=o["reduction"],
-            node=o["node"],
-            component=o["component"],
-            settle_s=o["settle"],
-            settle_max_s=o["settle_max"],
-            start=o["initial"],
-            refinement=o["refine"],
-            record_s=o["record"],
-            averaging=o["averaging"],
-            step_s=r["step"],
-            sample_interval_s=1.0 / r["sample_rate_hz"],
-            samples_per_record=r["samples"],
-            window=self.window,
-            resolution_hz=r["resolution_hz"],
-            max_frequency_hz=r["max_frequency_hz"],
-            tolerance_bins=o["tolerance_bins"],
-            full_spectrum=o["full"],
-            nsv=self.summary,
-            resumed_speeds=self.resumed,
-            wall_time_s=self.wall_time_s,
-            checkpoint_folder=self.checkpoint,
-        )
-        if self.starts is not None:
-            s["starts"] = {k: v for k, v in self.starts.items() if k != "pairs"}
-        return jsonable(s)
+    report: Report
 
 
-NSV_COLUMNS = [
-    "speed_hz", "added", "settled", "settle_s", "records", "one_x_m", "nsv_frequency_hz",
-    "nsv_amplitude_m", "nsv_order", "class", "direction", "forward_m", "backward_m",
-    "decay_ratio", "settling_ratio", "nsv_standard_error_m", "nsv_variation", "explanation",
-    "diverged", "start_fallback",
-]
-
-STARTS_COLUMNS = [
-    "speed_hz", "nsv_m", "nsv_standard_error_m", "other_start_nsv_m",
-    "other_start_standard_error_m", "comparable", "differs",
-]
-
-
-def _result(
-    model: Model, raw: dict[str, Any], checkpoint: Path | None, starts: dict[str, Any] | None = None
-) -> CascadeResult:
-    c = raw["cascade"]
-    points = c["points"]
-    bins, full_bins = len(c["frequency_hz"]), len(c["full_frequency_hz"])
+def _result(model: Model, raw: dict[str, Any], report: Report) -> CascadeResult:
+    points = raw["points"]
+    bins, full_bins = len(raw["frequency_hz"]), len(raw["full_frequency_hz"])
     spectra = lambda key, n: np.array(  # noqa: E731
         [p[key] if len(p[key]) == n else [math.nan] * n for p in points], dtype=float
     ).reshape(len(points), n)
     return CascadeResult(
         model=model,
         speeds_hz=np.array([p["speed_hz"] for p in points], dtype=float),
-        frequency_hz=np.asarray(c["frequency_hz"], dtype=float),
+        frequency_hz=np.asarray(raw["frequency_hz"], dtype=float),
         amplitude=spectra("amplitude", bins),
-        full_frequency_hz=np.asarray(c["full_frequency_hz"], dtype=float),
+        full_frequency_hz=np.asarray(raw["full_frequency_hz"], dtype=float),
         full_amplitude=spectra("full_amplitude", full_bins),
         points=[{k: v for k, v in p.items() if k not in ("amplitude", "full_amplitude")} for p in points],
-        nsv=c["nsv"],
-        summary=raw["nsv"],
-        options=c["options"],
-        resolved=c["resolved"],
-        contact=raw["contact"],
-        window=raw["window"],
-        resumed=c["resumed"],
-        wall_time_s=c["wall_time_s"],
-        checkpoint=None if checkpoint is None else str(checkpoint),
-        starts=starts,
+        nsv=raw["nsv"],
+        report=report,
     )
 
 
@@ -304,8 +181,8 @@ def cascade(
         restart: delete this cascade's checkpoint first and compute every speed again.
         compare_starts: run every speed again from the other start (rest after the static
             equilibrium, or the reverse) and mark the speeds where the NSV differs beyond
-            three standard errors: coexisting motions (:attr:`CascadeResult.starts`, the
-            table ``starts``; twice the computing). Its checkpoint sits beside this one's.
+            three standard errors: coexisting motions (``starts`` in the summary, the table
+            ``starts``; twice the computing). Its checkpoint sits beside this one's.
         progress: True for a tqdm bar when tqdm is installed, False for none, or a callable
             ``progress(done, total)`` (a true return stops the run, as Ctrl-C does; the
             finished speeds stay in the checkpoint).
@@ -323,25 +200,26 @@ def cascade(
     threshold_m = _whirl.parse_quantity("threshold", str(threshold), "length")
     if not threshold_m > 0:
         raise _whirl.InputError(f"invalid `threshold`: `{threshold}`: the length must be positive")
-    first = _run(model, o, threshold_m, checkpoint, restart, progress, client)
-    starts = None
+    raw, first, folder = _run(model, o, checkpoint, restart, progress, client)
+    second = None
     if compare_starts:
-        other = {**o, **_whirl.other_start(first["raw"])}
-        second = _run(model, other, threshold_m, checkpoint, restart, progress, client)
-        starts = _whirl.compare_starts(first["raw"], second["raw"], threshold_m)
-    return _result(model, first, first["folder"], starts)
+        other = {**o, **_whirl.other_start(first)}
+        second = _run(model, other, checkpoint, restart, progress, client)[1]
+    folder = None if folder is None else str(folder)
+    report = _whirl.cascade_report(first, threshold_m, folder, second)
+    return _result(model, raw, Report("cascade", model, report))
 
 
 def _run(
     model: Model,
     o: dict[str, Any],
-    threshold_m: float,
     checkpoint: str | os.PathLike[str] | None,
     restart: bool,
     progress: bool | Any,
     client: Any,
-) -> dict[str, Any]:
-    """One cascade with the library's options ``o``, in its folder inside ``checkpoint``."""
+) -> tuple[dict[str, Any], Any, Path | None]:
+    """One cascade with the library's options ``o``, in its folder inside ``checkpoint``:
+    the cascade as a dict and as the library holds it, and the folder."""
     folder = None
     if checkpoint is not None:
         folder = Path(_whirl.cascade_checkpoint(model._raw, o, os.fspath(checkpoint)))
@@ -353,7 +231,5 @@ def _run(
 
         runner = point_runner(client, model, o)
     with _progress.display(progress, "cascade", "speeds") as report:
-        raw = _whirl.cascade(
-            model._raw, o, threshold_m, None if folder is None else os.fspath(folder), report, runner
-        )
-    return {**raw, "folder": folder}
+        raw, held = _whirl.cascade(model._raw, o, None if folder is None else os.fspath(folder), report, runner)
+    return raw, held, folder

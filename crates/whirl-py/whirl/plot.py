@@ -135,11 +135,12 @@ def nsv(cascade, ax=None):
 def starts(cascade, ax=None):
     """The NSV from both starts over speed (``compare_starts=True``), the speeds where they
     differ (coexisting motions) circled."""
-    if cascade.starts is None:
+    compared = cascade.to_dict().get("starts")
+    if compared is None:
         raise ValueError("the cascade has no second start: run it with compare_starts=True")
     ax = _axes(ax)
     t = cascade.to_pandas("starts")
-    other = cascade.starts["other_start"]
+    other = compared["other_start"]
     ax.semilogy(t["speed_hz"], t["nsv_m"], "o-", ms=3, label="first start")
     ax.semilogy(t["speed_hz"], t["other_start_nsv_m"], "s--", ms=3, label=f"from {other}")
     differ = t[t["differs"] == 1]

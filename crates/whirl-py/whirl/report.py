@@ -68,9 +68,14 @@ class Report:
 
 class Reported:
     """A result with attributes of its own (branches, modes, ...) whose summary and tables
-    are the library's report, ``self.report``."""
+    are the library's report, ``self.report``; the summary's keys read as attributes too."""
 
     report: Report
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("_") or name == "report":
+            raise AttributeError(name)
+        return getattr(self.report, name)
 
     @property
     def tables(self) -> tuple[str, ...]:

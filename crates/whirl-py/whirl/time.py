@@ -6,20 +6,24 @@ from __future__ import annotations
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import Any
 
 import numpy as np
 
 from . import _progress, _whirl
 from .model import Model, as_model
 from .nsv import _time
+from .report import Report, Reported
 from .response import report_nodes
 
 
 @dataclass(frozen=True)
-class SimulationResult:
-    """Recorded time histories: ``values[channel, sample]`` at ``time``, channels named
-    ``n<node>.ux`` / ``n<node>.uy`` (m)."""
+class SimulationResult(Reported):
+    """Recorded time histories, ``values[channel, sample]`` at ``time`` with channels named
+    ``n<node>.ux`` / ``n<node>.uy`` (m), and the library's report: ``to_dict()`` is the
+    command line's summary.json, ``to_pandas(name)`` its tables ``time_history``,
+    ``spectrum``, ``peaks`` and per roller bearing ``contacts_<bearing>``. The summary's
+    keys read as attributes too (``result.step_s``, ``result.contact``)."""
 
     model: Model
     #: Times, s.
@@ -30,37 +34,16 @@ class SimulationResult:
     names: list[str]
     #: Node of each channel.
     nodes: list[int]
-    #: Contact law of the roller bearings.
-    contact: str
-    #: Coordinates integrated (DOFs, or the reduced model's size).
-    coordinates: int
-    #: Time step, s; settling time, s; the explicit stability limit of the model, s.
-    step: float
+    #: Settling time (the steady-state numbers come from after it), s.
     settle: float
-    stable_step: float
-    wall_time_s: float
-    method: str
-    #: ``{"status": "completed"}`` or ``{"status": "diverged", "time": ..., "message": ...}``.
-    status: dict[str, Any]
-    #: Steps per recorded sample.
+    #: Time step, s, and steps per recorded sample.
+    step: float
     record_every: int
-    #: Why the run started from rest although the static equilibrium was asked for.
-    start_fallback: str | None
-    tables: ClassVar[tuple[str, ...]] = ("time_history",)
+    report: Report
 
     def channel(self, name: str) -> np.ndarray:
         """The values of channel ``name`` (``n10.uy``), m."""
         return self.values[self.names.index(name)]
-
-    def to_pandas(self, table: str = "time_history"):
-        """The command line's time_history.csv: ``time_s`` and one column per channel."""
-        import pandas as pd
-
-        if table != "time_history":
-            raise ValueError(f"no table `{table}`: choose one of {self.tables}")
-        columns: dict[str, Any] = {"time_s": self.time}
-        columns.update(zip(self.names, self.values))
-        return pd.DataFrame(columns)
 
 
 def simulate(
@@ -102,6 +85,11 @@ def simulate(
         divergence_bound: a recorded displacement beyond this (m) means divergence.
         progress: True for a tqdm bar when tqdm is installed, False, or ``progress(done,
             1000)``.
+
+    Returns:
+        A :class:`SimulationResult`: the recorded channels as arrays, and the command
+        line's summary and tables (``time_history``, ``spectrum``, ``peaks``,
+        ``contacts_<bearing>``).
     """
     model = as_model(model)
     options = {
@@ -120,7 +108,5 @@ def simulate(
         "divergence_bound": _whirl.parse_quantity("divergence_bound", str(divergence_bound), "length"),
     }
     with _progress.display(progress, "simulate", "permille") as report:
-        raw = _whirl.simulate(model._raw, options, report)
-    if raw["status"]["status"] != "completed":
-        raise _whirl.NumericalError(raw["status"]["message"] + "\n  help: nothing was kept")
-    return SimulationResult(model=model, **raw)
+        raw, summary = _whirl.simulate(model._raw, options, report)
+    return SimulationResult(model=model, report=Report("simulate", model, summary), **raw)

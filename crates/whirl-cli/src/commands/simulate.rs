@@ -51,7 +51,7 @@ use super::{
     Outcome,
 };
 use crate::error::Diag;
-use crate::output::{num, Output};
+use crate::output::Output;
 use crate::plots;
 use crate::progress::progress_line;
 
@@ -175,11 +175,11 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let mut text = text(model, args, result, running_hz, &report.channels);
     contacts::text(&mut text, &report);
     let mut out = Output::begin(&args.common.out_dir("simulate"))?;
-    write_time_history(&mut out, result)?;
     for table in report.tables() {
         out.table(&table)?;
     }
-    contacts::write(&mut out, &report)?;
+    write_time_history_npy(&mut out, result)?;
+    contacts::plot(&mut out, &report)?;
     out.plot("time_history", |stem| {
         plots::time_history(result, &recorded).save(stem)
     })?;
@@ -321,14 +321,8 @@ fn text(
     t
 }
 
-/// `time_history.csv` and `.npy`, written from the record row by row.
-fn write_time_history(out: &mut Output, result: &SimulationResult) -> miette::Result<()> {
-    let mut h = vec!["time_s".to_string()];
-    h.extend(result.channels.iter().map(|c| c.name.clone()));
-    let rows = result.time.iter().enumerate().map(|(i, t)| {
-        std::iter::once(num(*t)).chain(result.channels.iter().map(move |c| num(c.values[i])))
-    });
-    out.csv("time_history.csv", &h, rows)?;
+/// `time_history.npy` (its .csv is a table of the report).
+fn write_time_history_npy(out: &mut Output, result: &SimulationResult) -> miette::Result<()> {
     let mut columns: Vec<&[f64]> = vec![&result.time];
     columns.extend(result.channels.iter().map(|c| c.values.as_slice()));
     out.npy("time_history.npy", &columns)

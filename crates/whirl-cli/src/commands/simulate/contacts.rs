@@ -3,7 +3,7 @@
 //! section 6, thesis figs. 4.7 and 4.9) and whether the spectrum shows the frequencies they
 //! excite, N_b w_c and (N_w - 1) w_c (eqs. 4.4-4.5).
 //!
-//! - `contacts_<bearing>.csv`: `time_s`, `in_contact` (rollers carrying load), then each
+//! - `contacts_<bearing>.csv` (a table of the library's report): `time_s`, `in_contact` (rollers carrying load), then each
 //!   roller's force `roller_<j>_force_n` (N) and approach `roller_<j>_approach_m` (m,
 //!   positive = penetration), rollers numbered from 0 as the model's `cage_angle` counts
 //!   them. The forcing-function law has no per-roller forces: those cells are empty.
@@ -29,7 +29,7 @@ use whirl::post::SpectralPeak;
 use whirl::time::{BearingReport, FrequencyCheck, SimulationReport};
 use whirl_plot::{Colour, RefLine};
 
-use crate::output::{num, Output};
+use crate::output::Output;
 use crate::plots;
 
 /// The peak of a check with the largest amplitude over the node's channels.
@@ -87,26 +87,12 @@ pub fn text(t: &mut String, report: &SimulationReport) {
     }
 }
 
-/// `contacts_<bearing>.csv` and the contact line and zone plots of each bearing.
-pub fn write(out: &mut Output, report: &SimulationReport) -> miette::Result<()> {
+/// The contact line and zone plots of each bearing (its `contacts_<bearing>.csv` is a table
+/// of the report).
+pub fn plot(out: &mut Output, report: &SimulationReport) -> miette::Result<()> {
     let result = &report.result;
     for b in &report.bearings {
         let r = report.record(b);
-        let mut header = vec!["time_s".to_string(), "in_contact".to_string()];
-        header.extend((0..r.rollers).map(|j| format!("roller_{j}_force_n")));
-        header.extend((0..r.rollers).map(|j| format!("roller_{j}_approach_m")));
-        let rows = result.time.iter().enumerate().map(|(i, t)| {
-            let force = r
-                .forces_at(i)
-                .iter()
-                .map(|&f| if f.is_nan() { String::new() } else { num(f) });
-            std::iter::once(num(*t))
-                .chain(std::iter::once(r.contacts_at(i).to_string()))
-                .chain(force)
-                .chain(r.approaches_at(i).iter().map(|&a| num(a)))
-                .collect::<Vec<_>>()
-        });
-        out.csv(&format!("contacts_{}.csv", b.stem), &header, rows)?;
         out.plot(&format!("contact_line_{}", b.stem), |stem| {
             plots::contact_line(r, &result.time, b.line_window.clone()).save(stem)
         })?;

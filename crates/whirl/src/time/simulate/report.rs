@@ -574,9 +574,48 @@ impl Report for SimulationReport {
         }
     }
 
-    /// `spectrum` (the settled part's amplitude spectrum of each channel) and `peaks` (each
-    /// channel's spectral peaks with their order and label).
+    /// `time_history` (`time_s` and each recorded channel), `spectrum` (the settled part's
+    /// amplitude spectrum of each channel), `peaks` (each channel's spectral peaks with their
+    /// order and label) and per roller bearing `contacts_<stem>` (at each recorded time the
+    /// rollers in contact and each roller's force, missing out of contact, and approach).
     fn tables(&self) -> Vec<Table> {
+        let mut history = Table::new("time_history");
+        history.numbers("time_s", self.result.time.iter().copied());
+        for c in &self.result.channels {
+            history.numbers(c.name.clone(), c.values.iter().copied());
+        }
+        let mut tables = vec![history];
+        tables.extend(self.spectrum_tables());
+        tables.extend(self.bearings.iter().map(|b| self.contact_table(b)));
+        tables
+    }
+}
+
+impl SimulationReport {
+    /// The table `contacts_<stem>` of bearing report `b`.
+    fn contact_table(&self, b: &BearingReport) -> Table {
+        let r = self.record(b);
+        let samples = 0..self.result.time.len();
+        let mut t = Table::new(format!("contacts_{}", b.stem));
+        t.numbers("time_s", self.result.time.iter().copied())
+            .counts("in_contact", samples.clone().map(|i| r.contacts_at(i)));
+        for j in 0..r.rollers {
+            t.numbers(
+                format!("roller_{j}_force_n"),
+                samples.clone().map(|i| r.forces_at(i)[j]),
+            );
+        }
+        for j in 0..r.rollers {
+            t.numbers(
+                format!("roller_{j}_approach_m"),
+                samples.clone().map(|i| r.approaches_at(i)[j]),
+            );
+        }
+        t
+    }
+
+    /// `spectrum` and `peaks`.
+    fn spectrum_tables(&self) -> Vec<Table> {
         let channels = &self.channels;
         let frequencies = channels
             .first()
