@@ -34,6 +34,7 @@ pub struct HbmArgs {
     contact: String,
     cage: String,
     cage_positions: usize,
+    contact_smoothing: f64,
     samples: Option<usize>,
     reduce: Option<usize>,
     stability: bool,
@@ -60,6 +61,7 @@ fn sweep_options(a: &HbmArgs, harmonics: usize) -> PyResult<SweepOptions> {
             ))
         }
     };
+    o.contact_smoothing = a.contact_smoothing;
     o.samples = a.samples;
     o.stability = a.stability;
     o.stability_modes = a.stability_modes;

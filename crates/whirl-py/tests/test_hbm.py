@@ -38,6 +38,17 @@ def test_the_branch_runs_over_the_speeds_asked_for(result):
     assert set(branch["stable"]) <= {"true", "false"}
 
 
+def test_contact_smoothing_equals_the_command_line(run_cli):
+    # The smoothed Hertz law through the first resonance: the branch, its bifurcations and
+    # the summary as `--contact-smoothing` gives them, to the last bit.
+    smoothed = whirl.hbm(REFERENCE, "1:60Hz", harmonics=2, contact_smoothing="0.01um", progress=False)
+    cli = run_cli("hbm", str(REFERENCE), "--speeds", "1:60Hz", "--harmonics", "2", "--contact-smoothing", "0.01um")
+    assert "blended to bounded curvature below an approach of 0.010 um" in smoothed.bearings
+    assert timeless(smoothed.to_dict()) == timeless(cli.summary())
+    for table in smoothed.tables:
+        assert_same_table(smoothed.to_pandas(table), cli.table(table))
+
+
 def test_bad_hbm_options_name_the_keyword():
     with pytest.raises(whirl.InputError, match="invalid `harmonics`"):
         whirl.hbm(REFERENCE, "1:60Hz", harmonics=0)
@@ -47,3 +58,7 @@ def test_bad_hbm_options_name_the_keyword():
         whirl.hbm(REFERENCE, "1:60Hz", cage="loose")
     with pytest.raises(whirl.InputError, match="invalid `samples`"):
         whirl.hbm(REFERENCE, "1:60Hz", harmonics=5, samples=10)
+    with pytest.raises(whirl.InputError, match="invalid `contact_smoothing`"):
+        whirl.hbm(REFERENCE, "1:60Hz", contact_smoothing="-0.01um")
+    with pytest.raises(whirl.InputError, match="invalid `contact_smoothing`"):
+        whirl.hbm(REFERENCE, "1:60Hz", contact_smoothing="0.01s")

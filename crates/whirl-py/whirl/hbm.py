@@ -46,6 +46,16 @@ def _study(given: str | Sequence[int] | None) -> list[int]:
     return [_harmonics(h, "harmonics_study") for h in given]
 
 
+def _smoothing(given: str | float) -> float:
+    """The contact smoothing length, m: 0 for the exact law, else positive."""
+    length = _whirl.parse_quantity("contact_smoothing", str(given), "length")
+    if not (math.isfinite(length) and length >= 0):
+        raise _whirl.InputError(
+            f"invalid `contact_smoothing`: `{given}`: the length must be positive, or 0 for the exact law"
+        )
+    return length
+
+
 def _span(speeds: _options.Speeds, model: Model) -> tuple[float, float]:
     """First and last speed, rad/s: ``"1:750Hz"`` (a count, if given, is ignored), numbers,
     or 1 Hz to 1.2 x the model's top operating speed."""
@@ -68,6 +78,7 @@ def hbm(
     contact: str = "hertz",
     cage: str = "passage",
     cage_positions: int = 8,
+    contact_smoothing: str | float = 0.0,
     samples: int | None = None,
     reduce: int | None = None,
     no_stability: bool = False,
@@ -94,6 +105,9 @@ def hbm(
         cage: how the roller passage is made periodic (Hertz only): ``passage`` (the force
             averaged over ``cage_positions`` cage positions per roller pitch) or
             ``frozen``.
+        contact_smoothing: approach below which the Hertz law is blended to bounded
+            curvature (harmonic balance only; docs/theory.md section 7), ``"0.01um"`` or
+            metres; 0 (the default) for the exact law.
         samples: time samples per period of the alternating frequency-time transform;
             default 16 H, at least 64.
         reduce: solve on a Craig-Bampton model with this many fixed-interface modes;
@@ -135,6 +149,7 @@ def hbm(
         "contact": contact,
         "cage": cage,
         "cage_positions": _options.mode_count(cage_positions, "cage_positions"),
+        "contact_smoothing": _smoothing(contact_smoothing),
         "samples": samples,
         "reduce": None if reduce is None else _options.mode_count(reduce, "reduce"),
         "stability": not no_stability,
