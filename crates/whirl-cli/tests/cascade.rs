@@ -179,6 +179,21 @@ fn bad_input_names_the_option() {
     }
 }
 
+#[test]
+fn default_speeds_are_the_librarys_over_the_operating_range() {
+    // Without --speeds the cascade takes whirl::nsv::default_speeds (as a study and Python
+    // do): 150 speeds over the reference rotor's [operating] range, 1 to 750 Hz. The too
+    // short record stops the run once they are announced.
+    let tmp = tempfile::tempdir().unwrap();
+    let output = whirl(&tmp.path().join("cascade"), &["--record", "0.1ms"]);
+    assert!(!output.status.success());
+    let err = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        err.contains("speeds (default): 150 values from 1.0000 to 750.0000 Hz"),
+        "{err}"
+    );
+}
+
 /// At 660 Hz running speed the reference rotor has two steady motions: from the static
 /// equilibrium a 5.4 um whirl of the first mode (standard error 0.09 um), from rest a
 /// 0.13 um super-harmonic orbit (measured); at 640 and 670 Hz both starts settle on the

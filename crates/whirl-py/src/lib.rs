@@ -35,6 +35,7 @@ fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     error::register(m)?;
     // The command line's defaults, defined once in the library.
     m.add("DEFAULT_MAX_ADDED", whirl::nsv::DEFAULT_MAX_ADDED)?;
+    m.add("DEFAULT_SPEED_COUNT", whirl::nsv::DEFAULT_SPEED_COUNT)?;
     m.add("DEFAULT_MAX_RECORDS", whirl::nsv::DEFAULT_MAX_RECORDS)?;
     m.add("DEFAULT_RELATIVE_ERROR", whirl::nsv::DEFAULT_RELATIVE_ERROR)?;
     m.add("DEFAULT_TOLERANCE_BINS", whirl::nsv::DEFAULT_TOLERANCE_BINS)?;
@@ -83,6 +84,7 @@ fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(nsv::cascade, m)?)?;
     m.add_function(wrap_pyfunction!(nsv::cascade_point, m)?)?;
     m.add_function(wrap_pyfunction!(nsv::cascade_checkpoint, m)?)?;
+    m.add_function(wrap_pyfunction!(nsv::cascade_default_speeds, m)?)?;
     m.add_function(wrap_pyfunction!(nsv::other_start, m)?)?;
     m.add_function(wrap_pyfunction!(nsv::cascade_report, m)?)?;
     m.add_class::<nsv::RawCascade>()?;

@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use clap::ValueEnum;
+use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use pythonize::pythonize;
@@ -89,6 +90,16 @@ fn cascade_options(model: &PyModel, a: &CascadeArgs) -> PyResult<CascadeOptions>
     o.tolerance_bins = a.tolerance;
     o.full = a.full;
     Ok(o)
+}
+
+/// The cascade's default speeds of `model`, rad/s: the library's (as on the command line and
+/// in a study).
+#[pyfunction]
+pub fn cascade_default_speeds<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    Ok(lib(whirl::nsv::default_speeds(&model.model))?.into_pyarray(py))
 }
 
 /// The checkpoint folder of this cascade inside `parent`: one folder per model and options.

@@ -73,6 +73,15 @@ def test_a_stopped_cascade_keeps_its_speeds_and_resumes(tmp_path):
     assert_same_cascade(resumed, whole)
 
 
+def test_default_speeds_are_the_command_lines():
+    # One definition in the library (as for the command line and a study): 150 speeds over
+    # the reference rotor's [operating] range, 1 to 750 Hz, to the bit.
+    model = whirl.Model.from_file(REFERENCE)
+    w = whirl.nsv.default_speeds(model)
+    np.testing.assert_array_equal(w, whirl._whirl.parse_speeds("1Hz:750Hz:150"))
+    assert whirl.nsv.options(model)["speeds"] == list(w)
+
+
 def test_bad_cascade_options_name_the_keyword():
     with pytest.raises(whirl.InputError, match="invalid `contact`: `glue` is not one of"):
         whirl.cascade(REFERENCE, SPEEDS, contact="glue")

@@ -19,7 +19,7 @@ from .model import Model, as_model
 from .report import Report, Reported
 
 #: Speeds of a cascade without ``speeds``: this many over the model's operating range.
-DEFAULT_SPEEDS = 150
+DEFAULT_SPEEDS = _whirl.DEFAULT_SPEED_COUNT
 
 
 def _time(name: str, value: str | float) -> float:
@@ -37,16 +37,10 @@ def _frequency_hz(name: str, value: str | float) -> float:
 
 
 def default_speeds(model: Model) -> np.ndarray:
-    """150 speeds over the model's operating range (from top / 150 when it starts at rest)."""
-    operating = model.to_dict()["operating"]
-    if operating is None:
-        raise _whirl.InputError(
-            "invalid `speeds`: the model states no operating speed range\n"
-            "  help: give the speeds, e.g. speeds=\"1:750Hz:150\", or add [operating] to the model"
-        )
-    low, high = operating
-    low = low if low > 0 else high / DEFAULT_SPEEDS
-    return _whirl.parse_speeds(f"{low!r}:{high!r}:{DEFAULT_SPEEDS}")
+    """The cascade's default speeds, rad/s: 150 over the model's ``[operating]`` range, from
+    its low bound (or from top / 150 when it starts at rest) to its top; the library's, as
+    on the command line and in a study."""
+    return _whirl.cascade_default_speeds(model._raw)
 
 
 def options(

@@ -2,6 +2,7 @@
 
 use whirl::model::{Clearance, Model};
 use whirl::study::Study;
+use whirl::units::{parse_range, Dimension};
 
 mod common;
 use common::{example_path, reference_rotor_path};
@@ -150,4 +151,44 @@ fn a_value_written_in_other_units_is_the_same_point() {
     )
     .unwrap();
     assert_eq!(s.points.len(), 1);
+}
+
+#[test]
+fn a_study_without_speeds_takes_the_command_lines_default_speeds() {
+    // One definition (whirl::nsv::default_speeds) serves the study, the command line and
+    // Python: a point without speeds gets exactly that list ...
+    let s = study("[[sweep]]\nparameter = \"roller_bearing[*].clearance\"\nvalues = [\"20 um\"]\n")
+        .unwrap();
+    let point = &s.points[0];
+    assert_eq!(point.cascade.speeds, None);
+    let study_speeds = whirl::study::point::cascade_options(point).unwrap().speeds;
+    let default = whirl::nsv::default_speeds(&point.model).unwrap();
+    assert_eq!(study_speeds, default);
+    // ... which is the command line's range over [operating] (1 to 750 Hz), the one the
+    // README's main-job numbers rest on, to the bit.
+    let range = parse_range("1Hz:750Hz:150", Dimension::AngularSpeed).unwrap();
+    assert_eq!(default, range);
+}
+
+#[test]
+fn default_speeds_start_above_rest_and_need_an_operating_range() {
+    let mut m = base();
+    let top = 2.0 * std::f64::consts::PI * 750.0;
+    // A range from rest starts at top / 150: a cascade needs a running speed everywhere.
+    m.operating = Some((0.0, top));
+    let w = whirl::nsv::default_speeds(&m).unwrap();
+    assert_eq!(w.len(), whirl::nsv::DEFAULT_SPEED_COUNT);
+    assert_eq!(w[0], top / 150.0);
+    assert!((w[149] - top).abs() <= 1e-12 * top);
+    m.operating = None;
+    let e = whirl::nsv::default_speeds(&m).unwrap_err().to_string();
+    assert!(e.contains("`speeds`") && e.contains("[operating]"), "{e}");
+    let s = study("[[sweep]]\nparameter = \"roller_bearing[*].clearance\"\nvalues = [\"20 um\"]\n")
+        .unwrap();
+    let mut point = s.points[0].clone();
+    point.model.operating = None;
+    let e = whirl::study::point::cascade_options(&point)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("`cascade.speeds`"), "{e}");
 }

@@ -31,15 +31,16 @@ use std::path::{Path, PathBuf};
 use whirl::bearing::ContactLaw;
 use whirl::model::Model;
 use whirl::nsv::{
-    cascade, checkpoint, compare_starts, other_start_options, Cascade, CascadeOptions,
-    CascadeReport, Component, NsvSummary, StartComparison, DEFAULT_MAX_ADDED, DEFAULT_MAX_RECORDS,
-    DEFAULT_RELATIVE_ERROR, DEFAULT_THRESHOLD_M, DEFAULT_TOLERANCE_BINS, STARTS_DIFFER_SIGMAS,
+    compare_starts, default_speeds, other_start_options, Cascade, CascadeOptions, CascadeReport,
+    Component, NsvSummary, PreparedCascade, StartComparison, DEFAULT_MAX_ADDED,
+    DEFAULT_MAX_RECORDS, DEFAULT_RELATIVE_ERROR, DEFAULT_THRESHOLD_M, DEFAULT_TOLERANCE_BINS,
+    STARTS_DIFFER_SIGMAS,
 };
 use whirl::post::Window;
 use whirl::report::Report;
 use whirl::time::Initial;
 use whirl::time::DEFAULT_MODES;
-use whirl::units::{parse_quantity, parse_range, Dimension};
+use whirl::units::{parse_quantity, Dimension};
 
 use whirl_plot::SpeedAxis;
 
@@ -52,9 +53,6 @@ use crate::interrupt;
 use crate::output::Output;
 use crate::plots;
 use crate::progress::{duration_text, progress_line};
-
-/// Speeds of the default sweep over the model's operating range.
-const DEFAULT_SPEEDS: usize = 150;
 
 /// `whirl cascade`
 #[derive(Debug, clap::Args)]
@@ -176,7 +174,11 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let model = &loaded.model;
     let options = cascade_options(args, model)?;
     let out_dir = args.common.out_dir("cascade");
-    let key = checkpoint::key(model, &options).map_err(|e| library_error(e, &out_dir))?;
+    // Built once: the reduction serves the checkpoint's key, the step and every speed.
+    let prepared = PreparedCascade::new(model, &options).map_err(|e| library_error(e, &out_dir))?;
+    let key = prepared
+        .checkpoint_key()
+        .map_err(|e| library_error(e, &out_dir))?;
     let checkpoint = checkpoint_dir(&out_dir)?.join(key);
     if args.restart && checkpoint.exists() {
         std::fs::remove_dir_all(&checkpoint)
@@ -185,7 +187,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     warn_if_long(&options);
     interrupt::stoppable();
     let (progress, line) = progress_line("cascade".into());
-    let result = cascade(model, &options, Some(&checkpoint), Some(&progress));
+    let result = prepared.run(Some(&checkpoint), Some(&progress));
     line.clear();
     let result = result.map_err(|e| library_error(e, &checkpoint))?;
     check_divergence(&result)?;
@@ -254,14 +256,17 @@ fn other_start(
     out_dir: &Path,
 ) -> miette::Result<StartComparison> {
     let options = other_start_options(first);
-    let key = checkpoint::key(model, &options).map_err(|e| library_error(e, out_dir))?;
+    let prepared = PreparedCascade::new(model, &options).map_err(|e| library_error(e, out_dir))?;
+    let key = prepared
+        .checkpoint_key()
+        .map_err(|e| library_error(e, out_dir))?;
     let checkpoint = checkpoint_dir(out_dir)?.join(key);
     eprintln!(
         "comparing starts: every speed again from {}",
         start_name(options.initial)
     );
     let (progress, line) = progress_line("cascade".into());
-    let second = cascade(model, &options, Some(&checkpoint), Some(&progress));
+    let second = prepared.run(Some(&checkpoint), Some(&progress));
     line.clear();
     let second = second.map_err(|e| library_error(e, &checkpoint))?;
     compare_starts(first, second, threshold).map_err(|e| from_whirl(e, ""))
@@ -361,7 +366,7 @@ fn cascade_options(args: &Args, model: &Model) -> miette::Result<CascadeOptions>
     let speeds = match &args.speeds {
         Some(s) => s.0.clone(),
         None => {
-            let w = default_speeds(model)?;
+            let w = default_speeds(model).map_err(option_error)?;
             super::announce(None, "speeds", &w);
             w
         }
@@ -393,24 +398,6 @@ fn cascade_options(args: &Args, model: &Model) -> miette::Result<CascadeOptions>
     Ok(o)
 }
 
-/// 150 speeds over the model's operating range.
-fn default_speeds(model: &Model) -> miette::Result<Vec<f64>> {
-    let Some((low, high)) = model.operating else {
-        return Err(
-            Diag::option("--speeds", "the model states no operating speed range")
-                .help("give the speeds, e.g. --speeds 1:750Hz:150, or add [operating] to the model")
-                .into(),
-        );
-    };
-    let low = if low > 0.0 {
-        low
-    } else {
-        high / DEFAULT_SPEEDS as f64
-    };
-    let text = format!("{low}:{high}:{DEFAULT_SPEEDS}");
-    parse_range(&text, Dimension::AngularSpeed).map_err(|e| Diag::new(e.to_string()).into())
-}
-
 /// `<out>.partial`, beside the output folder.
 fn checkpoint_dir(out: &Path) -> miette::Result<PathBuf> {
     let name = out.file_name().and_then(|n| n.to_str()).ok_or_else(|| {
@@ -439,7 +426,15 @@ fn library_error(e: whirl::Error, dir: &Path) -> miette::Report {
             ))
             .into();
     }
-    match flag(field) {
+    option_error(e)
+}
+
+/// The library's error about an option, by the option's flag when it has one.
+fn option_error(e: whirl::Error) -> miette::Report {
+    let whirl::Error::Input(input) = &e else {
+        return from_whirl(e, "");
+    };
+    match flag(input.field.as_deref().unwrap_or("")) {
         Some(flag) => {
             let diag = Diag::option(flag, &input.message);
             match &input.help {

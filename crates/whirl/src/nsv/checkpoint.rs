@@ -57,13 +57,22 @@ fn manifest(model: &Model, options: &CascadeOptions, resolved: &Resolved) -> Res
 /// The name of the checkpoint folder of a cascade of `model` with `options`: 16 hex digits
 /// of the hash of its manifest. A tool that keeps one folder per cascade under one parent
 /// (the command line's `<out>.partial/<key>`) never has one cascade's checkpoint refuse
-/// another's run.
+/// another's run. To run the cascade too, [`super::PreparedCascade::checkpoint_key`] spares
+/// building the model's system twice.
 ///
 /// # Errors
 /// [`Error::Input`] for bad options, as [`super::cascade`].
 pub fn key(model: &Model, options: &CascadeOptions) -> Result<String> {
-    let resolved = super::options::resolve(model, options)?;
-    let manifest = manifest(model, options, &resolved)?;
+    super::PreparedCascade::new(model, options)?.checkpoint_key()
+}
+
+/// The key of the cascade of `model` with `options`, whose shared numbers are `resolved`.
+pub(super) fn key_of(
+    model: &Model,
+    options: &CascadeOptions,
+    resolved: &Resolved,
+) -> Result<String> {
+    let manifest = manifest(model, options, resolved)?;
     Ok(format!("{:016x}", fnv1a(manifest.to_string().as_bytes())))
 }
 

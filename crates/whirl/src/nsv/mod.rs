@@ -71,10 +71,10 @@ use serde::Serialize;
 
 pub use classify::{NamedFrequency, Nsv, NsvClass, WhirlDirection};
 pub use options::{
-    Averaging, CascadeOptions, Component, Refinement, Resolved, DEFAULT_ABSOLUTE_ERROR_M,
-    DEFAULT_MAX_ADDED, DEFAULT_MAX_RECORDS, DEFAULT_MIN_RECORDS, DEFAULT_MIN_SPACING_HZ,
-    DEFAULT_ONSET_LEVELS_M, DEFAULT_RELATIVE_ERROR, DEFAULT_SETTLE, DEFAULT_SETTLE_MAX,
-    DEFAULT_TOLERANCE_BINS,
+    default_speeds, Averaging, CascadeOptions, Component, Refinement, Resolved,
+    DEFAULT_ABSOLUTE_ERROR_M, DEFAULT_MAX_ADDED, DEFAULT_MAX_RECORDS, DEFAULT_MIN_RECORDS,
+    DEFAULT_MIN_SPACING_HZ, DEFAULT_ONSET_LEVELS_M, DEFAULT_RELATIVE_ERROR, DEFAULT_SETTLE,
+    DEFAULT_SETTLE_MAX, DEFAULT_SPEED_COUNT, DEFAULT_TOLERANCE_BINS,
 };
 pub use point::{
     dies_away, negligible, CascadePoint, NsvPeak, DECAY_PER_STRETCH, NEGLIGIBLE_FRACTION,
@@ -176,7 +176,7 @@ pub fn cascade(
     checkpoint: Option<&Path>,
     progress: Option<&Progress>,
 ) -> Result<Cascade> {
-    run_cascade(model, options, checkpoint, progress, None)
+    PreparedCascade::new(model, options)?.run(checkpoint, progress)
 }
 
 /// [`cascade`] with its speeds computed by `runner` (on a cluster's workers) instead of on
@@ -191,7 +191,7 @@ pub fn distributed_cascade(
     progress: Option<&Progress>,
     runner: PointRunner<'_>,
 ) -> Result<Cascade> {
-    run_cascade(model, options, checkpoint, progress, Some(runner))
+    PreparedCascade::new(model, options)?.run_on(checkpoint, progress, Some(runner))
 }
 
 /// One speed (rad/s) of the cascade of `model` with `options`, as [`cascade`] computes it:
@@ -200,77 +200,138 @@ pub fn distributed_cascade(
 /// # Errors
 /// [`Error::Input`] for bad options; what the simulation reports for a model it cannot run.
 pub fn cascade_point(model: &Model, options: &CascadeOptions, speed: f64) -> Result<CascadePoint> {
-    let resolved = options::resolve(model, options)?;
-    let linear = point::linear_system(model, options)?;
-    let mut planners = point::Planners::new(options, &resolved)?;
-    point::compute(model, options, &resolved, &linear, speed, &mut planners)
-}
-
-fn run_cascade(
-    model: &Model,
-    options: &CascadeOptions,
-    checkpoint: Option<&Path>,
-    progress: Option<&Progress>,
-    runner: Option<PointRunner<'_>>,
-) -> Result<Cascade> {
-    let start = Instant::now();
-    let resolved = options::resolve(model, options)?;
-    let store = checkpoint
-        .map(|dir| Checkpoint::open(dir, model, options, &resolved))
-        .transpose()?;
-    let planners = point::Planners::new(options, &resolved)?;
-    let linear = point::linear_system(model, options)?;
-    let mut run = Run {
+    let prepared = PreparedCascade::new(model, options)?;
+    let mut planners = point::Planners::new(options, &prepared.resolved)?;
+    point::compute(
         model,
         options,
-        resolved: &resolved,
-        linear: &linear,
-        store: store.as_ref(),
-        planners: &planners,
-        progress,
-        runner,
-        speeds: options.speeds.clone(),
-        points: Vec::new(),
-        resumed: 0,
-    };
-    run.compute_missing()?;
-    let mut cascade = assemble_cascade(model, options, resolved, run.sorted_points())?;
-    if options.refine.enabled {
-        let seeds = refine::resonance_speeds(
-            &cascade.speeds(),
-            &cascade.contact_frequencies,
-            &cascade.natural_frequencies,
-            options.refine.min_spacing_hz,
-        );
-        let tolerance_hz = options.tolerance_bins * resolved.resolution_hz;
-        let mut next: Vec<f64> = seeds.into_iter().take(options.refine.max_added).collect();
-        if next.is_empty() {
-            next = refine::next_speeds(
-                &cascade.points,
-                &cascade.nsv,
-                &options.refine,
-                tolerance_hz,
-                options.refine.max_added,
-            );
-        }
-        while !next.is_empty() {
-            run.speeds.extend(next);
-            run.compute_missing()?;
-            cascade = assemble_cascade(model, options, resolved, run.sorted_points())?;
-            let added = run.speeds.len() - options.speeds.len();
-            let room = options.refine.max_added.saturating_sub(added);
-            next = refine::next_speeds(
-                &cascade.points,
-                &cascade.nsv,
-                &options.refine,
-                tolerance_hz,
-                room,
-            );
-        }
+        &prepared.resolved,
+        &prepared.linear,
+        speed,
+        &mut planners,
+    )
+}
+
+/// A cascade ready to run: its options checked, the model's linear system assembled and
+/// Craig-Bampton reduced, and the step, sampling and band worked out. The reduction is the
+/// costly part of a cascade's set-up (it grows with the elements, where a speed's march
+/// does not) and depends on no speed, so it is made once here and serves the stability
+/// limit that sets the step, the checkpoint's key and every speed. [`cascade`] prepares and
+/// runs; a caller that needs the checkpoint's key before running (to name the folder)
+/// prepares once and does both.
+pub struct PreparedCascade<'a> {
+    model: &'a Model,
+    options: &'a CascadeOptions,
+    /// The model's linear system, shared by every speed.
+    linear: Linear,
+    resolved: Resolved,
+}
+
+impl<'a> PreparedCascade<'a> {
+    /// Checks `options` against `model`, then builds what every speed shares.
+    ///
+    /// # Errors
+    /// [`Error::Input`] for bad options (the field is named), checked before anything is
+    /// built; what the reduction and the stability limit report for a model they cannot
+    /// handle.
+    pub fn new(model: &'a Model, options: &'a CascadeOptions) -> Result<Self> {
+        options::check(model, options)?;
+        let linear = point::linear_system(model, options)?;
+        let resolved = options::resolve(model, options, &linear)?;
+        Ok(PreparedCascade {
+            model,
+            options,
+            linear,
+            resolved,
+        })
     }
-    cascade.resumed = run.resumed;
-    cascade.wall_time_s = start.elapsed().as_secs_f64();
-    Ok(cascade)
+
+    /// Step, sampling and band shared by every speed.
+    pub fn resolved(&self) -> &Resolved {
+        &self.resolved
+    }
+
+    /// The name of this cascade's checkpoint folder ([`checkpoint::key`]).
+    ///
+    /// # Errors
+    /// [`Error::Encode`] when the model cannot be hashed.
+    pub fn checkpoint_key(&self) -> Result<String> {
+        checkpoint::key_of(self.model, self.options, &self.resolved)
+    }
+
+    /// Computes the cascade, as [`cascade`] does.
+    ///
+    /// # Errors
+    /// Those of [`cascade`] after the options were checked.
+    pub fn run(&self, checkpoint: Option<&Path>, progress: Option<&Progress>) -> Result<Cascade> {
+        self.run_on(checkpoint, progress, None)
+    }
+
+    fn run_on(
+        &self,
+        checkpoint: Option<&Path>,
+        progress: Option<&Progress>,
+        runner: Option<PointRunner<'_>>,
+    ) -> Result<Cascade> {
+        let start = Instant::now();
+        let (model, options) = (self.model, self.options);
+        let resolved = self.resolved;
+        let store = checkpoint
+            .map(|dir| Checkpoint::open(dir, model, options, &resolved))
+            .transpose()?;
+        let planners = point::Planners::new(options, &resolved)?;
+        let mut run = Run {
+            model,
+            options,
+            resolved: &resolved,
+            linear: &self.linear,
+            store: store.as_ref(),
+            planners: &planners,
+            progress,
+            runner,
+            speeds: options.speeds.clone(),
+            points: Vec::new(),
+            resumed: 0,
+        };
+        run.compute_missing()?;
+        let mut cascade = assemble_cascade(model, options, resolved, run.sorted_points())?;
+        if options.refine.enabled {
+            let seeds = refine::resonance_speeds(
+                &cascade.speeds(),
+                &cascade.contact_frequencies,
+                &cascade.natural_frequencies,
+                options.refine.min_spacing_hz,
+            );
+            let tolerance_hz = options.tolerance_bins * resolved.resolution_hz;
+            let mut next: Vec<f64> = seeds.into_iter().take(options.refine.max_added).collect();
+            if next.is_empty() {
+                next = refine::next_speeds(
+                    &cascade.points,
+                    &cascade.nsv,
+                    &options.refine,
+                    tolerance_hz,
+                    options.refine.max_added,
+                );
+            }
+            while !next.is_empty() {
+                run.speeds.extend(next);
+                run.compute_missing()?;
+                cascade = assemble_cascade(model, options, resolved, run.sorted_points())?;
+                let added = run.speeds.len() - options.speeds.len();
+                let room = options.refine.max_added.saturating_sub(added);
+                next = refine::next_speeds(
+                    &cascade.points,
+                    &cascade.nsv,
+                    &options.refine,
+                    tolerance_hz,
+                    room,
+                );
+            }
+        }
+        cascade.resumed = run.resumed;
+        cascade.wall_time_s = start.elapsed().as_secs_f64();
+        Ok(cascade)
+    }
 }
 
 /// The speeds of a cascade as they are computed, round after round of refinement.

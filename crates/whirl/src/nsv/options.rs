@@ -8,11 +8,15 @@ use crate::error::{Error, InputError, Result};
 use crate::model::Model;
 use crate::post::spectrum::{MAX_SAMPLES, MIN_SAMPLES};
 use crate::post::Window;
-use crate::system::SpeedProfile;
+use crate::system::{Linear, SpeedProfile};
 use crate::time::{
     Initial, Method, SimulationOptions, DEFAULT_DIVERGENCE_BOUND, DEFAULT_MODES, MAX_STEPS,
 };
 use crate::units::rad_s_to_hz;
+
+/// Speeds of a cascade given none: this many over the model's operating range
+/// ([`default_speeds`]).
+pub const DEFAULT_SPEED_COUNT: usize = 150;
 
 /// Default shortest settling time, s: the first record is taken after it.
 pub const DEFAULT_SETTLE: f64 = 0.5;
@@ -167,6 +171,28 @@ pub struct CascadeOptions {
     pub divergence_bound: f64,
 }
 
+/// The speeds of a cascade given none, rad/s: [`DEFAULT_SPEED_COUNT`] evenly spaced from the
+/// low to the high bound of the model's `[operating]` range, both included. A range that
+/// starts at rest starts at high / [`DEFAULT_SPEED_COUNT`] instead: a cascade needs a
+/// running speed at each point. The command line, the study and the Python package all
+/// take their default from here.
+///
+/// # Errors
+/// [`Error::Input`] naming `speeds` when the model states no operating range.
+pub fn default_speeds(model: &Model) -> Result<Vec<f64>> {
+    let Some((low, high)) = model.operating else {
+        return Err(bad(
+            "speeds",
+            "the model states no operating speed range".into(),
+            "give the speeds (e.g. 1:750Hz:150), or add [operating] to the model",
+        ));
+    };
+    let n = DEFAULT_SPEED_COUNT;
+    let low = if low > 0.0 { low } else { high / n as f64 };
+    let step = (high - low) / (n - 1) as f64;
+    Ok((0..n).map(|i| low + step * i as f64).collect())
+}
+
 impl CascadeOptions {
     /// The defaults for `model` at `speeds` (rad/s): settling from 0.5 s until the start
     /// has died away (at most 4 s) from the static equilibrium, 0.5 s recorded (2 Hz
@@ -242,13 +268,13 @@ fn bad(field: &str, message: String, help: &str) -> Error {
     InputError::field(field, message).help(help).into()
 }
 
-/// Checks the options against the model and works out step, sampling and band.
-pub(super) fn resolve(model: &Model, o: &CascadeOptions) -> Result<Resolved> {
-    check(model, o)?;
+/// Works out step, sampling and band of options already checked ([`check`]), the
+/// stability limit from the model's `linear` system made for them.
+pub(super) fn resolve(model: &Model, o: &CascadeOptions, linear: &Linear) -> Result<Resolved> {
     // Recorded at the simulation's default interval (100 kHz), far above every frequency of
     // the band and the bearing nodes' contact resonances, so nothing aliases into the band.
     let run = o.run_settings();
-    let step = run.time_step(model)?;
+    let step = run.time_step_on(model, linear)?;
     let record_every = run.record_interval(step);
     let interval = step * record_every as f64;
     let samples = (o.record / interval + 1e-9).floor() as usize;
@@ -330,7 +356,8 @@ fn default_band(model: &Model, speeds: &[f64]) -> f64 {
     (BAND_ORDERS * rad_s_to_hz(top)).max(BAND_MARGIN * contact)
 }
 
-fn check(model: &Model, o: &CascadeOptions) -> Result<()> {
+/// Checks the options against the model, before anything is built for them.
+pub(super) fn check(model: &Model, o: &CascadeOptions) -> Result<()> {
     if o.speeds.is_empty() {
         return Err(bad(
             "speeds",

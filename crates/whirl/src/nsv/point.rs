@@ -421,8 +421,8 @@ impl Estimate {
     }
 }
 
-/// The linear system every speed of the cascade marches (assembled and reduced once: it
-/// does not depend on the speed).
+/// The linear system every speed of the cascade marches, and whose stability limit sets
+/// the step (assembled and reduced once: it does not depend on the speed).
 ///
 /// # Errors
 /// Those of [`linear`].

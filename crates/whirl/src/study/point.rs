@@ -6,38 +6,30 @@ use std::path::Path;
 use super::results::{CascadeMap, NsvSummary, PointResult};
 use super::Point;
 use crate::error::{InputError, Result};
-use crate::nsv::{cascade, Cascade, CascadeOptions, Component, DEFAULT_THRESHOLD_M};
+use crate::nsv::{
+    cascade, default_speeds, Cascade, CascadeOptions, Component, DEFAULT_THRESHOLD_M,
+};
 use crate::progress::Progress;
-use crate::units::hz_to_rad_s;
-
-/// Speeds of a cascade whose settings give none: this many over the model's operating range.
-pub const DEFAULT_SPEED_COUNT: usize = 150;
 
 /// The cascade options of a point: the cascade's defaults, changed where the study's
-/// `[cascade]` table says so.
+/// `[cascade]` table says so. Without speeds, the cascade's default speeds
+/// ([`default_speeds`]), as on the command line.
 ///
 /// # Errors
 /// [`Error::Input`](crate::Error::Input) when the point's `[cascade]` settings do not fit
 /// its model (e.g. no speeds and no operating range).
 pub fn cascade_options(point: &Point) -> Result<CascadeOptions> {
     let s = &point.cascade;
-    let speeds = match (&s.speeds, point.model.operating) {
-        (Some(w), _) => w.clone(),
-        (None, Some((lo, hi))) => {
-            let lo = lo.max(hz_to_rad_s(1.0));
-            let n = DEFAULT_SPEED_COUNT;
-            (0..n)
-                .map(|i| lo + (hi - lo) * i as f64 / (n - 1) as f64)
-                .collect()
-        }
-        (None, None) => {
-            return Err(InputError::field(
+    let speeds = match &s.speeds {
+        Some(w) => w.clone(),
+        // The only way the default fails; named as the study file's field.
+        None => default_speeds(&point.model).map_err(|_| {
+            InputError::field(
                 "cascade.speeds",
                 "the model has no [operating] speed range to take the speeds from",
             )
             .help("give them, e.g. speeds = \"1:750Hz:150\" in [cascade]")
-            .into())
-        }
+        })?,
     };
     let mut o = CascadeOptions::new(&point.model, speeds);
     if let Some(t) = s.settle {

@@ -64,7 +64,7 @@ use crate::fe::{dof, dof_name, Bearings, Direction};
 use crate::force::ForceBuilder;
 use crate::model::Model;
 use crate::progress::{tell, Progress};
-use crate::system::{build, Built, Linear, SparseRow, SpeedProfile, System};
+use crate::system::{build, linear, Built, Linear, SparseRow, SpeedProfile, System};
 use contacts::{
     fill_multipliers, lagrange_contacts, recorded_nodes, rigid_static_equilibrium, RollerProbe,
 };
@@ -248,11 +248,28 @@ impl SimulationOptions {
     /// # Errors
     /// Those of [`stable_step`] when the step is the central difference's default.
     pub fn time_step(&self, model: &Model) -> Result<f64> {
+        self.step_by(|| stable_step(model, self.reduction, self.contact_law(model)))
+    }
+
+    /// [`Self::time_step`] with the model's linear system already made for this run (see
+    /// [`Hooks::linear`]): the stability limit is taken of it instead of a new build.
+    ///
+    /// # Errors
+    /// Those of [`stable_step_of`] when the step is the central difference's default;
+    /// [`Error::Internal`] when `linear` was made with another reduction or bearings.
+    pub fn time_step_on(&self, model: &Model, linear: &Linear) -> Result<f64> {
+        let law = self.contact_law(model);
+        if !linear.is_built_with(self.reduction, law.bearings()) {
+            return Err(other_linear_system());
+        }
+        self.step_by(|| stable_step_of(model, linear, law))
+    }
+
+    /// The time step, with the stability limit from `limit` when the step is the central
+    /// difference's default.
+    fn step_by(&self, limit: impl FnOnce() -> Result<f64>) -> Result<f64> {
         match (self.step, self.method) {
-            (None, Method::CentralDifference) => {
-                let limit = stable_step(model, self.reduction, self.contact_law(model))?;
-                Ok(self.step_within(limit))
-            }
+            (None, Method::CentralDifference) => Ok(self.step_within(limit()?)),
             _ => Ok(self.step_within(f64::NAN)),
         }
     }
@@ -521,11 +538,7 @@ pub fn simulate_with(
     };
     let built = || match linear {
         Some(l) if l.is_built_with(options.reduction, bearings) => l.with_forces(model, forces),
-        Some(_) => Err(Error::Internal(
-            "the linear system handed to the simulation was made with another reduction or \
-             bearings than the run's"
-                .into(),
-        )),
+        Some(_) => Err(other_linear_system()),
         None => build(model, options.reduction, bearings, forces),
     };
     march_and_record(model, options, built, rollers, until)
@@ -541,9 +554,27 @@ pub fn simulate_with(
 /// [`central_difference_limit`] ([`Error::Singular`] for a mass that is not positive
 /// definite, [`Error::NotConverged`] when the eigen-solver fails).
 pub fn stable_step(model: &Model, reduction: Option<usize>, law: ContactLaw) -> Result<f64> {
+    stable_step_of(model, &linear(model, reduction, law.bearings())?, law)
+}
+
+/// [`stable_step`] of the model's linear system already made with the run's reduction and
+/// `law`'s bearings (many runs of one model share one: a cascade's speeds).
+///
+/// # Errors
+/// Those of [`stable_step`] but the reduction's.
+pub fn stable_step_of(model: &Model, linear: &Linear, law: ContactLaw) -> Result<f64> {
     // Rigid constraints corrected after each step leave the explicit limit of the
     // unconstrained rotor (Carpenter et al. 1991): the Lagrange law adds no forces.
-    central_difference_limit(&build(model, reduction, law.bearings(), law.forces())?.system)
+    central_difference_limit(&linear.with_forces(model, law.forces())?.system)
+}
+
+/// A linear system handed to a run that was made for another: a caller's mistake.
+fn other_linear_system() -> Error {
+    Error::Internal(
+        "the linear system handed to the simulation was made with another reduction or \
+         bearings than the run's"
+            .into(),
+    )
 }
 
 /// Tells a [`Progress`] each time another 1/[`PROGRESS_REPORTS`] of the run is done.
