@@ -13,7 +13,7 @@ use pyo3::types::PyDict;
 use pythonize::pythonize;
 use whirl::nsv::{
     checkpoint, compare_starts as compare, other_start_options, Cascade, CascadeOptions,
-    CascadePoint, CascadeReport,
+    CascadePoint, CascadeReport, CascadeRequest,
 };
 use whirl::progress::Progress;
 
@@ -63,33 +63,34 @@ pub fn choice<T: ValueEnum>(name: &str, value: &str) -> PyResult<T> {
     })
 }
 
-/// The library's options, as the command line builds them from its flags.
+/// The library's options from the keyword arguments (as the command line's from its flags).
 fn cascade_options(model: &PyModel, a: &CascadeArgs) -> PyResult<CascadeOptions> {
-    let mut o = CascadeOptions::new(&model.model, a.speeds.clone());
-    o.settle = a.settle;
-    o.settle_max = a.settle_max;
-    o.initial = choice("start", &a.start)?;
-    o.refine.enabled = a.refine;
-    o.refine.max_added = a.refine_budget;
-    o.refine.min_spacing_hz = a.refine_spacing_hz;
-    o.record = a.record;
-    o.averaging.max_records = a.max_records;
-    o.averaging.min_records = o.averaging.min_records.min(a.max_records.max(1));
-    o.averaging.relative_error = a.average_tolerance;
-    if let Some(law) = &a.contact {
-        o.law = choice("contact", law)?;
-    }
-    o.reduction = a.reduce;
-    o.step = a.step;
-    if let Some(n) = a.node {
-        o.node = n;
-    }
-    o.component = choice("component", &a.component)?;
-    o.window = choice("window", &a.window)?;
-    o.max_frequency_hz = a.max_frequency_hz;
-    o.tolerance_bins = a.tolerance;
-    o.full = a.full;
-    Ok(o)
+    let request = CascadeRequest {
+        speeds: Some(a.speeds.clone()),
+        settle: Some(a.settle),
+        settle_max: Some(a.settle_max),
+        start: Some(choice("start", &a.start)?),
+        refine: Some(a.refine),
+        refine_budget: Some(a.refine_budget),
+        refine_spacing_hz: Some(a.refine_spacing_hz),
+        record: Some(a.record),
+        max_records: Some(a.max_records),
+        average_tolerance: Some(a.average_tolerance),
+        contact: a
+            .contact
+            .as_deref()
+            .map(|c| choice("contact", c))
+            .transpose()?,
+        reduce: Some(a.reduce),
+        step: a.step,
+        node: a.node,
+        component: Some(choice("component", &a.component)?),
+        window: Some(choice("window", &a.window)?),
+        max_frequency_hz: a.max_frequency_hz,
+        tolerance_bins: Some(a.tolerance),
+        full: Some(a.full),
+    };
+    lib(request.options(&model.model))
 }
 
 /// The cascade's default speeds of `model`, rad/s: the library's (as on the command line and

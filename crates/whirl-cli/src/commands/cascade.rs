@@ -31,7 +31,7 @@ use std::path::{Path, PathBuf};
 use whirl::bearing::ContactLaw;
 use whirl::model::Model;
 use whirl::nsv::{
-    compare_starts, default_speeds, other_start_options, Cascade, CascadeOptions, CascadeReport,
+    compare_starts, other_start_options, Cascade, CascadeOptions, CascadeReport, CascadeRequest,
     Component, NsvSummary, PreparedCascade, StartComparison, DEFAULT_MAX_ADDED,
     DEFAULT_MAX_RECORDS, DEFAULT_RELATIVE_ERROR, DEFAULT_THRESHOLD_M, DEFAULT_TOLERANCE_BINS,
     STARTS_DIFFER_SIGMAS,
@@ -363,39 +363,32 @@ fn check_divergence(c: &Cascade) -> miette::Result<()> {
 
 /// The library's options from the command line.
 fn cascade_options(args: &Args, model: &Model) -> miette::Result<CascadeOptions> {
-    let speeds = match &args.speeds {
-        Some(s) => s.0.clone(),
-        None => {
-            let w = default_speeds(model).map_err(option_error)?;
-            super::announce(None, "speeds", &w);
-            w
-        }
+    let request = CascadeRequest {
+        speeds: args.speeds.as_ref().map(|s| s.0.clone()),
+        settle: Some(args.settle),
+        settle_max: Some(args.settle_max),
+        start: Some(args.start),
+        refine: Some(!args.no_refine),
+        refine_budget: Some(args.refine_budget),
+        refine_spacing_hz: Some(args.refine_spacing),
+        record: Some(args.record),
+        max_records: Some(args.max_records),
+        average_tolerance: Some(args.average_tolerance),
+        contact: args.contact,
+        reduce: Some((!args.full_model).then_some(args.reduce)),
+        step: args.step,
+        node: args.node,
+        component: Some(args.component),
+        window: Some(args.window),
+        max_frequency_hz: args.max_frequency,
+        tolerance_bins: Some(args.tolerance),
+        full: Some(args.full),
     };
-    let mut o = CascadeOptions::new(model, speeds);
-    o.settle = args.settle;
-    o.settle_max = args.settle_max;
-    o.initial = args.start;
-    o.refine.enabled = !args.no_refine;
-    o.refine.max_added = args.refine_budget;
-    o.refine.min_spacing_hz = args.refine_spacing;
-    o.record = args.record;
-    o.averaging.max_records = args.max_records;
-    o.averaging.min_records = o.averaging.min_records.min(args.max_records.max(1));
-    o.averaging.relative_error = args.average_tolerance;
-    if let Some(law) = args.contact {
-        o.law = law;
+    let options = request.options(model).map_err(option_error)?;
+    if args.speeds.is_none() {
+        super::announce(None, "speeds", &options.speeds);
     }
-    o.reduction = (!args.full_model).then_some(args.reduce);
-    o.step = args.step;
-    if let Some(n) = args.node {
-        o.node = n;
-    }
-    o.component = args.component;
-    o.window = args.window;
-    o.max_frequency_hz = args.max_frequency;
-    o.tolerance_bins = args.tolerance;
-    o.full = args.full;
-    Ok(o)
+    Ok(options)
 }
 
 /// `<out>.partial`, beside the output folder.

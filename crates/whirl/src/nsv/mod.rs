@@ -59,6 +59,7 @@ mod options;
 mod point;
 mod refine;
 mod report;
+mod request;
 mod starts;
 mod summary;
 
@@ -82,6 +83,7 @@ pub use point::{
 };
 pub use refine::SHARP_RATIO;
 pub use report::{CascadeReport, CascadeSummary, StartsSummary};
+pub use request::CascadeRequest;
 pub use starts::{
     compare_starts, other_start, other_start_options, StartComparison, StartPair,
     STARTS_DIFFER_SIGMAS,

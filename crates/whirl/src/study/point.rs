@@ -7,69 +7,50 @@ use super::results::{CascadeMap, NsvSummary, PointResult};
 use super::Point;
 use crate::error::{InputError, Result};
 use crate::nsv::{
-    cascade, default_speeds, Cascade, CascadeOptions, Component, DEFAULT_THRESHOLD_M,
+    cascade, Cascade, CascadeOptions, CascadeRequest, Component, DEFAULT_THRESHOLD_M,
 };
 use crate::progress::Progress;
 
 /// The cascade options of a point: the cascade's defaults, changed where the study's
-/// `[cascade]` table says so. Without speeds, the cascade's default speeds
-/// ([`default_speeds`]), as on the command line.
+/// `[cascade]` table says so ([`CascadeRequest`], as the command line and the Python
+/// package ask). Without speeds, the cascade's default speeds
+/// ([`crate::nsv::default_speeds`]), as on the command line.
 ///
 /// # Errors
 /// [`Error::Input`](crate::Error::Input) when the point's `[cascade]` settings do not fit
 /// its model (e.g. no speeds and no operating range).
 pub fn cascade_options(point: &Point) -> Result<CascadeOptions> {
     let s = &point.cascade;
-    let speeds = match &s.speeds {
-        Some(w) => w.clone(),
-        // The only way the default fails; named as the study file's field.
-        None => default_speeds(&point.model).map_err(|_| {
-            InputError::field(
-                "cascade.speeds",
-                "the model has no [operating] speed range to take the speeds from",
-            )
-            .help("give them, e.g. speeds = \"1:750Hz:150\" in [cascade]")
-        })?,
+    let request = CascadeRequest {
+        speeds: s.speeds.clone(),
+        settle: s.settle,
+        settle_max: s.settle_max,
+        start: s.start,
+        refine: s.refine,
+        record: s.record,
+        contact: s.contact,
+        // 0 modes: the full model.
+        reduce: s.reduce.map(|modes| (modes > 0).then_some(modes)),
+        step: s.step,
+        node: s.node,
+        component: s.component.as_deref().map(|c| match c {
+            "ux" => Component::Ux,
+            _ => Component::Uy,
+        }),
+        max_frequency_hz: s.max_frequency_hz,
+        ..CascadeRequest::default()
     };
-    let mut o = CascadeOptions::new(&point.model, speeds);
-    if let Some(t) = s.settle {
-        o.settle = t;
-    }
-    if let Some(t) = s.settle_max {
-        o.settle_max = t;
-    }
-    if let Some(start) = s.start {
-        o.initial = start;
-    }
-    if let Some(refine) = s.refine {
-        o.refine.enabled = refine;
-    }
-    if let Some(t) = s.record {
-        o.record = t;
-    }
-    if s.step.is_some() {
-        o.step = s.step;
-    }
-    if let Some(law) = s.contact {
-        o.law = law;
-    }
-    if let Some(modes) = s.reduce {
-        o.reduction = (modes > 0).then_some(modes);
-    }
-    if let Some(node) = s.node {
-        o.node = node;
-    }
-    if let Some(c) = &s.component {
-        o.component = if c == "ux" {
-            Component::Ux
-        } else {
-            Component::Uy
-        };
-    }
-    if s.max_frequency_hz.is_some() {
-        o.max_frequency_hz = s.max_frequency_hz;
-    }
-    Ok(o)
+    request.options(&point.model).map_err(|e| match e {
+        // The only way the request fails: no speeds and no range to take the default from;
+        // named as the study file's field.
+        crate::Error::Input(_) if s.speeds.is_none() => InputError::field(
+            "cascade.speeds",
+            "the model has no [operating] speed range to take the speeds from",
+        )
+        .help("give them, e.g. speeds = \"1:750Hz:150\" in [cascade]")
+        .into(),
+        e => e,
+    })
 }
 
 /// Computes a point's cascade (resuming from, and saving speeds in, `checkpoint`) and
