@@ -368,7 +368,7 @@ fn huge_speed_counts_are_refused_before_any_allocation() {
     fails(
         Some(&reference_rotor_text()),
         &["hbm", "{model}", "--samples", "1000000000"],
-        &["--samples", "at most 65536"],
+        &["`samples`", "at most 65536"],
     );
     // 1e-8 s makes a speed's longest run (4 s settling + 32 records of 0.5 s) 2e9 steps,
     // beyond the 5e8 a run may take: refused before any speed starts.
@@ -606,5 +606,55 @@ fn a_load_no_bearing_can_carry_is_refused() {
         Some(&reference_rotor_text()),
         &["stiffness", "{model}", "--load", "1e30N"],
         &["--load", "more than a tenth of its diameter"],
+    );
+}
+
+#[test]
+fn time_sampled_lengths_are_refused_before_any_allocation() {
+    // 10,000 s of the reference rotor at its stable step, every step recorded with the
+    // rollers: 2.8e8 samples of 55 series, 120 GB. Refused before the records are made.
+    fails(
+        Some(&reference_rotor_text()),
+        &[
+            "simulate",
+            "{model}",
+            "--speed",
+            "100Hz",
+            "--duration",
+            "10000s",
+            "--reduce",
+            "12",
+        ],
+        &["55 series", "at most 268435456", "record less often"],
+    );
+    // The forcing-function fit marches too: 1e5 s is 2.8e9 steps at the stable step.
+    fails(
+        Some(&reference_rotor_text()),
+        &[
+            "fit-forcing",
+            "{model}",
+            "--speeds",
+            "100Hz:200Hz:2",
+            "--duration",
+            "100000s",
+        ],
+        &["steps is too many"],
+    );
+    // The time-marching comparison of harmonic balance (after a short sweep): a 1e9 s
+    // record.
+    fails(
+        Some(&reference_rotor_text()),
+        &[
+            "hbm",
+            "{model}",
+            "--speeds",
+            "100Hz:110Hz",
+            "--no-stability",
+            "--compare-time",
+            "105Hz",
+            "--record",
+            "1000000000s",
+        ],
+        &["steps is too many"],
     );
 }

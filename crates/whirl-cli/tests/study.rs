@@ -106,3 +106,26 @@ fn a_bad_value_is_reported_at_its_line_and_nothing_is_written() {
     assert!(!out.exists());
     assert!(!tmp.path().join("out.points").exists());
 }
+
+#[test]
+fn a_record_too_long_for_a_spectrum_fails_every_point_without_an_abort() {
+    // 1e9 s recorded is some 1e13 samples: the cascade of each point refuses it before its
+    // spectrum is planned (the plan was a 123 TB allocation), and a study whose every point
+    // failed exits nonzero.
+    let tmp = tempfile::tempdir().unwrap();
+    let file = write_study(
+        tmp.path(),
+        &SMALL.replace("record = \"0.1 s\"", "record = \"1000000000 s\""),
+    );
+    let run = study(&file, &tmp.path().join("out"), &[]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success(), "{stderr}");
+    assert!(
+        !stderr.contains("panicked") && !stderr.contains("memory allocation"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("record") && stderr.contains("4194304"),
+        "{stderr}"
+    );
+}

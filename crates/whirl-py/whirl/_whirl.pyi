@@ -107,6 +107,8 @@ def simulate(
 def modal(model: Model, speed: float, modes: int) -> dict[str, Any]: ...
 
 DEFAULT_STABILITY_MODES: int
+MAX_HARMONICS: int
+MAX_AFT_SAMPLES: int
 
 class Report:
     """A library report: its summary and its named tables."""

@@ -15,12 +15,12 @@ from .report import Report
 from .response import report_nodes
 
 #: Harmonics of the running speed at most (the stability matrix grows with 2H + 1, its
-#: cost with the cube of that), as on the command line.
-MAX_HARMONICS = 50
+#: cost with the cube of that): the library's limit, as on the command line.
+MAX_HARMONICS = _whirl.MAX_HARMONICS
 
 #: Time samples per period at most: 20 times the default (16 H) at the largest H, checked
-#: before any buffer is made, as on the command line.
-MAX_SAMPLES = 65_536
+#: before any buffer is made: the library's limit, as on the command line.
+MAX_SAMPLES = _whirl.MAX_AFT_SAMPLES
 
 
 def _harmonics(h: int, name: str = "harmonics") -> int:

@@ -28,7 +28,7 @@ use whirl::bearing::ContactLaw;
 use whirl::fe::{dof, Direction};
 use whirl::hbm::{
     settled_response, sweep_with_progress, BifurcationKind, CageModel, MarchSettings,
-    SettledResponse, Sweep, SweepOptions, SweepReport, DEFAULT_STABILITY_MODES,
+    SettledResponse, Sweep, SweepOptions, SweepReport, DEFAULT_STABILITY_MODES, MAX_HARMONICS,
 };
 use whirl::model::Model;
 
@@ -51,10 +51,6 @@ pub enum Cage {
     /// Cage held at the model's cage angle.
     Frozen,
 }
-
-/// The most time samples per period of the alternating frequency-time transform: 20 times
-/// the default (16 H) at the largest H, and checked before any buffer is made.
-const MAX_SAMPLES: usize = 65_536;
 
 /// `whirl hbm`
 #[derive(Debug, clap::Args)]
@@ -135,12 +131,6 @@ fn smoothing_length(text: &str) -> Result<f64, String> {
 /// Harmonic counts of a study.
 #[derive(Debug, Clone)]
 pub struct HarmonicList(pub Vec<usize>);
-
-/// The most harmonics: Hill's stability matrix has 2 (2H + 1) times the bearing and modal
-/// coordinates as its side and its eigenvalues cost the cube of that, so at 50 a point
-/// takes seconds and a branch of hundreds of points most of an hour (the thesis used up to
-/// 5).
-const MAX_HARMONICS: usize = 50;
 
 /// Clap parser of a harmonic count, 1 to [`MAX_HARMONICS`].
 fn harmonic_count(text: &str) -> Result<usize, String> {
@@ -293,28 +283,8 @@ fn sweep_options(args: &Args, model: &Model, harmonics: usize) -> miette::Result
         Cage::Frozen => CageModel::Frozen,
     };
     options.contact_smoothing = args.contact_smoothing;
-    if let Some(samples) = args.samples {
-        if samples > MAX_SAMPLES {
-            return Err(Diag::option(
-                "--samples",
-                format!(
-                    "{samples} samples per period: at most {MAX_SAMPLES} (every Newton step \
-                     transforms each of them; the default 16 H already resolves the contacts)"
-                ),
-            )
-            .help("leave it out for the default (16 H, at least 64)")
-            .into());
-        }
-        if samples <= 2 * harmonics {
-            return Err(Diag::new(format!(
-                "--samples {samples}: the transform needs more than 2 H = {} samples per period",
-                2 * harmonics
-            ))
-            .help("leave it out for the default (16 H, at least 64)")
-            .into());
-        }
-        options.samples = Some(samples);
-    }
+    // Checked with the harmonic count by the library, before anything is allocated.
+    options.samples = args.samples;
     options.stability = !args.no_stability;
     options.stability_modes = args.stability_modes;
     options.reduction = args.reduce;

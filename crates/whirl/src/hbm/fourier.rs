@@ -23,7 +23,7 @@ use std::sync::Arc;
 use num_complex::Complex;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 
-use crate::error::{Error, Result};
+use crate::error::{InputError, Result};
 
 /// Slot of the cosine coefficient of harmonic r >= 1.
 pub(crate) fn cos_slot(r: usize) -> usize {
@@ -48,6 +48,61 @@ pub fn aliasing_free_samples(harmonics: usize, degree: usize) -> usize {
     ((degree.max(1) + 1) * harmonics + 1).next_power_of_two()
 }
 
+/// The most harmonics H: Hill's stability matrix has 2 (2H + 1) times the bearing and modal
+/// coordinates as its side and its eigenvalues cost the cube of that, so at 50 a point
+/// takes seconds and a branch of hundreds of points most of an hour (the thesis used up to
+/// 5).
+pub const MAX_HARMONICS: usize = 50;
+
+/// The most time samples per period N: 20 times the default (16 H) at [`MAX_HARMONICS`];
+/// every Newton step transforms each of them, and the default already resolves the contacts.
+pub const MAX_SAMPLES: usize = 65_536;
+
+/// Checks H harmonics on N samples per period before anything is planned or allocated for
+/// them: H from 1 to [`MAX_HARMONICS`], N above 2H (harmonic H below the Nyquist frequency)
+/// and at most [`MAX_SAMPLES`].
+///
+/// # Errors
+/// [`crate::Error::Input`] naming `harmonics` or `samples` otherwise.
+pub fn check_counts(harmonics: usize, samples: usize) -> Result<()> {
+    let default = "leave it out for the default (16 H, at least 64)";
+    if !(1..=MAX_HARMONICS).contains(&harmonics) {
+        return Err(InputError::field(
+            "harmonics",
+            format!(
+                "{harmonics}: harmonic balance takes from 1 to {MAX_HARMONICS} harmonics (the \
+                 stability matrix grows with 2H + 1 and its cost with the cube of that)"
+            ),
+        )
+        .help("e.g. 5")
+        .into());
+    }
+    if samples <= 2 * harmonics {
+        return Err(InputError::field(
+            "samples",
+            format!(
+                "harmonic balance with {harmonics} harmonics needs more than 2 H = {} time \
+                 samples per period, got {samples}",
+                2 * harmonics
+            ),
+        )
+        .help(default)
+        .into());
+    }
+    if samples > MAX_SAMPLES {
+        return Err(InputError::field(
+            "samples",
+            format!(
+                "{samples} time samples per period: at most {MAX_SAMPLES} (every Newton step \
+                 transforms each of them; the default 16 H already resolves the contacts)"
+            ),
+        )
+        .help(default)
+        .into());
+    }
+    Ok(())
+}
+
 /// Real FFTs planned once for one number of harmonics and samples, with their buffers, so an
 /// AFT evaluation allocates nothing.
 pub(crate) struct Aft {
@@ -65,15 +120,9 @@ impl Aft {
     /// lies below the Nyquist frequency.
     ///
     /// # Errors
-    /// [`Error::InvalidOption`] when `samples` is not above `2 harmonics`.
+    /// Those of [`check_counts`].
     pub fn new(harmonics: usize, samples: usize) -> Result<Aft> {
-        if samples <= 2 * harmonics {
-            return Err(Error::InvalidOption(format!(
-                "harmonic balance with {harmonics} harmonics needs more than {} time samples \
-                 per period, got {samples}",
-                2 * harmonics
-            )));
-        }
+        check_counts(harmonics, samples)?;
         let mut planner = RealFftPlanner::<f64>::new();
         let forward = planner.plan_fft_forward(samples);
         let inverse = planner.plan_fft_inverse(samples);
@@ -169,6 +218,25 @@ impl Aft {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn counts_past_their_limits_are_refused_before_a_plan_is_made() {
+        // usize::MAX samples could not be planned at all: refused, not aborted.
+        for (h, n, field) in [
+            (5, MAX_SAMPLES + 1, "`samples`"),
+            (5, usize::MAX, "`samples`"),
+            (5, 10, "`samples`"),
+            (0, 64, "`harmonics`"),
+            (MAX_HARMONICS + 1, MAX_SAMPLES, "`harmonics`"),
+        ] {
+            let e = Aft::new(h, n).err().map(|e| e.to_string());
+            assert!(
+                e.as_deref().is_some_and(|e| e.contains(field)),
+                "{h} {n}: {e:?}"
+            );
+        }
+        assert!(Aft::new(MAX_HARMONICS, MAX_SAMPLES).is_ok());
+    }
     use std::f64::consts::PI;
 
     /// Basis function of a slot at phase theta.

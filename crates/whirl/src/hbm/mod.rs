@@ -46,7 +46,7 @@ pub use continuation::{
     continuation, resume, solutions_at, Branch, BranchEnd, BranchPoint, ContinuationOptions,
     Crossing, Derivatives, Fold, Periodic,
 };
-pub use fourier::aliasing_free_samples;
+pub use fourier::{aliasing_free_samples, check_counts, MAX_HARMONICS, MAX_SAMPLES};
 pub use report::SweepReport;
 pub use stability::{hill_stability, HillProblem, Stability};
 pub use sweep::{sweep, sweep_with_progress, AtSpeed, Sweep, SweepOptions};

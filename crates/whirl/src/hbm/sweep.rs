@@ -13,7 +13,7 @@ use super::condensation::DEFAULT_STABILITY_MODES;
 use super::continuation::{
     continuation, solutions_at, Branch, ContinuationOptions, Derivatives, Periodic,
 };
-use super::fourier::{cos_slot, sin_slot};
+use super::fourier::{check_counts, cos_slot, sin_slot};
 use super::stability::{HillProblem, Stability};
 use super::{aliasing_free_samples, CondensedBalance, HbOptions, HbSolution};
 use crate::bearing::forcing_bearings;
@@ -396,8 +396,9 @@ fn check(options: &SweepOptions) -> Result<()> {
             options.to, options.from
         ));
     }
-    if options.harmonics == 0 {
-        return bad("harmonic balance needs at least one harmonic".into());
-    }
-    Ok(())
+    // Before the model is built: the counts size every buffer of the transforms.
+    let samples = options
+        .samples
+        .unwrap_or_else(|| default_samples(options.harmonics));
+    check_counts(options.harmonics, samples)
 }

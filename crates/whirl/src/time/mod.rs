@@ -71,6 +71,13 @@ pub const STABLE_FRACTION: f64 = 0.9;
 /// 11 minutes of computing (1.3 us a step), and a mistyped step would otherwise run for days.
 pub const MAX_STEPS: f64 = 5e8;
 
+/// The most values (samples times series) one run records, held in memory whole: 2^28
+/// values are 2.1 GB. The reduced reference rotor with its rollers records 55 series
+/// (time, u_x and u_y of 3 nodes, angle, approach and force of 16 rollers), so this is 4.9
+/// million samples: about 170 s of rotor time at its stable step, or 49 s at the default
+/// sample interval of 10 us.
+pub const MAX_RECORDED_VALUES: usize = 1 << 28;
+
 /// Default number of fixed-interface modes of the Craig-Bampton model of a run: 12 modes
 /// keep the reference rotor's frequencies below 1 kHz within 0.1 % and raise the stable
 /// step tenfold (`whirl reduce`).

@@ -449,6 +449,29 @@ fn check_settings(model: &Model, o: &SimulationOptions, nodes: &[usize]) -> Resu
     Ok(())
 }
 
+/// Refuses a run whose records would not fit in [`super::MAX_RECORDED_VALUES`], before
+/// they are allocated: `samples` samples of `series` series, one every `interval` s.
+fn check_recorded(
+    o: &SimulationOptions,
+    interval: f64,
+    samples: usize,
+    series: usize,
+) -> Result<()> {
+    let values = samples.saturating_mul(series);
+    if values <= super::MAX_RECORDED_VALUES {
+        return Ok(());
+    }
+    Err(Error::InvalidOption(format!(
+        "{} s recorded every {interval:.3e} s is {samples} samples of {series} series \
+         (time, channels, rollers): {values} values ({:.1} GB), at most {} ({:.1} GB); \
+         record less often (record_every), fewer nodes or no rollers, or shorten the run",
+        o.duration,
+        values as f64 * 8e-9,
+        super::MAX_RECORDED_VALUES,
+        super::MAX_RECORDED_VALUES as f64 * 8e-9
+    )))
+}
+
 /// The checks of the time step.
 fn check_step(o: &SimulationOptions, step: f64) -> Result<()> {
     let bad = |m: String| Err(Error::InvalidOption(m));
@@ -476,7 +499,8 @@ fn check_step(o: &SimulationOptions, step: f64) -> Result<()> {
 ///
 /// # Errors
 /// [`Error::InvalidOption`] for a step that is not positive, a duration not above one step,
-/// a settling time outside [0, duration), more than 5e8 steps, a node not on the shaft, a
+/// a settling time outside [0, duration), more than 5e8 steps, records of more than
+/// [`super::MAX_RECORDED_VALUES`] values, a node not on the shaft, a
 /// speed ramp without a positive duration, a divergence bound that is
 /// not positive, a `record_every` of 0 or an [`Until`] that looks every 0 samples.
 /// [`Error::Unsupported`] for Lagrange-multiplier contacts with a method other than the
@@ -674,6 +698,17 @@ fn march_and_record(
         .collect();
     let steps = (options.duration / step).round() as usize;
     let capacity = steps / record_every + 1;
+    // Time, the channels and each roller's angle, approach and force, held whole.
+    let roller_series: usize = match rollers_law {
+        Some(_) => model.roller_bearings.iter().map(|b| 3 * b.rollers).sum(),
+        None => 0,
+    };
+    check_recorded(
+        options,
+        step * record_every as f64,
+        capacity,
+        1 + channels.len() + roller_series,
+    )?;
     let mut probes = match rollers_law {
         Some(law) => model
             .roller_bearings
