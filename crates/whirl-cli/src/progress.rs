@@ -97,6 +97,14 @@ pub fn progress_line(label: String) -> (Progress, Arc<Pace>) {
     (progress, pace)
 }
 
+/// `work` given a [`progress_line`] labelled `label`, the line blanked when it ends.
+pub fn shown<R>(label: &str, work: impl FnOnce(Option<&Progress>) -> R) -> R {
+    let (progress, line) = progress_line(label.into());
+    let result = work(Some(&progress));
+    line.clear();
+    result
+}
+
 /// `label: message, elapsed`, and the time left from the rate so far when some work is
 /// done and some is left.
 fn line(label: &str, r: &Report<'_>, elapsed: f64) -> String {

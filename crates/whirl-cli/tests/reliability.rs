@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 #[allow(dead_code)]
 #[path = "../../whirl/tests/common/reference.rs"]
 mod reference;
-use reference::reference_rotor_path;
+use reference::{reference_rotor_path, reference_rotor_text_meshed};
 
 fn whirl() -> Command {
     Command::new(env!("CARGO_BIN_EXE_whirl"))
@@ -287,6 +287,53 @@ fn long_work_says_how_far_it_is_also_into_a_pipe() {
     assert!(read.is_ok_and(|n| n > 0), "no progress line");
     assert!(line.starts_with("hbm (H = 50): "), "{line}");
     assert!(line.contains("Hz of 900.0 Hz"), "{line}");
+}
+
+#[test]
+fn the_linear_analyses_of_a_large_model_say_how_far_they_are_into_a_pipe() {
+    // 2,000 elements (8,004 DOFs): each command's work takes tens of seconds of CPU, so
+    // stderr (a pipe) gets a progress line after progress::LOG_INTERVAL (5 s); the run is
+    // stopped once it has.
+    let tmp = tempfile::tempdir().unwrap();
+    let model = tmp.path().join("rotor_2000.toml");
+    std::fs::write(&model, reference_rotor_text_meshed(2000)).unwrap();
+    for (command, args, counted) in [
+        (
+            "campbell",
+            &["--speeds", "0:800Hz:4000"][..],
+            "/4000 speeds",
+        ),
+        ("unbalance", &["--speeds", "1:800Hz:800"][..], "/800 speeds"),
+        (
+            "frf",
+            &["--input", "1000:ux", "--frequencies", "0:800Hz:1001"][..],
+            "/1001 frequencies",
+        ),
+    ] {
+        let mut run = whirl()
+            .arg(command)
+            .arg(&model)
+            .args(args)
+            .arg("--out")
+            .arg(tmp.path().join(command))
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut pipe = std::io::BufReader::new(run.stderr.take().unwrap());
+        use std::io::BufRead;
+        let label = format!("{command}: ");
+        let mut line = String::new();
+        // Warnings may come first; the progress line follows (or the pipe ends, a failure).
+        while pipe.read_line(&mut line).is_ok_and(|n| n > 0) && !line.starts_with(&label) {
+            line.clear();
+        }
+        let _ = run.kill();
+        let _ = run.wait();
+        assert!(line.starts_with(&label), "{command}: no progress line");
+        assert!(line.contains(counted), "{line}");
+        assert!(line.contains("left"), "{line}");
+    }
 }
 
 /// A study of three quick cascades (4 speeds of 0.1 s each), written into `dir`.

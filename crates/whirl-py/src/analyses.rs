@@ -84,7 +84,8 @@ pub fn ucs(
     modes: usize,
     synchronous: bool,
 ) -> PyResult<PyReport> {
-    let map = lib(py.detach(|| critical_speed_map(&model.model, &stiffness, modes, synchronous)))?;
+    let map =
+        lib(py.detach(|| critical_speed_map(&model.model, &stiffness, modes, synchronous, None)))?;
     PyReport::of(&map)
 }
 
@@ -151,6 +152,7 @@ pub fn frf(
             input,
             &outputs,
             &w,
+            None,
         )
     }))?;
     PyReport::of(&FrfReport { result, force })

@@ -40,7 +40,7 @@ pub fn campbell<'py>(
     };
     let result = lib(py.detach(|| {
         let system = assemble_banded(&model.model, Bearings::Linearised);
-        whirl::modal::campbell(&system, &options)
+        whirl::modal::campbell(&system, &options, None)
     }))?;
     let report = PyReport::of(&result)?;
     let labels = result.labels();
@@ -88,7 +88,7 @@ pub fn convergence<'py>(
     counts: Vec<usize>,
     modes: usize,
 ) -> PyResult<(Bound<'py, PyAny>, PyReport)> {
-    let result = lib(py.detach(|| whirl::modal::convergence(&model.model, &counts, modes)))?;
+    let result = lib(py.detach(|| whirl::modal::convergence(&model.model, &counts, modes, None)))?;
     Ok((pythonize(py, &result)?, PyReport::of(&result)?))
 }
 

@@ -21,7 +21,7 @@ pub fn unbalance<'py>(
 ) -> PyResult<(Bound<'py, PyAny>, PyReport)> {
     let result = lib(py.detach(|| {
         let system = assemble_banded(&model.model, Bearings::Linearised);
-        unbalance_response_refined(&model.model, &system, &speeds, &nodes)
+        unbalance_response_refined(&model.model, &system, &speeds, &nodes, None)
     }))?;
     Ok((pythonize(py, &result)?, PyReport::of(&result)?))
 }

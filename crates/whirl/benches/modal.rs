@@ -38,14 +38,14 @@ fn main() {
     common::time(
         "Campbell 161 speeds, 8 branches, basis 24 (default)",
         10,
-        || campbell(&sys, &options),
+        || campbell(&sys, &options, None),
     );
     let mut full = CampbellOptions::new(speeds);
     full.basis_size = None;
     common::time(
         "Campbell 161 speeds, 8 branches, full 168x168 solve",
         3,
-        || campbell(&sys, &full),
+        || campbell(&sys, &full, None),
     );
 
     let speeds: Vec<f64> = (1..=800).map(|i| 2.0 * PI * i as f64).collect();

@@ -85,7 +85,7 @@
 //! assert!((modes.frequencies_hz[0] - 49.8).abs() < 0.5);
 //!
 //! let speeds = units::parse_range("0:400Hz:21", units::Dimension::AngularSpeed)?;
-//! let diagram = modal::campbell(&system, &modal::CampbellOptions::new(speeds))?;
+//! let diagram = modal::campbell(&system, &modal::CampbellOptions::new(speeds), None)?;
 //! // Where a branch crosses the 1X line: the first critical speed, near the first mode.
 //! let first = &diagram.critical_speeds[0];
 //! assert!((first.speed_hz - 49.8).abs() < 3.0);

@@ -6,11 +6,18 @@
 //! [`crate::time::RunStatus::Stopped`], a sweep or a cascade with
 //! [`crate::Error::Interrupted`], the cascade's finished speeds kept in its checkpoint).
 //! A display paces itself: a simulation reports at most a thousand times, a sweep at every
-//! solve, a cascade after every speed.
+//! solve, a cascade after every speed, the linear analyses (Campbell diagram, unbalance
+//! response, FRF, critical-speed map, mesh convergence) after every speed, frequency,
+//! stiffness or mesh ([`map_told`]).
 
 use std::fmt;
 use std::ops::ControlFlow;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
+
+use rayon::prelude::*;
+
+use crate::error::{Error, Result};
 
 /// How far a piece of long work has got.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -73,4 +80,70 @@ pub(crate) fn tell(
     progress.map_or(ControlFlow::Continue(()), |p| {
         p.tell(done, total, &message())
     })
+}
+
+/// `work` applied to every item in parallel, in order, telling `progress` after each item:
+/// `done` counts from `before` (items finished by earlier calls of the same analysis) of
+/// `total`, with the message `done/total noun`. A stop asked by `progress` ends the map with
+/// [`Error::Interrupted`] naming `what` was stopped; the first error of `work` ends it too.
+pub(crate) fn map_told<T: Sync, R: Send>(
+    items: &[T],
+    progress: Option<&Progress>,
+    (before, total): (usize, usize),
+    (what, noun): (&str, &str),
+    work: impl Fn(&T) -> Result<R> + Sync,
+) -> Result<Vec<R>> {
+    let done = AtomicUsize::new(before);
+    items
+        .par_iter()
+        .map(|item| {
+            let r = work(item)?;
+            let now = done.fetch_add(1, Ordering::Relaxed) + 1;
+            match tell(progress, now as f64, total as f64, || {
+                format!("{now}/{total} {noun}")
+            }) {
+                ControlFlow::Continue(()) => Ok(r),
+                ControlFlow::Break(()) => Err(Error::Interrupted(format!(
+                    "{what} was stopped after {now} of {total} {noun}: nothing was kept"
+                ))),
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Mutex;
+
+    use super::*;
+
+    #[test]
+    fn map_told_counts_every_item_and_stops_when_asked() {
+        let seen = Arc::new(Mutex::new(Vec::new()));
+        let log = Arc::clone(&seen);
+        let progress = Progress::new(move |r| {
+            log.lock()
+                .unwrap()
+                .push((r.done, r.total, r.message.to_string()));
+            ControlFlow::Continue(())
+        });
+        let squares = map_told(&[1, 2, 3], Some(&progress), (2, 5), ("x", "items"), |v| {
+            Ok(v * v)
+        })
+        .unwrap();
+        assert_eq!(squares, vec![1, 4, 9]);
+        let mut seen = seen.lock().unwrap().clone();
+        seen.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let expected: Vec<(f64, f64, String)> = (3..=5)
+            .map(|d| (d as f64, 5.0, format!("{d}/5 items")))
+            .collect();
+        assert_eq!(seen, expected);
+
+        let stop = Progress::new(|_| ControlFlow::Break(()));
+        let e = map_told(&[1, 2], Some(&stop), (0, 2), ("the map", "items"), |&v| {
+            Ok(v)
+        })
+        .unwrap_err();
+        assert!(matches!(e, Error::Interrupted(m) if m.starts_with("the map was stopped")));
+    }
 }

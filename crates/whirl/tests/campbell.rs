@@ -25,7 +25,7 @@ fn speeds(max_hz: f64, count: usize) -> Vec<f64> {
 fn run(sys: &SystemMatrices, max_hz: f64, count: usize, basis: Option<usize>) -> CampbellResult {
     let mut o = CampbellOptions::new(speeds(max_hz, count));
     o.basis_size = basis;
-    campbell(sys, &o).unwrap()
+    campbell(sys, &o, None).unwrap()
 }
 
 #[test]
@@ -102,9 +102,9 @@ fn the_banded_basis_of_a_large_model_matches_the_full_solve() {
     ));
     let speeds = speeds(800.0, 5);
     let mut options = CampbellOptions::new(speeds.clone());
-    let fast = campbell(&banded, &options).unwrap();
+    let fast = campbell(&banded, &options, None).unwrap();
     options.basis_size = None;
-    let full = campbell(&banded, &options).unwrap();
+    let full = campbell(&banded, &options, None).unwrap();
     assert_eq!(full.basis_size, 404);
     for (a, b) in fast.branches.iter().zip(&full.branches) {
         assert_eq!(a.whirl, b.whirl);

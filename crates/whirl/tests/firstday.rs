@@ -30,7 +30,7 @@ fn default_sweep_resolves_the_first_critical_as_a_fine_step_does() {
     // half-power band (48.7-51.2 Hz) with about 200 samples.
     let fine = even_speeds(45.0, 55.0, 1001);
     let nodes = [0, 10];
-    let refined = unbalance_response_refined(&model, &system, &coarse, &nodes).unwrap();
+    let refined = unbalance_response_refined(&model, &system, &coarse, &nodes, None).unwrap();
     let reference = unbalance_response(&model, &system, &fine, &nodes).unwrap();
     let unrefined = unbalance_response(&model, &system, &coarse, &nodes).unwrap();
     for (k, node) in nodes.iter().enumerate() {
@@ -69,7 +69,7 @@ fn refinement_keeps_the_requested_speeds() {
     let model = reference_rotor();
     let system = assemble(&model, Bearings::Linearised);
     let coarse = even_speeds(1.0, 900.0, 100);
-    let refined = unbalance_response_refined(&model, &system, &coarse, &[10]).unwrap();
+    let refined = unbalance_response_refined(&model, &system, &coarse, &[10], None).unwrap();
     let plain = unbalance_response(&model, &system, &coarse, &[10]).unwrap();
     // Every requested speed is a row of the refined result with the same response: the
     // added speeds change nothing at the others (the solves are independent).

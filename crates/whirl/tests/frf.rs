@@ -83,6 +83,7 @@ fn receptance_matches_modal_superposition_of_a_pinned_beam() {
         dof(input, Direction::Uy),
         &[dof(output, Direction::Uy)],
         &w,
+        None,
     )
     .unwrap();
     for (k, &wk) in w.iter().enumerate() {
@@ -122,8 +123,8 @@ fn frf_reproduces_the_unbalance_response_at_the_same_speed_and_force() {
             dof(node, Direction::Uy),
             dof(0, Direction::Ux),
         ];
-        let hx = frf(&system, w, dof(node, Direction::Ux), &outputs, &[w]).unwrap();
-        let hy = frf(&system, w, dof(node, Direction::Uy), &outputs, &[w]).unwrap();
+        let hx = frf(&system, w, dof(node, Direction::Ux), &outputs, &[w], None).unwrap();
+        let hy = frf(&system, w, dof(node, Direction::Uy), &outputs, &[w], None).unwrap();
         let q: Vec<c64> = (0..3)
             .map(|o| {
                 (hx.outputs[o].receptance[0] - c64::new(0.0, 1.0) * hy.outputs[o].receptance[0])
@@ -182,7 +183,7 @@ fn critical_speed_map_meets_its_rigid_and_pinned_limits() {
     let j_sync = j_rest - 2.0 * RHO * i * L - ip;
     let bounce = (2.0 * k / m).sqrt() / (2.0 * PI);
     for (synchronous, j) in [(false, j_rest), (true, j_sync)] {
-        let map = critical_speed_map(&model, &[k], 2, synchronous).unwrap();
+        let map = critical_speed_map(&model, &[k], 2, synchronous, None).unwrap();
         let rock = (2.0 * k * (L / 2.0).powi(2) / j).sqrt() / (2.0 * PI);
         let mut want = [bounce, rock];
         want.sort_by(f64::total_cmp);
@@ -197,7 +198,7 @@ fn critical_speed_map_meets_its_rigid_and_pinned_limits() {
     // Stiff bearings and no disk or rotary inertia: the pinned Euler beam,
     // w1 = (pi / L)^2 sqrt(E I / (rho A)).
     let bare = shaft(20, &pins(20, 1e6), false);
-    let map = critical_speed_map(&bare, &[1e13], 1, false).unwrap();
+    let map = critical_speed_map(&bare, &[1e13], 1, false, None).unwrap();
     let pinned = (PI / L).powi(2) * (E * i / (RHO * a)).sqrt() / (2.0 * PI);
     let got = map.critical_speeds_hz[0][0];
     println!("k = 1e13 N/m: {got:.4} Hz, pinned beam {pinned:.4} Hz");
@@ -205,8 +206,8 @@ fn critical_speed_map_meets_its_rigid_and_pinned_limits() {
     assert!((got / pinned - 1.0).abs() < 1e-4);
     // The bearings' own stiffness line cuts the curves where the map says.
     let sweep: Vec<f64> = (0..=40).map(|e| 10f64.powf(4.0 + e as f64 * 0.1)).collect();
-    let map = critical_speed_map(&model, &sweep, 2, true).unwrap();
-    let at = critical_speed_map(&model, &[1e6], 2, true).unwrap();
+    let map = critical_speed_map(&model, &sweep, 2, true, None).unwrap();
+    let at = critical_speed_map(&model, &[1e6], 2, true, None).unwrap();
     let cut = map.bearings[0].critical_speeds_hz[0].unwrap();
     // 1e6 N/m is a sample of the sweep: the interpolation returns it exactly.
     assert!((cut / at.critical_speeds_hz[0][0] - 1.0).abs() < 1e-9);

@@ -24,7 +24,7 @@ use whirl::time::{
 use whirl::Result;
 
 mod common;
-use common::{reference_rotor, Oscillator};
+use common::{reference_rotor, reference_rotor_text_meshed, Oscillator};
 
 fn reference(clearance: f64) -> Model {
     let mut model = reference_rotor();
@@ -195,11 +195,7 @@ fn a_step_without_a_root_at_any_size_stops_with_the_time_and_the_sub_step() {
 /// The reference rotor's text with `elements` per span: disk at mid-span, bearings at the
 /// ends.
 fn meshed(elements: usize) -> Model {
-    let text = whirl::examples::REFERENCE_ROTOR
-        .replace("elements = 20 ", &format!("elements = {elements} "))
-        .replace("node = 10", &format!("node = {}", elements / 2))
-        .replace("node = 20", &format!("node = {elements}"));
-    Model::from_toml_str(&text, None).unwrap()
+    Model::from_toml_str(&reference_rotor_text_meshed(elements), None).unwrap()
 }
 
 /// The rotor's weight, N: the vertical gravity loads of every node.

@@ -288,7 +288,7 @@ fn the_analyses_that_solve_dense_matrices_refuse_a_model_too_large_for_them() {
     let model = reference_rotor().remeshed(&[2000]).unwrap();
     let refusals = [
         whirl::reduce::reduction_report(&model, 12, &[]).err(),
-        whirl::modal::critical_speed_map(&model, &[1e8], 4, true).err(),
+        whirl::modal::critical_speed_map(&model, &[1e8], 4, true, None).err(),
         whirl::bearing::stiffness::gravity_load(&model, 0).err(),
     ];
     for refusal in refusals {

@@ -20,6 +20,7 @@ use whirl_plot::SpeedAxis;
 use super::{finish, lib, load, mode_count, report_summary, speeds, Common, Outcome, Speeds};
 use crate::output::Output;
 use crate::plots;
+use crate::progress::shown;
 
 /// `whirl campbell`
 #[derive(Debug, clap::Args)]
@@ -81,7 +82,7 @@ fn solve(model: &Model, args: &Args) -> miette::Result<CampbellResult> {
         basis_size: (!args.full).then(|| CampbellOptions::default_basis(args.modes)),
         max_damping_ratio: 0.9,
     };
-    lib(campbell(&system, &options))
+    lib(shown("campbell", |p| campbell(&system, &options, p)))
 }
 
 /// The lines printed without `--json`.

@@ -18,6 +18,7 @@ use super::{finish, lib, load, mode_count, report_summary, Common, Outcome};
 use crate::error::Diag;
 use crate::output::Output;
 use crate::plots;
+use crate::progress::shown;
 
 /// `whirl convergence`
 #[derive(Debug, clap::Args)]
@@ -51,7 +52,9 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     } else {
         args.counts.clone()
     };
-    let result = lib(convergence(model, &counts, args.modes))?;
+    let result = lib(shown("convergence", |p| {
+        convergence(model, &counts, args.modes, p)
+    }))?;
     if result.element_counts.is_empty() {
         return Err(Diag::option(
             "--counts",

@@ -21,6 +21,7 @@ use super::{finish, hz, lib, load, report_summary, speed, speeds, Common, Outcom
 use crate::error::Diag;
 use crate::output::Output;
 use crate::plots;
+use crate::progress::shown;
 
 /// `whirl frf`
 #[derive(Debug, clap::Args)]
@@ -112,7 +113,9 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         return Err(Diag::option("--frequencies", "no frequencies to compute").into());
     }
     let system = assemble_banded(model, Bearings::Linearised);
-    let result = lib(frf(&system, args.speed, input, &outputs, &w))?;
+    let result = lib(shown("frf", |p| {
+        frf(&system, args.speed, input, &outputs, &w, p)
+    }))?;
     let (f0, f1) = (result.frequencies_hz[0], result.frequencies_hz[w.len() - 1]);
 
     let report = FrfReport {

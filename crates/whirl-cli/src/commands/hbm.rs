@@ -40,7 +40,7 @@ use super::{
 };
 use crate::error::Diag;
 use crate::output::Output;
-use crate::progress::{duration_text, progress_line};
+use crate::progress::{duration_text, shown};
 use whirl::report::Report;
 
 /// Periodic approximations of the roller passage.
@@ -255,10 +255,9 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
 
 /// The sweep with a progress line: the speed the path has reached.
 fn sweep_shown(model: &Model, options: &SweepOptions) -> whirl::Result<Sweep> {
-    let (progress, line) = progress_line(format!("hbm (H = {})", options.harmonics));
-    let result = sweep_with_progress(model, options, Some(&progress));
-    line.clear();
-    result
+    shown(&format!("hbm (H = {})", options.harmonics), |p| {
+        sweep_with_progress(model, options, p)
+    })
 }
 
 fn sweep_options(args: &Args, model: &Model, harmonics: usize) -> miette::Result<SweepOptions> {

@@ -17,6 +17,7 @@ use whirl_plot::SpeedAxis;
 use super::{finish, lib, load, mode_count, report_summary, Common, Outcome};
 use crate::output::Output;
 use crate::plots;
+use crate::progress::shown;
 
 /// `whirl ucs`
 #[derive(Debug, clap::Args)]
@@ -84,12 +85,9 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         Some(s) => s.0.clone(),
         None => default_stiffnesses(model),
     };
-    let map = lib(critical_speed_map(
-        model,
-        &stiffness,
-        args.modes,
-        !args.at_rest,
-    ))?;
+    let map = lib(shown("ucs", |p| {
+        critical_speed_map(model, &stiffness, args.modes, !args.at_rest, p)
+    }))?;
     let (k0, k1) = (stiffness[0], stiffness[stiffness.len() - 1]);
 
     let summary = report_summary("ucs", &loaded, &map)?;

@@ -22,6 +22,7 @@ use whirl_plot::SpeedAxis;
 use super::{finish, lib, load, report_summary, speeds, Common, Nodes, Outcome, Speeds};
 use crate::output::Output;
 use crate::plots;
+use crate::progress::shown;
 
 /// `whirl unbalance`
 #[derive(Debug, clap::Args)]
@@ -41,12 +42,10 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let model = &loaded.model;
     let nodes = args.nodes.resolve(model)?;
     let system = assemble_banded(model, Bearings::Linearised);
-    let result = lib(unbalance_response_refined(
-        model,
-        &system,
-        &Speeds::or_default(&args.speeds, model, 2.0 * std::f64::consts::PI, 800),
-        &nodes,
-    ))?;
+    let speeds = Speeds::or_default(&args.speeds, model, 2.0 * std::f64::consts::PI, 800);
+    let result = lib(shown("unbalance", |p| {
+        unbalance_response_refined(model, &system, &speeds, &nodes, p)
+    }))?;
     let mut out = Output::begin(&args.common.out_dir("unbalance"))?;
     for table in result.tables() {
         out.table(&table)?;

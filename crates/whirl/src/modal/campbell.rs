@@ -17,12 +17,12 @@ mod report;
 
 pub use report::CampbellSummary;
 
-use rayon::prelude::*;
 use serde::Serialize;
 
 use super::complex::{ComplexMode, ModalBasis, Whirl};
 use crate::error::{Error, Result};
 use crate::fe::Matrices;
+use crate::progress::{map_told, Progress};
 
 /// Options of a Campbell diagram.
 #[derive(Debug, Clone)]
@@ -111,12 +111,17 @@ pub struct CampbellResult {
     pub basis_size: usize,
 }
 
-/// Computes a Campbell diagram.
+/// Computes a Campbell diagram, telling `progress` after every speed.
 ///
 /// # Errors
 /// [`Error::InvalidOption`] for no speeds or speeds that are not ascending; the errors of
-/// [`ModalBasis::truncated`] and [`ModalBasis::modes_at`].
-pub fn campbell(system: &impl Matrices, options: &CampbellOptions) -> Result<CampbellResult> {
+/// [`ModalBasis::truncated`] and [`ModalBasis::modes_at`]; [`Error::Interrupted`] when
+/// `progress` stopped it.
+pub fn campbell(
+    system: &impl Matrices,
+    options: &CampbellOptions,
+    progress: Option<&Progress>,
+) -> Result<CampbellResult> {
     if options.speeds.is_empty() {
         return Err(Error::InvalidOption(
             "a Campbell diagram needs at least one speed".into(),
@@ -136,10 +141,13 @@ pub fn campbell(system: &impl Matrices, options: &CampbellOptions) -> Result<Cam
     // A few more roots than branches, so that a branch can be found again after a crossing
     // with a mode that was not among the first ones.
     let wanted = options.modes + 4;
-    let per_speed: Vec<Vec<ComplexMode>> = options
-        .speeds
-        .par_iter()
-        .map(|&w| {
+    let count = options.speeds.len();
+    let per_speed: Vec<Vec<ComplexMode>> = map_told(
+        &options.speeds,
+        progress,
+        (0, count),
+        ("the Campbell diagram", "speeds"),
+        |&w| {
             let w = if w.abs() < floor { floor } else { w };
             basis
                 .modes_at(w, options.max_damping_ratio, wanted)
@@ -150,8 +158,8 @@ pub fn campbell(system: &impl Matrices, options: &CampbellOptions) -> Result<Cam
                     modes.iter_mut().for_each(|m| m.shape = Vec::new());
                     modes
                 })
-        })
-        .collect::<Result<_>>()?;
+        },
+    )?;
     let branches = track(&per_speed, options.modes);
     let speeds_hz: Vec<f64> = options
         .speeds

@@ -15,6 +15,7 @@ use super::undamped::undamped_modes;
 use crate::error::Result;
 use crate::fe::{assemble, Bearings};
 use crate::model::Model;
+use crate::progress::{map_told, Progress};
 
 /// Frequencies of the first modes for several meshes.
 #[derive(Debug, Clone, Serialize)]
@@ -56,15 +57,35 @@ fn change(current: f64, previous: f64) -> f64 {
     }
 }
 
-/// Undamped frequencies of the first `modes` modes for each total element count.
+/// Undamped frequencies of the first `modes` modes for each total element count (the
+/// meshes in parallel), telling `progress` after every mesh.
 ///
 /// # Errors
-/// [`Error::InvalidOption`](crate::Error::InvalidOption) when a feature does not fall on
-/// a node of a mesh (see [`Model::remeshed`]); the errors of [`undamped_modes`].
-pub fn convergence(model: &Model, counts: &[usize], modes: usize) -> Result<ConvergenceResult> {
+/// The errors of [`undamped_modes`]; [`Error::Interrupted`](crate::Error::Interrupted)
+/// when `progress` stopped it.
+pub fn convergence(
+    model: &Model,
+    counts: &[usize],
+    modes: usize,
+    progress: Option<&Progress>,
+) -> Result<ConvergenceResult> {
     let mut counts = counts.to_vec();
     counts.sort_unstable();
     counts.dedup();
+    // Per mesh its frequencies, or None for a mesh that would move a feature off a node.
+    let meshes = map_told(
+        &counts,
+        progress,
+        (0, counts.len()),
+        ("the mesh convergence", "meshes"),
+        |&total| {
+            let Ok(mesh) = model.remeshed(&split(model, total)) else {
+                return Ok(None);
+            };
+            let system = assemble(&mesh, Bearings::Linearised);
+            Ok(Some(undamped_modes(&system, modes)?.frequencies_hz))
+        },
+    )?;
     let mut out = ConvergenceResult {
         element_counts: Vec::new(),
         frequencies_hz: Vec::new(),
@@ -73,13 +94,11 @@ pub fn convergence(model: &Model, counts: &[usize], modes: usize) -> Result<Conv
         skipped: Vec::new(),
         modes_requested: modes,
     };
-    for total in counts {
-        let Ok(mesh) = model.remeshed(&split(model, total)) else {
+    for (total, f) in counts.into_iter().zip(meshes) {
+        let Some(mut f) = f else {
             out.skipped.push(total);
             continue;
         };
-        let system = assemble(&mesh, Bearings::Linearised);
-        let mut f = undamped_modes(&system, modes)?.frequencies_hz;
         out.modes_found.push(f.len());
         f.resize(modes, f64::NAN);
         let change = match out.frequencies_hz.last() {

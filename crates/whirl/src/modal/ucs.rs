@@ -28,6 +28,7 @@ use super::symmetric_modes;
 use crate::error::{Error, Result};
 use crate::fe::{assemble_dense, dof, Bearings, Direction};
 use crate::model::Model;
+use crate::progress::{map_told, Progress};
 
 /// A bearing's actual stiffness, drawn over the map.
 #[derive(Debug, Clone, Serialize)]
@@ -84,17 +85,19 @@ pub fn log_space(lo: f64, hi: f64, count: usize) -> Vec<f64> {
         .collect()
 }
 
-/// The map over `stiffness` (N/m, positive), `modes` curves.
+/// The map over `stiffness` (N/m, positive), `modes` curves; the stiffnesses in parallel,
+/// `progress` told after each.
 ///
 /// # Errors
 /// [`Error::InvalidOption`] for a stiffness that is not positive, [`Error::Unsupported`]
 /// for a model without bearings or above [`crate::fe::MAX_DENSE_DOFS`], [`Error::Singular`]
-/// when the rotor is not held.
+/// when the rotor is not held, [`Error::Interrupted`] when `progress` stopped it.
 pub fn critical_speed_map(
     model: &Model,
     stiffness: &[f64],
     modes: usize,
     synchronous: bool,
+    progress: Option<&Progress>,
 ) -> Result<CriticalSpeedMap> {
     if model.bearings.is_empty() && model.roller_bearings.is_empty() {
         return Err(Error::Unsupported(
@@ -106,9 +109,15 @@ pub fn critical_speed_map(
             "bearing stiffness {k} N/m: the map needs positive stiffnesses"
         )));
     }
+    let per_stiffness = map_told(
+        stiffness,
+        progress,
+        (0, stiffness.len()),
+        ("the critical-speed map", "stiffnesses"),
+        |&k| critical_speeds(model, k, modes, synchronous),
+    )?;
     let mut curves = vec![Vec::with_capacity(stiffness.len()); modes];
-    for &k in stiffness {
-        let speeds = critical_speeds(model, k, modes, synchronous)?;
+    for speeds in per_stiffness {
         for (m, curve) in curves.iter_mut().enumerate() {
             curve.push(speeds.get(m).copied().unwrap_or(f64::NAN));
         }

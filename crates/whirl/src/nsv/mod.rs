@@ -569,7 +569,7 @@ fn natural_frequencies(model: &Model, speeds: &[f64]) -> Result<Vec<Vec<NamedFre
     let system = assemble_banded(model, Bearings::Linearised);
     let mut campbell_options = CampbellOptions::new(sorted);
     campbell_options.modes = NATURAL_BRANCHES.min(system.dofs());
-    let diagram = campbell(&system, &campbell_options)?;
+    let diagram = campbell(&system, &campbell_options, None)?;
     let mut out = vec![Vec::new(); speeds.len()];
     for (rank, &i) in order.iter().enumerate() {
         out[i] = diagram

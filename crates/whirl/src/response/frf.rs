@@ -18,7 +18,6 @@ mod report;
 pub use report::{FrfReport, FrfSummary};
 
 use faer::{c64, Mat};
-use rayon::prelude::*;
 use serde::Serialize;
 
 use super::peaks::{find_peaks, ResponsePeak};
@@ -27,6 +26,7 @@ use crate::fe::{assemble_banded, dof_name, BandedSystem, Bearings, Matrices, Sys
 use crate::linalg::banded::BandedLu;
 use crate::modal::{solves_dense, undamped_modes};
 use crate::model::Model;
+use crate::progress::{map_told, Progress};
 
 /// Which ratio of response to force.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -211,17 +211,19 @@ pub fn default_frequencies(model: &Model) -> Result<Vec<f64>> {
 }
 
 /// Receptances from a unit force at DOF `input` to the DOFs `outputs`, at spin speed `speed`
-/// (rad/s) over the circular frequencies `frequencies` (rad/s).
+/// (rad/s) over the circular frequencies `frequencies` (rad/s), telling `progress` after
+/// every frequency.
 ///
 /// # Errors
 /// [`Error::InvalidOption`] for a DOF outside the model, [`Error::Singular`] for a
-/// singular dynamic stiffness.
+/// singular dynamic stiffness, [`Error::Interrupted`] when `progress` stopped it.
 pub fn frf(
     system: &impl Matrices,
     speed: f64,
     input: usize,
     outputs: &[usize],
     frequencies: &[f64],
+    progress: Option<&Progress>,
 ) -> Result<FrfResult> {
     let n = system.dofs();
     if let Some(&bad) = std::iter::once(&input).chain(outputs).find(|&&d| d >= n) {
@@ -232,13 +234,16 @@ pub fn frf(
     }
     let mut force = vec![c64::new(0.0, 0.0); n];
     force[input] = c64::new(1.0, 0.0);
-    let responses: Vec<Vec<c64>> = frequencies
-        .par_iter()
-        .map(|&w| {
+    let responses: Vec<Vec<c64>> = map_told(
+        frequencies,
+        progress,
+        (0, frequencies.len()),
+        ("the FRF", "frequencies"),
+        |&w| {
             harmonic_response(system, speed, w, &force)
                 .map(|q| outputs.iter().map(|&o| q[o]).collect())
-        })
-        .collect::<Result<_>>()?;
+        },
+    )?;
     let frequencies_hz: Vec<f64> = frequencies
         .iter()
         .map(|w| w / (2.0 * std::f64::consts::PI))

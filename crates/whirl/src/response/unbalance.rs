@@ -25,7 +25,6 @@ mod report;
 pub use report::UnbalanceSummary;
 
 use faer::c64;
-use rayon::prelude::*;
 use serde::Serialize;
 
 use super::frf::harmonic_response;
@@ -34,6 +33,7 @@ use crate::error::{Error, Result};
 use crate::fe::{dof, unbalance_force, Direction, Matrices};
 use crate::modal::Whirl;
 use crate::model::Model;
+use crate::progress::{map_told, Progress};
 
 /// The response at one node over the speeds.
 #[derive(Debug, Clone, Serialize)]
@@ -106,33 +106,37 @@ pub fn unbalance_response(
     nodes: &[usize],
 ) -> Result<UnbalanceResult> {
     let force = checked_force(model, system, nodes)?;
-    let phasors = phasors_at(system, &force, speeds, nodes)?;
+    let phasors = phasors_at(system, &force, speeds, nodes, None, 0, speeds.len())?;
     Ok(result_from(model, speeds, &phasors, nodes))
 }
 
 /// Unbalance response at `nodes` over `speeds` (rad/s) and, added to them, speeds around
 /// every peak of a node's major semi-axis (where it exceeds a quarter of the peak) until
 /// the peak's half-power band holds [`BAND_SAMPLES`] steps. The result's speeds are sorted ascending without duplicates.
+/// `progress` is told after every speed; its total grows with each pass of refinement.
 ///
 /// # Errors
-/// As [`unbalance_response`].
+/// As [`unbalance_response`]; [`Error::Interrupted`] when `progress` stopped it.
 pub fn unbalance_response_refined(
     model: &Model,
     system: &impl Matrices,
     speeds: &[f64],
     nodes: &[usize],
+    progress: Option<&Progress>,
 ) -> Result<UnbalanceResult> {
     let force = checked_force(model, system, nodes)?;
     let mut speeds = speeds.to_vec();
     speeds.sort_by(f64::total_cmp);
     speeds.dedup();
-    let mut phasors = phasors_at(system, &force, &speeds, nodes)?;
+    let count = speeds.len();
+    let mut phasors = phasors_at(system, &force, &speeds, nodes, progress, 0, count)?;
     for _ in 0..REFINE_PASSES {
         let added = refinement_speeds(&speeds, &phasors, nodes);
         if added.is_empty() {
             break;
         }
-        let new_phasors = phasors_at(system, &force, &added, nodes)?;
+        let (before, total) = (speeds.len(), speeds.len() + added.len());
+        let new_phasors = phasors_at(system, &force, &added, nodes, progress, before, total)?;
         (speeds, phasors) = merge_sorted(speeds, phasors, added, new_phasors);
     }
     Ok(result_from(model, &speeds, &phasors, nodes))
@@ -213,23 +217,30 @@ fn checked_force(model: &Model, system: &impl Matrices, nodes: &[usize]) -> Resu
 
 /// The response phasors at `speeds` (rad/s), in parallel: of each speed, u_x and u_y of
 /// `nodes` in their order (what the result reports; every DOF of every speed would take
-/// 1.3 GB for a 10,000-element rotor over the default speeds and refinement).
+/// 1.3 GB for a 10,000-element rotor over the default speeds and refinement). `progress`
+/// counts them on from `before` speeds done of `total`.
 fn phasors_at(
     system: &impl Matrices,
     force: &[c64],
     speeds: &[f64],
     nodes: &[usize],
+    progress: Option<&Progress>,
+    before: usize,
+    total: usize,
 ) -> Result<Vec<Vec<c64>>> {
-    speeds
-        .par_iter()
-        .map(|&w| {
+    map_told(
+        speeds,
+        progress,
+        (before, total),
+        ("the unbalance response", "speeds"),
+        |&w| {
             let q = unbalance_phasor(system, force, w)?;
             Ok(nodes
                 .iter()
                 .flat_map(|&n| [q[dof(n, Direction::Ux)], q[dof(n, Direction::Uy)]])
                 .collect())
-        })
-        .collect()
+        },
+    )
 }
 
 /// The result at `nodes` from the phasors at `speeds` (rad/s).

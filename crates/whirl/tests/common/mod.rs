@@ -21,4 +21,5 @@ pub use jeffcott::{ClearanceRing, Jeffcott, RingRotor};
 pub use oscillator::{Duffing, Oscillator};
 pub use reference::{
     example_path, reference_bearing, reference_rotor, reference_rotor_path, reference_rotor_text,
+    reference_rotor_text_meshed,
 };

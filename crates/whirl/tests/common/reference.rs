@@ -36,3 +36,13 @@ pub fn reference_rotor_path() -> PathBuf {
 pub fn reference_rotor_text() -> String {
     std::fs::read_to_string(reference_rotor_path()).expect("examples/reference_rotor.toml")
 }
+
+/// The reference rotor's text with its shaft in `elements` elements: the disk and the
+/// unbalance at mid-span, the bearings at the ends (the models of BENCHMARKS.md's
+/// "Large models").
+pub fn reference_rotor_text_meshed(elements: usize) -> String {
+    whirl::examples::REFERENCE_ROTOR
+        .replace("elements = 20 ", &format!("elements = {elements} "))
+        .replace("node = 10", &format!("node = {}", elements / 2))
+        .replace("node = 20", &format!("node = {elements}"))
+}
