@@ -259,6 +259,36 @@ fn an_absurdly_long_cascade_warns_before_it_starts() {
 }
 
 #[test]
+fn an_absurdly_long_study_warns_before_it_starts() {
+    // Three points of 4 speeds at a 1e-9 s step: 5e8 steps per speed (0.1 s settling and
+    // at least 4 records of 0.1 s), about an hour on 2 cores.
+    let tmp = tempfile::tempdir().unwrap();
+    let file = quick_study(tmp.path());
+    let text = std::fs::read_to_string(&file).unwrap();
+    std::fs::write(
+        &file,
+        text.replace("refine = false", "refine = false\nstep = \"1e-9 s\""),
+    )
+    .unwrap();
+    let mut run = study(&file, &tmp.path().join("study"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut pipe = std::io::BufReader::new(run.stderr.take().unwrap());
+    let mut line = String::new();
+    use std::io::BufRead;
+    let read = pipe.read_line(&mut line);
+    let _ = run.kill();
+    let _ = run.wait();
+    assert!(read.is_ok_and(|n| n > 0), "nothing on stderr");
+    assert!(
+        line.starts_with("warning: the [cascade] step makes the 3 points at least"),
+        "{line}"
+    );
+}
+
+#[test]
 fn long_work_says_how_far_it_is_also_into_a_pipe() {
     // 50 harmonics (the most) take seconds a point: stderr (a pipe here, not a terminal)
     // gets a line every few seconds.

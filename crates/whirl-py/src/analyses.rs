@@ -26,7 +26,7 @@ pub fn reduce(
     modes: usize,
     nodes: Vec<usize>,
 ) -> PyResult<PyReport> {
-    let report = lib(py.detach(|| reduction_report(&model.model, modes, &nodes)))?;
+    let report = lib(py.detach(|| reduction_report(&model.model, modes, &nodes, None)))?;
     PyReport::of(&report)
 }
 

@@ -305,26 +305,40 @@ fn starts_text(s: &StartComparison) -> String {
 const SECONDS_PER_STEP: f64 = 1.3e-6;
 
 /// An estimated run time above which a cascade warns before it starts, s.
-const LONG_RUN_S: f64 = 1800.0;
+pub const LONG_RUN_S: f64 = 1800.0;
+
+/// The least computing time of a cascade whose time step is given, on this machine's
+/// cores, s, with its time steps per speed; `None` when the step is the default (0.9 times
+/// the stable step, which the reduced model keeps long).
+pub fn least_seconds(options: &CascadeOptions) -> Option<(f64, f64)> {
+    let step = options.step?;
+    // At least the shortest settling and the fewest records averaged.
+    let least_records = options.averaging.min_records as f64;
+    let steps_per_speed = (options.settle + least_records * options.record) / step;
+    let seconds = steps_per_speed * options.speeds.len() as f64 * SECONDS_PER_STEP / cores() as f64;
+    Some((steps_per_speed, seconds))
+}
+
+/// The cores the speeds share.
+pub fn cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
 
 /// Warns before starting when the time step asked for makes the cascade hours long (a
 /// mistyped `--step 1e-8s` would otherwise run for hours in silence).
 fn warn_if_long(options: &CascadeOptions) {
-    let Some(step) = options.step else {
+    let Some((steps_per_speed, seconds)) = least_seconds(options) else {
         return;
     };
-    // At least the shortest settling and the fewest records averaged.
-    let least_records = options.averaging.min_records as f64;
-    let steps_per_speed = (options.settle + least_records * options.record) / step;
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let seconds = steps_per_speed * options.speeds.len() as f64 * SECONDS_PER_STEP / threads as f64;
     if seconds > LONG_RUN_S {
         eprintln!(
-            "warning: --step {step:e} s makes {steps_per_speed:.3e} time steps per speed, {} speeds: \
-             at least {} of computing on {threads} cores; leave --step out for 0.9 times the \
+            "warning: --step {:e} s makes {steps_per_speed:.3e} time steps per speed, {} speeds: \
+             at least {} of computing on {} cores; leave --step out for 0.9 times the \
              stable step, or press Ctrl-C to stop (finished speeds are kept)",
+            options.step.unwrap_or(0.0),
             options.speeds.len(),
-            duration_text(seconds)
+            duration_text(seconds),
+            cores()
         );
     }
 }

@@ -23,6 +23,7 @@ use super::{
 };
 use crate::output::Output;
 use crate::plots;
+use crate::progress::shown;
 
 /// `whirl reduce`
 #[derive(Debug, clap::Args)]
@@ -40,7 +41,9 @@ pub struct Args {
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     check_nodes(&loaded.model, "--nodes", &args.nodes)?;
-    let report = lib(reduction_report(&loaded.model, args.modes, &args.nodes))?;
+    let report = lib(shown("reduce", |p| {
+        reduction_report(&loaded.model, args.modes, &args.nodes, p)
+    }))?;
     let summary = report_summary("reduce", &loaded, &report)?;
     let text = text(&loaded.model.name, &report.study, report.chosen());
     let mut out = Output::begin(&args.common.out_dir("reduce"))?;

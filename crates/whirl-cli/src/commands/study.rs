@@ -32,7 +32,7 @@ use crate::error::{from_whirl, Diag};
 use crate::interrupt;
 use crate::output::Output;
 use crate::plots_study;
-use crate::progress::progress_line;
+use crate::progress::{duration_text, progress_line};
 
 /// `whirl study`
 #[derive(Debug, clap::Args)]
@@ -74,6 +74,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let store = Store::open(&checkpoint, &study.fingerprint, &args.study, args.restart)
         .map_err(|e| from_whirl(e, ""))?;
     let start = Instant::now();
+    warn_if_long(&study);
     interrupt::stoppable();
     let results = run_points(
         &study,
@@ -176,6 +177,29 @@ fn load_study(path: &Path) -> miette::Result<Study> {
         };
         from_whirl(e, &source)
     })
+}
+
+/// Warns before starting when the points' time step makes the study hours long, as
+/// `whirl cascade --step` does for one cascade (points whose settings are bad are left to
+/// fail with their own error).
+fn warn_if_long(study: &Study) {
+    let seconds: f64 = study
+        .points
+        .iter()
+        .filter_map(|p| point::cascade_options(p).ok())
+        .filter_map(|o| super::cascade::least_seconds(&o))
+        .map(|(_, seconds)| seconds)
+        .sum();
+    if seconds > super::cascade::LONG_RUN_S {
+        eprintln!(
+            "warning: the [cascade] step makes the {} points at least {} of computing on {} \
+             cores; leave `step` out for 0.9 times the stable step, or press Ctrl-C to stop \
+             (finished points are kept)",
+            study.points.len(),
+            duration_text(seconds),
+            super::cascade::cores()
+        );
+    }
 }
 
 /// One point's cascade, resuming from its own folder of finished speeds.

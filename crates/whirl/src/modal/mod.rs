@@ -27,6 +27,7 @@ pub use check::{check_model, CheckSummary, ModelCheck};
 pub use complex::{branch_labels, complex_modes, ComplexMode, ModalBasis, Whirl, FULL_LIMIT};
 pub use convergence::{convergence, ConvergenceResult, ConvergenceSummary};
 pub use report::{modal_report, DampedSummary, ModalReport, ModalSummary};
+pub(crate) use subspace::largest_eigenvalue;
 pub use ucs::{
     critical_speed_map, default_stiffnesses, log_space, BearingCut, BearingStiffness,
     CriticalSpeedMap, CriticalSpeedSummary,

@@ -29,8 +29,9 @@ use crate::error::{Error, Result};
 use crate::fe::{dof, BandedSystem, Direction, Matrices, SystemMatrices, DOFS_PER_NODE};
 use crate::linalg::banded::BandedLu;
 use crate::linalg::Band;
-use crate::modal::{lowest_modes, solves_dense, symmetric_modes};
+use crate::modal::{largest_eigenvalue, lowest_modes, solves_dense, symmetric_modes};
 use crate::model::Model;
+use crate::progress::{map_told, Progress};
 
 /// A Craig-Bampton reduced model and the map back to physical DOFs.
 #[derive(Debug, Clone)]
@@ -335,41 +336,61 @@ pub struct ReductionRow {
 }
 
 /// Compares reduced models with `mode_counts` fixed-interface modes against the full one on
-/// the first `compare` natural frequencies.
+/// the first `compare` natural frequencies (the reduced models in parallel, `progress` told
+/// after each). The full model's frequencies and its highest one (for the stable step) come
+/// from every mode of the dense solver for a small model; above
+/// ([`crate::modal::solves_dense`]), the lowest by subspace iteration on the bands and the
+/// highest by bisection on the inertia of the band factors, both linear in the DOF count.
 ///
 /// # Errors
-/// The errors of [`CraigBampton::new`] and [`explicit_stability_limit`].
+/// The errors of [`CraigBampton::new`] and [`explicit_stability_limit`];
+/// [`Error::Interrupted`] when `progress` stopped it.
 pub fn reduction_study(
-    system: &SystemMatrices,
+    system: &impl Matrices,
     boundary: &[usize],
     mode_counts: &[usize],
     compare: usize,
+    progress: Option<&Progress>,
 ) -> Result<ReductionStudy> {
     let n = system.dofs();
     let to_hz = |w2: &f64| w2.max(0.0).sqrt() / (2.0 * std::f64::consts::PI);
-    let (full2, _) = symmetric_modes(&system.stiffness, &system.mass, n)?;
-    let full_frequencies_hz: Vec<f64> = full2.iter().take(compare).map(to_hz).collect();
-    let mut rows = Vec::new();
-    for &m in mode_counts {
-        let cb = CraigBampton::new(system, boundary, m)?;
-        let (red2, _) = symmetric_modes(&cb.reduced.stiffness, &cb.reduced.mass, cb.size())?;
-        let frequencies_hz: Vec<f64> = red2.iter().take(compare).map(to_hz).collect();
-        let relative_error = frequencies_hz
-            .iter()
-            .zip(&full_frequencies_hz)
-            .map(|(r, f)| if *f > 0.0 { (r - f) / f } else { 0.0 })
-            .collect();
-        rows.push(ReductionRow {
-            modes: cb.modes,
-            size: cb.size(),
-            frequencies_hz,
-            relative_error,
-            stable_step: explicit_stability_limit(&cb.reduced, None)?,
-        });
-    }
+    let (lowest, highest) = if solves_dense(n, compare) {
+        let dense = system.dense();
+        let (all, _) = symmetric_modes(&dense.stiffness, &dense.mass, n)?;
+        let highest = all.last().copied().unwrap_or(0.0);
+        (all, highest)
+    } else {
+        let banded = system.banded();
+        let (lowest, _) = lowest_modes(&banded.stiffness, &banded.mass, compare)?;
+        (lowest, largest_eigenvalue(&banded.stiffness, &banded.mass)?)
+    };
+    let full_frequencies_hz: Vec<f64> = lowest.iter().take(compare).map(to_hz).collect();
+    let rows = map_told(
+        mode_counts,
+        progress,
+        (0, mode_counts.len()),
+        ("the reduction study", "reduced models"),
+        |&m| {
+            let cb = CraigBampton::new(system, boundary, m)?;
+            let (red2, _) = symmetric_modes(&cb.reduced.stiffness, &cb.reduced.mass, cb.size())?;
+            let frequencies_hz: Vec<f64> = red2.iter().take(compare).map(to_hz).collect();
+            let relative_error = frequencies_hz
+                .iter()
+                .zip(&full_frequencies_hz)
+                .map(|(r, f)| if *f > 0.0 { (r - f) / f } else { 0.0 })
+                .collect();
+            Ok(ReductionRow {
+                modes: cb.modes,
+                size: cb.size(),
+                frequencies_hz,
+                relative_error,
+                stable_step: explicit_stability_limit(&cb.reduced, None)?,
+            })
+        },
+    )?;
     Ok(ReductionStudy {
         full_dofs: n,
-        full_stable_step: 2.0 / full2.last().copied().unwrap_or(0.0).max(1e-300).sqrt(),
+        full_stable_step: 2.0 / highest.max(1e-300).sqrt(),
         full_frequencies_hz,
         boundary_dofs: boundary.len(),
         rows,

@@ -6,8 +6,9 @@ use serde::Serialize;
 
 use super::{boundary_dofs, reduction_study, ReductionRow, ReductionStudy};
 use crate::error::{Error, Result};
-use crate::fe::{assemble_dense, dof_name, Bearings};
+use crate::fe::{assemble_banded, dof_name, Bearings};
 use crate::model::Model;
+use crate::progress::Progress;
 use crate::report::{Report, Table};
 
 /// The study runs to at least this many fixed-interface modes.
@@ -72,23 +73,19 @@ pub struct StudyRow {
 /// Reduces `model` (linearised bearings) with every DOF of the bearing nodes and of
 /// `extra_nodes` on the boundary and `modes` fixed-interface modes (at most the internal
 /// DOFs), and compares the undamped natural frequencies at rest, the first max(`modes`, 4),
-/// with the full model's, for it and for 1 to max(24, 2 `modes`) modes.
+/// with the full model's, for it and for 1 to max(24, 2 `modes`) modes; `progress` is told
+/// after each reduced model of the study.
 ///
 /// # Errors
-/// [`Error::InvalidOption`] when every DOF is on the boundary; [`Error::Unsupported`] above
-/// [`crate::fe::MAX_DENSE_DOFS`]; the errors of [`reduction_study`].
+/// [`Error::InvalidOption`] when every DOF is on the boundary; the errors of
+/// [`reduction_study`].
 pub fn reduction_report(
     model: &Model,
     modes: usize,
     extra_nodes: &[usize],
+    progress: Option<&Progress>,
 ) -> Result<ReductionReport> {
-    // The comparison takes every mode of the full model: it is dense by nature.
-    let system = assemble_dense(
-        model,
-        Bearings::Linearised,
-        "`reduce` compares the reduced model with every mode of the full one; use fewer \
-         elements (the reduced model itself runs at any size: `simulate --reduce`)",
-    )?;
+    let system = assemble_banded(model, Bearings::Linearised);
     let boundary = boundary_dofs(model, extra_nodes);
     let internal = system.dofs() - boundary.len();
     if internal == 0 {
@@ -102,7 +99,7 @@ pub fn reduction_report(
     let modes = modes.min(internal);
     let counts: Vec<usize> = (1..=STUDY_MODES.max(2 * modes).min(internal)).collect();
     let compared = modes.max(MIN_COMPARED).min(system.dofs());
-    let study = reduction_study(&system, &boundary, &counts, compared)?;
+    let study = reduction_study(&system, &boundary, &counts, compared, progress)?;
     let chosen = study
         .rows
         .iter()
