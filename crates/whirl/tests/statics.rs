@@ -281,18 +281,24 @@ fn the_full_model_hangs_in_its_rollers_at_any_mesh() {
 }
 
 #[test]
-fn the_bearing_gravity_load_refuses_a_model_too_large_for_its_dense_matrices() {
-    // 2,000 elements: 8,004 DOFs, whose four dense matrices would take 2 GB. The bearing's
-    // gravity load solves the full model's dense statics; it must refuse before allocating,
-    // naming the size and what to do instead.
+fn the_analyses_that_solve_dense_matrices_refuse_a_model_too_large_for_them() {
+    // 2,000 elements: 8,004 DOFs, whose four dense matrices would take 2 GB. The
+    // critical-speed map and the bearing's gravity load solve dense matrices; each must
+    // refuse before allocating, naming the size and what to do instead.
     let model = reference_rotor().remeshed(&[2000]).unwrap();
-    match whirl::bearing::stiffness::gravity_load(&model, 0) {
-        Err(whirl::Error::Unsupported(m)) => {
-            assert!(
-                m.contains("8004 DOFs") && m.contains("limited to 4000"),
-                "{m}"
-            );
+    let refusals = [
+        whirl::modal::critical_speed_map(&model, &[1e8], 4, true, None).err(),
+        whirl::bearing::stiffness::gravity_load(&model, 0).err(),
+    ];
+    for refusal in refusals {
+        match refusal {
+            Some(whirl::Error::Unsupported(m)) => {
+                assert!(
+                    m.contains("8004 DOFs") && m.contains("limited to 4000"),
+                    "{m}"
+                );
+            }
+            other => panic!("expected a refusal, got {other:?}"),
         }
-        other => panic!("expected a refusal, got {other:?}"),
     }
 }

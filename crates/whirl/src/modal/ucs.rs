@@ -16,9 +16,7 @@
 //!
 //! M_p - G_p need not be positive definite (a thin disk has I_p > I_d, and its rocking mode
 //! has no forward critical speed), but K_p is once every bearing has k > 0, so the pencil is
-//! solved as M_eff v = mu K_p v with w = 1 / sqrt(mu) for each mu > 0: every root by the
-//! dense solver for a small model, the largest mu by subspace iteration on the bands above
-//! ([`super::solves_dense`]), so that a model of thousands of elements costs linear time.
+//! solved as M_eff v = mu K_p v with w = 1 / sqrt(mu) for each mu > 0.
 
 mod report;
 
@@ -26,10 +24,9 @@ pub use report::{BearingCut, CriticalSpeedSummary};
 
 use serde::Serialize;
 
-use super::{solves_dense, subspace, symmetric_modes};
+use super::symmetric_modes;
 use crate::error::{Error, Result};
-use crate::fe::{assemble_banded, dof, Bearings, Direction, DOFS_PER_NODE};
-use crate::linalg::{Band, BandLu};
+use crate::fe::{assemble_dense, dof, Bearings, Direction};
 use crate::model::Model;
 use crate::progress::{map_told, Progress};
 
@@ -93,8 +90,8 @@ pub fn log_space(lo: f64, hi: f64, count: usize) -> Vec<f64> {
 ///
 /// # Errors
 /// [`Error::InvalidOption`] for a stiffness that is not positive, [`Error::Unsupported`]
-/// for a model without bearings, [`Error::Singular`] when the rotor is not held,
-/// [`Error::Interrupted`] when `progress` stopped it.
+/// for a model without bearings or above [`crate::fe::MAX_DENSE_DOFS`], [`Error::Singular`]
+/// when the rotor is not held, [`Error::Interrupted`] when `progress` stopped it.
 pub fn critical_speed_map(
     model: &Model,
     stiffness: &[f64],
@@ -164,7 +161,11 @@ fn critical_speeds(model: &Model, k: f64, modes: usize, synchronous: bool) -> Re
         b.linear_stiffness = k;
         b.linear_damping = 0.0;
     }
-    let s = assemble_banded(&m, Bearings::Linearised);
+    let s = assemble_dense(
+        &m,
+        Bearings::Linearised,
+        "the critical-speed map solves every mode of the plane problem; use fewer elements",
+    )?;
     let nodes = m.node_count();
     let plane: Vec<usize> = (0..nodes)
         .flat_map(|n| [dof(n, Direction::Ux), dof(n, Direction::Ty)])
@@ -174,16 +175,17 @@ fn critical_speeds(model: &Model, k: f64, modes: usize, synchronous: bool) -> Re
         .flat_map(|n| [(dof(n, Direction::Uy), 1.0), (dof(n, Direction::Tx), -1.0)])
         .collect();
     let p = plane.len();
-    let stiffness = |a: usize, b: usize| s.stiffness.get(plane[a], plane[b]);
-    let effective_mass = |a: usize, b: usize| {
+    let kp = faer::Mat::<f64>::from_fn(p, p, |a, b| s.stiffness[(plane[a], plane[b])]);
+    let meff = faer::Mat::<f64>::from_fn(p, p, |a, b| {
         let gyro = if synchronous {
-            partner[b].1 * s.gyroscopic.get(plane[a], partner[b].0)
+            partner[b].1 * s.gyroscopic[(plane[a], partner[b].0)]
         } else {
             0.0
         };
-        s.mass.get(plane[a], plane[b]) - gyro
-    };
-    let not_held = || {
+        s.mass[(plane[a], plane[b])] - gyro
+    });
+    // M_eff v = mu K_p v: mu ascending, so the lowest speeds are the largest mu.
+    let (mu, _) = symmetric_modes(&meff, &kp, p).map_err(|_| {
         Error::singular(
             "stiffness matrix",
             format!(
@@ -191,80 +193,14 @@ fn critical_speeds(model: &Model, k: f64, modes: usize, synchronous: bool) -> Re
              rotor needs bearings at two nodes at least"
             ),
         )
-    };
-    // M_eff v = mu K_p v: the lowest speeds are the largest mu.
-    let mu: Vec<f64> = if solves_dense(p, modes) {
-        let kp = faer::Mat::<f64>::from_fn(p, p, stiffness);
-        let meff = faer::Mat::<f64>::from_fn(p, p, effective_mass);
-        let (mu, _) = symmetric_modes(&meff, &kp, p).map_err(|_| not_held())?;
-        mu.into_iter().rev().collect()
-    } else {
-        // Nodes within `reach` DOFs of each other in the full matrices are within `width`
-        // plane DOFs.
-        let reach = [&s.stiffness, &s.mass, &s.gyroscopic]
-            .iter()
-            .map(|b| b.widths().0.max(b.widths().1))
-            .max()
-            .unwrap_or(0);
-        let width = 2 * reach.div_ceil(DOFS_PER_NODE) + 1;
-        let kp = Band::from_fn(p, (width, width), stiffness);
-        let meff = Band::from_fn(p, (width, width), effective_mass);
-        largest_roots(&meff, &kp, modes, not_held)?
-    };
+    })?;
     Ok(mu
         .iter()
+        .rev()
         .filter(|&&m| m > 0.0)
         .map(|m| 1.0 / m.sqrt() / (2.0 * std::f64::consts::PI))
         .take(modes)
         .collect())
-}
-
-/// The `count` largest roots mu of M v = mu K v, descending, for bands K positive definite
-/// and M symmetric, possibly indefinite. With alpha making M + alpha K positive definite,
-/// the same vectors solve K v = nu (M + alpha K) v with nu = 1 / (mu + alpha): a definite
-/// pencil whose lowest nu, the largest mu, shift-invert subspace iteration finds on the
-/// bands. alpha is 0 when M is definite (at rest); else twice the least alpha that makes
-/// M + alpha K definite (bisected to 1e-3 on the signs of its band factors' pivots), which
-/// for a disk's negative I_d - I_p is small against the lowest modes' mu, so their
-/// convergence, as (mu_(q+1) + alpha) / (mu_j + alpha) per iteration, stays fast.
-fn largest_roots(
-    mass: &Band,
-    stiffness: &Band,
-    count: usize,
-    not_held: impl Fn() -> Error,
-) -> Result<Vec<f64>> {
-    let n = stiffness.size();
-    let shifted = |alpha: f64| {
-        Band::from_fn(n, stiffness.widths(), |i, j| {
-            mass.get(i, j) + alpha * stiffness.get(i, j)
-        })
-    };
-    let definite = |a: &Band| BandLu::new(a).is_some_and(|lu| lu.pivots_positive());
-    if !definite(stiffness) {
-        return Err(not_held());
-    }
-    let alpha = if definite(mass) {
-        0.0
-    } else {
-        let mut high = (0..n)
-            .map(|i| mass.get(i, i).abs() / stiffness.get(i, i))
-            .fold(f64::MIN_POSITIVE, f64::max);
-        while !definite(&shifted(high)) {
-            high *= 2.0;
-        }
-        let mut low = 0.0;
-        while high - low > 1e-3 * high {
-            let middle = 0.5 * (low + high);
-            if definite(&shifted(middle)) {
-                high = middle;
-            } else {
-                low = middle;
-            }
-        }
-        2.0 * high
-    };
-    let (nu, _) = subspace::lowest_modes(stiffness, &shifted(alpha), count, 0.0, not_held)?;
-    Ok(nu.iter().map(|nu| 1.0 / nu - alpha).collect())
 }
 
 /// `y` at `x` by linear interpolation of log y over log x; `None` outside `xs` or where `y`
