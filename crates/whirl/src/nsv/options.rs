@@ -6,7 +6,7 @@ use serde::Serialize;
 use crate::bearing::{contact_frequencies, ContactLaw};
 use crate::error::{Error, InputError, Result};
 use crate::model::Model;
-use crate::post::spectrum::{MAX_SAMPLES, MIN_SAMPLES};
+use crate::post::spectrum::MIN_SAMPLES;
 use crate::post::Window;
 use crate::system::{Linear, SpeedProfile};
 use crate::time::{
@@ -263,6 +263,12 @@ pub struct Resolved {
     pub bins: usize,
 }
 
+/// The most samples in a cascade's record: each thread holds two spectrum plans of the
+/// record's length, with their windows and buffers (about 60 bytes a sample), so 2^22
+/// samples are a quarter of a GB a thread, and 42 s recorded at the default 100 kHz already
+/// resolves 0.024 Hz, finer than any NSV question needs.
+pub const MAX_RECORD_SAMPLES: usize = 1 << 22;
+
 /// An option error naming the field.
 fn bad(field: &str, message: String, help: &str) -> Error {
     InputError::field(field, message).help(help).into()
@@ -278,7 +284,7 @@ pub(super) fn resolve(model: &Model, o: &CascadeOptions, linear: &Linear) -> Res
     let record_every = run.record_interval(step);
     let interval = step * record_every as f64;
     let samples = (o.record / interval + 1e-9).floor() as usize;
-    if !(MIN_SAMPLES..=MAX_SAMPLES).contains(&samples) {
+    if !(MIN_SAMPLES..=MAX_RECORD_SAMPLES).contains(&samples) {
         let fix = if samples < MIN_SAMPLES {
             "longer"
         } else {
@@ -288,7 +294,7 @@ pub(super) fn resolve(model: &Model, o: &CascadeOptions, linear: &Linear) -> Res
             "record",
             format!(
                 "{} s recorded at {interval:.3e} s per sample gives {samples} samples; a \
-                 spectrum takes from {MIN_SAMPLES} to {MAX_SAMPLES}",
+                 spectrum takes from {MIN_SAMPLES} to {MAX_RECORD_SAMPLES}",
                 o.record
             ),
             &format!("record {fix} (0.5 s gives 2 Hz bins)"),

@@ -40,11 +40,10 @@ use crate::{Error, Result};
 /// The fewest samples a spectrum is taken of.
 pub const MIN_SAMPLES: usize = 8;
 
-/// The most samples a spectrum is taken of: a plan, its window and buffers cost about 60
-/// bytes a sample (a cascade holds two per thread), so 2^22 samples are a quarter of a GB,
-/// and 42 s recorded at the default 100 kHz already resolves 0.024 Hz, finer than any
-/// whirl an NSV question needs. Longer runs record less often.
-pub const MAX_SAMPLES: usize = 1 << 22;
+/// The most samples a spectrum is taken of: half of `time::MAX_RECORDED_VALUES`, so that
+/// the longest channel a run can record beside its time can always be transformed, while no
+/// length can ask for a plan beyond memory (about 40 bytes a sample: 5 GB at the limit).
+pub const MAX_SAMPLES: usize = 1 << 27;
 
 /// Coefficients of HFT90D (G. Heinzel, A. Ruediger, R. Schilling, "Spectrum and spectral
 /// density estimation by the Discrete Fourier Transform", 2002, appendix D): -90 dB side
@@ -525,7 +524,10 @@ mod tests {
             let e = SpectrumPlanner::new(len, 1e5, options)
                 .err()
                 .map(|e| e.to_string());
-            assert!(e.is_some_and(|e| e.contains("at most 4194304")), "{len}");
+            assert!(
+                e.is_some_and(|e| e.contains(&format!("at most {MAX_SAMPLES}"))),
+                "{len}"
+            );
             assert!(
                 FullSpectrumPlanner::new(len, 1e5, options).is_err(),
                 "{len}"
