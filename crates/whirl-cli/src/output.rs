@@ -61,9 +61,13 @@ fn folder_name(dir: &Path) -> miette::Result<(PathBuf, String)> {
 }
 
 /// Takes the lock of the output folder `dir` for this run (see the module doc) and
-/// removes what killed runs left beside it: their temporary and set-aside folders.
+/// removes what killed runs left beside it: their temporary and set-aside folders. A `dir`
+/// that may not be replaced is refused here, before the run computes anything.
 pub fn lock(dir: &Path) -> miette::Result<whirl::lock::RunLock> {
     let (dir, name) = folder_name(dir)?;
+    if dir.exists() {
+        check_replaceable(&dir)?;
+    }
     let parent = dir.parent().unwrap_or(Path::new("/")).to_path_buf();
     fs::create_dir_all(&parent).map_err(|e| io_error("create the folder", &parent, e))?;
     let path = parent.join(format!(".{name}.whirl-lock"));

@@ -338,6 +338,22 @@ fn out_folder_that_is_not_a_whirl_result_is_left_alone() {
         "precious"
     );
     assert_eq!(std::fs::read_dir(tmp.path()).unwrap().count(), 1);
+    // Refused before the work, not after it: a cascade announces its default speeds when it
+    // starts computing, and must not get that far.
+    let output = Command::cargo_bin("whirl")
+        .unwrap()
+        .arg("cascade")
+        .arg(reference_rotor_path())
+        .arg("--out")
+        .arg(&docs)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success());
+    assert!(
+        stderr.contains("not a whirl output folder") && !stderr.contains("speeds (default)"),
+        "{stderr}"
+    );
 }
 
 // Issue 16: nothing crashes, nothing runs away, nothing impossible is accepted.
