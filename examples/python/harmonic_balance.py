@@ -1,5 +1,5 @@
 """The synchronous response of the reference rotor by harmonic balance through its first
-resonance: the branch with its Hill stability, the bifurcation where stability is lost,
+resonance: the branch with its Floquet stability, the bifurcation where stability is lost,
 and the figure of the harmonics along the branch.
 
 Run from the repository's root: python examples/python/harmonic_balance.py

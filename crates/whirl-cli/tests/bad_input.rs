@@ -410,7 +410,7 @@ fn huge_speed_counts_are_refused_before_any_allocation() {
         &["cascade", "{model}", "--settle-max", "100000s"],
         &["--settle-max", "time steps", "at most 5e8"],
     );
-    // 200 harmonics would make each point minutes of Hill eigenvalues: refused at once.
+    // 200 harmonics would make each point minutes of dense Newton solves: refused at once.
     fails(
         Some(&reference_rotor_text()),
         &["hbm", "{model}", "--harmonics", "200"],

@@ -1,4 +1,4 @@
-//! Harmonic balance (`whirl hbm`): the periodic response followed over speed, with Hill
+//! Harmonic balance (`whirl hbm`): the periodic response followed over speed, with Floquet
 //! stability, the time-marching comparisons and the harmonic-count study, reported by the
 //! library as the command line writes it.
 

@@ -1,5 +1,5 @@
 """Harmonic balance (``whirl hbm``): the periodic (synchronous) response of the rotor on its
-roller bearings followed over speed by continuation, with Hill stability and the
+roller bearings followed over speed by continuation, with Floquet stability and the
 bifurcations where it changes."""
 
 from __future__ import annotations
@@ -112,7 +112,7 @@ def hbm(
             default 16 H, at least 64.
         reduce: solve on a Craig-Bampton model with this many fixed-interface modes;
             default the full model.
-        no_stability: skip Hill stability (faster; no bifurcations).
+        no_stability: skip the Floquet stability (faster; no bifurcations).
         stability_modes: fixed-interface modes of the stability model.
         compare_time: speeds (``"100Hz"`` or rad/s) at which to run the time integrator
             (``settle``, then ``record`` analysed) and compare its settled amplitudes with

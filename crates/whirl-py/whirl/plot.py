@@ -196,7 +196,7 @@ def hb_stability(result, ax=None):
     branch = result.columns("branch")
     ax.plot(branch["speed_hz"], branch["max_real_exponent_per_s"])
     ax.axhline(0.0, color="grey", lw=0.8)
-    ax.set(xlabel="speed [Hz]", ylabel="largest real part [1/s]", title="Hill stability")
+    ax.set(xlabel="speed [Hz]", ylabel="largest real part [1/s]", title="Floquet stability")
     return ax
 
 

@@ -13,16 +13,16 @@ use reference::reference_rotor;
 use whirl::hbm::{sweep, SweepOptions};
 
 fn main() {
-    // faer's own threads off: the Hill solves of a branch run in parallel with rayon.
+    // faer's own threads off: the stability of a branch's points is solved on a second thread.
     faer::set_global_parallelism(faer::Par::Seq);
     let model = reference_rotor();
     for (stability, reduction, name) in [
         (false, None, "1-750 Hz, H = 5, full model, no stability"),
-        (true, None, "1-750 Hz, H = 5, full model, Hill stability"),
+        (true, None, "1-750 Hz, H = 5, full model, Floquet stability"),
         (
             true,
             Some(12),
-            "1-750 Hz, H = 5, reduced 8+12, Hill stability",
+            "1-750 Hz, H = 5, reduced 8+12, Floquet stability",
         ),
     ] {
         let mut options = SweepOptions::new(TAU, TAU * 750.0, 5);

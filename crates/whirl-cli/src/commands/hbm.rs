@@ -1,7 +1,7 @@
 //! `whirl hbm model.toml [--speeds 1:750Hz] [--harmonics 5] [--nodes 10,0]
 //! [--contact hertz|forcing] [--cage passage|frozen] [--compare-time 100Hz,330Hz]
 //! [--harmonics-study 1..5]`: the periodic (synchronous) response by harmonic balance,
-//! followed over speed by continuation, with Hill stability and the bifurcations where it
+//! followed over speed by continuation, with Floquet stability and the bifurcations where it
 //! changes (issue 5).
 //!
 //! Writes `branch.csv` (one row per continuation point in path order: speed, stability,
@@ -89,7 +89,7 @@ pub struct Args {
     /// do (faster; the condensation stays exact) [default: the full model].
     #[arg(long, value_name = "N", value_parser = mode_count)]
     pub reduce: Option<usize>,
-    /// Skip Hill stability (faster; no bifurcations).
+    /// Skip the Floquet stability (faster; no bifurcations).
     #[arg(long)]
     pub no_stability: bool,
     /// Fixed-interface modes of the stability model.
@@ -151,7 +151,7 @@ const SECONDS_PER_POINT_H5: f64 = 0.025;
 const SLOW_POINT_S: f64 = 1.0;
 
 /// Warns before a sweep whose harmonic count makes every point slow: the cost grows about
-/// as the cube of 2H + 1 (Hill's eigenvalues, the dense Newton solves).
+/// as the cube of 2H + 1 (the dense Newton solves).
 fn warn_if_slow(harmonics: usize, stability: bool) {
     let growth = ((2 * harmonics + 1) as f64 / 11.0).powi(3);
     let per_point = SECONDS_PER_POINT_H5 * growth * if stability { 1.0 } else { 0.5 };

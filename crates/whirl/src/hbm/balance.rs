@@ -46,8 +46,20 @@ pub struct Linearisation {
     /// dR/dw at fixed x.
     pub frequency_derivative: Vec<f64>,
     /// G[dF_nl/dv]: the Galerkin matrix of the velocity tangent, which Hill's method needs
-    /// apart from the rest.
+    /// apart from the rest (an independent check of the Floquet stability).
     pub velocity_galerkin: Mat<f64>,
+}
+
+/// Tangents of the nonlinear forces sampled over one period: entry (a, c) of dF/dq at
+/// sample j in `dq[(a * m + c) * samples + j]`, a and c indexing `dofs` (m of them), likewise
+/// dF/dv in `dv`.
+pub(crate) struct SampledTangents {
+    /// The coordinates the forces act on, ascending.
+    pub dofs: Vec<usize>,
+    /// Samples per period, at phases 2 pi j / samples.
+    pub samples: usize,
+    pub dq: Vec<f64>,
+    pub dv: Vec<f64>,
 }
 
 /// The residual and its size.
@@ -437,17 +449,27 @@ impl HarmonicBalance {
         out
     }
 
-    /// G[dF/dq] and G[dF/dv] in the unknowns' layout.
-    fn nonlinear_galerkin(&mut self, x: &[f64], frequency: f64) -> (Mat<f64>, Mat<f64>) {
-        let size = self.unknowns();
-        let (mut gq, mut gv) = (Mat::zeros(size, size), Mat::zeros(size, size));
+    /// The tangents dF/dq and dF/dv of the nonlinear forces at the AFT samples of the
+    /// orbit x at w, which the Floquet stability integrates over the period.
+    pub(crate) fn sampled_tangents(&mut self, x: &[f64], frequency: f64) -> SampledTangents {
+        self.sample_tangents(x, frequency);
+        SampledTangents {
+            dofs: self.nl_dofs.clone(),
+            samples: self.aft.samples(),
+            dq: self.jq_t.clone(),
+            dv: self.jv_t.clone(),
+        }
+    }
+
+    /// Fills `jq_t` and `jv_t` with the tangents of the nonlinear forces at the AFT samples.
+    fn sample_tangents(&mut self, x: &[f64], frequency: f64) {
+        self.jq_t.fill(0.0);
+        self.jv_t.fill(0.0);
         if self.nl_dofs.is_empty() {
-            return (gq, gv);
+            return;
         }
         self.sample_motion(x, frequency);
         let (n_t, m) = (self.aft.samples(), self.nl_dofs.len());
-        self.jq_t.fill(0.0);
-        self.jv_t.fill(0.0);
         for j in 0..n_t {
             let at = self.kinematics(j, frequency);
             for (force, local) in self.problem.nonlinear.iter_mut().zip(&self.local) {
@@ -471,6 +493,17 @@ impl HarmonicBalance {
                 }
             }
         }
+    }
+
+    /// G[dF/dq] and G[dF/dv] in the unknowns' layout.
+    fn nonlinear_galerkin(&mut self, x: &[f64], frequency: f64) -> (Mat<f64>, Mat<f64>) {
+        let size = self.unknowns();
+        let (mut gq, mut gv) = (Mat::zeros(size, size), Mat::zeros(size, size));
+        if self.nl_dofs.is_empty() {
+            return (gq, gv);
+        }
+        self.sample_tangents(x, frequency);
+        let (n_t, m) = (self.aft.samples(), self.nl_dofs.len());
         let n = self.problem.size();
         let slots = self.slots();
         for a in 0..m {

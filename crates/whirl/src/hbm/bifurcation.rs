@@ -1,23 +1,23 @@
 //! Where a branch loses or regains stability, and how, from the Floquet multipliers.
 //!
-//! A Floquet exponent lambda (Hill's method, folded into the strip |Im| <= w/2) belongs to
-//! the multiplier mu = exp(lambda T), T = 2 pi / w. Stability changes where a multiplier
-//! crosses the unit circle, and where it crosses names the bifurcation (Seydel, "Practical
-//! Bifurcation and Stability Analysis", ch. 7; Nayfeh & Balachandran, "Applied Nonlinear
-//! Dynamics", ch. 5):
+//! Stability changes where a Floquet multiplier mu (an eigenvalue of the monodromy matrix,
+//! [`super::stability`]) crosses the unit circle, and where it crosses names the bifurcation
+//! (Seydel, "Practical Bifurcation and Stability Analysis", ch. 7; Nayfeh & Balachandran,
+//! "Applied Nonlinear Dynamics", ch. 5):
 //!
-//! - a real multiplier at +1 (Im lambda = 0): a fold (turning point) when the branch turns
-//!   there, otherwise a symmetry-breaking (pitchfork) or branch point;
-//! - a real multiplier at -1 (Im lambda = w/2, with no conjugate partner: lambda and its
-//!   conjugate are one multiplier): period doubling, a subharmonic at w/2 appears;
-//! - a complex-conjugate pair exp(+-i theta) (two exponents with the same real part and
-//!   opposite imaginary parts): Neimark-Sacker, a component at |Im lambda| (and its
-//!   combinations k w +- |Im lambda|) appears; this is where non-synchronous vibration
-//!   starts.
+//! - a real multiplier at +1: a fold (turning point) when the branch turns there, otherwise
+//!   a symmetry-breaking (pitchfork) or branch point;
+//! - a real multiplier at -1: period doubling, a subharmonic at w/2 appears;
+//! - a complex-conjugate pair exp(+-i theta): Neimark-Sacker, a component at theta / T
+//!   (and its combinations k w +- theta / T) appears; this is where non-synchronous
+//!   vibration starts.
 //!
-//! Each change found between two branch points is located by the Illinois regula falsi on
-//! the largest real part along the arclength, every trial point corrected onto the branch
-//! and its Hill problem solved; the multiplier is read where it crosses.
+//! The monodromy matrix is real, so its real eigenvalues come out real (an imaginary part
+//! of exactly zero) and the others in conjugate pairs: the kind is read off the crossing
+//! multiplier directly. Each change found between two branch points is located by the
+//! Illinois regula falsi on the largest real part of the exponents along the arclength,
+//! every trial point corrected onto the branch and its monodromy matrix formed; the
+//! multiplier is read where it crosses.
 
 use super::continuation::{arclength_frame, correct, BranchPoint, Fold, Periodic};
 use super::stability::Stability;
@@ -48,8 +48,8 @@ pub struct Bifurcation {
     pub frequency: f64,
     /// True when located on the branch by regula falsi (or at a located fold).
     pub located: bool,
-    /// The crossing multiplier exp(lambda T), (real, imaginary), at the located point (of a
-    /// complex pair, the one with positive imaginary part).
+    /// The crossing multiplier, (real, imaginary), at the trial point nearest the crossing
+    /// (of a complex pair, the one with positive imaginary part).
     pub multiplier: (f64, f64),
     /// |Im| of the crossing exponent, rad/s, in [0, w/2]: the frequency of the emerging
     /// component (0 at +1, w/2 at period doubling); at a Neimark-Sacker point it appears
@@ -61,19 +61,11 @@ pub struct Bifurcation {
     pub loses_stability: bool,
 }
 
-/// Exponents whose multiplier lies within 1 % of a half turn of +1 or -1 are real: the
-/// truncated Hill matrix places them there up to a truncation error far below that.
-const ON_AXIS: f64 = 0.01;
-
-/// Two exponents are a conjugate pair when their imaginary parts are opposite (modulo w)
-/// within this fraction of w, the tolerance by which Hill's method merges copies
-/// ([`super::stability`]), and their real parts agree within [`PAIR_REAL`] of w.
-const PAIR_IMAGINARY: f64 = 1e-3;
-
-/// A conjugate pair of eigenvalues of the real Hill matrix has equal real parts to
-/// round-off; 1e-6 of w is far above it and far below the gap to any other exponent at a
-/// crossing.
-const PAIR_REAL: f64 = 1e-6;
+/// A multiplier is real when its imaginary part is below this fraction of its modulus:
+/// the real Schur form gives real eigenvalues an imaginary part of exactly zero, and a
+/// complex pair this close to the axis would be a collision of two real multipliers,
+/// resolved to round-off only.
+const ON_AXIS: f64 = 1e-9;
 
 /// The regula falsi stops when the bracket is this short in scaled arclength (a relative
 /// change of 1e-7 of the speed or the orbit: 0.05 mHz at 500 Hz, far below what is
@@ -89,7 +81,7 @@ const MAX_TRIALS: usize = 40;
 /// points: a +1 crossing in the same interval is that fold.
 ///
 /// # Errors
-/// When Hill's eigenproblem cannot be built (a singular mass matrix).
+/// When the Floquet problem cannot be built (a singular mass matrix).
 pub(super) fn locate_bifurcations(
     hb: &mut impl Periodic,
     points: &[BranchPoint],
@@ -165,7 +157,7 @@ fn crossing(
             return Ok(interpolated());
         };
         let verdict = hb
-            .hill_problem(&point.coefficients, point.frequency)?
+            .floquet_problem(&point.coefficients, point.frequency)?
             .solve()?;
         let g = verdict.max_real;
         // The crossing exponent is read at the trial nearest the crossing, on either side:
@@ -198,45 +190,30 @@ fn crossing(
     })
 }
 
-/// The kind of the crossing from the multiplier of the exponent with the largest real part
-/// nearest the crossing.
+/// The kind of the crossing from the multiplier of largest modulus nearest the crossing.
 fn classify(crossing: Located, after: usize, loses_stability: bool, at_fold: bool) -> Bifurcation {
     let w = crossing.frequency;
-    let exponents = &crossing.nearest.exponents;
-    let (re, im) = exponents
+    let (re, im) = crossing
+        .nearest
+        .multipliers
         .iter()
         .copied()
-        .max_by(|x, y| x.0.total_cmp(&y.0))
-        .unwrap_or((0.0, 0.0));
-    let period = std::f64::consts::TAU / w;
-    // Of a conjugate pair, the member in the upper half plane.
-    let angle = im.abs() * period;
-    let modulus = (re * period).exp();
-    let multiplier = (modulus * angle.cos(), modulus * angle.sin());
-    let half_turns = angle / std::f64::consts::PI;
-    let has_partner = exponents.iter().any(|&(r, i)| {
-        let opposite = (i + im) / w;
-        (r - re).abs() <= PAIR_REAL * w
-            && (opposite - opposite.round()).abs() <= PAIR_IMAGINARY
-            && (i - im).abs() > PAIR_IMAGINARY * w
-    });
-    let kind = if half_turns <= ON_AXIS {
-        if at_fold {
-            BifurcationKind::Fold
-        } else {
-            BifurcationKind::SymmetryBreaking
-        }
-    } else if half_turns >= 1.0 - ON_AXIS && !has_partner {
-        BifurcationKind::PeriodDoubling
-    } else {
-        BifurcationKind::NeimarkSacker
+        .max_by(|x, y| x.0.hypot(x.1).total_cmp(&y.0.hypot(y.1)))
+        .unwrap_or((1.0, 0.0));
+    let real = im.abs() <= ON_AXIS * re.hypot(im);
+    let kind = match (real, re > 0.0) {
+        (true, true) if at_fold => BifurcationKind::Fold,
+        (true, true) => BifurcationKind::SymmetryBreaking,
+        (true, false) => BifurcationKind::PeriodDoubling,
+        (false, _) => BifurcationKind::NeimarkSacker,
     };
+    let period = std::f64::consts::TAU / w;
     Bifurcation {
         kind,
         frequency: w,
         located: crossing.located,
-        multiplier,
-        exponent_frequency: im.abs(),
+        multiplier: (re, im.abs()),
+        exponent_frequency: im.abs().atan2(re) / period,
         after,
         loses_stability,
     }
@@ -246,12 +223,19 @@ fn classify(crossing: Located, after: usize, loses_stability: bool, at_fold: boo
 mod tests {
     use super::*;
 
-    fn crossing(frequency: f64, exponents: Vec<(f64, f64)>) -> Located {
+    /// A crossing at w whose nearest trial has these multipliers.
+    fn crossing(frequency: f64, multipliers: Vec<(f64, f64)>) -> Located {
+        let period = std::f64::consts::TAU / frequency;
+        let exponents: Vec<(f64, f64)> = multipliers
+            .iter()
+            .map(|&(re, im)| (re.hypot(im).ln() / period, im.atan2(re) / period))
+            .collect();
         let max_real = exponents.iter().map(|e| e.0).fold(f64::MIN, f64::max);
         Located {
             frequency,
             located: true,
             nearest: Stability {
+                multipliers,
                 exponents,
                 max_real,
                 stable: false,
@@ -262,33 +246,48 @@ mod tests {
     #[test]
     fn crossing_multipliers_name_the_bifurcation() {
         let w = 10.0;
-        let kind = |exponents, fold| classify(crossing(w, exponents), 0, true, fold).kind;
-        // A complex pair at +-3 rad/s: multipliers exp(+-0.6 pi i).
-        let pair = vec![(1e-9, 3.0), (1e-9, -3.0), (-0.2, 0.0)];
-        assert_eq!(kind(pair, false), BifurcationKind::NeimarkSacker);
-        // A complex pair close to -1 (+-4.9 rad/s of w / 2 = 5) is still a pair.
-        let near_half = vec![(1e-9, 4.9), (1e-9, -4.9)];
-        assert_eq!(kind(near_half, false), BifurcationKind::NeimarkSacker);
-        // One real multiplier at -1: lambda = i w / 2 is its own conjugate (mod i w).
-        let doubling = vec![(1e-9, 5.0), (-0.3, 1.0), (-0.3, -1.0)];
+        let kind = |multipliers, fold| classify(crossing(w, multipliers), 0, true, fold).kind;
+        let on_circle = |turns: f64| {
+            let a = std::f64::consts::TAU * turns;
+            (1.000001 * a.cos(), 1.000001 * a.sin())
+        };
+        // A complex pair at +-0.3 turns, with a damped real multiplier.
+        let (c, s) = on_circle(0.3);
+        assert_eq!(
+            kind(vec![(c, s), (c, -s), (0.2, 0.0)], false),
+            BifurcationKind::NeimarkSacker
+        );
+        // A complex pair close to -1 (0.49 turns) is still a pair.
+        let (c, s) = on_circle(0.49);
+        assert_eq!(
+            kind(vec![(c, s), (c, -s)], false),
+            BifurcationKind::NeimarkSacker
+        );
+        // One real multiplier through -1.
+        let doubling = vec![(-1.000001, 0.0), (0.3, 0.1), (0.3, -0.1)];
         assert_eq!(kind(doubling, false), BifurcationKind::PeriodDoubling);
-        // A real multiplier at +1: a fold where the branch turns, symmetry breaking elsewhere.
-        let real = vec![(1e-9, 0.0), (-0.3, 2.0), (-0.3, -2.0)];
+        // A real multiplier through +1: a fold where the branch turns, symmetry breaking
+        // elsewhere.
+        let real = vec![(1.000001, 0.0), (0.3, 0.2), (0.3, -0.2)];
         assert_eq!(kind(real.clone(), true), BifurcationKind::Fold);
         assert_eq!(kind(real, false), BifurcationKind::SymmetryBreaking);
     }
 
     #[test]
-    fn the_multiplier_is_on_the_unit_circle_at_the_crossing() {
+    fn the_emerging_frequency_is_the_multiplier_s_angle_per_period() {
+        // A pair at +-i: a quarter turn per period T = 2 pi / 10, so 2.5 rad/s.
         let b = classify(
-            crossing(10.0, vec![(0.0, 2.5), (0.0, -2.5)]),
+            crossing(10.0, vec![(0.0, 1.0), (0.0, -1.0)]),
             3,
             false,
             false,
         );
-        // exp(i 2.5 T), T = 2 pi / 10: a quarter turn.
-        assert!(b.multiplier.0.abs() < 1e-15 && (b.multiplier.1 - 1.0).abs() < 1e-15);
-        assert_eq!(b.exponent_frequency, 2.5);
+        assert_eq!(b.kind, BifurcationKind::NeimarkSacker);
+        assert_eq!(b.multiplier, (0.0, 1.0));
+        assert!((b.exponent_frequency - 2.5).abs() < 1e-15);
         assert!(!b.loses_stability && b.after == 3);
+        // Period doubling: half a turn, w / 2.
+        let b = classify(crossing(10.0, vec![(-1.0, 0.0)]), 0, true, false);
+        assert!((b.exponent_frequency - 5.0).abs() < 1e-15);
     }
 }

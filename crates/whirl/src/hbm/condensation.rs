@@ -26,7 +26,7 @@ use faer::Mat;
 
 use super::balance::{line_search, relative, Residual, FULL_STEPS, LINE_SEARCH_HALVINGS};
 use super::fourier::{cos_slot, sin_slot};
-use super::stability::{hill_problem, HillProblem, Stability};
+use super::stability::{FloquetModel, FloquetProblem, Stability};
 use super::{HarmonicBalance, HbOptions, HbSolution};
 use crate::error::{Error, Result};
 use crate::fe::SystemMatrices;
@@ -109,12 +109,13 @@ pub struct CondensedBalance {
     /// Fixed-interface modes of the stability model.
     stability_modes: usize,
     /// The linear part of the stability model, made at the first stability request.
-    stability_model: Option<HarmonicBalance>,
+    stability_model: Option<FloquetModel>,
 }
 
 /// Fixed-interface modes kept in the stability model by default: with the kept coordinates
 /// as its boundary they add the shaft's first bending pairs between the bearings, enough for
-/// the exponents of the modes below a few times the speed (checked against full Hill).
+/// the exponents of the modes below a few times the speed (checked against Hill's method on
+/// the full model).
 pub const DEFAULT_STABILITY_MODES: usize = 4;
 
 impl CondensedBalance {
@@ -177,55 +178,45 @@ impl CondensedBalance {
         self
     }
 
-    /// Hill stability of the condensed solution `x` at w (rad/s).
+    /// Floquet stability of the condensed solution `x` at w (rad/s).
     ///
-    /// Hill's method needs the linear part at complex exponents, which the condensation per
-    /// harmonic does not give; it is solved instead on a Craig-Bampton model of the linear
-    /// part whose boundary is the kept coordinates, with `stability_modes` fixed-interface
-    /// modes. The nonlinear forces act on the kept coordinates only, so their Galerkin
-    /// matrices are exact; only the linear rest is truncated, to its lowest modes.
+    /// The monodromy matrix needs the linear part in time, which the condensation per
+    /// harmonic does not give; it is integrated instead on a Craig-Bampton model of the
+    /// linear part whose boundary is the kept coordinates, with `stability_modes`
+    /// fixed-interface modes (8 coordinates, 16 states on the reference rotor). The
+    /// nonlinear forces act on the kept coordinates only, so their tangents enter exactly;
+    /// only the linear rest is truncated, to its lowest modes.
     ///
     /// # Errors
-    /// [`Error::Singular`] or [`Error::NotConverged`] when the reduction or the eigen-solver
+    /// [`Error::Singular`] or [`Error::NotConverged`] when the reduction or the monodromy
     /// fails.
     pub fn stability(&mut self, x: &[f64], frequency: f64) -> Result<Stability> {
-        self.hill_problem(x, frequency)?.solve()
+        self.floquet_problem(x, frequency)?.solve()
     }
 
-    /// Hill's eigenproblem of [`Self::stability`], to solve later.
+    /// The Floquet problem of [`Self::stability`], to solve later.
     ///
     /// # Errors
     /// As [`Self::stability`].
-    pub fn hill_problem(&mut self, x: &[f64], frequency: f64) -> Result<HillProblem> {
+    pub fn floquet_problem(&mut self, x: &[f64], frequency: f64) -> Result<FloquetProblem> {
         self.reduced.check_arguments(frequency, x)?;
         let model = match self.stability_model.take() {
             Some(model) => model,
             None => self.stability_basis()?,
         };
-        let nonlinear = self.reduced.linearise(x, frequency);
-        let (n, m) = (model.problem().size(), self.kept.len());
-        let mut jacobian = model.linear_matrix(frequency);
-        let mut velocity = Mat::zeros(jacobian.nrows(), jacobian.ncols());
-        let slots = 2 * self.harmonics() + 1;
-        // Boundary coordinate i of the reduction is kept coordinate i (both ascending).
-        for (s, t) in (0..slots).flat_map(|s| (0..slots).map(move |t| (s, t))) {
-            for (i, j) in (0..m).flat_map(|i| (0..m).map(move |j| (i, j))) {
-                let (row, col) = (s * n + i, t * n + j);
-                let (r, c) = (s * m + i, t * m + j);
-                jacobian[(row, col)] += nonlinear.jacobian[(r, c)];
-                velocity[(row, col)] = nonlinear.velocity_galerkin[(r, c)];
-            }
-        }
-        let problem = hill_problem(&model, &jacobian, &velocity, frequency);
+        // The reduced problem's forces act on all m kept coordinates, numbered 0..m, which
+        // are the reduction's first m (boundary) coordinates: both ascending.
+        let tangents = self.reduced.sampled_tangents(x, frequency);
+        let problem = model.problem(frequency, &tangents);
         self.stability_model = Some(model);
-        problem
+        Ok(problem)
     }
 
     /// The linear part reduced by Craig-Bampton onto the kept coordinates and the lowest
-    /// fixed-interface modes, as a harmonic balance without nonlinear forces.
-    fn stability_basis(&self) -> Result<HarmonicBalance> {
+    /// fixed-interface modes.
+    fn stability_basis(&self) -> Result<FloquetModel> {
         let cb = CraigBampton::new(&self.linear.matrices, &self.kept, self.stability_modes)?;
-        HarmonicBalance::new(System::unloaded(cb.reduced), *self.options())
+        FloquetModel::new(&cb.reduced)
     }
 
     /// The coordinates kept (those carrying nonlinear forces), ascending.

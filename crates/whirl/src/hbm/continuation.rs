@@ -26,7 +26,7 @@ use super::balance::{
 };
 use super::bifurcation::{locate_bifurcations, Bifurcation};
 use super::condensation::CondensedBalance;
-use super::stability::{hill_problem, HillProblem, Stability};
+use super::stability::{FloquetModel, FloquetProblem, Stability};
 use super::HbOptions;
 use crate::error::{Error, Result};
 use crate::linalg::{difference, dot_in_order as dot, norm, solve_dense};
@@ -44,8 +44,8 @@ pub trait Periodic {
     fn residual_at(&mut self, x: &[f64], frequency: f64) -> (Vec<f64>, f64);
     /// dR/dx and dR/dw at (x, w).
     fn derivatives(&mut self, x: &[f64], frequency: f64) -> Derivatives;
-    /// Hill's eigenproblem of the periodic solution (x, w).
-    fn hill_problem(&mut self, x: &[f64], frequency: f64) -> Result<HillProblem>;
+    /// The Floquet problem (monodromy matrix) of the periodic solution (x, w).
+    fn floquet_problem(&mut self, x: &[f64], frequency: f64) -> Result<FloquetProblem>;
     /// Whether the caller asked the path to stop (asked before each step).
     fn stop_requested(&self) -> bool {
         false
@@ -78,10 +78,12 @@ impl Periodic for HarmonicBalance {
             frequency_derivative: lin.frequency_derivative,
         }
     }
-    fn hill_problem(&mut self, x: &[f64], frequency: f64) -> Result<HillProblem> {
+    /// The monodromy matrix of the whole model (2n states): for small models; a large
+    /// one is condensed ([`CondensedBalance`]).
+    fn floquet_problem(&mut self, x: &[f64], frequency: f64) -> Result<FloquetProblem> {
         self.check_arguments(frequency, x)?;
-        let lin = self.linearise(x, frequency);
-        hill_problem(self, &lin.jacobian, &lin.velocity_galerkin, frequency)
+        let tangents = self.sampled_tangents(x, frequency);
+        Ok(FloquetModel::new(&self.problem().matrices)?.problem(frequency, &tangents))
     }
 }
 
@@ -113,10 +115,10 @@ impl Periodic for CondensedBalance {
             frequency_derivative,
         }
     }
-    /// Hill's method on a Craig-Bampton model of the linear part
+    /// The monodromy matrix of a Craig-Bampton model of the linear part
     /// ([`CondensedBalance::stability`]).
-    fn hill_problem(&mut self, x: &[f64], frequency: f64) -> Result<HillProblem> {
-        CondensedBalance::hill_problem(self, x, frequency)
+    fn floquet_problem(&mut self, x: &[f64], frequency: f64) -> Result<FloquetProblem> {
+        CondensedBalance::floquet_problem(self, x, frequency)
     }
 }
 
@@ -134,7 +136,7 @@ pub struct ContinuationOptions {
     pub max_turn: f64,
     /// Largest number of points.
     pub max_points: usize,
-    /// Compute Hill stability at every point.
+    /// Compute the Floquet stability at every point.
     pub stability: bool,
     /// When this many successive points advance by less than 1 % (a chord of 0.01 in
     /// scaled arclength: the path wiggles or crawls on the spot), or
@@ -172,7 +174,7 @@ pub struct BranchPoint {
     /// dw/ds, rad/s per unit of scaled arclength: negative between two folds of a
     /// hardening overhang.
     pub frequency_slope: f64,
-    /// Hill stability, when asked for.
+    /// Floquet stability, when asked for.
     pub stability: Option<Stability>,
 }
 
@@ -378,11 +380,11 @@ struct Path {
     end: BranchEnd,
 }
 
-/// Hill eigenproblems queued for the second thread at most: each holds a (2 n (2H + 1))^2
-/// matrix, and the path's thread blocks when it is this far ahead.
-const HILL_QUEUE: usize = 16;
+/// Floquet problems queued for the second thread at most: each holds N matrices of
+/// (2 n)^2 entries, and the path's thread blocks when it is this far ahead.
+const FLOQUET_QUEUE: usize = 16;
 
-/// [`trace`] with Hill stability at every point. Building a point's eigenproblem needs the
+/// [`trace`] with Floquet stability at every point. Building a point's problem needs the
 /// harmonic balance and so the path's thread; solving it does not, and takes about as long
 /// as a continuation step, so the solves run on a second thread while the path goes on,
 /// and the path's thread joins them once the path has ended. Every verdict is the one a
@@ -394,7 +396,7 @@ fn trace_with_stability<H: Periodic>(
     range: (f64, f64),
     options: &ContinuationOptions,
 ) -> Result<Path> {
-    let (sender, receiver) = mpsc::sync_channel::<(usize, HillProblem)>(HILL_QUEUE);
+    let (sender, receiver) = mpsc::sync_channel::<(usize, FloquetProblem)>(FLOQUET_QUEUE);
     let jobs = Mutex::new(receiver);
     let verdicts = Mutex::new(Vec::new());
     let solve_queued = || loop {
@@ -412,9 +414,9 @@ fn trace_with_stability<H: Periodic>(
         scope.spawn(solve_queued);
         let mut submit = |hb: &mut H, index: usize, point: &BranchPoint| {
             let s = &point.solution;
-            let problem = hb.hill_problem(&s.coefficients, s.frequency)?;
+            let problem = hb.floquet_problem(&s.coefficients, s.frequency)?;
             sender.send((index, problem)).map_err(|_| {
-                Error::Internal("the thread solving Hill's eigenproblems stopped".into())
+                Error::Internal("the thread solving the Floquet problems stopped".into())
             })
         };
         let path = trace(hb, first, orientation, range, options, &mut submit);
@@ -428,7 +430,7 @@ fn trace_with_stability<H: Periodic>(
         .unwrap_or_else(PoisonError::into_inner);
     if verdicts.len() != path.points.len() {
         return Err(Error::Internal(
-            "the thread solving Hill's eigenproblems stopped before the last point".into(),
+            "the thread solving the Floquet problems stopped before the last point".into(),
         ));
     }
     for (index, verdict) in verdicts {
@@ -639,7 +641,7 @@ pub struct Crossing {
     pub after: usize,
     /// The solution, converged at exactly the frequency.
     pub solution: HbSolution,
-    /// Its Hill stability.
+    /// Its Floquet stability.
     pub stability: Stability,
 }
 
@@ -650,13 +652,13 @@ const SAME_ORBIT: f64 = 1e-6;
 
 /// Every solution of `branch` at exactly `frequency` (rad/s), in path order: Newton at
 /// that frequency from the linear interpolation of the two points that bracket it (a
-/// point lying on it is taken as it is), with Hill stability. Where the branch crosses the
+/// point lying on it is taken as it is), with Floquet stability. Where the branch crosses the
 /// frequency several times (coexisting orbits: a fold's overhang, a loop) each distinct
 /// orbit is given, so the answer does not depend on which one a sweep ends on. Stretches
 /// the path jumped over are not crossings; a crossing where Newton fails is left out.
 ///
 /// # Errors
-/// When Hill's eigenproblem cannot be built or solved.
+/// When the Floquet problem cannot be built or solved.
 pub fn solutions_at(
     hb: &mut impl Periodic,
     branch: &Branch,
@@ -694,7 +696,7 @@ pub fn solutions_at(
         .into_iter()
         .map(|(after, solution)| {
             let stability = hb
-                .hill_problem(&solution.coefficients, solution.frequency)?
+                .floquet_problem(&solution.coefficients, solution.frequency)?
                 .solve()?;
             Ok(Crossing {
                 after,

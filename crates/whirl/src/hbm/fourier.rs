@@ -48,10 +48,9 @@ pub fn aliasing_free_samples(harmonics: usize, degree: usize) -> usize {
     ((degree.max(1) + 1) * harmonics + 1).next_power_of_two()
 }
 
-/// The most harmonics H: Hill's stability matrix has 2 (2H + 1) times the bearing and modal
-/// coordinates as its side and its eigenvalues cost the cube of that, so at 50 a point
-/// takes seconds and a branch of hundreds of points most of an hour (the thesis used up to
-/// 5).
+/// The most harmonics H: Newton's dense Jacobian has (2H + 1) times the bearing
+/// coordinates as its side and its solves cost the cube of that, about 800 times H = 5's
+/// at 50 (the thesis used up to 5).
 pub const MAX_HARMONICS: usize = 50;
 
 /// The most time samples per period N: 20 times the default (16 H) at [`MAX_HARMONICS`];

@@ -19,9 +19,9 @@
 //! - [`compare`]: time marching read in the same terms, to check harmonic balance against.
 //! - [`sweep()`]: a model's periodic response over a speed range, as `whirl hbm` runs it;
 //!   [`SweepReport`]: what it reports (summary and tables).
-//! - [`stability`]: Hill's method for each periodic solution; [`bifurcation`]: where and
-//!   how it changes, named by the crossing Floquet multiplier (fold or symmetry breaking,
-//!   period doubling, Neimark-Sacker).
+//! - [`stability`]: the Floquet multipliers of each periodic solution, from its monodromy
+//!   matrix; [`bifurcation`]: where and how stability changes, named by the crossing
+//!   multiplier (fold or symmetry breaking, period doubling, Neimark-Sacker).
 //!
 //! Nonlinear forces are seen only through [`crate::force::NonlinearForce`], the interface the
 //! time integrators use, so every contact law works in both.
@@ -48,7 +48,7 @@ pub use continuation::{
 };
 pub use fourier::{aliasing_free_samples, check_counts, MAX_HARMONICS, MAX_SAMPLES};
 pub use report::SweepReport;
-pub use stability::{hill_stability, HillProblem, Stability};
+pub use stability::{FloquetProblem, Stability};
 pub use sweep::{sweep, sweep_with_progress, AtSpeed, Sweep, SweepOptions};
 
 /// Discretisation and Newton-Raphson settings.

@@ -42,7 +42,7 @@ pub struct SweepSummary {
     pub end: String,
     /// Wall-clock time of the sweep, s.
     pub wall_time_s: f64,
-    /// Whether Hill stability was computed.
+    /// Whether the Floquet stability was computed.
     pub stability: bool,
     /// Fixed-interface modes of the stability model.
     pub stability_modes: usize,
@@ -109,7 +109,7 @@ pub struct ComparisonSummary {
 pub struct SolutionSummary {
     /// The branch point it follows.
     pub after_point: usize,
-    /// Hill stability.
+    /// Floquet stability.
     pub stable: bool,
     /// Largest real part of the Floquet exponents, 1/s.
     pub max_real_exponent_per_s: f64,

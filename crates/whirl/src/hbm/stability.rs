@@ -1,191 +1,231 @@
-//! Stability of a periodic solution by Hill's method.
+//! Stability of a periodic solution from its monodromy matrix (Floquet theory).
 //!
-//! A perturbation e^{lambda t} p(t), p periodic and written in the same Fourier basis as
-//! the solution, satisfies (the time derivative acting on e^{lambda t} p is lambda + Nabla)
+//! A small perturbation p of the periodic solution obeys the equations linearised about it,
 //!
 //! ```text
-//! (lambda^2 Delta_2 + lambda Delta_1 + Delta_0) p = 0
-//! Delta_2 = M,   Delta_1 = D + 2 M Nabla - G[dF/dv],   Delta_0 = dR/dx
+//! M p'' + (D - J_v(t)) p' + (K - J_q(t)) p = 0,   D = C + w G,
 //! ```
 //!
-//! (M and D = C + w G applied per slot). The truncated problem has n (2H + 1) pairs of
-//! eigenvalues, copies lambda + i k w of the 2n Floquet exponents; the copies whose
-//! imaginary parts are smallest converge first, so the 2n of smallest |Im| are kept
-//! (Lazarus & Thomas 2010; Peletan et al. 2013). The solution is stable when all have
-//! negative real parts.
+//! with J_q = dF_nl/dq and J_v = dF_nl/dv taken along the orbit, so T-periodic (T = 2 pi / w).
+//! In the state z = (p, p') this is z' = A(t) z, and one period maps z(0) to Phi z(0): Phi is
+//! the monodromy matrix, and its eigenvalues, the Floquet multipliers mu, decide stability
+//! (stable when every |mu| < 1). The exponents lambda = ln(mu) / T have real part ln|mu| / T
+//! and imaginary part arg(mu) / T in (-w/2, w/2] (the exponents of Hill's method folded into
+//! that strip; Nayfeh & Balachandran, "Applied Nonlinear Dynamics", 1995, ch. 5).
+//!
+//! Phi is the product over the N AFT samples of exp(h A(t_j)), h = T / N, each interval
+//! centred on its sample t_j = j T / N, where the harmonic balance samples the tangents: the
+//! exponential midpoint rule. It is exact when A is constant (a linear system, or a force
+//! whose tangents do not vary), of second order in h otherwise, and stable for every h: the
+//! stiff, heavily damped modes of a contact stay decaying, however coarse the samples.
+//! Multipliers below the round-off of Phi (about 1e-16 |Phi|: modes damped out within a
+//! period) carry exponents that are only bounds, far from deciding stability.
 
+use faer::diag::Diag;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::evd;
-use faer::{diag::Diag, Mat, Spec};
+use faer::{Mat, Spec};
 
-use super::balance::HarmonicBalance;
+use super::balance::SampledTangents;
 use crate::error::{Error, Result};
+use crate::fe::SystemMatrices;
+use crate::linalg::{exponential, product};
 
-/// Floquet exponents of a periodic solution.
+/// Floquet multipliers and exponents of a periodic solution.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct Stability {
-    /// The 2n Floquet exponents kept, (real, imaginary), 1/s and rad/s.
+    /// The Floquet multipliers, eigenvalues of the monodromy matrix, (real, imaginary).
+    pub multipliers: Vec<(f64, f64)>,
+    /// Their exponents ln(mu) / T, (real, imaginary), 1/s and rad/s, imaginary parts in
+    /// (-w/2, w/2].
     pub exponents: Vec<(f64, f64)>,
     /// The largest real part, 1/s.
     pub max_real: f64,
-    /// True when every exponent has a negative real part (beyond round-off).
+    /// True when every multiplier lies inside the unit circle (beyond round-off).
     pub stable: bool,
 }
 
-/// Hill's method at the solution `x` at frequency w (rad/s).
-///
-/// # Errors
-/// [`Error::Singular`] when M is singular, [`Error::NotConverged`] when the eigen-solver
-/// fails.
-pub fn hill_stability(hb: &mut HarmonicBalance, x: &[f64], frequency: f64) -> Result<Stability> {
-    hb.check_arguments(frequency, x)?;
-    let lin = hb.linearise(x, frequency);
-    hill_problem(hb, &lin.jacobian, &lin.velocity_galerkin, frequency)?.solve()
+/// A multiplier is outside the unit circle when ln|mu| exceeds this: far above the
+/// round-off of the eigenvalues of a product of a few hundred well-scaled exponentials
+/// (1e-13), far below any physical growth over one period.
+const ROUND_OFF: f64 = 1e-10;
+
+/// The linear part of the linearised equations with M^-1 applied, shared by every Floquet
+/// problem of one model: M^-1 K, M^-1 C, M^-1 G and M^-1, row-major.
+pub(crate) struct FloquetModel {
+    n: usize,
+    stiffness: Vec<f64>,
+    damping: Vec<f64>,
+    gyroscopic: Vec<f64>,
+    mass_inverse: Vec<f64>,
 }
 
-/// Hill's eigenproblem of one periodic solution, ready to solve: building it needs the
-/// harmonic balance (and its work buffers), solving it does not, so the solves of a
-/// branch's points can run in parallel.
-pub struct HillProblem {
-    companion: Mat<f64>,
-    /// Number of coordinates n (2n exponents are kept).
-    coordinates: usize,
+impl FloquetModel {
+    /// # Errors
+    /// [`Error::Singular`] when M is singular.
+    pub(crate) fn new(matrices: &SystemMatrices) -> Result<FloquetModel> {
+        let n = matrices.mass.nrows();
+        let lu = matrices.mass.partial_piv_lu();
+        let solved = |m: &Mat<f64>| -> Result<Vec<f64>> {
+            let mut x = m.clone();
+            faer::linalg::solvers::Solve::solve_in_place(&lu, x.as_mut());
+            let plain: Vec<f64> = (0..n * n).map(|k| x[(k / n, k % n)]).collect();
+            if plain.iter().all(|v| v.is_finite()) {
+                Ok(plain)
+            } else {
+                Err(Error::singular(
+                    "mass matrix",
+                    "the Floquet stability needs a nonsingular mass matrix".into(),
+                ))
+            }
+        };
+        Ok(FloquetModel {
+            n,
+            stiffness: solved(&matrices.stiffness)?,
+            damping: solved(&matrices.damping)?,
+            gyroscopic: solved(&matrices.gyroscopic)?,
+            mass_inverse: solved(&Mat::identity(n, n))?,
+        })
+    }
+
+    /// The Floquet problem of the orbit at w (rad/s) whose force tangents are `tangents`
+    /// (on coordinates of this model).
+    pub(crate) fn problem(&self, frequency: f64, tangents: &SampledTangents) -> FloquetProblem {
+        let (n, samples) = (self.n, tangents.samples);
+        let (dofs, m) = (&tangents.dofs, tangents.dofs.len());
+        // M^-1 (K - J_q(t_j)) and M^-1 (C + w G - J_v(t_j)) at every sample.
+        let mut stiffness = Vec::with_capacity(samples);
+        let mut damping = Vec::with_capacity(samples);
+        for j in 0..samples {
+            let mut k = self.stiffness.clone();
+            let mut d: Vec<f64> = (0..n * n)
+                .map(|e| self.damping[e] + frequency * self.gyroscopic[e])
+                .collect();
+            for (c, &col) in dofs.iter().enumerate() {
+                for (a, &force_row) in dofs.iter().enumerate() {
+                    let (jq, jv) = (
+                        tangents.dq[(a * m + c) * samples + j],
+                        tangents.dv[(a * m + c) * samples + j],
+                    );
+                    if jq == 0.0 && jv == 0.0 {
+                        continue;
+                    }
+                    for i in 0..n {
+                        let minv = self.mass_inverse[i * n + force_row];
+                        k[i * n + col] -= minv * jq;
+                        d[i * n + col] -= minv * jv;
+                    }
+                }
+            }
+            stiffness.push(k);
+            damping.push(d);
+        }
+        // The state (s p, p') with s^2 the largest 1-norm of the stiffness blocks: both
+        // blocks of A then have norms of the highest natural frequency, not its square,
+        // which saves the exponentials about log2(s) squarings. The multipliers do not
+        // depend on s (a similarity).
+        let largest = stiffness
+            .iter()
+            .map(|k| {
+                (0..n)
+                    .map(|col| (0..n).map(|i| k[i * n + col].abs()).sum::<f64>())
+                    .fold(0.0, f64::max)
+            })
+            .fold(0.0, f64::max);
+        let scale = if largest > 0.0 && largest.is_finite() {
+            largest.sqrt()
+        } else {
+            1.0
+        };
+        let h = std::f64::consts::TAU / frequency / samples as f64;
+        let states = 2 * n;
+        let mut generators = vec![0.0; samples * states * states];
+        for ((g, k), d) in generators
+            .chunks_exact_mut(states * states)
+            .zip(&stiffness)
+            .zip(&damping)
+        {
+            for i in 0..n {
+                g[i * states + n + i] = h * scale;
+                for col in 0..n {
+                    g[(n + i) * states + col] = -h * k[i * n + col] / scale;
+                    g[(n + i) * states + n + col] = -h * d[i * n + col];
+                }
+            }
+        }
+        FloquetProblem {
+            generators,
+            states,
+            frequency,
+        }
+    }
+}
+
+/// The monodromy matrix's factors of one periodic solution, ready to multiply out: building
+/// them needs the harmonic balance (and its work buffers), solving does not, so the solves
+/// of a branch's points can run on another thread while the path goes on.
+pub struct FloquetProblem {
+    /// h A(t_j) of every interval, row-major, one states x states block after another.
+    generators: Vec<f64>,
+    /// Size of the state, twice the coordinates.
+    states: usize,
     frequency: f64,
 }
 
-/// Hill's eigenproblem from dR/dx (`jacobian`) and G[dF/dv] (`velocity_galerkin`) of a
-/// solution of `hb`'s problem, which supplies M and D.
-pub(crate) fn hill_problem(
-    hb: &HarmonicBalance,
-    jacobian: &Mat<f64>,
-    velocity_galerkin: &Mat<f64>,
-    frequency: f64,
-) -> Result<HillProblem> {
-    let n = hb.problem().size();
-    let size = hb.unknowns();
-    let mass_inverse = block_inverse_mass(hb, size)?;
-    let d = hb.damping_operator(frequency);
-    let mass = block_diagonal(&hb.problem().matrices.mass, size);
-    let mut delta_1 =
-        block_diagonal(&d, size) + hb.times_derivative(&mass, frequency) * faer::Scale(2.0);
-    delta_1 -= velocity_galerkin;
-    let stiffness_part = &mass_inverse * jacobian;
-    let damping_part = &mass_inverse * &delta_1;
-    // Companion form of the quadratic problem: state (p, lambda p).
-    let companion = Mat::<f64>::from_fn(2 * size, 2 * size, |i, j| match (i < size, j < size) {
-        (true, true) => 0.0,
-        (true, false) => f64::from(u8::from(j - size == i)),
-        (false, true) => -stiffness_part[(i - size, j)],
-        (false, false) => -damping_part[(i - size, j - size)],
-    });
-    Ok(HillProblem {
-        companion,
-        coordinates: n,
-        frequency,
-    })
-}
-
-impl HillProblem {
-    /// The Floquet exponents and the verdict.
+impl FloquetProblem {
+    /// The multipliers, the exponents and the verdict.
     ///
     /// # Errors
-    /// [`Error::NotConverged`] when the eigen-solver fails.
+    /// [`Error::NotConverged`] when an exponential or the eigen-solver fails (a tangent
+    /// that is not finite).
     pub fn solve(self) -> Result<Stability> {
-        let frequency = self.frequency;
-        let mut all = eigenvalues(&self.companion).map_err(|_| {
+        let (s, frequency) = (self.states, self.frequency);
+        let failed = || {
             Error::not_converged(
-                "Hill's eigenproblem",
+                "monodromy matrix",
                 None,
                 None,
-                format!("Hill's eigenproblem did not converge at {frequency} rad/s"),
+                format!("the monodromy matrix could not be formed at {frequency} rad/s"),
             )
-        })?;
-        let largest = all.iter().map(|(re, im)| re.hypot(*im)).fold(0.0, f64::max);
-        let exponents = floquet_exponents(all.as_mut_slice(), 2 * self.coordinates, frequency);
+        };
+        let mut monodromy: Vec<f64> = (0..s * s)
+            .map(|k| if k.is_multiple_of(s + 1) { 1.0 } else { 0.0 })
+            .collect();
+        for generator in self.generators.chunks_exact(s * s) {
+            let step = exponential(generator, s).ok_or_else(failed)?;
+            monodromy = product(&step, &monodromy, s);
+        }
+        let multipliers =
+            eigenvalues(&Mat::from_fn(s, s, |i, j| monodromy[i * s + j])).map_err(|_| failed())?;
+        let period = std::f64::consts::TAU / frequency;
+        let exponents: Vec<(f64, f64)> = multipliers
+            .iter()
+            .map(|&(re, im)| {
+                let modulus = re.hypot(im).max(f64::MIN_POSITIVE);
+                (modulus.ln() / period, im.atan2(re) / period)
+            })
+            .collect();
         let max_real = exponents
             .iter()
             .map(|e| e.0)
             .fold(f64::NEG_INFINITY, f64::max);
-        // Eigenvalues carry round-off of about eps |A|; 1e-10 of the largest is well above
-        // it and well below any physical growth rate.
-        let stable = max_real < 1e-10 * largest;
         Ok(Stability {
+            stable: max_real * period < ROUND_OFF,
+            multipliers,
             exponents,
             max_real,
-            stable,
         })
     }
 }
 
-/// The `count` Floquet exponents among the Hill eigenvalues `values`, folded into the strip
-/// |Im| <= w/2.
-///
-/// Copies lambda + i k w closest to the real axis are the best converged, so eigenvalues are
-/// taken by increasing |Im| and folded into the strip; a folded value that repeats one
-/// already taken is another copy and is skipped. Skipping matters when a mode's frequency
-/// lies beyond H w: the truncated problem then holds no copy of it in the strip, and
-/// without the skip its place would go to a duplicate of a lower mode.
-fn floquet_exponents(values: &mut [(f64, f64)], count: usize, frequency: f64) -> Vec<(f64, f64)> {
-    values.sort_by(|a, b| a.1.abs().total_cmp(&b.1.abs()));
-    // Copies differ by the truncation error of the outer harmonics, a small fraction of w
-    // (measured 2e-5 w on the reference rotor at H = 3); distinct exponents closer than
-    // 1e-3 w are merged, which at worst hides a duplicate of an exponent already listed.
-    let tolerance = 1e-3 * frequency;
-    let mut kept: Vec<(f64, f64)> = Vec::with_capacity(count);
-    for &(re, im) in values.iter() {
-        let folded = im - frequency * (im / frequency).round();
-        let repeated = kept.iter().any(|&(r, i)| {
-            let d = (folded - i).abs();
-            (re - r).abs() <= tolerance && d.min(frequency - d) <= tolerance
-        });
-        if !repeated {
-            kept.push((re, folded));
-            if kept.len() == count {
-                break;
-            }
-        }
-    }
-    kept
-}
-
-/// blockdiag(M^-1) over the 2H + 1 slots.
-fn block_inverse_mass(hb: &HarmonicBalance, size: usize) -> Result<Mat<f64>> {
-    let mass = &hb.problem().matrices.mass;
-    let n = mass.nrows();
-    let mut inverse = Mat::<f64>::identity(n, n);
-    faer::linalg::solvers::Solve::solve_in_place(&mass.partial_piv_lu(), inverse.as_mut());
-    if (0..n).any(|i| (0..n).any(|j| !inverse[(i, j)].is_finite())) {
-        return Err(Error::singular(
-            "mass matrix",
-            "Hill's method needs a nonsingular mass matrix".into(),
-        ));
-    }
-    Ok(block_diagonal(&inverse, size))
-}
-
-/// The n x n matrix `a` repeated along the diagonal of a size x size matrix.
-fn block_diagonal(a: &Mat<f64>, size: usize) -> Mat<f64> {
-    let n = a.nrows();
-    Mat::from_fn(size, size, |i, j| {
-        if i / n == j / n {
-            a[(i % n, j % n)]
-        } else {
-            0.0
-        }
-    })
-}
-
-/// The eigenvalues of Hill's matrix `a` by faer's Hessenberg reduction and multishift QR
-/// with aggressive early deflation, with a smaller shift count and deflation window than
-/// faer picks for 150 to 590 rows ([`hill_shift_count`]).
+/// The eigenvalues of the real matrix `a` (faer's Hessenberg reduction and real Schur QR):
+/// real ones with an imaginary part of exactly zero, complex ones in conjugate pairs.
 fn eigenvalues(a: &Mat<f64>) -> std::result::Result<Vec<(f64, f64)>, evd::EvdError> {
     let n = a.nrows();
-    let mut params: Spec<evd::EvdParams, f64> = Default::default();
-    params.schur.recommended_shift_count = hill_shift_count;
-    params.schur.recommended_deflation_window = hill_deflation_window;
+    let params: Spec<evd::EvdParams, f64> = Default::default();
     let mut re = Diag::<f64>::zeros(n);
     let mut im = Diag::<f64>::zeros(n);
-    let par = faer::get_global_parallelism();
+    let par = faer::Par::Seq;
     let no = evd::ComputeEigenvectors::No;
     let scratch = evd::evd_scratch::<f64>(n, no, no, par, params);
     let mut buffer = MemBuffer::new(scratch);
@@ -204,35 +244,11 @@ fn eigenvalues(a: &Mat<f64>) -> std::result::Result<Vec<(f64, f64)>, evd::EvdErr
     Ok(re.iter().zip(im.iter()).map(|(&r, &i)| (r, i)).collect())
 }
 
-/// Shifts per multishift QR sweep: 12, faer's choice for 60 to 150 rows, up to 590 rows
-/// (Hill's matrix of the reference rotor, H = 5, has 176), where faer takes 32 with a
-/// deflation window of n / log2 n (23). On the reference rotor's 1-750 Hz sweep with
-/// stability the smaller pair cut the CPU time of the whole sweep by a sixth (21.2 to
-/// 17.9 s): with the larger window, reordering the Schur form in the aggressive early
-/// deflation took 13 % of it. The eigenvalues are the same to round-off, the QR converging
-/// to working precision either way. Above 590 rows faer's values for 590 to 3000 rows.
-extern "C" fn hill_shift_count(dimension: usize, _active_block: usize) -> usize {
-    if dimension < 590 {
-        12
-    } else {
-        64
-    }
-}
-
-/// The deflation window going with [`hill_shift_count`].
-extern "C" fn hill_deflation_window(dimension: usize, _active_block: usize) -> usize {
-    if dimension < 590 {
-        10
-    } else {
-        96
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fe::SystemMatrices;
-    use crate::hbm::HbOptions;
+    use crate::hbm::continuation::Periodic;
+    use crate::hbm::{HarmonicBalance, HbOptions};
     use crate::system::System;
 
     #[test]
@@ -262,7 +278,11 @@ mod tests {
         let mut hb = HarmonicBalance::new(problem, HbOptions::new(3)).unwrap();
         let zero = vec![0.0; hb.unknowns()];
         let solution = hb.solve(w, &zero).unwrap();
-        let stability = hill_stability(&mut hb, &solution.coefficients, w).unwrap();
+        let stability = hb
+            .floquet_problem(&solution.coefficients, w)
+            .unwrap()
+            .solve()
+            .unwrap();
 
         let companion = Mat::<f64>::from_fn(4, 4, |i, j| match (i < 2, j < 2) {
             (true, true) => 0.0,
@@ -281,7 +301,8 @@ mod tests {
                 .iter()
                 .map(|e| (e.0 - re).hypot(e.1 - shifted))
                 .fold(f64::INFINITY, f64::min);
-            // Two eigen-solves of well-conditioned matrices with entries up to (H w)^2.
+            // A constant A: the product of the N exponentials is exp(A T) to round-off
+            // (N products of matrices of norm about 1), and two eigen-solves.
             assert!(nearest < 1e-10, "eigenvalue {re} + {im} i: {nearest:e}");
         }
         assert!(stability.stable);

@@ -1,7 +1,7 @@
 //! The periodic response of a model followed over a speed range: the problem built from the
 //! model file (full finite-element model, roller bearings as a [`CageModel`] or the
 //! forcing-function law), condensed onto the bearing coordinates, started from the static
-//! equilibrium, continued in speed with Hill stability at every point. What `whirl hbm`
+//! equilibrium, continued in speed with Floquet stability at every point. What `whirl hbm`
 //! runs.
 
 use std::time::Instant;
@@ -14,7 +14,7 @@ use super::continuation::{
     continuation, solutions_at, Branch, ContinuationOptions, Derivatives, Periodic,
 };
 use super::fourier::{check_counts, cos_slot, sin_slot};
-use super::stability::{HillProblem, Stability};
+use super::stability::{FloquetProblem, Stability};
 use super::{aliasing_free_samples, CondensedBalance, HbOptions, HbSolution};
 use crate::bearing::forcing_bearings;
 use crate::bearing::ContactLaw;
@@ -51,7 +51,7 @@ pub struct SweepOptions {
     /// bifurcations by up to 2.5 Hz (docs/theory.md, section 7): the exact law stays the
     /// default.
     pub contact_smoothing: f64,
-    /// Hill stability at every point.
+    /// Floquet stability (monodromy matrix) at every point.
     pub stability: bool,
     /// Fixed-interface modes of the stability model ([`CondensedBalance::stability`]).
     pub stability_modes: usize,
@@ -183,7 +183,7 @@ pub struct AtSpeed {
     pub after: usize,
     /// Coefficients in the layout of [`Sweep::coefficients`].
     pub coefficients: Vec<f64>,
-    /// Hill stability (computed even when the sweep skips it).
+    /// Floquet stability (computed even when the sweep skips it).
     pub stability: Stability,
 }
 
@@ -244,7 +244,7 @@ pub fn sweep(model: &Model, options: &SweepOptions) -> Result<Sweep> {
 }
 
 /// As [`sweep`], telling `progress` how far the path has got (the highest frequency it
-/// has tried, in Hz from `options.from` to `options.to`; Hill stability, solved after the
+/// has tried, in Hz from `options.from` to `options.to`; the stability, solved after the
 /// path, is not reported). `progress` may stop the sweep.
 ///
 /// # Errors
@@ -374,8 +374,8 @@ impl Periodic for Reporting<'_> {
     fn derivatives(&mut self, x: &[f64], frequency: f64) -> Derivatives {
         self.inner.derivatives(x, frequency)
     }
-    fn hill_problem(&mut self, x: &[f64], frequency: f64) -> Result<HillProblem> {
-        self.inner.hill_problem(x, frequency)
+    fn floquet_problem(&mut self, x: &[f64], frequency: f64) -> Result<FloquetProblem> {
+        self.inner.floquet_problem(x, frequency)
     }
     fn stop_requested(&self) -> bool {
         self.stopped

@@ -1,14 +1,17 @@
 //! The small linear-algebra kernels of the solvers, in one place: dense and banded
 //! products and factorisations that vectorise and allocate nothing inside the time-step
 //! loop ([`Dense`], [`Columns`], [`Band`], [`BandLu`], [`Factors`]), the pivoting band LU of
-//! harmonic balance's condensation ([`banded::BandedLu`]), and the one cost model that
+//! harmonic balance's condensation ([`banded::BandedLu`]), the exponential of a small
+//! matrix for its stability ([`exponential()`]), and the one cost model that
 //! chooses between dense and banded steps ([`Layout`]), and the plain dense kernels of the
 //! Newton solvers (`norm`, `multiply`, `solve_dense`, ...).
 
 pub(crate) mod banded;
 mod dense;
+mod exponential;
 
 pub(crate) use dense::{add_product, difference, multiply, norm, solve_dense};
+pub(crate) use exponential::{exponential, product};
 
 use faer::traits::pulp::Arch;
 use faer::Mat;
