@@ -248,3 +248,21 @@ fn the_reduction_of_a_fine_mesh_on_the_bands_agrees_with_a_coarse_one() {
     // A finer mesh has higher element frequencies: a smaller stable step.
     assert!(b.full_stable_step < a.full_stable_step / 10.0);
 }
+
+#[test]
+fn the_critical_speed_map_of_a_fine_mesh_on_the_bands_agrees_with_a_coarse_one() {
+    // The 80-element map solves every root of its plane (162 DOFs) densely; the
+    // 2,000-element one (4,002) iterates on the bands for the four asked for. The
+    // synchronous pencil is indefinite (the disk's I_p = 2 I_d).
+    let (coarse, fine) = coarse_and_fine();
+    let stiffness = [1e6, 1e8, 1e10];
+    for synchronous in [true, false] {
+        let a = critical_speed_map(&coarse, &stiffness, 4, synchronous, None).unwrap();
+        let b = critical_speed_map(&fine, &stiffness, 4, synchronous, None).unwrap();
+        for (ca, cb) in a.critical_speeds_hz.iter().zip(&b.critical_speeds_hz) {
+            for (x, y) in ca.iter().zip(cb) {
+                assert!((y / x - 1.0).abs() < 2e-4, "{y} vs {x} Hz");
+            }
+        }
+    }
+}

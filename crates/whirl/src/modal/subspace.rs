@@ -20,6 +20,10 @@
 //! The shift doubles as the test of stability at rest: A has a pivot that is not positive
 //! exactly when an eigenvalue lies below sigma (Sylvester's law of inertia applied to its
 //! LDL^T factors).
+//!
+//! The critical-speed map's pencil M_eff v = mu K_p v has an indefinite M_eff (a disk's and
+//! the shaft's polar inertia) but a positive definite K_p: [`largest_roots`] iterates it the
+//! same way with K_p as the inner product, which needs no definite mass.
 
 use faer::Mat;
 
@@ -27,20 +31,37 @@ use crate::error::{Error, Result};
 use crate::linalg::{Band, BandLu};
 
 /// Converged when, for every wanted Ritz pair (mu_j, x_j) with |x_j|_M = 1, the inverse
-/// iteration moves the vector by at most this: |mu_j A^-1 M x_j - x_j|_M <= TOLERANCE. The
-/// change is the vector's error along the other modes, and the eigenvalue's error is of its
-/// square, far below round-off.
+/// iteration moves the vector by at most this: |mu_j A^-1 M x_j - x_j|_M <= TOLERANCE (the
+/// same for [`largest_roots`] in its own inner product). The change is the vector's error
+/// along the other modes, and the eigenvalue's error is of its square (over the relative gap
+/// to the next, Kato-Temple), far below round-off.
 const TOLERANCE: f64 = 1e-9;
 
 /// On fine meshes round-off sets a floor above [`TOLERANCE`]: the stiffness of an element
 /// grows as 1 / length^3, so K's entries (5e17 N/m for the 10,000-element reference rotor)
 /// dwarf the stiffness of the lowest modes (1e6 N/m) and the solves with A lose the
-/// difference in digits (the change stalls at 5e-9 for 2,000 elements, 7e-7 for 10,000).
+/// difference in digits (the change stalls at 5e-9 for 2,000 elements, 7e-7 for 10,000; for
+/// the critical-speed map's roots, at up to 1.3e-6 for 10,000).
 /// The iteration has then converged as far as double precision allows, which is recognised
 /// when the change stops falling (by less than half in one iteration) while the wanted Ritz
 /// values stay put to this relative amount: a slow but genuine convergence changes them by
 /// the square of the vectors' change, far more.
 const STALLED_VALUES: f64 = 1e-11;
+
+/// Whether an iteration has converged, from the largest change of a wanted vector in this
+/// iteration and the last, and the wanted values now and then: the change is within
+/// [`TOLERANCE`], or it has stopped falling (by less than half) at a round-off floor while
+/// the values stay put to [`STALLED_VALUES`].
+fn converged(change: f64, previous_change: f64, values: &[f64], previous: &[f64]) -> bool {
+    let steady = || {
+        previous.len() == values.len()
+            && values
+                .iter()
+                .zip(previous)
+                .all(|(v, p)| (v - p).abs() <= STALLED_VALUES * v.abs())
+    };
+    change <= TOLERANCE || (change > 0.5 * previous_change && steady())
+}
 
 /// Iterations before giving up; the reference rotors converge in a few tens, with each
 /// iteration dividing the error by mu_(q+1) / mu_p, at least 2 for isolated modes.
@@ -81,10 +102,8 @@ pub(crate) fn lowest_modes(
             largest_change = (0..p)
                 .map(|j| change(mass, mu[j], y.col_as_slice(j), x.col_as_slice(j)))
                 .fold(0.0, f64::max);
-            let stalled = largest_change > 0.5 * previous
-                && previous_mu.len() == mu.len()
-                && (0..p).all(|j| (mu[j] - previous_mu[j]).abs() <= STALLED_VALUES * mu[j]);
-            if largest_change <= TOLERANCE || stalled {
+            let previous_wanted = previous_mu.get(..p).unwrap_or(&[]);
+            if converged(largest_change, previous, &mu[..p], previous_wanted) {
                 let lambda = mu[..p].iter().map(|m| m + shift).collect();
                 let vectors = Mat::from_fn(n, p, |i, j| x[(i, j)]);
                 return Ok((lambda, vectors));
@@ -95,7 +114,9 @@ pub(crate) fn lowest_modes(
         }
         // Y made M-orthonormal first: its columns lean towards the lowest modes (by
         // mu_1 / mu_k), and left so M_r would be singular in floating point.
-        let (y, mx, my) = orthonormalised(y, mx, mass);
+        let (mut y, mut mx) = (y, mx);
+        let mut my = mass.times(&y);
+        orthonormalise(&mut y, &mut my, Some(&mut mx));
         let k_r = symmetric(&(y.transpose() * &mx));
         let m_r = symmetric(&(y.transpose() * &my));
         let (values, z) = crate::modal::symmetric_modes(&k_r, &m_r, q)?;
@@ -113,6 +134,109 @@ pub(crate) fn lowest_modes(
              frequency; ask for fewer modes"
         ),
     ))
+}
+
+/// The `count` largest positive roots theta of M v = theta A v, descending, for bands A
+/// symmetric positive definite and M symmetric but possibly indefinite (fewer when fewer are
+/// positive), by subspace iteration on A^-1 M in the inner product of A. A^-1 M is
+/// self-adjoint in it (A A^-1 M = M is symmetric), so its roots are real, its eigenvectors
+/// A-orthogonal, and the Rayleigh-Ritz step on q vectors,
+///
+/// ```text
+/// Y = A^-1 M X,  B = A Y = M X
+/// M_r = Y^T M Y,  A_r = Y^T B,  M_r z = theta A_r z,  X <- Y Z
+/// ```
+///
+/// needs M definite nowhere: it is A that normalises, and no product with A is formed (B is
+/// M X, so A's huge entries on a fine mesh cost no digits). The iteration converges to the
+/// roots of largest magnitude, negative ones included: root j at the rate
+/// |theta_(q+1)| / |theta_j| per iteration, so the few negative roots of disks with
+/// I_p > I_d take places in the q = max(2p, p + 8) vectors without slowing the wanted ones.
+/// A root's change is |A^-1 M x_j - theta_j x_j|_A / |theta_j|, the same measure as
+/// [`lowest_modes`]'s, with the same test of convergence.
+///
+/// # Errors
+/// `not_definite()` when A is not positive definite; [`Error::NotConverged`] when the
+/// iteration does not converge ([`converged`]) in [`MAX_ITERATIONS`].
+pub(crate) fn largest_roots(
+    mass: &Band,
+    stiffness: &Band,
+    count: usize,
+    not_definite: impl FnOnce() -> Error,
+) -> Result<Vec<f64>> {
+    let n = stiffness.size();
+    let p = count.min(n);
+    let q = (2 * p).max(p + 8).min(n);
+    let factors = match BandLu::new(stiffness) {
+        Some(lu) if lu.pivots_positive() => lu,
+        _ => return Err(not_definite()),
+    };
+    let mut padded = {
+        let (before, after) = factors.padding();
+        vec![0.0; before + n + after]
+    };
+    let mut x = starting_vectors(n, q);
+    // A X, and the Ritz values descending, once a Rayleigh-Ritz step has made them.
+    let mut ritz: Option<(Mat<f64>, Vec<f64>)> = None;
+    let mut previous_wanted: Vec<f64> = Vec::new();
+    let mut largest_change = f64::INFINITY;
+    for iteration in 0..=MAX_ITERATIONS {
+        let mx = mass.times(&x);
+        let y = solve(&factors, &mx, &mut padded);
+        if let Some((ax, theta)) = &ritz {
+            let wanted: Vec<usize> = (0..p).filter(|&j| theta[j] > 0.0).collect();
+            let previous = largest_change;
+            largest_change = wanted
+                .iter()
+                .map(|&j| {
+                    root_change(
+                        theta[j],
+                        y.col_as_slice(j),
+                        x.col_as_slice(j),
+                        mx.col_as_slice(j),
+                        ax.col_as_slice(j),
+                    )
+                })
+                .fold(0.0, f64::max);
+            let roots: Vec<f64> = wanted.iter().map(|&j| theta[j]).collect();
+            if converged(largest_change, previous, &roots, &previous_wanted) {
+                return Ok(roots);
+            }
+            previous_wanted = roots;
+        }
+        if iteration == MAX_ITERATIONS {
+            break;
+        }
+        let (mut y, mut b) = (y, mx);
+        orthonormalise(&mut y, &mut b, None);
+        let a_r = symmetric(&(y.transpose() * &b));
+        let m_r = symmetric(&mass.project(&y));
+        // Ascending from the dense solver; the wanted roots are the largest, so reversed.
+        let (values, z) = crate::modal::symmetric_modes(&m_r, &a_r, q)?;
+        let z = Mat::from_fn(q, q, |i, j| z[(i, q - 1 - j)]);
+        x = &y * &z;
+        ritz = Some((&b * &z, values.into_iter().rev().collect()));
+    }
+    Err(Error::not_converged(
+        "subspace iteration",
+        Some(MAX_ITERATIONS),
+        Some(largest_change),
+        format!(
+            "the largest {p} roots did not converge in {MAX_ITERATIONS} iterations of subspace \
+             iteration (the largest change of a root's vector in the last one was \
+             {largest_change:.2e} of the root, the tolerance {TOLERANCE:.0e}): the model has \
+             many modes of nearly equal frequency; ask for fewer modes"
+        ),
+    ))
+}
+
+/// |s|_A / |theta| for s = y - theta x, y = A^-1 M x: how far one inverse iteration moves the
+/// A-normalised Ritz vector x of root theta, relative to the root. A s = M x - theta A x
+/// comes from the products at hand, not from A.
+fn root_change(theta: f64, y: &[f64], x: &[f64], mx: &[f64], ax: &[f64]) -> f64 {
+    let s: Vec<f64> = y.iter().zip(x).map(|(y, x)| y - theta * x).collect();
+    let a_s: Vec<f64> = mx.iter().zip(ax).map(|(m, a)| m - theta * a).collect();
+    crate::linalg::dot_in_order(&s, &a_s).max(0.0).sqrt() / theta.abs()
 }
 
 /// Relative precision of [`largest_eigenvalue`]: far below what a stable step is quoted to,
@@ -223,17 +347,12 @@ fn mass_norm(mass: &Band, v: &[f64]) -> f64 {
     crate::linalg::dot_in_order(v, &mv).max(0.0).sqrt()
 }
 
-/// Y T with M-orthonormal columns (modified Gram-Schmidt in the M inner product, twice, as
-/// one pass loses orthogonality in proportion to Y's condition), with B T and M Y T: the
-/// same column operations keep A (Y T) = B T.
-fn orthonormalised(
-    mut y: Mat<f64>,
-    mut b: Mat<f64>,
-    mass: &Band,
-) -> (Mat<f64>, Mat<f64>, Mat<f64>) {
-    let mut my = mass.times(&y);
-    let q = y.ncols();
-    // Column j -= r column k in Y, B and M Y alike.
+/// Y T with columns orthonormal in the inner product of a positive definite G, given
+/// `image` = G Y (modified Gram-Schmidt, twice, as one pass loses orthogonality in proportion
+/// to Y's condition). The same column operations keep `image` = G (Y T), and `tracked`, a
+/// product B = A Y, = A (Y T).
+fn orthonormalise(y: &mut Mat<f64>, image: &mut Mat<f64>, mut tracked: Option<&mut Mat<f64>>) {
+    // Column j -= r column k.
     fn subtract(m: &mut Mat<f64>, j: usize, k: usize, r: f64) {
         let (left, right) = m.as_mut().split_at_col_mut(j);
         let (target, source) = (right.col_mut(0), left.col(k));
@@ -241,25 +360,31 @@ fn orthonormalised(
             *t -= r * s;
         }
     }
-    for j in 0..q {
+    fn scale(m: &mut Mat<f64>, j: usize, norm: f64) {
+        m.col_as_slice_mut(j).iter_mut().for_each(|v| *v /= norm);
+    }
+    for j in 0..y.ncols() {
         for _ in 0..2 {
             for k in 0..j {
-                let r = crate::linalg::dot_in_order(my.col_as_slice(k), y.col_as_slice(j));
-                subtract(&mut y, j, k, r);
-                subtract(&mut b, j, k, r);
-                subtract(&mut my, j, k, r);
+                let r = crate::linalg::dot_in_order(image.col_as_slice(k), y.col_as_slice(j));
+                subtract(y, j, k, r);
+                if let Some(b) = tracked.as_deref_mut() {
+                    subtract(b, j, k, r);
+                }
+                subtract(image, j, k, r);
             }
         }
-        let norm = crate::linalg::dot_in_order(y.col_as_slice(j), my.col_as_slice(j))
+        let norm = crate::linalg::dot_in_order(y.col_as_slice(j), image.col_as_slice(j))
             .max(0.0)
             .sqrt();
         if norm > 0.0 {
-            for m in [&mut y, &mut b, &mut my] {
-                m.col_as_slice_mut(j).iter_mut().for_each(|v| *v /= norm);
+            scale(y, j, norm);
+            if let Some(b) = tracked.as_deref_mut() {
+                scale(b, j, norm);
             }
+            scale(image, j, norm);
         }
     }
-    (y, b, my)
 }
 
 /// |mu y - x|_M: how far one inverse iteration moves the M-normalised Ritz vector x.
