@@ -91,6 +91,11 @@ impl BandedSystem {
         self.mass.size()
     }
 
+    /// K, M, C and G, in the order of a dynamic stiffness's terms.
+    pub(crate) fn bands(&self) -> [&Band; 4] {
+        [&self.stiffness, &self.mass, &self.damping, &self.gyroscopic]
+    }
+
     /// The dense matrices (n^2 memory each: for the small models the dense solvers take).
     pub fn to_dense(&self) -> SystemMatrices {
         SystemMatrices {
