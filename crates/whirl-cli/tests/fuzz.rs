@@ -136,7 +136,7 @@ const COMMANDS: &[(&str, &[&str])] = &[
     ("hbm", &["--speeds", "--samples", "--harmonics"]),
     ("fit-forcing", &["--speeds"]),
     ("simulate", &["--speed", "--duration", "--step"]),
-    ("convergence", &["--elements"]),
+    ("convergence", &["--counts", "--modes"]),
     ("static", &[]),
     (
         "frf",

@@ -9,7 +9,7 @@ use pythonize::pythonize;
 use whirl::fe::{assemble_banded, dof, Bearings, Direction, DOFS_PER_NODE};
 use whirl::modal::{check_model, modal_report, CampbellOptions};
 
-use crate::error::lib;
+use crate::error::{keyword_lib, lib};
 use crate::model::PyModel;
 use crate::report::PyReport;
 
@@ -88,7 +88,8 @@ pub fn convergence<'py>(
     counts: Vec<usize>,
     modes: usize,
 ) -> PyResult<(Bound<'py, PyAny>, PyReport)> {
-    let result = lib(py.detach(|| whirl::modal::convergence(&model.model, &counts, modes, None)))?;
+    let result =
+        keyword_lib(py.detach(|| whirl::modal::convergence(&model.model, &counts, modes, None)))?;
     Ok((pythonize(py, &result)?, PyReport::of(&result)?))
 }
 
@@ -103,7 +104,7 @@ pub fn modal<'py>(
     speed: f64,
     modes: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let report = lib(py.detach(|| modal_report(&model.model, speed, modes)))?;
+    let report = lib(py.detach(|| modal_report(&model.model, speed, modes, None)))?;
     let (undamped, damped) = (&report.undamped, &report.damped);
     let nodes = model.model.node_count();
     let shapes = &undamped.shapes;

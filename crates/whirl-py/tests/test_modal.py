@@ -68,6 +68,14 @@ def test_convergence_equals_the_command_line(run_cli):
     assert_matches_cli(whirl.convergence(REFERENCE, [2, 5, 10, 20, 40], modes=4), cli)
 
 
+def test_convergence_counts_are_checked_by_the_library():
+    # The range and its reason come from the library, named as the keyword.
+    with pytest.raises(whirl.InputError, match=r"invalid `counts`: 501 elements.*from 1 to 500"):
+        whirl.convergence(REFERENCE, [20, 501])
+    with pytest.raises(whirl.InputError, match=r"invalid `counts`: `-3` is not a whole number"):
+        whirl.convergence(REFERENCE, [-3])
+
+
 def test_convergence_frequencies_settle_as_the_mesh_is_refined():
     result = whirl.convergence(REFERENCE, [10, 20, 40], modes=2)
     # Cubic beam elements converge fast: the first frequency moves by less than 1e-3 from

@@ -189,10 +189,9 @@ def convergence(
     model = as_model(model)
     counts = list(range(2, 41, 2)) if not counts else list(counts)
     for n in counts:
-        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= 500:
-            raise _whirl.InputError(
-                f"invalid `counts`: `{n}` is not a whole number of elements from 1 to 500"
-            )
+        # The range (1 to 500) is the library's to check and explain.
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
+            raise _whirl.InputError(f"invalid `counts`: `{n}` is not a whole number of elements")
     modes = _options.mode_count(modes)
     raw, report = _whirl.convergence(model._raw, [int(n) for n in counts], modes)
     if not raw["element_counts"]:

@@ -11,7 +11,7 @@
 
 use std::fmt::Write;
 
-use whirl::modal::convergence;
+use whirl::modal::{check_element_count, convergence};
 use whirl::report::Report;
 
 use super::{finish, lib, load, mode_count, report_summary, Common, Outcome};
@@ -33,15 +33,18 @@ pub struct Args {
     pub modes: usize,
 }
 
-/// Clap parser of an element count, 1 to 500: each mesh is a dense eigen-solve of 4 DOFs
-/// per node, seconds at 2000 DOFs and minutes far beyond.
+/// Clap parser of an element count: a whole number, in the range the library takes
+/// ([`check_element_count`], which gives the reason for it).
 fn element_count(text: &str) -> Result<usize, String> {
-    match text.trim().parse::<usize>() {
-        Ok(n) if (1..=500).contains(&n) => Ok(n),
-        _ => Err(format!(
-            "`{text}` is not a whole number of elements from 1 to 500"
-        )),
-    }
+    let count = text
+        .trim()
+        .parse::<usize>()
+        .map_err(|_| format!("`{text}` is not a whole number of elements"))?;
+    check_element_count(count).map_err(|e| match e {
+        whirl::Error::Input(input) => input.message,
+        other => other.to_string(),
+    })?;
+    Ok(count)
 }
 
 pub fn run(args: &Args) -> miette::Result<Outcome> {

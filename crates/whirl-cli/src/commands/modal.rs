@@ -17,6 +17,7 @@ use whirl::report::Report;
 use super::{finish, hz, lib, load, mode_count, report_summary, speed, Common, Outcome};
 use crate::output::Output;
 use crate::plots;
+use crate::progress::shown;
 
 /// `whirl modal`
 #[derive(Debug, clap::Args)]
@@ -33,7 +34,9 @@ pub struct Args {
 
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
-    let modes = lib(modal_report(&loaded.model, args.speed, args.modes))?;
+    let modes = lib(shown("modal", |p| {
+        modal_report(&loaded.model, args.speed, args.modes, p)
+    }))?;
     let mut out = Output::begin(&args.common.out_dir("modal"))?;
     for table in modes.tables() {
         out.table(&table)?;

@@ -133,7 +133,10 @@ mod tests {
             for (x, y) in computed.iter().zip(exact) {
                 // The angle w_d t = 6e4 rad itself carries 1e-11 of round-off, which the
                 // squarings keep relative to it; 1e-9 bounds both with room.
-                assert!((x - y).abs() < 1e-9, "k {k}, t {t}: {computed:?} vs {exact:?}");
+                assert!(
+                    (x - y).abs() < 1e-9,
+                    "k {k}, t {t}: {computed:?} vs {exact:?}"
+                );
             }
         }
     }

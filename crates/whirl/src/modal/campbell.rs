@@ -133,7 +133,7 @@ pub fn campbell(
         ));
     }
     let basis = match options.basis_size {
-        Some(p) if p < system.dofs() => ModalBasis::truncated(system, p)?,
+        Some(p) if p < system.dofs() => ModalBasis::truncated(system, p, progress)?,
         _ => ModalBasis::full(system)?,
     };
     let top = options.speeds.iter().fold(0.0f64, |a, &b| a.max(b.abs()));

@@ -20,10 +20,11 @@
 use faer::{c64, Mat};
 use serde::Serialize;
 
-use super::undamped::undamped_modes;
+use super::undamped::undamped_modes_told;
 use super::CampbellOptions;
 use crate::error::{Error, Result};
 use crate::fe::{dof, BandedSystem, Direction, Matrices};
+use crate::progress::Progress;
 
 /// The largest model, in DOFs, whose full complex eigen-problem is solved: 2,000 DOFs make a
 /// 4,000 x 4,000 state matrix, whose eigen-solve takes minutes and ~0.5 GB; larger models
@@ -154,31 +155,41 @@ impl ModalBasis {
                 m = 2 * n
             )));
         }
-        ModalBasis::truncated(system, n)
+        ModalBasis::truncated(system, n, None)
     }
 
     /// The basis for the `modes` lowest damped modes: every mode while the model is solved
     /// dense ([`super::solves_dense`] for that basis), else the [`CampbellOptions::default_basis`] lowest
-    /// undamped modes.
+    /// undamped modes, telling `progress` as [`ModalBasis::truncated`] does.
     ///
     /// # Errors
     /// As [`ModalBasis::truncated`].
-    pub fn for_modes(system: &impl Matrices, modes: usize) -> Result<ModalBasis> {
+    pub fn for_modes(
+        system: &impl Matrices,
+        modes: usize,
+        progress: Option<&Progress>,
+    ) -> Result<ModalBasis> {
         let basis = CampbellOptions::default_basis(modes);
         if super::solves_dense(system.dofs(), basis) {
             ModalBasis::full(system)
         } else {
-            ModalBasis::truncated(system, basis)
+            ModalBasis::truncated(system, basis, progress)
         }
     }
 
-    /// The `count` lowest undamped modes.
+    /// The `count` lowest undamped modes, telling `progress` after every iteration of the
+    /// eigen-solver when it iterates (minutes for 400 modes of a 10,000-element rotor).
     ///
     /// # Errors
     /// [`Error::Singular`] when the mass is not positive definite or the rotor is unstable at
-    /// rest, [`Error::NotConverged`] when the eigen-solver fails (see [`undamped_modes`]).
-    pub fn truncated(system: &impl Matrices, count: usize) -> Result<ModalBasis> {
-        let modes = undamped_modes(system, count)?;
+    /// rest, [`Error::NotConverged`] when the eigen-solver fails (see
+    /// [`super::undamped_modes`]); [`Error::Interrupted`] when `progress` stopped it.
+    pub fn truncated(
+        system: &impl Matrices,
+        count: usize,
+        progress: Option<&Progress>,
+    ) -> Result<ModalBasis> {
+        let modes = undamped_modes_told(system, count, progress)?;
         let phi = modes.shapes;
         let scale: Vec<f64> = modes
             .frequencies_hz

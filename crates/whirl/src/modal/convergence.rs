@@ -12,7 +12,7 @@ pub use report::ConvergenceSummary;
 use serde::Serialize;
 
 use super::undamped::undamped_modes;
-use crate::error::Result;
+use crate::error::{InputError, Result};
 use crate::fe::{assemble, Bearings};
 use crate::model::Model;
 use crate::progress::{map_told, Progress};
@@ -35,6 +35,32 @@ pub struct ConvergenceResult {
     pub skipped: Vec<usize>,
     /// The number of modes asked for.
     pub modes_requested: usize,
+}
+
+/// The most elements a mesh of the study may have: each mesh is assembled as dense matrices
+/// (32 n^2 bytes for n DOFs: 0.13 GB at 500 elements, 2,004 DOFs) and the meshes are solved
+/// in parallel, so a few such meshes already take a large part of a machine's memory.
+pub const MAX_CONVERGENCE_ELEMENTS: usize = 500;
+
+/// Checks one total element count of a study, before anything is meshed: from 1 to
+/// [`MAX_CONVERGENCE_ELEMENTS`]. The command line and Python check their counts with it.
+///
+/// # Errors
+/// [`crate::Error::Input`] naming `counts` otherwise.
+pub fn check_element_count(count: usize) -> Result<()> {
+    if (1..=MAX_CONVERGENCE_ELEMENTS).contains(&count) {
+        return Ok(());
+    }
+    Err(InputError::field(
+        "counts",
+        format!(
+            "{count} elements: a mesh of the convergence study has from 1 to \
+             {MAX_CONVERGENCE_ELEMENTS} (each is assembled as dense matrices, 32 n^2 bytes for \
+             n DOFs, and the meshes are solved in parallel)"
+        ),
+    )
+    .help("e.g. 2,4,...,40, or multiples of the model's own count")
+    .into())
 }
 
 /// Elements per section for a total count, in proportion to the section lengths.
@@ -61,14 +87,16 @@ fn change(current: f64, previous: f64) -> f64 {
 /// meshes in parallel), telling `progress` after every mesh.
 ///
 /// # Errors
-/// The errors of [`undamped_modes`]; [`Error::Interrupted`](crate::Error::Interrupted)
-/// when `progress` stopped it.
+/// Those of [`check_element_count`] for any count, before anything is meshed; then the
+/// errors of [`undamped_modes`]; [`Error::Interrupted`](crate::Error::Interrupted) when
+/// `progress` stopped it.
 pub fn convergence(
     model: &Model,
     counts: &[usize],
     modes: usize,
     progress: Option<&Progress>,
 ) -> Result<ConvergenceResult> {
+    counts.iter().try_for_each(|&n| check_element_count(n))?;
     let mut counts = counts.to_vec();
     counts.sort_unstable();
     counts.dedup();
@@ -122,4 +150,29 @@ pub fn convergence(
         row.truncate(columns);
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn element_counts_outside_the_limit_are_refused_before_any_mesh() {
+        let model = Model::from_toml_str(crate::examples::REFERENCE_ROTOR, None).unwrap();
+        for bad in [0, MAX_CONVERGENCE_ELEMENTS + 1, usize::MAX] {
+            // A good count beside the bad one: the whole request is refused, none is meshed.
+            let e = convergence(&model, &[20, bad], 2, None).unwrap_err();
+            let text = e.to_string();
+            assert!(
+                text.starts_with(&format!("`counts`: {bad} elements"))
+                    && text.contains(&format!("from 1 to {MAX_CONVERGENCE_ELEMENTS}")),
+                "{text}"
+            );
+        }
+        // Both ends of the range are taken: 1 element (the mesh's nodes miss the disk, so it
+        // is skipped) and the limit, which the reference rotor's features fall on.
+        let r = convergence(&model, &[1, MAX_CONVERGENCE_ELEMENTS], 1, None).unwrap();
+        assert_eq!(r.skipped, vec![1]);
+        assert_eq!(r.element_counts, vec![MAX_CONVERGENCE_ELEMENTS]);
+    }
 }

@@ -7,10 +7,12 @@
 
 use serde::Serialize;
 
-use super::{branch_labels, undamped_modes, ComplexMode, ModalBasis, UndampedModes, Whirl};
+use super::undamped::undamped_modes_told;
+use super::{branch_labels, ComplexMode, ModalBasis, UndampedModes, Whirl};
 use crate::error::Result;
 use crate::fe::{assemble_banded, dof, Bearings, Direction};
 use crate::model::Model;
+use crate::progress::Progress;
 use crate::report::{Report, Table};
 use crate::units::rad_s_to_hz as hz;
 
@@ -69,15 +71,21 @@ pub struct DampedSummary {
 }
 
 /// The first `modes` undamped modes of `model` (linearised bearings) at rest and its first
-/// `modes` damped modes at `speed` (rad/s) with damping ratio up to 0.9.
+/// `modes` damped modes at `speed` (rad/s) with damping ratio up to 0.9, telling `progress`
+/// how the eigen-solver gets on (minutes for 200 modes of a 10,000-element rotor).
 ///
 /// # Errors
-/// The errors of [`undamped_modes`], [`ModalBasis::for_modes`] and
-/// [`ModalBasis::modes_at`].
-pub fn modal_report(model: &Model, speed: f64, modes: usize) -> Result<ModalReport> {
+/// The errors of [`super::undamped_modes`], [`ModalBasis::for_modes`] and
+/// [`ModalBasis::modes_at`]; [`crate::Error::Interrupted`] when `progress` stopped it.
+pub fn modal_report(
+    model: &Model,
+    speed: f64,
+    modes: usize,
+    progress: Option<&Progress>,
+) -> Result<ModalReport> {
     let system = assemble_banded(model, Bearings::Linearised);
-    let undamped = undamped_modes(&system, modes)?;
-    let basis = ModalBasis::for_modes(&system, modes)?;
+    let undamped = undamped_modes_told(&system, modes, progress)?;
+    let basis = ModalBasis::for_modes(&system, modes, progress)?;
     let damped = basis.modes_at(speed.max(SPEED_FLOOR), MAX_DAMPING_RATIO, modes)?;
     let labels = branch_labels(&damped.iter().map(|m| m.whirl).collect::<Vec<_>>());
     Ok(ModalReport {

@@ -15,6 +15,7 @@ use serde::Serialize;
 use crate::error::{Error, Result};
 use crate::fe::Matrices;
 use crate::linalg::Band;
+use crate::progress::Progress;
 
 /// Undamped natural frequencies and mass-normalised mode shapes.
 #[derive(Debug, Clone, Serialize)]
@@ -102,6 +103,19 @@ fn stable_at_rest(omega_squared: &[f64]) -> Result<()> {
 /// positive semi-definite (the rotor is unstable at rest); [`Error::NotConverged`] when the
 /// eigen-solver fails.
 pub fn undamped_modes(system: &impl Matrices, count: usize) -> Result<UndampedModes> {
+    undamped_modes_told(system, count, None)
+}
+
+/// [`undamped_modes`], telling `progress` after every iteration of the subspace solver (the
+/// dense solver is one step of a second or less: nothing to tell).
+///
+/// # Errors
+/// As [`undamped_modes`]; [`Error::Interrupted`] when `progress` stopped it.
+pub(crate) fn undamped_modes_told(
+    system: &impl Matrices,
+    count: usize,
+    progress: Option<&Progress>,
+) -> Result<UndampedModes> {
     let (omega_squared, shapes) = if solves_dense(system.dofs(), count) {
         let dense = system.dense();
         let modes = symmetric_modes(&dense.stiffness, &dense.mass, count)?;
@@ -109,7 +123,7 @@ pub fn undamped_modes(system: &impl Matrices, count: usize) -> Result<UndampedMo
         modes
     } else {
         let banded = system.banded();
-        lowest_modes(&banded.stiffness, &banded.mass, count)?
+        lowest_modes(&banded.stiffness, &banded.mass, count, progress)?
     };
     let frequencies_hz = omega_squared
         .iter()
@@ -128,10 +142,17 @@ pub(crate) fn lowest_modes(
     stiffness: &Band,
     mass: &Band,
     count: usize,
+    progress: Option<&Progress>,
 ) -> Result<(Vec<f64>, Mat<f64>)> {
-    super::subspace::lowest_modes(stiffness, mass, count, NEUTRAL_OMEGA_SQUARED, || {
-        unstable_at_rest(None)
-    })
+    let unstable = || unstable_at_rest(None);
+    super::subspace::lowest_modes(
+        stiffness,
+        mass,
+        count,
+        NEUTRAL_OMEGA_SQUARED,
+        unstable,
+        progress,
+    )
 }
 
 /// The `count` lowest eigenpairs of K v = w^2 M v (K symmetrised, M symmetric positive

@@ -13,6 +13,8 @@ pub mod ross;
 mod schema;
 mod validate;
 
+pub use validate::MAX_ELEMENTS;
+
 use std::path::{Path, PathBuf};
 
 use serde::Serialize;
@@ -473,11 +475,22 @@ impl Model {
     /// keeps its axial position. Fails when a feature does not fall on a node of the new mesh.
     ///
     /// # Errors
-    /// [`Error::InvalidOption`] when a feature does not fall on a node of the new mesh.
+    /// [`Error::InvalidOption`] when the sections would have more than [`MAX_ELEMENTS`]
+    /// elements in all, or a feature does not fall on a node of the new mesh.
     pub fn remeshed(&self, elements: &[usize]) -> Result<Model> {
         let mut m = self.clone();
         for (s, &n) in m.sections.iter_mut().zip(elements) {
             s.elements = n.max(1);
+        }
+        let total = m
+            .sections
+            .iter()
+            .fold(0usize, |t, s| t.saturating_add(s.elements));
+        if total > MAX_ELEMENTS {
+            return Err(Error::InvalidOption(format!(
+                "{elements:?} elements: {}",
+                validate::too_many_elements(total)
+            )));
         }
         let z = m.node_positions();
         let tol = 1e-9 * m.length();
@@ -525,6 +538,40 @@ pub(crate) fn node_positions(sections: &[ShaftSection]) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The reference rotor's shaft as two halves of `first` and `second` elements.
+    fn halves(first: usize, second: usize) -> String {
+        crate::examples::REFERENCE_ROTOR
+            .replace("length = \"1.3 m\"", "length = \"0.65 m\"")
+            .replace(
+                "elements = 20 ",
+                &format!(
+                    "elements = {first}\n\n[[shaft]]\nlength = \"0.65 m\"\nouter_diameter = \
+                     \"55.9 mm\"\nmaterial = \"steel\"\nelements = {second} "
+                ),
+            )
+    }
+
+    #[test]
+    fn more_elements_than_round_off_allows_are_refused_in_all_sections_together() {
+        // Each section is within the limit; together they pass it, and the section that
+        // takes the count past it is blamed, at its line.
+        let e = Model::from_toml_str(&halves(6000, 6000), None).unwrap_err();
+        let text = e.to_string();
+        assert!(
+            text.contains("`shaft[1].elements`")
+                && text.contains("12000 elements in all, at most 10000")
+                && text.contains("line 22"),
+            "{text}"
+        );
+        let model = Model::from_toml_str(&halves(5000, 5000), None).unwrap();
+        assert_eq!(model.node_count(), MAX_ELEMENTS + 1);
+        // Remeshing (the convergence study, the tests' large models) keeps the same limit.
+        let reference = Model::from_toml_str(crate::examples::REFERENCE_ROTOR, None).unwrap();
+        let e = reference.remeshed(&[MAX_ELEMENTS + 2]).unwrap_err();
+        assert!(e.to_string().contains("10002 elements in all"), "{e}");
+        assert!(reference.remeshed(&[MAX_ELEMENTS]).is_ok());
+    }
 
     #[test]
     fn cowper_factor_of_a_solid_and_a_thin_walled_section() {

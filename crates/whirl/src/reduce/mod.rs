@@ -141,7 +141,7 @@ fn banded_internal_modes(
         return Err(singular_internal_stiffness());
     }
     let (omega_squared, fixed_interface) = if modes > 0 {
-        lowest_modes(&k_ii, &within(&system.mass), modes)?
+        lowest_modes(&k_ii, &within(&system.mass), modes, None)?
     } else {
         (Vec::new(), Mat::zeros(ni, 0))
     };
@@ -361,7 +361,7 @@ pub fn reduction_study(
         (all, highest)
     } else {
         let banded = system.banded();
-        let (lowest, _) = lowest_modes(&banded.stiffness, &banded.mass, compare)?;
+        let (lowest, _) = lowest_modes(&banded.stiffness, &banded.mass, compare, None)?;
         (lowest, largest_eigenvalue(&banded.stiffness, &banded.mass)?)
     };
     let full_frequencies_hz: Vec<f64> = lowest.iter().take(compare).map(to_hz).collect();

@@ -51,7 +51,8 @@ pub struct ForcingFitOptions {
     /// Time step, s; `None` for the simulation's default ([`crate::time::STABLE_FRACTION`] of the
     /// central difference's limit).
     pub step: Option<f64>,
-    /// Samples kept per speed, evenly spaced over the settled record.
+    /// Samples kept per speed, evenly spaced over the settled record (2 to
+    /// [`MAX_SAMPLES_PER_SPEED`]; a shorter record gives each of its steps once).
     pub samples_per_speed: usize,
 }
 
@@ -66,6 +67,12 @@ impl Default for ForcingFitOptions {
         }
     }
 }
+
+/// The most samples a speed may ask for: they are drawn from the settled record, one step at
+/// most once, and a run records at most [`crate::time::MAX_RECORDED_VALUES`] values over at
+/// least three series (time, u_x and u_y of the bearing's node), so more cannot exist. Checked
+/// before any run, as a request for more could only be a mistake.
+pub const MAX_SAMPLES_PER_SPEED: usize = crate::time::MAX_RECORDED_VALUES / 3;
 
 /// Cage positions averaged over per sample. The force is piecewise smooth in the cage
 /// angle (a roller's contact opens and closes within the passage); with 64 points the
@@ -132,7 +139,8 @@ impl ForcingFit {
 ///
 /// # Errors
 /// [`Error::InvalidOption`] when bearing `index` does not exist, `speeds` is empty or holds
-/// a speed that is not positive and finite, or `options.samples_per_speed` is below 2.
+/// a speed that is not positive and finite, or `options.samples_per_speed` is below 2 or
+/// above [`MAX_SAMPLES_PER_SPEED`] (checked before anything is run or allocated).
 /// Without `options.step`, the errors of [`crate::time::stable_step`]. For each speed the
 /// errors of [`simulate`] and of [`completed`](crate::time::SimulationResult::completed)
 /// ([`Error::Diverged`] when a run diverges); then those of [`fit_forcing_law`]
@@ -196,8 +204,14 @@ fn check_request(speeds: &[f64], options: &ForcingFitOptions) -> Result<()> {
              unbalance moves the shaft through a range of deflections"
         ));
     }
-    if options.samples_per_speed < 2 {
-        return bad("at least 2 samples per speed are needed".into());
+    if !(2..=MAX_SAMPLES_PER_SPEED).contains(&options.samples_per_speed) {
+        return bad(format!(
+            "samples_per_speed = {}: from 2 to {MAX_SAMPLES_PER_SPEED} samples per speed (they \
+             are drawn from the settled record, each step at most once, and a run records at \
+             most {} values over its time, u_x and u_y)",
+            options.samples_per_speed,
+            crate::time::MAX_RECORDED_VALUES
+        ));
     }
     Ok(())
 }
@@ -242,7 +256,7 @@ fn sample_speed(
     let (ux, uy) = (&result.channels[0].values, &result.channels[1].values);
     let mut elastic = elastic_contact(bearing)?;
     let settled = result.settled_start()..result.time.len();
-    let mut points = Vec::with_capacity(samples);
+    let mut points = Vec::with_capacity(samples.min(settled.len()));
     let mut excluded = 0;
     for i in evenly_spaced(settled, samples) {
         let u = [ux[i], uy[i]];
@@ -336,5 +350,32 @@ mod tests {
         assert_eq!(i, vec![10, 15, 20]);
         let all: Vec<usize> = evenly_spaced(0..3, 10).collect();
         assert_eq!(all, vec![0, 1, 2]);
+    }
+
+    #[test]
+    fn sample_counts_outside_what_a_record_can_hold_are_refused_before_any_run() {
+        // The reference rotor at one speed: a refusal must come from the request, since a
+        // run would take seconds and its record could not hold the samples anyway.
+        let model = Model::from_toml_str(crate::examples::REFERENCE_ROTOR, None).unwrap();
+        for samples in [0, 1, MAX_SAMPLES_PER_SPEED + 1, usize::MAX] {
+            let options = ForcingFitOptions {
+                samples_per_speed: samples,
+                ..ForcingFitOptions::default()
+            };
+            let e = fit_forcing(&model, 0, &[2.0 * PI * 100.0], &options).unwrap_err();
+            assert!(matches!(e, Error::InvalidOption(_)), "{samples}: {e:?}");
+            let text = e.to_string();
+            assert!(
+                text.contains(&format!("samples_per_speed = {samples}"))
+                    && text.contains(&format!("to {MAX_SAMPLES_PER_SPEED}")),
+                "{text}"
+            );
+        }
+        // The limit itself is a request a long enough run could meet: not refused up front.
+        let options = ForcingFitOptions {
+            samples_per_speed: MAX_SAMPLES_PER_SPEED,
+            ..ForcingFitOptions::default()
+        };
+        assert!(check_request(&[1.0], &options).is_ok());
     }
 }

@@ -29,7 +29,9 @@ mod statics;
 
 use crate::system::SpeedProfile;
 pub use central::{central_difference, central_difference_constrained, central_difference_limit};
-pub use forcing_fit::{fit_forcing, ForcingFit, ForcingFitOptions, ForcingFitReport, SpeedFit};
+pub use forcing_fit::{
+    fit_forcing, ForcingFit, ForcingFitOptions, ForcingFitReport, SpeedFit, MAX_SAMPLES_PER_SPEED,
+};
 pub use newmark::{newmark, NewmarkScheme};
 pub use rk::{runge_kutta, RkStats, RkTolerances};
 pub use rollers::{peak_near, ContactSummary, RollerRecord};
