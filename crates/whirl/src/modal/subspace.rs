@@ -47,21 +47,25 @@ const TOLERANCE: f64 = 1e-9;
 /// the critical-speed map's roots, at up to 1.3e-6 for 10,000).
 /// The iteration has then converged as far as double precision allows, which is recognised
 /// when the change stops falling (by less than half in one iteration) while the wanted Ritz
-/// values stay put to this relative amount: a slow but genuine convergence changes them by
-/// the square of the vectors' change, far more.
+/// values stay put to this amount, relative to the largest of them: a slow but genuine
+/// convergence changes them by the square of the vectors' change, far more. Relative to the
+/// largest, not to each: round-off in the solves moves every Ritz value by about the same
+/// absolute amount, so a nearly rigid mode (w^2 1e-8 of the largest wanted, on bearings of
+/// 1e4 N/m) jitters by 1e-10 of itself and would never count as steady.
 const STALLED_VALUES: f64 = 1e-11;
 
 /// Whether an iteration has converged, from the largest change of a wanted vector in this
 /// iteration and the last, and the wanted values now and then: the change is within
 /// [`TOLERANCE`], or it has stopped falling (by less than half) at a round-off floor while
-/// the values stay put to [`STALLED_VALUES`].
+/// the values stay put to [`STALLED_VALUES`] of the largest.
 fn converged(change: f64, previous_change: f64, values: &[f64], previous: &[f64]) -> bool {
     let steady = || {
+        let scale = values.iter().fold(0.0_f64, |s, v| s.max(v.abs()));
         previous.len() == values.len()
             && values
                 .iter()
                 .zip(previous)
-                .all(|(v, p)| (v - p).abs() <= STALLED_VALUES * v.abs())
+                .all(|(v, p)| (v - p).abs() <= STALLED_VALUES * scale)
     };
     change <= TOLERANCE || (change > 0.5 * previous_change && steady())
 }
