@@ -51,6 +51,9 @@ class NodeResponse:
     #: Whirl direction of the orbit at each speed.
     whirl: list[str]
     peaks: list[ResponsePeak]
+    #: Speeds, Hz, of local maxima of the major semi-axis within the curve's round-off,
+    #: which are no peaks (fine meshes; one at a resonance means its top is lost).
+    maxima_within_round_off_hz: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -146,6 +149,9 @@ def unbalance(
                 **{k: np.asarray(r[k], dtype=float) for k in _ARRAYS},
                 whirl=list(r["whirl"]),
                 peaks=[ResponsePeak(**p) for p in r["peaks"]],
+                maxima_within_round_off_hz=np.asarray(
+                    r["maxima_within_round_off_hz"], dtype=float
+                ),
             )
             for r in raw["nodes"]
         ],

@@ -160,6 +160,15 @@ fn the_refinement_resolves_the_resonance_and_leaves_round_off_ripples_alone() {
         (af / af_coarse - 1.0).abs() < 3e-2,
         "AF {af} vs {af_coarse}"
     );
+    // Every other local maximum is listed as within round-off, so the output says what it
+    // left out; the smooth 20-element curve has none.
+    assert_eq!(
+        node.maxima_within_round_off_hz.len(),
+        maxima - node.peaks.len(),
+        "{:?}",
+        node.maxima_within_round_off_hz
+    );
+    assert!(coarse.nodes[0].maxima_within_round_off_hz.is_empty());
     // No speeds for the ripples: as many as the smooth curve needed (193 for both), to a few
     // percent (the tops sit 0.09 Hz apart).
     let (n, n_coarse) = (fine.speeds_hz.len(), coarse.speeds_hz.len());

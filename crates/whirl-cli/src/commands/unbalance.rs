@@ -96,6 +96,22 @@ fn text(name: &str, nodes: &[usize], result: &UnbalanceResult) -> String {
             );
         }
     }
+    for r in &result.nodes {
+        if let (Some(first), Some(last)) = (
+            r.maxima_within_round_off_hz.first(),
+            r.maxima_within_round_off_hz.last(),
+        ) {
+            let _ = writeln!(
+                text,
+                "  node {:3}: {} local maxima between {first:.2} and {last:.2} Hz are within \
+                 the round-off of the solves and are not reported as peaks (ripples of round-off on a \
+                 fine mesh; a resonance whose top is among them would be missing: a coarser \
+                 mesh resolves it)",
+                r.node,
+                r.maxima_within_round_off_hz.len()
+            );
+        }
+    }
     if let Some(note) = &result.api617_note {
         let _ = writeln!(text, "API 617 separation margins {note}");
     }

@@ -68,6 +68,10 @@ pub struct NodeResponse {
     pub whirl: Vec<Whirl>,
     /// Peaks of the major semi-axis over speed.
     pub peaks: Vec<ResponsePeak>,
+    /// Speeds, Hz, of the major semi-axis' local maxima that do not stand above the curve's
+    /// round-off and are therefore no peaks (fine meshes: see the module's documentation).
+    /// Where one lies at a resonance, that resonance's top is lost in round-off.
+    pub maxima_within_round_off_hz: Vec<f64>,
 }
 
 /// Unbalance response at several nodes.
@@ -170,11 +174,11 @@ const REFINE_LEVEL: f64 = 0.25;
 /// the curve is above [`REFINE_LEVEL`] of the peak, over the `maxima` of every node's major
 /// semi-axis (those that stand above its round-off), sorted and unique. A band whose edge
 /// lies outside the sweep is measured to the sweep's end, so a broad rise is left alone.
-fn refinement_speeds(speeds: &[f64], samples: &[SpeedSample], maxima: &[Vec<usize>]) -> Vec<f64> {
+fn refinement_speeds(speeds: &[f64], samples: &[SpeedSample], maxima: &[Maxima]) -> Vec<f64> {
     let mut added = Vec::new();
     for (slot, maxima) in maxima.iter().enumerate() {
         let major = major_of(samples, slot);
-        for &k in maxima {
+        for &k in &maxima.resolved {
             let (low, high) = band(&major, k, major[k] / std::f64::consts::SQRT_2);
             let step = (speeds[high] - speeds[low]) / BAND_SAMPLES;
             let (low, high) = band(&major, k, REFINE_LEVEL * major[k]);
@@ -263,8 +267,16 @@ fn at_nodes<T: Copy>(q: &[T], nodes: &[usize]) -> Vec<T> {
         .collect()
 }
 
-/// Per node, the local maxima of its major semi-axis that stand above the curve's
-/// round-off ([`stands_above_round_off`]), ascending. The round-off is estimated at each
+/// A node's local maxima of its major semi-axis, as sample indices, ascending.
+struct Maxima {
+    /// Those that stand above the curve's round-off: its peaks.
+    resolved: Vec<usize>,
+    /// Those that do not.
+    within_round_off: Vec<usize>,
+}
+
+/// Per node, the local maxima of its major semi-axis, split by whether they stand above the
+/// curve's round-off ([`stands_above_round_off`]). The round-off is estimated at each
 /// maximum and at the sample its prominence is measured from, where it is not yet known,
 /// by solving there again ([`harmonic_response_and_round_off`], in parallel; `progress` is
 /// told of these checks).
@@ -278,7 +290,7 @@ fn resolved_maxima(
     samples: &mut [SpeedSample],
     nodes: &[usize],
     progress: Option<&Progress>,
-) -> Result<Vec<Vec<usize>>> {
+) -> Result<Vec<Maxima>> {
     let candidates: Vec<Vec<(usize, Option<usize>)>> = (0..nodes.len())
         .map(|slot| {
             let major = major_of(samples, slot);
@@ -323,11 +335,14 @@ fn resolved_maxima(
             // Every sample asked for was estimated above; a missing one would count as
             // exact, which keeps the maximum (the behaviour without the check).
             let round_off = |j: usize| samples[j].round_off.as_ref().map_or(0.0, |r| r[slot]);
-            candidates
+            let (resolved, within_round_off) = candidates
                 .iter()
                 .map(|&(k, _)| k)
-                .filter(|&k| stands_above_round_off(&major, k, round_off))
-                .collect()
+                .partition(|&k| stands_above_round_off(&major, k, round_off));
+            Maxima {
+                resolved,
+                within_round_off,
+            }
         })
         .collect())
 }
@@ -365,7 +380,7 @@ fn result_from(
     speeds: &[f64],
     samples: &[SpeedSample],
     nodes: &[usize],
-    maxima: &[Vec<usize>],
+    maxima: &[Maxima],
 ) -> UnbalanceResult {
     let speeds_hz: Vec<f64> = speeds
         .iter()
@@ -384,8 +399,13 @@ fn result_from(
         .map(|(slot, &node)| {
             let mut r = node_response(node, slot, z[node], samples);
             r.peaks = find_peaks(&speeds_hz, &r.major, operating_hz, |k| {
-                maxima[slot].binary_search(&k).is_ok()
+                maxima[slot].resolved.binary_search(&k).is_ok()
             });
+            r.maxima_within_round_off_hz = maxima[slot]
+                .within_round_off
+                .iter()
+                .map(|&k| speeds_hz[k])
+                .collect();
             r
         })
         .collect();
@@ -437,6 +457,7 @@ fn node_response(node: usize, slot: usize, z: f64, samples: &[SpeedSample]) -> N
         minor: Vec::new(),
         whirl: Vec::new(),
         peaks: Vec::new(),
+        maxima_within_round_off_hz: Vec::new(),
     };
     for sample in samples {
         let o = sample.orbit(slot);

@@ -35,6 +35,8 @@ pub struct NodeSummary {
     pub max_major_semi_axis_speed_hz: Option<f64>,
     /// Resonance peaks.
     pub peaks: Vec<PeakSummary>,
+    /// Local maxima within the curve's round-off, which are no peaks, Hz (fine meshes).
+    pub maxima_within_round_off_hz: Vec<f64>,
 }
 
 /// One resonance peak.
@@ -123,6 +125,7 @@ impl Report for UnbalanceResult {
                         max_major_semi_axis_m: max,
                         max_major_semi_axis_speed_hz: speeds_hz.get(k).copied(),
                         peaks: r.peaks.iter().map(PeakSummary::from).collect(),
+                        maxima_within_round_off_hz: r.maxima_within_round_off_hz.clone(),
                     }
                 })
                 .collect(),
