@@ -94,13 +94,14 @@ impl FloquetModel {
         let (n, samples) = (self.n, tangents.samples);
         let (dofs, m) = (&tangents.dofs, tangents.dofs.len());
         // M^-1 (K - J_q(t_j)) and M^-1 (C + w G - J_v(t_j)) at every sample.
+        let linear_damping: Vec<f64> = (0..n * n)
+            .map(|e| self.damping[e] + frequency * self.gyroscopic[e])
+            .collect();
         let mut stiffness = Vec::with_capacity(samples);
         let mut damping = Vec::with_capacity(samples);
         for j in 0..samples {
             let mut k = self.stiffness.clone();
-            let mut d: Vec<f64> = (0..n * n)
-                .map(|e| self.damping[e] + frequency * self.gyroscopic[e])
-                .collect();
+            let mut d = linear_damping.clone();
             for (c, &col) in dofs.iter().enumerate() {
                 for (a, &force_row) in dofs.iter().enumerate() {
                     let (jq, jv) = (
