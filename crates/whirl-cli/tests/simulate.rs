@@ -348,6 +348,21 @@ fn bad_arguments_are_explained() {
         &["--speed", "50Hz", "--nodes", "99"],
         &["--nodes", "node 99"],
     );
+    fails(
+        &["--speed", "50Hz", "--hht-alpha", "-0.1"],
+        &["--hht-alpha", "newmark method only"],
+    );
+    fails(
+        &[
+            "--speed",
+            "50Hz",
+            "--method",
+            "newmark",
+            "--hht-alpha",
+            "-0.5",
+        ],
+        &["--hht-alpha", "outside [-1/3, 0]"],
+    );
 }
 
 /// Issue 8's must-show, from the command line: the spectrum at each bearing shows the

@@ -7,13 +7,11 @@ use numpy::{IntoPyArray, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use whirl::progress::Progress;
-use whirl::system::SpeedProfile;
 use whirl::time::{
-    simulate_with, Hooks, Method, NewmarkScheme, RkTolerances, SimulationOptions, SimulationReport,
-    Until,
+    simulate_with, Hooks, SimulationOptions, SimulationReport, SimulationRequest, Until,
 };
 
-use crate::error::{lib, option, to_py, NumericalError};
+use crate::error::{keyword_lib, lib, to_py, NumericalError};
 use crate::model::PyModel;
 use crate::nsv::choice;
 use crate::report::PyReport;
@@ -42,74 +40,28 @@ pub struct SimulateArgs {
     divergence_bound: f64,
 }
 
-/// The integrator, as the command line reads `--method` and `--hht-alpha`.
-fn method(a: &SimulateArgs) -> PyResult<Method> {
-    match (a.method.as_str(), a.hht_alpha) {
-        ("newmark", Some(alpha)) if !(-1.0 / 3.0..=0.0).contains(&alpha) => {
-            Err(option("hht_alpha", format!("{alpha} is outside [-1/3, 0]")))
-        }
-        ("newmark", Some(alpha)) => Ok(Method::Newmark(NewmarkScheme::Hht(alpha))),
-        ("newmark", None) => Ok(Method::Newmark(NewmarkScheme::AverageAcceleration)),
-        (_, Some(_)) => Err(option("hht_alpha", "applies to method=\"newmark\" only")),
-        ("cd", None) => Ok(Method::CentralDifference),
-        ("rk", None) => Ok(Method::RungeKutta(RkTolerances::default())),
-        (other, None) => Err(option(
-            "method",
-            format!("`{other}` is not one of cd, newmark, rk"),
-        )),
-    }
-}
-
-/// The library's settings, as the command line builds them from its flags.
+/// The library's settings from the keyword arguments (as the command line's from its flags).
 fn simulation_options(a: &SimulateArgs) -> PyResult<SimulationOptions> {
-    if a.step.is_some_and(|h| h <= 0.0) {
-        return Err(option("step", "the time step must be positive"));
-    }
-    if a.duration <= 0.0 {
-        return Err(option("duration", "the duration must be positive"));
-    }
-    let mut o = SimulationOptions {
-        duration: a.duration,
+    let request = SimulationRequest {
+        speed: a.speed,
+        ramp_to: a.ramp_to,
+        duration: Some(a.duration),
+        method: choice("method", &a.method)?,
+        hht_alpha: a.hht_alpha,
         step: a.step,
-        method: method(a)?,
+        reduce: a.reduce,
+        settle: a.settle,
+        nodes: Some(a.nodes.clone()),
         contact: a
             .contact
             .as_deref()
             .map(|c| choice("contact", c))
             .transpose()?,
-        reduction: a.reduce,
-        settle: a.settle,
-        nodes: Some(a.nodes.clone()),
-        initial: choice("start", &a.start)?,
-        divergence_bound: a.divergence_bound,
         record_every: a.record_every,
-        ..SimulationOptions::new(SpeedProfile::Constant(a.speed))
+        start: Some(choice("start", &a.start)?),
+        divergence_bound: Some(a.divergence_bound),
     };
-    let settle = o.settle_time();
-    if settle >= a.duration {
-        return Err(option(
-            "settle",
-            format!(
-                "the settling time {settle} s is not shorter than the duration {} s",
-                a.duration
-            ),
-        ));
-    }
-    o.speed = match a.ramp_to {
-        None => SpeedProfile::Constant(a.speed),
-        Some(_) if settle <= 0.0 => {
-            return Err(option(
-                "ramp_to",
-                "the speed ramps over the settling time, which is zero",
-            ))
-        }
-        Some(to) => SpeedProfile::Ramp {
-            from: a.speed,
-            to,
-            duration: settle,
-        },
-    };
-    Ok(o)
+    keyword_lib(request.options())
 }
 
 /// Simulates the model; `progress(done, 1000)` is told the fraction of simulated time done.
@@ -146,7 +98,7 @@ pub fn simulate<'py>(
         let result = simulate_with(&model.model, &o, hooks);
         (result, watch.stopped())
     })?;
-    let (result, stopped) = (result.0.map_err(to_py)?, result.1);
+    let (result, stopped) = (keyword_lib(result.0)?, result.1);
     if stopped {
         return Err(pyo3::exceptions::PyKeyboardInterrupt::new_err(format!(
             "the simulation was stopped at {} s of {} s",

@@ -42,3 +42,20 @@ def test_a_linear_rotor_settles_to_its_unbalance_response():
 def test_a_step_above_the_stability_limit_is_refused():
     with pytest.raises(whirl.InputError, match="step"):
         whirl.simulate(REFERENCE, "50Hz", duration="0.1s", step="1ms", progress=False)
+
+
+@pytest.mark.parametrize(
+    ("options", "named"),
+    [
+        ({"hht_alpha": -0.1}, "invalid `hht_alpha`: applies to the newmark method only"),
+        ({"method": "newmark", "hht_alpha": -0.5}, r"invalid `hht_alpha`: -0.5 is outside \[-1/3, 0\]"),
+        ({"settle": "0.1s"}, "invalid `settle`: the settling time 0.1 s is not shorter"),
+        ({"ramp_to": "60Hz", "settle": 0}, "invalid `ramp_to`"),
+        ({"nodes": [99]}, "invalid `nodes`"),
+    ],
+)
+def test_bad_settings_are_named_by_their_keyword(options, named):
+    # The library checks each setting once and names it; Python shows the keyword (the
+    # command line shows the same check as its flag).
+    with pytest.raises(whirl.InputError, match=named):
+        whirl.simulate(REFERENCE, "50Hz", duration="0.1s", progress=False, **options)

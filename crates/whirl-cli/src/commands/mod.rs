@@ -146,6 +146,22 @@ pub fn lib<T>(r: whirl::Result<T>) -> miette::Result<T> {
     r.map_err(|e| from_whirl(e, ""))
 }
 
+/// The library's error about a setting of a request, named by its flag (the library names
+/// the setting as the Python keyword, `cage_steps`; its flag is `--cage-steps`).
+pub fn option_error(e: whirl::Error) -> miette::Report {
+    match &e {
+        whirl::Error::Input(input) if input.file.is_none() && input.field.is_some() => {
+            let field = input.field.as_deref().unwrap_or_default();
+            let diag = Diag::option(&format!("--{}", field.replace('_', "-")), &input.message);
+            match &input.help {
+                Some(help) => diag.help(help.clone()).into(),
+                None => diag.into(),
+            }
+        }
+        _ => from_whirl(e, ""),
+    }
+}
+
 /// Writes the summary, finishes the folder and builds the outcome.
 pub fn finish(
     out: Output,

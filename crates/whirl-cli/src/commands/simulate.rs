@@ -40,31 +40,19 @@ use std::fmt::Write;
 use whirl::bearing::ContactLaw;
 use whirl::model::Model;
 use whirl::report::Report;
-use whirl::system::SpeedProfile;
 use whirl::time::{
-    simulate, Initial, Method, NewmarkScheme, RkTolerances, RunStatus, SettledChannel,
-    SimulationOptions, SimulationReport, SimulationResult,
+    simulate, Initial, Integrator, RunStatus, SettledChannel, SimulationReport, SimulationRequest,
+    SimulationResult,
 };
 
 use super::{
-    finish, lib, load, mode_count, positive_length, report_summary, speed, time, Common, Nodes,
-    Outcome,
+    finish, lib, load, mode_count, option_error, positive_length, report_summary, speed, time,
+    Common, Nodes, Outcome,
 };
 use crate::error::Diag;
 use crate::output::Output;
 use crate::plots;
 use crate::progress::progress_line;
-
-/// The time integrator.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Integrator {
-    /// Explicit central difference (thesis eqs. 4.1-4.3); needs a step below 2 / w_max.
-    Cd,
-    /// Implicit Newmark, average acceleration; any step is stable.
-    Newmark,
-    /// Adaptive Dormand-Prince 5(4), the accuracy reference; --step is the output interval.
-    Rk,
-}
 
 /// `whirl simulate`
 #[derive(Debug, clap::Args)]
@@ -132,26 +120,11 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let model = &loaded.model;
     let nodes = args.nodes.resolve(model)?;
     let (progress, line) = progress_line("simulating".into());
-    let mut options = SimulationOptions {
-        duration: args.duration,
-        step: time_step(args)?,
-        method: integrator(args)?,
-        contact: args.contact,
-        reduction: args.reduce,
-        settle: args.settle,
-        nodes: Some(nodes),
-        initial: args.start,
-        divergence_bound: args.divergence_bound,
-        record_every: args.record_every,
-        progress: Some(progress.clone()),
-        ..SimulationOptions::new(SpeedProfile::Constant(args.speed))
-    };
-    let settle = options.settle_time();
-    check_settling(args, settle)?;
-    options.speed = speed_profile(args, settle)?;
+    let mut options = request(args, nodes).options().map_err(option_error)?;
+    options.progress = Some(progress.clone());
     let result = simulate(model, &options);
     line.clear();
-    let result = lib(result)?;
+    let result = result.map_err(option_error)?;
     // A run stopped by its progress (not asked for here: Ctrl-C quits `simulate` at once)
     // is reported as the library says it.
     let result = match &result.status {
@@ -194,70 +167,22 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     finish(out, summary, text, &args.common)
 }
 
-fn integrator(args: &Args) -> miette::Result<Method> {
-    match (args.method, args.hht_alpha) {
-        (Integrator::Newmark, Some(alpha)) if !(-1.0 / 3.0..=0.0).contains(&alpha) => Err(
-            Diag::option("--hht-alpha", format!("{alpha} is outside [-1/3, 0]"))
-                .help("e.g. --hht-alpha -0.05; 0 is the average-acceleration rule")
-                .into(),
-        ),
-        (Integrator::Newmark, Some(alpha)) => Ok(Method::Newmark(NewmarkScheme::Hht(alpha))),
-        (Integrator::Newmark, None) => Ok(Method::Newmark(NewmarkScheme::AverageAcceleration)),
-        (_, Some(_)) => Err(
-            Diag::option("--hht-alpha", "applies to --method newmark only")
-                .help("add --method newmark, or leave --hht-alpha out")
-                .into(),
-        ),
-        (Integrator::Cd, None) => Ok(Method::CentralDifference),
-        (Integrator::Rk, None) => Ok(Method::RungeKutta(RkTolerances::default())),
-    }
-}
-
-/// The step given (it must be positive), or `None` for the library's default.
-fn time_step(args: &Args) -> miette::Result<Option<f64>> {
-    match args.step {
-        Some(h) if h <= 0.0 => Err(Diag::option("--step", "the time step must be positive").into()),
-        given => Ok(given),
-    }
-}
-
-/// The duration must be positive and the settling time (given, or the library's default)
-/// must leave a settled part; said here in terms of the flags.
-fn check_settling(args: &Args, settle: f64) -> miette::Result<()> {
-    if args.duration <= 0.0 {
-        return Err(Diag::option("--duration", "the duration must be positive")
-            .help("e.g. --duration 1s")
-            .into());
-    }
-    if settle >= args.duration {
-        return Err(Diag::option(
-            "--settle",
-            format!(
-                "the settling time {settle} s is not shorter than the duration {} s",
-                args.duration
-            ),
-        )
-        .help("the steady-state numbers come from the time after --settle: shorten it or lengthen --duration")
-        .into());
-    }
-    Ok(())
-}
-
-/// Constant speed, or a ramp over the settling time to `--ramp-to`.
-fn speed_profile(args: &Args, settle: f64) -> miette::Result<SpeedProfile> {
-    match args.ramp_to {
-        None => Ok(SpeedProfile::Constant(args.speed)),
-        Some(_) if settle <= 0.0 => Err(Diag::option(
-            "--ramp-to",
-            "the speed ramps over the settling time, which is zero",
-        )
-        .help("give --settle, e.g. --settle 0.5s")
-        .into()),
-        Some(to) => Ok(SpeedProfile::Ramp {
-            from: args.speed,
-            to,
-            duration: settle,
-        }),
+/// The run as the flags ask for it.
+fn request(args: &Args, nodes: Vec<usize>) -> SimulationRequest {
+    SimulationRequest {
+        speed: args.speed,
+        ramp_to: args.ramp_to,
+        duration: Some(args.duration),
+        method: args.method,
+        hht_alpha: args.hht_alpha,
+        step: args.step,
+        reduce: args.reduce,
+        settle: args.settle,
+        nodes: Some(nodes),
+        contact: args.contact,
+        record_every: args.record_every,
+        start: Some(args.start),
+        divergence_bound: Some(args.divergence_bound),
     }
 }
 

@@ -31,8 +31,7 @@ use whirl::bearing::stiffness::{
 use whirl::report::{index_list, Report};
 use whirl::units::{parse_quantity, parse_range, Dimension};
 
-use super::{finish, load, report_summary, Common, Outcome};
-use crate::error::{from_whirl, Diag};
+use super::{finish, load, option_error, report_summary, Common, Outcome};
 use crate::output::Output;
 use crate::plots_stiffness;
 
@@ -111,22 +110,6 @@ fn request(args: &Args) -> StiffnessRequest {
         cage_steps: args.cage_steps,
         surface_clearances: args.surface_clearances.clone(),
         grid: args.grid,
-    }
-}
-
-/// The library's error, an option of the request named by its flag (`cage_steps` is
-/// `--cage-steps`).
-fn option_error(e: whirl::Error) -> miette::Report {
-    match &e {
-        whirl::Error::Input(input) if input.file.is_none() && input.field.is_some() => {
-            let field = input.field.as_deref().unwrap_or_default();
-            let diag = Diag::option(&format!("--{}", field.replace('_', "-")), &input.message);
-            match &input.help {
-                Some(help) => diag.help(help.clone()).into(),
-                None => diag.into(),
-            }
-        }
-        _ => from_whirl(e, ""),
     }
 }
 

@@ -38,9 +38,10 @@ pub use rollers::{peak_near, ContactSummary, RollerRecord};
 pub use settled::{SettledChannel, MAX_ORDER, MAX_PEAKS, MIN_PEAK_RELATIVE, ORDER_TOLERANCE_BINS};
 pub use simulate::{
     order_label, simulate, simulate_with, stable_step, stable_step_of, BearingReport, Channel,
-    FrequencyCheck, Hooks, Initial, Method, RunStatus, SimulationOptions, SimulationReport,
-    SimulationResult, SimulationSummary, Until, CONTACT_LINE_CAGE_TURNS, DEFAULT_DIVERGENCE_BOUND,
-    DEFAULT_SAMPLE_INTERVAL, DEFAULT_STEP, DIVERGENCE_NET, MATCH_BINS,
+    FrequencyCheck, Hooks, Initial, Integrator, Method, RunStatus, SimulationOptions,
+    SimulationReport, SimulationRequest, SimulationResult, SimulationSummary, Until,
+    CONTACT_LINE_CAGE_TURNS, DEFAULT_DIVERGENCE_BOUND, DEFAULT_SAMPLE_INTERVAL, DEFAULT_STEP,
+    DIVERGENCE_NET, MATCH_BINS,
 };
 pub use statics::static_equilibrium;
 

@@ -35,7 +35,7 @@
 use faer::Mat;
 
 use super::{check_marchable, check_state, MarchOptions, Observer};
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::force::Kinematics;
 use crate::linalg::{axpy, solve_small, vectorised, Band, Columns, Factors, Layout};
 use crate::system::{NlScratch, SpeedProfile, System};
@@ -50,6 +50,23 @@ pub enum NewmarkScheme {
 }
 
 impl NewmarkScheme {
+    /// Refuses an HHT alpha outside [-1/3, 0], where the scheme is no longer unconditionally
+    /// stable and second-order accurate.
+    ///
+    /// # Errors
+    /// [`crate::Error::Input`] naming `hht_alpha`.
+    pub fn check(self) -> Result<()> {
+        let alpha = self.alpha();
+        if (-1.0 / 3.0..=0.0).contains(&alpha) {
+            return Ok(());
+        }
+        Err(
+            InputError::field("hht_alpha", format!("{alpha} is outside [-1/3, 0]"))
+                .help("e.g. -0.05; 0 is the average-acceleration rule")
+                .into(),
+        )
+    }
+
     fn alpha(self) -> f64 {
         match self {
             NewmarkScheme::AverageAcceleration => 0.0,
@@ -569,8 +586,9 @@ fn line_search(
 ///
 /// # Errors
 /// [`Error::InvalidOption`] when the matrices and vectors of `problem` differ in size or a
-/// nonlinear force acts on a coordinate outside it ([`System::check`]), or when the HHT
-/// alpha of `scheme` lies outside [-1/3, 0]; [`Error::Singular`] when the Newmark matrix
+/// nonlinear force acts on a coordinate outside it ([`System::check`]); [`Error::Input`]
+/// naming `hht_alpha` when the HHT alpha of `scheme` lies outside [-1/3, 0];
+/// [`Error::Singular`] when the Newmark matrix
 /// M/(beta h^2) + (1+alpha)(D gamma/(beta h) + K) is singular at a speed the run reaches;
 /// [`Error::NotConverged`] when a step's Newton iteration fails even with the step halved
 /// `MAX_HALVINGS` times (the time and residual are in the error); [`Error::Diverged`] when a
@@ -584,12 +602,8 @@ pub fn newmark(
     observe: Observer<'_>,
 ) -> Result<()> {
     check_marchable(problem)?;
+    scheme.check()?;
     let alpha = scheme.alpha();
-    if !(-1.0 / 3.0..=0.0).contains(&alpha) {
-        return Err(Error::InvalidOption(format!(
-            "HHT alpha must lie in [-1/3, 0], got {alpha}"
-        )));
-    }
     let c = Coefficients {
         alpha,
         gamma: (1.0 - 2.0 * alpha) / 2.0,

@@ -39,11 +39,13 @@
 
 mod contacts;
 mod report;
+mod request;
 
 pub use report::{
     order_label, BearingReport, FrequencyCheck, SimulationReport, SimulationSummary,
     CONTACT_LINE_CAGE_TURNS, MATCH_BINS,
 };
+pub use request::{Integrator, SimulationRequest};
 
 use std::ops::ControlFlow;
 use std::time::Instant;
@@ -59,7 +61,7 @@ use super::rollers::RollerRecord;
 use super::statics::static_equilibrium;
 use super::{MarchOptions, STABLE_FRACTION};
 use crate::bearing::ContactLaw;
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::fe::{dof, dof_name, Bearings, Direction};
 use crate::force::ForceBuilder;
 use crate::model::Model;
@@ -410,41 +412,65 @@ impl SimulationResult {
     }
 }
 
-/// The checks of the settings that do not depend on the time step.
+/// The checks of the settings that do not depend on the time step. Each error names the
+/// setting as the front ends spell it (the field of [`SimulationOptions`], or `hht_alpha`).
 fn check_settings(model: &Model, o: &SimulationOptions, nodes: &[usize]) -> Result<()> {
-    let bad = |m: String| Err(Error::InvalidOption(m));
+    let bad = |field: &str, m: String| Err(InputError::field(field, m).into());
     let settle = o.settle_time();
     if !(o.duration.is_finite() && o.duration > 0.0) {
-        return bad(format!(
-            "the duration must be positive, got {} s",
-            o.duration
-        ));
+        return bad(
+            "duration",
+            format!("the duration must be positive, got {} s", o.duration),
+        );
     }
-    if !(settle >= 0.0 && settle < o.duration) {
-        return bad(format!(
-            "the settling time ({settle} s) must lie in [0, duration = {} s)",
-            o.duration
-        ));
+    if settle.is_nan() || settle < 0.0 {
+        return bad(
+            "settle",
+            format!("the settling time must be 0 s or more, got {settle} s"),
+        );
+    }
+    if settle >= o.duration {
+        return Err(InputError::field(
+            "settle",
+            format!(
+                "the settling time {settle} s is not shorter than the duration {} s",
+                o.duration
+            ),
+        )
+        .help(
+            "the steady-state numbers come from the time after the settling time: shorten \
+             it or lengthen the duration",
+        )
+        .into());
     }
     if let Some(&n) = nodes.iter().find(|&&n| n >= model.node_count()) {
-        return bad(format!(
-            "node {n} is not on the shaft (nodes 0 to {})",
-            model.node_count() - 1
-        ));
+        return bad(
+            "nodes",
+            format!(
+                "node {n} is not on the shaft (nodes 0 to {})",
+                model.node_count() - 1
+            ),
+        );
     }
     if let SpeedProfile::Ramp { duration, .. } = o.speed {
         if duration.is_nan() || duration <= 0.0 {
-            return bad("a speed ramp needs a positive duration".into());
+            return bad("speed", "a speed ramp needs a positive duration".into());
         }
     }
     if o.divergence_bound.is_nan() || o.divergence_bound <= 0.0 {
-        return bad(format!(
-            "the divergence bound must be positive, got {} m",
-            o.divergence_bound
-        ));
+        return bad(
+            "divergence_bound",
+            format!(
+                "the divergence bound must be positive, got {} m",
+                o.divergence_bound
+            ),
+        );
     }
     if o.record_every == Some(0) {
-        return bad("record every 1 step or more, not 0".into());
+        return bad("record_every", "record every 1 step or more, not 0".into());
+    }
+    if let Method::Newmark(scheme) = o.method {
+        scheme.check()?;
     }
     Ok(())
 }
@@ -461,20 +487,24 @@ fn check_recorded(
     if values <= super::MAX_RECORDED_VALUES {
         return Ok(());
     }
-    Err(Error::InvalidOption(format!(
-        "{} s recorded every {interval:.3e} s is {samples} samples of {series} series \
-         (time, channels, rollers): {values} values ({:.1} GB), at most {} ({:.1} GB); \
-         record less often (record_every), fewer nodes or no rollers, or shorten the run",
-        o.duration,
-        values as f64 * 8e-9,
-        super::MAX_RECORDED_VALUES,
-        super::MAX_RECORDED_VALUES as f64 * 8e-9
-    )))
+    Err(InputError::field(
+        "record_every",
+        format!(
+            "{} s recorded every {interval:.3e} s is {samples} samples of {series} series \
+             (time, channels, rollers): {values} values ({:.1} GB), at most {} ({:.1} GB)",
+            o.duration,
+            values as f64 * 8e-9,
+            super::MAX_RECORDED_VALUES,
+            super::MAX_RECORDED_VALUES as f64 * 8e-9
+        ),
+    )
+    .help("record less often, fewer nodes or no rollers, or shorten the run")
+    .into())
 }
 
 /// The checks of the time step.
 fn check_step(o: &SimulationOptions, step: f64) -> Result<()> {
-    let bad = |m: String| Err(Error::InvalidOption(m));
+    let bad = |m: String| Err(InputError::field("step", m).into());
     if !(step.is_finite() && step > 0.0) {
         return bad(format!("the time step must be positive, got {step} s"));
     }
@@ -498,24 +528,7 @@ fn check_step(o: &SimulationOptions, step: f64) -> Result<()> {
 /// of every roller bearing's node and what each roller did).
 ///
 /// # Errors
-/// [`Error::InvalidOption`] for a step that is not positive, a duration not above one step,
-/// a settling time outside [0, duration), more than 5e8 steps, records of more than
-/// [`super::MAX_RECORDED_VALUES`] values, a node not on the shaft, a
-/// speed ramp without a positive duration, a divergence bound that is
-/// not positive, a `record_every` of 0 or an [`Until`] that looks every 0 samples.
-/// [`Error::Unsupported`] for Lagrange-multiplier contacts with a method other than the
-/// central difference. Then the errors of building the problem: those of
-/// [`crate::reduce::CraigBampton::new`] with `options.reduction`; [`Error::Unsupported`]
-/// when a bearing's DOFs are not kept by the reduction; [`Error::Input`] for a bearing
-/// without a `forcing_function` under the forcing law, or with roller tilt or skew under
-/// Lagrange contacts; [`Error::Unsupported`] for more bearings than Lagrange contacts can
-/// constrain; those of the caller's forces, of [`System::check`] and of
-/// [`central_difference_limit`].
-/// Then those of the integrator that `options.method` names ([`central_difference`],
-/// [`central_difference_constrained`], [`newmark`], [`runge_kutta`]), but not
-/// [`Error::Diverged`]: a divergence ends the run with [`RunStatus::Diverged`] in the result
-/// (see [`SimulationResult::completed`]). A static equilibrium that is not found does not
-/// fail the run, which then starts from rest ([`SimulationResult::start_fallback`]).
+/// Those of [`simulate_with`].
 pub fn simulate(model: &Model, options: &SimulationOptions) -> Result<SimulationResult> {
     simulate_with(model, options, Hooks::default())
 }
@@ -524,10 +537,13 @@ pub fn simulate(model: &Model, options: &SimulationOptions) -> Result<Simulation
 /// contact law's, and a rule that ends the run once it has recorded enough.
 ///
 /// # Errors
-/// [`Error::InvalidOption`] for a step that is not positive, a duration not above one step,
-/// a settling time outside [0, duration), more than 5e8 steps, a node not on the shaft, a
-/// speed ramp without a positive duration, a divergence bound that is
-/// not positive, a `record_every` of 0 or an [`Until`] that looks every 0 samples.
+/// [`Error::Input`] naming the setting (`step`, `duration`, `settle`, `nodes`, `speed`,
+/// `divergence_bound`, `record_every`, `hht_alpha`) for a step that is not positive, a
+/// duration not above one step, a settling time outside [0, duration), more than 5e8
+/// steps, records of more than [`super::MAX_RECORDED_VALUES`] values, a node not on the
+/// shaft, a speed ramp without a positive duration, a divergence bound that is not
+/// positive, a `record_every` of 0 or a Newmark HHT alpha outside [-1/3, 0];
+/// [`Error::InvalidOption`] for an [`Until`] that looks every 0 samples.
 /// [`Error::Unsupported`] for Lagrange-multiplier contacts with a method other than the
 /// central difference. Then the errors of building the problem: those of
 /// [`crate::reduce::CraigBampton::new`] with `options.reduction`; [`Error::Unsupported`]
