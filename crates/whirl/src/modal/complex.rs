@@ -20,7 +20,7 @@
 use faer::{c64, Mat};
 use serde::Serialize;
 
-use super::undamped::undamped_modes_told;
+use super::undamped::{undamped_modes_told, UndampedModes};
 use super::CampbellOptions;
 use crate::error::{Error, Result};
 use crate::fe::{dof, BandedSystem, Direction, Matrices};
@@ -158,22 +158,15 @@ impl ModalBasis {
         ModalBasis::truncated(system, n, None)
     }
 
-    /// The basis for the `modes` lowest damped modes: every mode while the model is solved
-    /// dense ([`super::solves_dense`] for that basis), else the [`CampbellOptions::default_basis`] lowest
-    /// undamped modes, telling `progress` as [`ModalBasis::truncated`] does.
-    ///
-    /// # Errors
-    /// As [`ModalBasis::truncated`].
-    pub fn for_modes(
-        system: &impl Matrices,
-        modes: usize,
-        progress: Option<&Progress>,
-    ) -> Result<ModalBasis> {
+    /// How many undamped modes make the basis for the `modes` lowest damped modes of a model
+    /// of `dofs` DOFs: every mode while the model is solved dense ([`super::solves_dense`]
+    /// for that basis), else [`CampbellOptions::default_basis`].
+    pub fn size_for(dofs: usize, modes: usize) -> usize {
         let basis = CampbellOptions::default_basis(modes);
-        if super::solves_dense(system.dofs(), basis) {
-            ModalBasis::full(system)
+        if super::solves_dense(dofs, basis) {
+            dofs
         } else {
-            ModalBasis::truncated(system, basis, progress)
+            basis
         }
     }
 
@@ -189,7 +182,15 @@ impl ModalBasis {
         count: usize,
         progress: Option<&Progress>,
     ) -> Result<ModalBasis> {
-        let modes = undamped_modes_told(system, count, progress)?;
+        Ok(ModalBasis::of_modes(
+            system,
+            undamped_modes_told(system, count, progress)?,
+        ))
+    }
+
+    /// The basis of `modes`, the lowest undamped modes of `system` (mass-normalised).
+    pub(crate) fn of_modes(system: &impl Matrices, modes: UndampedModes) -> ModalBasis {
+        let count = modes.frequencies_hz.len();
         let phi = modes.shapes;
         let scale: Vec<f64> = modes
             .frequencies_hz
@@ -209,13 +210,13 @@ impl ModalBasis {
             project_banded(&system.banded(), &phi, &lambda)
         };
         let p = scale.len();
-        Ok(ModalBasis {
+        ModalBasis {
             k_scaled: Mat::from_fn(p, p, |i, j| k[(i, j)] / scale[j]),
             c,
             g,
             scale,
             shapes: phi,
-        })
+        }
     }
 
     /// Number of coordinates.

@@ -27,6 +27,17 @@ pub struct UndampedModes {
     pub shapes: Mat<f64>,
 }
 
+impl UndampedModes {
+    /// The `count` lowest of these modes.
+    pub fn lowest(&self, count: usize) -> UndampedModes {
+        let m = count.min(self.frequencies_hz.len());
+        UndampedModes {
+            frequencies_hz: self.frequencies_hz[..m].to_vec(),
+            shapes: self.shapes.subcols(0, m).to_owned(),
+        }
+    }
+}
+
 /// The largest model, in DOFs, whose modes are always found by the dense solver (every
 /// mode, n^3) rather than by subspace iteration on the bands (the modes asked for, linear in
 /// n). The dense solver wins on small models, where the iteration's fixed cost (a few tens of
