@@ -38,6 +38,15 @@ def test_the_branch_runs_over_the_speeds_asked_for(result):
     assert set(branch["stable"]) <= {"true", "false"}
 
 
+def test_every_bifurcation_says_whether_it_holds_at_twice_the_samples(result):
+    # The resolution check runs with the sweep: each bifurcation, in the summary and in
+    # the table, is resolved or not at twice the sweep's samples.
+    assert result.resolution_samples == 2 * result.samples_per_period
+    assert all(b["resolved"] in (True, False) for b in result.bifurcations)
+    table = result.columns("bifurcations")
+    assert list(table["resolved"]) == [str(b["resolved"]).lower() for b in result.bifurcations]
+
+
 def test_contact_smoothing_equals_the_command_line(run_cli):
     # The smoothed Hertz law through the first resonance: the branch, its bifurcations and
     # the summary as `--contact-smoothing` gives them, to the last bit.

@@ -167,7 +167,8 @@ def _stable_runs(stable: list) -> list[tuple[int, int, bool]]:
 def hb_branch(result, node=None, direction="uy", ax=None):
     """Harmonic balance (``whirl.hbm``): the amplitude of each harmonic of ``direction`` at
     ``node`` (default the first reported) along the branch over speed, stable solid and
-    unstable dashed, the bifurcations marked."""
+    unstable dashed, the bifurcations marked (`?` where not resolved at twice the
+    samples)."""
     ax = _axes(ax)
     node = result.nodes[0] if node is None else node
     branch = result.columns("branch")
@@ -181,7 +182,8 @@ def hb_branch(result, node=None, direction="uy", ax=None):
             line = line or drawn
     for b in result.bifurcations:
         ax.axvline(b["speed_hz"], color="grey", lw=0.8, ls=":")
-        ax.annotate(b["kind"], (b["speed_hz"], 1), xycoords=("data", "axes fraction"),
+        label = b["kind"] + (" ?" if b.get("resolved") is False else "")
+        ax.annotate(label, (b["speed_hz"], 1), xycoords=("data", "axes fraction"),
                     rotation=90, va="top", ha="right", fontsize="small")
     ax.set(xlabel="speed [Hz]", ylabel=f"{direction} amplitude [m]",
            title=f"harmonic balance, node {node} (dashed: unstable)")

@@ -10,7 +10,10 @@
 use std::f64::consts::TAU;
 
 use whirl::force::{Kinematics, NonlinearForce};
-use whirl::hbm::{continuation, BifurcationKind, ContinuationOptions, HarmonicBalance, HbOptions};
+use whirl::hbm::{
+    continuation, resolution, BifurcationKind, ContinuationOptions, HarmonicBalance, HbOptions,
+    RESOLUTION_TOLERANCE,
+};
 use whirl::system::System;
 
 mod common;
@@ -195,21 +198,26 @@ fn period_doubling_boundary(mut lo: f64, mut hi: f64) -> f64 {
     0.5 * (lo + hi)
 }
 
-#[test]
-fn mathieu_tongue_is_bounded_by_period_doublings_where_the_monodromy_matrix_says() {
+/// The loaded Mathieu oscillator.
+fn mathieu() -> System {
     let oscillator = Oscillator {
         mass: 1.0,
         stiffness: 1.0,
         damping: MATHIEU_DAMPING,
     };
-    let problem = System {
+    System {
         constant_force: vec![1.0],
         nonlinear: vec![Box::new(Parametric {
             dofs: [0],
             amplitude: MATHIEU_DEPTH,
         })],
         ..oscillator.system()
-    };
+    }
+}
+
+#[test]
+fn mathieu_tongue_is_bounded_by_period_doublings_where_the_monodromy_matrix_says() {
+    let problem = mathieu();
     // The exponential midpoint rule's error in these boundaries falls as (2 pi / N)^2
     // (measured against this Runge-Kutta monodromy: 2.2e-5 relative at N = 64, 1.4e-6 at
     // 256); 1024 samples put it near 1e-7.
@@ -243,4 +251,49 @@ fn mathieu_tongue_is_bounded_by_period_doublings_where_the_monodromy_matrix_says
         assert!((b.multiplier.0 + 1.0).abs() < 1e-5 && b.multiplier.1.abs() < 1e-5);
     }
     assert!(branch.bifurcations[0].loses_stability && !branch.bifurcations[1].loses_stability);
+}
+
+/// The resolution check at twice the samples confirms the Mathieu tongue's boundaries (a
+/// smooth problem: the boundaries move by about 1e-5 relative from 64 to 128 samples, far
+/// inside the check's 0.5 %), and refuses a change the doubled count does not show: the
+/// same boundaries moved outside the tongue, or named by the wrong multiplier.
+#[test]
+fn resolution_check_confirms_the_mathieu_boundaries_and_refuses_false_ones() {
+    let mut options = HbOptions::new(8);
+    options.samples = 64;
+    let mut hb = HarmonicBalance::new(mathieu(), options).unwrap();
+    let guess = vec![0.0; hb.unknowns()];
+    let branch = continuation(&mut hb, 1.5, 2.5, &guess, &ContinuationOptions::default()).unwrap();
+    assert_eq!(branch.bifurcations.len(), 2);
+    let mut fine = hb.with_samples(128).unwrap();
+    for b in &branch.bifurcations {
+        let r = resolution::check(&mut fine, &branch, b).unwrap();
+        eprintln!("{:.6} rad/s: {r:?}", b.frequency);
+        assert_eq!(r.samples, 128);
+        // The sides, 0.5 % of the speed away along the path (inside the tongue, 1.9-2.1
+        // rad/s, and the range), interpolated exactly there.
+        for (speed, sign) in r.speeds.iter().zip([-1.0, 1.0]) {
+            let expected = b.frequency * (1.0 + sign * RESOLUTION_TOLERANCE);
+            assert!((speed - expected).abs() < 1e-12 * expected, "{speed}");
+        }
+        assert!(r.resolved, "{r:?}");
+        assert_eq!(r.kind, Some(BifurcationKind::PeriodDoubling));
+    }
+    // Outside the tongue both sides are stable: a loss claimed at 1.8 rad/s is not resolved.
+    let mut moved = branch.bifurcations[0];
+    let below = branch
+        .points
+        .iter()
+        .position(|p| p.solution.frequency > 1.8)
+        .unwrap();
+    (moved.frequency, moved.after) = (1.8, below - 1);
+    let r = resolution::check(&mut fine, &branch, &moved).unwrap();
+    assert_eq!(r.stable, [Some(true), Some(true)]);
+    assert!(!r.resolved);
+    // The right place, the wrong multiplier: a doubling is not a Neimark-Sacker point.
+    let mut misnamed = branch.bifurcations[0];
+    misnamed.kind = BifurcationKind::NeimarkSacker;
+    let r = resolution::check(&mut fine, &branch, &misnamed).unwrap();
+    assert_eq!(r.kind, Some(BifurcationKind::PeriodDoubling));
+    assert!(!r.resolved);
 }

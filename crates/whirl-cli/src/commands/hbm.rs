@@ -29,6 +29,7 @@ use whirl::fe::{dof, Direction};
 use whirl::hbm::{
     settled_response, sweep_with_progress, BifurcationKind, CageModel, MarchSettings,
     SettledResponse, Sweep, SweepOptions, SweepReport, DEFAULT_STABILITY_MODES, MAX_HARMONICS,
+    RESOLUTION_TOLERANCE,
 };
 use whirl::model::Model;
 
@@ -327,10 +328,24 @@ fn text_summary(model: &Model, report: &SweepReport) -> String {
             hz(*b)
         );
     }
-    for b in &branch.bifurcations {
+    if let Some(check) = branch.bifurcations.iter().find_map(|b| b.resolution) {
         let _ = writeln!(
             text,
-            "  {} at {:.2} Hz: stability {}, exponent at {:.2} Hz",
+            "  bifurcations checked at {} samples per period, {} % of the speed either side: \
+             + resolved (the same change), ? not resolved (docs/theory.md section 7)",
+            check.samples,
+            100.0 * RESOLUTION_TOLERANCE
+        );
+    }
+    for b in &branch.bifurcations {
+        let mark = match b.resolution.map(|r| r.resolved) {
+            Some(true) => "+ ",
+            Some(false) => "? ",
+            None => "",
+        };
+        let _ = writeln!(
+            text,
+            "  {mark}{} at {:.2} Hz: stability {}, exponent at {:.2} Hz",
             b.kind.name(),
             hz(b.frequency),
             if b.loses_stability {

@@ -148,6 +148,19 @@ impl HarmonicBalance {
         })
     }
 
+    /// The same problem sampled `samples` times per period (the resolution check of the
+    /// bifurcations solves at twice the count).
+    ///
+    /// # Errors
+    /// As [`Self::new`], for a count not above 2H or above the most.
+    pub fn with_samples(self, samples: usize) -> Result<HarmonicBalance> {
+        let options = HbOptions {
+            samples,
+            ..self.options
+        };
+        HarmonicBalance::new(self.problem, options)
+    }
+
     /// The problem.
     pub fn problem(&self) -> &System {
         &self.problem

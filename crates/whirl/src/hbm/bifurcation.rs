@@ -20,6 +20,7 @@
 //! multiplier is read where it crosses.
 
 use super::continuation::{arclength_frame, correct, BranchPoint, Fold, Periodic};
+use super::resolution::Resolution;
 use super::stability::Stability;
 use crate::error::Result;
 
@@ -59,6 +60,10 @@ pub struct Bifurcation {
     pub after: usize,
     /// True when stability is lost along the path, false when regained.
     pub loses_stability: bool,
+    /// Whether the change holds at twice the AFT samples
+    /// ([`super::resolution`]); `None` when not checked (a branch from
+    /// [`super::continuation()`] itself, or twice the samples above the most).
+    pub resolution: Option<Resolution>,
 }
 
 /// A multiplier is real when its imaginary part is below this fraction of its modulus:
@@ -193,8 +198,24 @@ fn crossing(
 /// The kind of the crossing from the multiplier of largest modulus nearest the crossing.
 fn classify(crossing: Located, after: usize, loses_stability: bool, at_fold: bool) -> Bifurcation {
     let w = crossing.frequency;
-    let (re, im) = crossing
-        .nearest
+    let (kind, (re, im)) = crossing_kind(&crossing.nearest, at_fold);
+    let period = std::f64::consts::TAU / w;
+    Bifurcation {
+        kind,
+        frequency: w,
+        located: crossing.located,
+        multiplier: (re, im.abs()),
+        exponent_frequency: im.abs().atan2(re) / period,
+        after,
+        loses_stability,
+        resolution: None,
+    }
+}
+
+/// The kind named by the multiplier of largest modulus of `stability`, and that multiplier;
+/// `at_fold` when the branch turns there.
+pub(super) fn crossing_kind(stability: &Stability, at_fold: bool) -> (BifurcationKind, (f64, f64)) {
+    let (re, im) = stability
         .multipliers
         .iter()
         .copied()
@@ -207,16 +228,7 @@ fn classify(crossing: Located, after: usize, loses_stability: bool, at_fold: boo
         (true, false) => BifurcationKind::PeriodDoubling,
         (false, _) => BifurcationKind::NeimarkSacker,
     };
-    let period = std::f64::consts::TAU / w;
-    Bifurcation {
-        kind,
-        frequency: w,
-        located: crossing.located,
-        multiplier: (re, im.abs()),
-        exponent_frequency: im.abs().atan2(re) / period,
-        after,
-        loses_stability,
-    }
+    (kind, (re, im))
 }
 
 #[cfg(test)]

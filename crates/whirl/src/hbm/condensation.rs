@@ -178,6 +178,18 @@ impl CondensedBalance {
         self
     }
 
+    /// The same problem sampled `samples` times per period; the condensation and the
+    /// stability model, which do not depend on the count, are kept.
+    ///
+    /// # Errors
+    /// As [`HarmonicBalance::new`], for a count not above 2H or above the most.
+    pub fn with_samples(self, samples: usize) -> Result<CondensedBalance> {
+        Ok(CondensedBalance {
+            reduced: self.reduced.with_samples(samples)?,
+            ..self
+        })
+    }
+
     /// Floquet stability of the condensed solution `x` at w (rad/s).
     ///
     /// The monodromy matrix needs the linear part in time, which the condensation per

@@ -21,7 +21,8 @@
 //!   [`SweepReport`]: what it reports (summary and tables).
 //! - [`stability`]: the Floquet multipliers of each periodic solution, from its monodromy
 //!   matrix; [`bifurcation`]: where and how stability changes, named by the crossing
-//!   multiplier (fold or symmetry breaking, period doubling, Neimark-Sacker).
+//!   multiplier (fold or symmetry breaking, period doubling, Neimark-Sacker);
+//!   [`resolution`]: whether each holds at twice the AFT samples.
 //!
 //! Nonlinear forces are seen only through [`crate::force::NonlinearForce`], the interface the
 //! time integrators use, so every contact law works in both.
@@ -34,6 +35,7 @@ mod condensation;
 pub mod continuation;
 pub mod fourier;
 pub mod report;
+pub mod resolution;
 pub mod stability;
 pub mod sweep;
 
@@ -48,6 +50,7 @@ pub use continuation::{
 };
 pub use fourier::{aliasing_free_samples, check_counts, MAX_HARMONICS, MAX_SAMPLES};
 pub use report::SweepReport;
+pub use resolution::{Resolution, RESOLUTION_TOLERANCE};
 pub use stability::{FloquetProblem, Stability};
 pub use sweep::{sweep, sweep_with_progress, AtSpeed, Sweep, SweepOptions};
 

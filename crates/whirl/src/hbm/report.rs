@@ -4,7 +4,9 @@
 
 use serde::Serialize;
 
-use super::{AtSpeed, BifurcationKind, BranchEnd, SettledResponse, Sweep, SweepOptions};
+use super::{
+    AtSpeed, BifurcationKind, BranchEnd, SettledResponse, Sweep, SweepOptions, RESOLUTION_TOLERANCE,
+};
 use crate::fe::{dof, Direction};
 use crate::report::{Report, Table};
 use crate::units::rad_s_to_hz as hz;
@@ -58,6 +60,12 @@ pub struct SweepSummary {
     pub jumps_hz: Vec<[f64; 2]>,
     /// Changes of stability.
     pub bifurcations: Vec<BifurcationSummary>,
+    /// AFT samples per period of the bifurcations' resolution check (twice
+    /// `samples_per_period`), when they were checked.
+    pub resolution_samples: Option<usize>,
+    /// Distance of the resolution check's two orbits from each bifurcation, relative to its
+    /// speed.
+    pub resolution_tolerance: f64,
     /// Speed of the first loss of stability, Hz.
     pub first_stability_loss_hz: Option<f64>,
     /// The time-marching comparisons.
@@ -79,6 +87,26 @@ pub struct BifurcationSummary {
     pub exponent_frequency_hz: f64,
     /// Stability lost (true) or regained.
     pub loses_stability: bool,
+    /// Located on the branch (false: the locator's corrector failed and the speed is
+    /// interpolated between two branch points).
+    pub located: bool,
+    /// The same change at twice the samples ([`crate::hbm::resolution`]); `None` when not
+    /// checked.
+    pub resolved: Option<bool>,
+    /// What the check found, when it was made.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub resolution_check: Option<CheckSummary>,
+}
+
+/// The two orbits of a bifurcation's resolution check ([`crate::hbm::Resolution`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct CheckSummary {
+    /// Their speeds before and after the bifurcation along the path, Hz.
+    pub speeds_hz: [f64; 2],
+    /// Their stability at twice the samples; `None` where Newton did not converge.
+    pub stable: [Option<bool>; 2],
+    /// The kind named by the unstable side's largest multiplier, when it is unstable.
+    pub kind: Option<&'static str>,
 }
 
 /// A time-marching run read against the harmonic-balance solutions at its speed.
@@ -293,8 +321,20 @@ impl Report for SweepReport {
                     speed_hz: hz(b.frequency),
                     exponent_frequency_hz: hz(b.exponent_frequency),
                     loses_stability: b.loses_stability,
+                    located: b.located,
+                    resolved: b.resolution.map(|r| r.resolved),
+                    resolution_check: b.resolution.map(|r| CheckSummary {
+                        speeds_hz: r.speeds.map(hz),
+                        stable: r.stable,
+                        kind: r.kind.map(BifurcationKind::name),
+                    }),
                 })
                 .collect(),
+            resolution_samples: branch
+                .bifurcations
+                .iter()
+                .find_map(|b| b.resolution.map(|r| r.samples)),
+            resolution_tolerance: RESOLUTION_TOLERANCE,
             first_stability_loss_hz: branch
                 .bifurcations
                 .iter()
@@ -370,7 +410,9 @@ impl SweepReport {
         t
     }
 
-    /// Kind, speed and frequency of the crossing exponent of each bifurcation.
+    /// Kind, speed and frequency of the crossing exponent of each bifurcation, whether it
+    /// was located on the branch, and whether it is resolved at twice the samples (empty
+    /// when not checked).
     fn bifurcation_table(&self) -> Table {
         let b = &self.sweep.branch.bifurcations;
         let mut t = Table::new("bifurcations");
@@ -390,6 +432,11 @@ impl SweepReport {
                         "regained"
                     }
                 }),
+            )
+            .flags("located", b.iter().map(|b| Some(b.located)))
+            .flags(
+                "resolved",
+                b.iter().map(|b| b.resolution.map(|r| r.resolved)),
             );
         t
     }
