@@ -8,7 +8,7 @@ use whirl::model::Model;
 use whirl::response::{unbalance_response, unbalance_response_refined, UnbalanceResult};
 
 mod common;
-use common::{reference_rotor, Jeffcott};
+use common::{assert_same_resonance, reference_rotor, Jeffcott};
 
 /// A one-mass rotor: a 10 kg disk on an isotropic spring-damper at node 0, its unbalance
 /// at 30 degrees. The single 1 cm shaft element hangs free from it and weighs 1e-9 kg, so
@@ -133,33 +133,10 @@ fn the_refinement_resolves_the_resonance_and_leaves_round_off_ripples_alone() {
         maxima > 1,
         "the test needs a mesh whose curve ripples: {maxima} maximum"
     );
-    // One peak, the resonance, resolved as on the 20-element rotor, whose curve is smooth.
-    // The meshes' first critical speeds differ by 1e-4 (49.819 against 49.824 Hz); round-off
-    // moves the samples near the top by up to about 1 %, and the curve falls there as
-    // (distance / 1 Hz)^2, so the top's place is uncertain by some 0.1 Hz and its height and
-    // half-power band by about 1 % (measured: 0.09 Hz, 0.4 %, AF 1.7 %).
+    // One peak, the resonance, resolved as on the 20-element rotor, whose curve is smooth
+    // (measured: 0.09 Hz, 0.4 % and AF 1.7 % apart).
     assert_eq!(node.peaks.len(), 1, "{:?}", node.peaks);
-    let (p, q) = (&node.peaks[0], &coarse.nodes[0].peaks[0]);
-    assert!(
-        (p.speed_hz - q.speed_hz).abs() < 0.15,
-        "{} vs {}",
-        p.speed_hz,
-        q.speed_hz
-    );
-    assert!(
-        (p.amplitude / q.amplitude - 1.0).abs() < 1e-2,
-        "{} vs {}",
-        p.amplitude,
-        q.amplitude
-    );
-    let (af, af_coarse) = (
-        p.amplification_factor.unwrap(),
-        q.amplification_factor.unwrap(),
-    );
-    assert!(
-        (af / af_coarse - 1.0).abs() < 3e-2,
-        "AF {af} vs {af_coarse}"
-    );
+    assert_same_resonance(&node.peaks[0], &coarse.nodes[0].peaks[0]);
     // Every other local maximum is listed as within round-off, so the output says what it
     // left out; the smooth 20-element curve has none.
     assert_eq!(

@@ -5,7 +5,8 @@
 //! that speed; roller bearings by their linear stiffness, as the other linear analyses).
 //! Writes `frf.csv` (per output DOF the receptance, mobility and accelerance as real part,
 //! imaginary part, magnitude and phase, and the response amplitude to a force of `--force`
-//! newtons), `peaks.csv` (resonance peaks of each receptance with half-power bands) and the
+//! newtons), `peaks.csv` (resonance peaks of each receptance with half-power bands; a local
+//! maximum within the receptance's round-off is no peak, and the summary lists it) and the
 //! plots `receptance`, `mobility` and `accelerance` (magnitude, phase, real and imaginary
 //! parts over frequency).
 
@@ -17,7 +18,9 @@ use whirl::report::Report;
 use whirl::response::{default_frequencies, frf, FrfKind, FrfReport};
 use whirl::units::{parse_quantity, Dimension};
 
-use super::{finish, hz, lib, load, report_summary, speed, speeds, Common, Outcome, Speeds};
+use super::{
+    finish, hz, lib, load, report_summary, round_off_note, speed, speeds, Common, Outcome, Speeds,
+};
 use crate::error::Diag;
 use crate::output::Output;
 use crate::plots;
@@ -151,6 +154,11 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
                 p.amplitude * args.force,
                 args.force
             );
+        }
+    }
+    for o in &result.outputs {
+        if let Some(note) = round_off_note(&o.maxima_within_round_off_hz) {
+            let _ = writeln!(text, "  {}: {note}", o.name);
         }
     }
 

@@ -162,6 +162,18 @@ pub fn option_error(e: whirl::Error) -> miette::Report {
     }
 }
 
+/// The line that says which local maxima of a response curve (at `maxima`, Hz) were left
+/// out as round-off, if any.
+pub fn round_off_note(maxima: &[f64]) -> Option<String> {
+    let (first, last) = (maxima.first()?, maxima.last()?);
+    Some(format!(
+        "{} local maxima between {first:.2} and {last:.2} Hz are within the round-off of \
+         the solves and are not reported as peaks (ripples of round-off on a fine mesh; a \
+         resonance whose top is among them would be missing: a coarser mesh resolves it)",
+        maxima.len()
+    ))
+}
+
 /// Writes the summary, finishes the folder and builds the outcome.
 pub fn finish(
     out: Output,

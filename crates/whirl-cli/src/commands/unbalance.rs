@@ -19,7 +19,9 @@ use whirl::response::{unbalance_response_refined, UnbalanceResult};
 
 use whirl_plot::SpeedAxis;
 
-use super::{finish, lib, load, report_summary, speeds, Common, Nodes, Outcome, Speeds};
+use super::{
+    finish, lib, load, report_summary, round_off_note, speeds, Common, Nodes, Outcome, Speeds,
+};
 use crate::output::Output;
 use crate::plots;
 use crate::progress::shown;
@@ -97,19 +99,8 @@ fn text(name: &str, nodes: &[usize], result: &UnbalanceResult) -> String {
         }
     }
     for r in &result.nodes {
-        if let (Some(first), Some(last)) = (
-            r.maxima_within_round_off_hz.first(),
-            r.maxima_within_round_off_hz.last(),
-        ) {
-            let _ = writeln!(
-                text,
-                "  node {:3}: {} local maxima between {first:.2} and {last:.2} Hz are within \
-                 the round-off of the solves and are not reported as peaks (ripples of round-off on a \
-                 fine mesh; a resonance whose top is among them would be missing: a coarser \
-                 mesh resolves it)",
-                r.node,
-                r.maxima_within_round_off_hz.len()
-            );
+        if let Some(note) = round_off_note(&r.maxima_within_round_off_hz) {
+            let _ = writeln!(text, "  node {:3}: {note}", r.node);
         }
     }
     if let Some(note) = &result.api617_note {

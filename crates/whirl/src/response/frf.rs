@@ -20,7 +20,9 @@ pub use report::{FrfReport, FrfSummary};
 use faer::{c64, Mat};
 use serde::Serialize;
 
-use super::peaks::{find_peaks, ResponsePeak};
+use super::peaks::{
+    find_peaks, maxima_with_bases, samples_to_check, split_maxima, Maxima, ResponsePeak,
+};
 use crate::error::{Error, Result};
 use crate::fe::{assemble_banded, dof_name, BandedSystem, Bearings, Matrices, SystemMatrices};
 use crate::linalg::banded::BandedLu;
@@ -82,8 +84,12 @@ pub struct FrfChannel {
     /// Receptance at each frequency.
     #[serde(skip)]
     pub receptance: Vec<c64>,
-    /// Peaks of |receptance| over frequency, with half-power bands.
+    /// Peaks of |receptance| over frequency, with half-power bands: the local maxima that
+    /// stand above the curve's round-off.
     pub peaks: Vec<ResponsePeak>,
+    /// Frequencies, Hz, of the local maxima of |receptance| within its round-off, which are
+    /// no peaks (fine meshes, see [`frf`]); one at a resonance means its top is lost.
+    pub maxima_within_round_off_hz: Vec<f64>,
 }
 
 /// Frequency response functions from one input DOF to several outputs, at one spin speed.
@@ -383,18 +389,34 @@ pub fn frf(
         .iter()
         .map(|w| w / (2.0 * std::f64::consts::PI))
         .collect();
+    let magnitudes: Vec<Vec<f64>> = (0..outputs.len())
+        .map(|o| responses.iter().map(|r| r[o].norm()).collect())
+        .collect();
+    let maxima = resolved_maxima(
+        system,
+        speed,
+        frequencies,
+        &force,
+        outputs,
+        &magnitudes,
+        progress,
+    )?;
     let outputs = outputs
         .iter()
+        .zip(magnitudes.iter().zip(&maxima))
         .enumerate()
-        .map(|(o, &d)| {
-            let receptance: Vec<c64> = responses.iter().map(|r| r[o]).collect();
-            let magnitude: Vec<f64> = receptance.iter().map(|h| h.norm()).collect();
-            FrfChannel {
-                dof: d,
-                name: dof_name(d),
-                peaks: find_peaks(&frequencies_hz, &magnitude, None, |_| true),
-                receptance,
-            }
+        .map(|(o, (&d, (magnitude, maxima)))| FrfChannel {
+            dof: d,
+            name: dof_name(d),
+            peaks: find_peaks(&frequencies_hz, magnitude, None, |k| {
+                maxima.resolved.binary_search(&k).is_ok()
+            }),
+            maxima_within_round_off_hz: maxima
+                .within_round_off
+                .iter()
+                .map(|&k| frequencies_hz[k])
+                .collect(),
+            receptance: responses.iter().map(|r| r[o]).collect(),
         })
         .collect();
     Ok(FrfResult {
@@ -403,6 +425,50 @@ pub fn frf(
         input: (input, dof_name(input)),
         outputs,
     })
+}
+
+/// Per output, the local maxima of |receptance|, split by whether they stand above the
+/// curve's round-off ([`super::peaks::stands_above_round_off`]), estimated by solving again
+/// at each maximum and at the sample its prominence is measured from
+/// ([`harmonic_response_and_round_off`], in parallel; `progress` is told of these checks).
+///
+/// # Errors
+/// As [`harmonic_response`].
+fn resolved_maxima(
+    system: &impl Matrices,
+    speed: f64,
+    frequencies: &[f64],
+    force: &[c64],
+    outputs: &[usize],
+    magnitudes: &[Vec<f64>],
+    progress: Option<&Progress>,
+) -> Result<Vec<Maxima>> {
+    let candidates: Vec<_> = magnitudes.iter().map(|y| maxima_with_bases(y)).collect();
+    let checked = samples_to_check(&candidates);
+    let estimates: Vec<Vec<f64>> = map_told(
+        &checked,
+        progress,
+        (0, checked.len()),
+        (
+            "the round-off check of the peaks",
+            "frequencies checked for round-off",
+        ),
+        |&j| {
+            let (_, round_off) =
+                harmonic_response_and_round_off(system, speed, frequencies[j], force)?;
+            Ok(outputs
+                .iter()
+                .map(|&d| round_off.get(d).copied().unwrap_or(0.0))
+                .collect())
+        },
+    )?;
+    let round_off = |j: usize, o: usize| checked.binary_search(&j).map_or(0.0, |i| estimates[i][o]);
+    Ok(candidates
+        .iter()
+        .zip(magnitudes)
+        .enumerate()
+        .map(|(o, (candidates, y))| split_maxima(y, candidates, |j| round_off(j, o)))
+        .collect())
 }
 
 #[cfg(test)]

@@ -123,6 +123,51 @@ pub(crate) fn stands_above_round_off(
         .is_none_or(|base| y[k] - y[base] > ROUND_OFF_MARGIN * (round_off(k) + round_off(base)))
 }
 
+/// A curve's local maxima, as sample indices, ascending.
+pub(crate) struct Maxima {
+    /// Those that stand above the curve's round-off: its peaks.
+    pub resolved: Vec<usize>,
+    /// Those that do not.
+    pub within_round_off: Vec<usize>,
+}
+
+/// Each local maximum of `y` with the sample its prominence is measured from.
+pub(crate) fn maxima_with_bases(y: &[f64]) -> Vec<(usize, Option<usize>)> {
+    (1..y.len().saturating_sub(1))
+        .filter(|&k| is_peak(y, k))
+        .map(|k| (k, prominence_base(y, k)))
+        .collect()
+}
+
+/// The samples whose round-off the maxima of every curve (from [`maxima_with_bases`]) need,
+/// ascending, each once.
+pub(crate) fn samples_to_check(candidates: &[Vec<(usize, Option<usize>)>]) -> Vec<usize> {
+    let mut samples: Vec<usize> = candidates
+        .iter()
+        .flatten()
+        .flat_map(|&(k, base)| std::iter::once(k).chain(base))
+        .collect();
+    samples.sort_unstable();
+    samples.dedup();
+    samples
+}
+
+/// The maxima `candidates` of `y` split by [`stands_above_round_off`].
+pub(crate) fn split_maxima(
+    y: &[f64],
+    candidates: &[(usize, Option<usize>)],
+    round_off: impl Fn(usize) -> f64,
+) -> Maxima {
+    let (resolved, within_round_off) = candidates
+        .iter()
+        .map(|&(k, _)| k)
+        .partition(|&k| stands_above_round_off(y, k, &round_off));
+    Maxima {
+        resolved,
+        within_round_off,
+    }
+}
+
 /// The nearest samples on either side of the peak at `k` that lie below `level`, if any.
 pub(crate) fn samples_below(y: &[f64], k: usize, level: f64) -> (Option<usize>, Option<usize>) {
     let below = (0..k).rev().find(|&j| y[j] < level);

@@ -37,8 +37,10 @@ use faer::c64;
 use serde::Serialize;
 
 use super::frf::{harmonic_response, harmonic_response_and_round_off};
-use super::peaks::{find_peaks, is_peak, margins_not_applicable, samples_below, ResponsePeak};
-use super::peaks::{prominence_base, stands_above_round_off};
+use super::peaks::{
+    find_peaks, margins_not_applicable, maxima_with_bases, samples_below, samples_to_check,
+    split_maxima, Maxima, ResponsePeak,
+};
 use crate::error::{Error, Result};
 use crate::fe::{dof, unbalance_force, Direction, Matrices};
 use crate::modal::Whirl;
@@ -267,14 +269,6 @@ fn at_nodes<T: Copy>(q: &[T], nodes: &[usize]) -> Vec<T> {
         .collect()
 }
 
-/// A node's local maxima of its major semi-axis, as sample indices, ascending.
-struct Maxima {
-    /// Those that stand above the curve's round-off: its peaks.
-    resolved: Vec<usize>,
-    /// Those that do not.
-    within_round_off: Vec<usize>,
-}
-
 /// Per node, the local maxima of its major semi-axis, split by whether they stand above the
 /// curve's round-off ([`stands_above_round_off`]). The round-off is estimated at each
 /// maximum and at the sample its prominence is measured from, where it is not yet known,
@@ -292,22 +286,12 @@ fn resolved_maxima(
     progress: Option<&Progress>,
 ) -> Result<Vec<Maxima>> {
     let candidates: Vec<Vec<(usize, Option<usize>)>> = (0..nodes.len())
-        .map(|slot| {
-            let major = major_of(samples, slot);
-            (1..major.len().saturating_sub(1))
-                .filter(|&k| is_peak(&major, k))
-                .map(|k| (k, prominence_base(&major, k)))
-                .collect()
-        })
+        .map(|slot| maxima_with_bases(&major_of(samples, slot)))
         .collect();
-    let mut unknown: Vec<usize> = candidates
-        .iter()
-        .flatten()
-        .flat_map(|&(k, base)| std::iter::once(k).chain(base))
+    let unknown: Vec<usize> = samples_to_check(&candidates)
+        .into_iter()
         .filter(|&j| samples[j].round_off.is_none())
         .collect();
-    unknown.sort_unstable();
-    unknown.dedup();
     let estimates = map_told(
         &unknown,
         progress,
@@ -331,18 +315,11 @@ fn resolved_maxima(
         .iter()
         .enumerate()
         .map(|(slot, candidates)| {
-            let major = major_of(samples, slot);
             // Every sample asked for was estimated above; a missing one would count as
             // exact, which keeps the maximum (the behaviour without the check).
-            let round_off = |j: usize| samples[j].round_off.as_ref().map_or(0.0, |r| r[slot]);
-            let (resolved, within_round_off) = candidates
-                .iter()
-                .map(|&(k, _)| k)
-                .partition(|&k| stands_above_round_off(&major, k, round_off));
-            Maxima {
-                resolved,
-                within_round_off,
-            }
+            split_maxima(&major_of(samples, slot), candidates, |j| {
+                samples[j].round_off.as_ref().map_or(0.0, |r| r[slot])
+            })
         })
         .collect())
 }

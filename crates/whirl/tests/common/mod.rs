@@ -20,6 +20,6 @@ pub mod reference;
 pub use jeffcott::{ClearanceRing, Jeffcott, RingRotor};
 pub use oscillator::{Duffing, Oscillator};
 pub use reference::{
-    example_path, reference_bearing, reference_rotor, reference_rotor_path, reference_rotor_text,
-    reference_rotor_text_meshed,
+    assert_same_resonance, example_path, reference_bearing, reference_rotor, reference_rotor_path,
+    reference_rotor_text, reference_rotor_text_meshed,
 };

@@ -42,6 +42,8 @@ pub struct OutputPeaks {
     pub output: String,
     /// Its receptance peaks.
     pub peaks: Vec<PeakSummary>,
+    /// Local maxima within the curve's round-off, which are no peaks, Hz (fine meshes).
+    pub maxima_within_round_off_hz: Vec<f64>,
 }
 
 /// One receptance peak.
@@ -91,6 +93,7 @@ impl Report for FrfReport {
                             amplification_factor: p.amplification_factor,
                         })
                         .collect(),
+                    maxima_within_round_off_hz: o.maxima_within_round_off_hz.clone(),
                 })
                 .collect(),
         }
