@@ -70,8 +70,8 @@ def test_convergence_equals_the_command_line(run_cli):
 
 def test_convergence_counts_are_checked_by_the_library():
     # The range and its reason come from the library, named as the keyword.
-    with pytest.raises(whirl.InputError, match=r"invalid `counts`: 501 elements.*from 1 to 500"):
-        whirl.convergence(REFERENCE, [20, 501])
+    with pytest.raises(whirl.InputError, match=r"invalid `counts`: 10001 elements.*from 1 to 10000"):
+        whirl.convergence(REFERENCE, [20, 10001])
     with pytest.raises(whirl.InputError, match=r"invalid `counts`: `-3` is not a whole number"):
         whirl.convergence(REFERENCE, [-3])
 

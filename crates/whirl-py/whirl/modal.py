@@ -182,14 +182,14 @@ def convergence(
     Args:
         model: a :class:`Model` or a model file path.
         counts: total element counts, each shared among the sections in proportion to their
-            lengths (1-500); default 2, 4, ..., 40. A mesh on which a disk or bearing would
+            lengths (1-10,000); default 2, 4, ..., 40. A mesh on which a disk or bearing would
             fall between nodes is skipped (``skipped``).
         modes: number of modes to follow (1-200).
     """
     model = as_model(model)
     counts = list(range(2, 41, 2)) if not counts else list(counts)
     for n in counts:
-        # The range (1 to 500) is the library's to check and explain.
+        # The range (1 to 10,000) is the library's to check and explain.
         if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
             raise _whirl.InputError(f"invalid `counts`: `{n}` is not a whole number of elements")
     modes = _options.mode_count(modes)

@@ -13,8 +13,8 @@ use serde::Serialize;
 
 use super::undamped::undamped_modes;
 use crate::error::{InputError, Result};
-use crate::fe::{assemble, Bearings};
-use crate::model::Model;
+use crate::fe::{assemble_banded, Bearings};
+use crate::model::{Model, MAX_ELEMENTS};
 use crate::progress::{map_told, Progress};
 
 /// Frequencies of the first modes for several meshes.
@@ -37,27 +37,19 @@ pub struct ConvergenceResult {
     pub modes_requested: usize,
 }
 
-/// The most elements a mesh of the study may have: each mesh is assembled as dense matrices
-/// (32 n^2 bytes for n DOFs: 0.13 GB at 500 elements, 2,004 DOFs) and the meshes are solved
-/// in parallel, so a few such meshes already take a large part of a machine's memory.
-pub const MAX_CONVERGENCE_ELEMENTS: usize = 500;
-
 /// Checks one total element count of a study, before anything is meshed: from 1 to
-/// [`MAX_CONVERGENCE_ELEMENTS`]. The command line and Python check their counts with it.
+/// [`MAX_ELEMENTS`], the most a model may have. Each mesh is assembled on bands, so memory
+/// grows linearly with the elements (about 140 MB at 10,000 elements, 6 modes).
 ///
 /// # Errors
 /// [`crate::Error::Input`] naming `counts` otherwise.
 pub fn check_element_count(count: usize) -> Result<()> {
-    if (1..=MAX_CONVERGENCE_ELEMENTS).contains(&count) {
+    if (1..=MAX_ELEMENTS).contains(&count) {
         return Ok(());
     }
     Err(InputError::field(
         "counts",
-        format!(
-            "{count} elements: a mesh of the convergence study has from 1 to \
-             {MAX_CONVERGENCE_ELEMENTS} (each is assembled as dense matrices, 32 n^2 bytes for \
-             n DOFs, and the meshes are solved in parallel)"
-        ),
+        format!("{count} elements: a mesh of the convergence study has from 1 to {MAX_ELEMENTS}"),
     )
     .help("e.g. 2,4,...,40, or multiples of the model's own count")
     .into())
@@ -110,7 +102,7 @@ pub fn convergence(
             let Ok(mesh) = model.remeshed(&split(model, total)) else {
                 return Ok(None);
             };
-            let system = assemble(&mesh, Bearings::Linearised);
+            let system = assemble_banded(&mesh, Bearings::Linearised);
             Ok(Some(undamped_modes(&system, modes)?.frequencies_hz))
         },
     )?;
@@ -159,20 +151,20 @@ mod tests {
     #[test]
     fn element_counts_outside_the_limit_are_refused_before_any_mesh() {
         let model = Model::from_toml_str(crate::examples::REFERENCE_ROTOR, None).unwrap();
-        for bad in [0, MAX_CONVERGENCE_ELEMENTS + 1, usize::MAX] {
+        for bad in [0, MAX_ELEMENTS + 1, usize::MAX] {
             // A good count beside the bad one: the whole request is refused, none is meshed.
             let e = convergence(&model, &[20, bad], 2, None).unwrap_err();
             let text = e.to_string();
             assert!(
                 text.starts_with(&format!("`counts`: {bad} elements"))
-                    && text.contains(&format!("from 1 to {MAX_CONVERGENCE_ELEMENTS}")),
+                    && text.contains(&format!("from 1 to {MAX_ELEMENTS}")),
                 "{text}"
             );
         }
         // Both ends of the range are taken: 1 element (the mesh's nodes miss the disk, so it
         // is skipped) and the limit, which the reference rotor's features fall on.
-        let r = convergence(&model, &[1, MAX_CONVERGENCE_ELEMENTS], 1, None).unwrap();
+        let r = convergence(&model, &[1, MAX_ELEMENTS], 1, None).unwrap();
         assert_eq!(r.skipped, vec![1]);
-        assert_eq!(r.element_counts, vec![MAX_CONVERGENCE_ELEMENTS]);
+        assert_eq!(r.element_counts, vec![MAX_ELEMENTS]);
     }
 }

@@ -25,10 +25,7 @@ pub use campbell::{
 };
 pub use check::{check_model, CheckSummary, ModelCheck};
 pub use complex::{branch_labels, complex_modes, ComplexMode, ModalBasis, Whirl, FULL_LIMIT};
-pub use convergence::{
-    check_element_count, convergence, ConvergenceResult, ConvergenceSummary,
-    MAX_CONVERGENCE_ELEMENTS,
-};
+pub use convergence::{check_element_count, convergence, ConvergenceResult, ConvergenceSummary};
 pub use report::{modal_report, DampedSummary, ModalReport, ModalSummary};
 pub(crate) use subspace::largest_eigenvalue;
 pub use ucs::{
