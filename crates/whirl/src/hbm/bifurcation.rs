@@ -73,12 +73,16 @@ pub struct Bifurcation {
 const ON_AXIS: f64 = 1e-9;
 
 /// The regula falsi stops when the bracket is this short in scaled arclength (a relative
-/// change of 1e-7 of the speed or the orbit: 0.05 mHz at 500 Hz, far below what is
-/// printed; the last step's interpolation makes a simple crossing more accurate still), or
-/// after [`MAX_TRIALS`] trial points. Where the largest real part jumps across zero (a
-/// contact opening at a corner) the bracket only halves per trial, and a tighter one cost
-/// 7 more trials each with no change in what is printed.
-const BRACKET: f64 = 1e-7;
+/// change of 1e-5 of the speed or the orbit: 5 mHz at 500 Hz, 0.4 mHz at 40 Hz; the last
+/// step's interpolation makes a simple crossing more accurate still), or after
+/// [`MAX_TRIALS`] trial points. What the answer resolves is far coarser: the AFT sample
+/// count moves the reference rotor's bifurcations by 0.1 to 2 Hz, and each is checked at
+/// 0.5 % of its speed either side ([`super::resolution`]). Where the largest real part
+/// jumps across zero (a contact opening at a corner) the bracket only halves per trial:
+/// 1e-7 cost 7 more trials each there, and a trial whose corrector failed left the
+/// crossing interpolated between the path's points instead (on the 20 um sweep the loss
+/// at 44.981 Hz, located now, had been interpolated at 44.951 Hz).
+const BRACKET: f64 = 1e-5;
 const MAX_TRIALS: usize = 40;
 
 /// The changes of stability along `points`, each located on the branch, except across

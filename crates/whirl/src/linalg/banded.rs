@@ -97,6 +97,32 @@ impl BandedLu {
         &mut self.rows[index]
     }
 
+    /// Solves A x = b in place for one right-hand side: [`Self::solve_rows`] with k = 1,
+    /// with the back substitution as dot products over the contiguous rows of U.
+    pub(crate) fn solve(&self, b: &mut [f64]) {
+        let (n, lower) = (self.n, self.lower);
+        let width = lower + self.upper + 1;
+        for s in 0..n {
+            b.swap(s, self.pivots[s]);
+            let pivot = b[s];
+            if pivot != 0.0 {
+                for i in s + 1..=(s + lower).min(n - 1) {
+                    b[i] -= self.rows[i * width + s + lower - i] * pivot;
+                }
+            }
+        }
+        for i in (0..n).rev() {
+            let last = (i + self.upper).min(n - 1);
+            let row = &self.rows[i * width + lower..i * width + lower + last - i + 1];
+            let above: f64 = row[1..]
+                .iter()
+                .zip(&b[i + 1..=last])
+                .map(|(u, x)| u * x)
+                .sum();
+            b[i] = (b[i] - above) / row[0];
+        }
+    }
+
     /// Solves A X = B in place for `k` right-hand sides stored row by row (row i of B at
     /// `i * k .. (i + 1) * k`), so every elimination step updates contiguous rows.
     pub(crate) fn solve_rows(&self, b: &mut [f64], k: usize) {
@@ -162,6 +188,12 @@ mod tests {
         let b: Vec<f64> = (0..n * k).map(|i| (i as f64).sin()).collect();
         let mut x = b.clone();
         lu.solve_rows(&mut x, k);
+        // The single right-hand side solve gives the first column alike.
+        let mut first: Vec<f64> = (0..n).map(|i| b[i * k]).collect();
+        lu.solve(&mut first);
+        for i in 0..n {
+            assert!((first[i] - x[i * k]).abs() < 1e-13 * (1.0 + x[i * k].abs()));
+        }
         let a = Mat::from_fn(n, n, entry);
         let mut dense = Mat::from_fn(n, k, |i, j| b[i * k + j]);
         faer::linalg::solvers::Solve::solve_in_place(&a.partial_piv_lu(), dense.as_mut());
