@@ -18,7 +18,7 @@ from .response import report_nodes
 #: cost with the cube of that): the library's limit, as on the command line.
 MAX_HARMONICS = _whirl.MAX_HARMONICS
 
-#: Time samples per period at most: 20 times the default (16 H) at the largest H, checked
+#: Time samples per period at most: 40 times the default (32 H) at the largest H, checked
 #: before any buffer is made: the library's limit, as on the command line.
 MAX_SAMPLES = _whirl.MAX_AFT_SAMPLES
 
@@ -109,7 +109,7 @@ def hbm(
             curvature (harmonic balance only; docs/theory.md section 7), ``"0.01um"`` or
             metres; 0 (the default) for the exact law.
         samples: time samples per period of the alternating frequency-time transform;
-            default 16 H, at least 64.
+            default 32 H, at least 64.
         reduce: solve on a Craig-Bampton model with this many fixed-interface modes;
             default the full model.
         no_stability: skip the Floquet stability (faster; no bifurcations).
@@ -133,7 +133,7 @@ def hbm(
     if samples is not None and not 2 * h < samples <= MAX_SAMPLES:
         raise _whirl.InputError(
             f"invalid `samples`: {samples} samples per period: the transform needs more than "
-            f"2 H = {2 * h} and at most {MAX_SAMPLES}\n  help: leave it out for the default (16 H, at least 64)"
+            f"2 H = {2 * h} and at most {MAX_SAMPLES}\n  help: leave it out for the default (32 H, at least 64)"
         )
     chosen = report_nodes(model, nodes)
     if not nodes:

@@ -159,7 +159,7 @@ fn a_round_off_change_of_the_disk_mass_leaves_the_60_um_branch_where_it_was() {
 /// The monodromy matrix is integrated over the AFT samples of the orbit (the exponential
 /// midpoint rule): its verdict must not depend on their number. The same orbits of the
 /// reference rotor's branch through the first resonance (20 um, H = 5, solved with the
-/// default 80 samples) are checked with 80, 160 and 320.
+/// default 160 samples) are checked with 160, 320 and 640.
 #[test]
 fn floquet_stability_converges_in_the_samples_on_the_reference_rotor() {
     let model = reference("20 um");
@@ -175,7 +175,7 @@ fn floquet_stability_converges_in_the_samples_on_the_reference_rotor() {
         };
         CondensedBalance::new(problem, hb_options).unwrap()
     };
-    let mut balances = [balance(80), balance(160), balance(320)];
+    let mut balances = [balance(160), balance(320), balance(640)];
     let mut unstable = 0;
     for p in result.branch.points.iter().step_by(7) {
         let s = &p.solution;
@@ -185,14 +185,15 @@ fn floquet_stability_converges_in_the_samples_on_the_reference_rotor() {
             .collect();
         let largest: Vec<f64> = verdicts.iter().map(|v| v.max_real).collect();
         eprintln!(
-            "{:.4} Hz: largest real part with 80 / 160 / 320 samples {largest:.4?} 1/s",
+            "{:.4} Hz: largest real part with 160 / 320 / 640 samples {largest:.4?} 1/s",
             s.frequency / TAU
         );
         // Measured: the same verdict at each of these 31 points, the margins of the stable
         // ones within 6 % (their least damped exponent about -6 1/s, the bearing modes'
-        // damping), those of the unstable ones (10-55 1/s in the first resonance, where
-        // contacts open and close within a period and the rule is of first order) within
-        // a factor of 2.
+        // damping) or, in the folded stretch at 45.75 Hz where the margin is small (-2.2,
+        // -3.1 and -3.4 1/s), within 1.3 1/s; those of the unstable ones (10-55 1/s in the
+        // first resonance, where contacts open and close within a period and the rule is of
+        // first order) within a factor of 2.
         assert!(
             verdicts.iter().all(|v| v.stable == verdicts[0].stable),
             "{} Hz: {largest:?}",
@@ -202,7 +203,7 @@ fn floquet_stability_converges_in_the_samples_on_the_reference_rotor() {
             assert!(
                 largest
                     .iter()
-                    .all(|l| (l - largest[2]).abs() < 0.06 * largest[2].abs()),
+                    .all(|l| (l - largest[2]).abs() < (0.06 * largest[2].abs()).max(1.5)),
                 "{largest:?}"
             );
         } else {
@@ -214,4 +215,101 @@ fn floquet_stability_converges_in_the_samples_on_the_reference_rotor() {
     }
     // The check covers the unstable stretch of the first resonance.
     assert!(unstable >= 5, "{unstable} unstable points");
+}
+
+/// The amplitude of the w/2 component of `signal`, sampled every `step` from t = 0, over
+/// its first and its last four periods 2 pi / w (two periods of w/2, over which the
+/// harmonics of w are orthogonal to it).
+fn half_order_at_both_ends(signal: &[f64], step: f64, w: f64) -> [f64; 2] {
+    let window = (4.0 * TAU / w / step).round() as usize;
+    let amplitude = |start: usize| {
+        let (mut c, mut s) = (0.0, 0.0);
+        for (k, x) in signal[start..start + window].iter().enumerate() {
+            let phase = 0.5 * w * (start + k) as f64 * step;
+            c += x * phase.cos();
+            s += x * phase.sin();
+        }
+        2.0 * c.hypot(s) / window as f64
+    };
+    [amplitude(0), amplitude(signal.len() - window)]
+}
+
+/// The Floquet multipliers say whether the harmonic-balance model's own periodic orbit is
+/// stable; time marching of the same model (the Craig-Bampton model with 12 modes and the
+/// passage-averaged roller force that the balance uses, not the individual rollers of
+/// `--compare-time`), started on the orbit with a small kick, must agree. At 165 Hz the
+/// monodromy finds a period doubling (multiplier about -1.18, 27 1/s): the march's w/2
+/// component grows from the kick and saturates. At 39.9 Hz it finds a stable orbit (with 4
+/// stability modes it found a period doubling, at -1.10, which this march refuted): the
+/// march stays on the orbit with no w/2 growth.
+#[test]
+fn marching_the_harmonic_balance_model_confirms_its_floquet_verdicts() {
+    use std::ops::ControlFlow;
+    use whirl::system::SpeedProfile;
+    use whirl::time::{central_difference, central_difference_limit, MarchOptions};
+    let model = reference("20 um");
+    let speeds = [TAU * 39.9, TAU * 165.0];
+    let mut options = SweepOptions::new(TAU, TAU * 166.0, 5);
+    options.reduction = Some(12);
+    options.stability = false;
+    options.exact_speeds = speeds.to_vec();
+    let result = sweep(&model, &options).unwrap();
+    let n = result.dofs;
+    for (w, growing) in speeds.into_iter().zip([false, true]) {
+        let at = &result.at_speeds.iter().find(|a| a.speed == w).unwrap();
+        let (mut problem, _, _) =
+            model_problem(&model, Some(12), w, options.contact, options.cage, 0.0).unwrap();
+        // q(0) and q'(0) of the orbit, the first bearing coordinate kicked by 10 nm.
+        let x = &at.coefficients;
+        let (mut q0, mut v0) = (x[..n].to_vec(), vec![0.0; n]);
+        for r in 1..=5 {
+            for d in 0..n {
+                q0[d] += x[(2 * r - 1) * n + d];
+                v0[d] += r as f64 * w * x[2 * r * n + d];
+            }
+        }
+        let bearing = problem.nonlinear_dofs()[0];
+        q0[bearing] += 1e-8;
+        let step = 0.9 * central_difference_limit(&problem).unwrap();
+        // 0.5 s: 82 periods at 165 Hz, where 27 1/s grows a perturbation 8e5-fold.
+        let steps = (0.5 / step) as usize;
+        let march = MarchOptions {
+            speed: SpeedProfile::Constant(w),
+            step,
+            steps,
+            divergence_bound: 1.0,
+        };
+        let mut signal = Vec::with_capacity(steps);
+        let mut observe = |_: f64, q: &[f64], _: &[f64]| {
+            signal.push(q[bearing]);
+            ControlFlow::Continue(())
+        };
+        central_difference(&mut problem, &q0, &v0, &march, &mut observe).unwrap();
+        let [first, last] = half_order_at_both_ends(&signal, step, w);
+        let largest = at
+            .stability
+            .multipliers
+            .iter()
+            .copied()
+            .max_by(|a, b| a.0.hypot(a.1).total_cmp(&b.0.hypot(b.1)))
+            .unwrap();
+        eprintln!(
+            "{:.1} Hz: stable {}, largest multiplier {largest:?}; marched w/2 of u_x at the \
+             bearing {first:.3e} m over the first 4 periods, {last:.3e} m over the last 4",
+            w / TAU,
+            at.stability.stable
+        );
+        if growing {
+            // A period doubling: one real multiplier beyond -1, and the march's w/2
+            // component (measured 1e-8 to 3e-7 m) grown far above the kick's 10 nm.
+            assert!(!at.stability.stable && largest.0 < -1.0 && largest.1 == 0.0);
+            assert!(last > 10.0 * first && last > 1e-7, "{first:e} -> {last:e}");
+        } else {
+            // Stable: the w/2 content stays at the kick's level or decays (measured
+            // 3e-9 m at both ends: the leakage of the harmonics of w through a window cut
+            // to whole steps).
+            assert!(at.stability.stable);
+            assert!(last < 2.0 * first.max(1e-9), "{first:e} -> {last:e}");
+        }
+    }
 }

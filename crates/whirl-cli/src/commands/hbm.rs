@@ -82,7 +82,7 @@ pub struct Args {
     /// only; docs/theory.md section 7), e.g. `0.01um`; 0 for the exact law.
     #[arg(long, value_name = "LENGTH", default_value = "0", value_parser = smoothing_length)]
     pub contact_smoothing: f64,
-    /// Time samples per period of the alternating frequency-time transform [default: 16 H,
+    /// Time samples per period of the alternating frequency-time transform [default: 32 H,
     /// at least 64].
     #[arg(long, value_name = "N")]
     pub samples: Option<usize>,
@@ -331,9 +331,11 @@ fn text_summary(model: &Model, report: &SweepReport) -> String {
     if let Some(check) = branch.bifurcations.iter().find_map(|b| b.resolution) {
         let _ = writeln!(
             text,
-            "  bifurcations checked at {} samples per period, {} % of the speed either side: \
-             + resolved (the same change), ? not resolved (docs/theory.md section 7)",
+            "  bifurcations checked at {} samples per period and {} stability modes, {} % of the \
+             speed either side: + resolved (the same change), ? not resolved (docs/theory.md \
+             section 7)",
             check.samples,
+            2 * report.options.stability_modes,
             100.0 * RESOLUTION_TOLERANCE
         );
     }

@@ -60,7 +60,7 @@ pub struct Bifurcation {
     pub after: usize,
     /// True when stability is lost along the path, false when regained.
     pub loses_stability: bool,
-    /// Whether the change holds at twice the AFT samples
+    /// Whether the change holds at twice the AFT samples and stability modes
     /// ([`super::resolution`]); `None` when not checked (a branch from
     /// [`super::continuation()`] itself, or twice the samples above the most).
     pub resolution: Option<Resolution>,

@@ -119,11 +119,13 @@ pub struct CondensedBalance {
     stability_model: Option<FloquetModel>,
 }
 
-/// Fixed-interface modes kept in the stability model by default: with the kept coordinates
-/// as its boundary they add the shaft's first bending pairs between the bearings, enough for
-/// the exponents of the modes below a few times the speed (checked against Hill's method on
-/// the full model).
-pub const DEFAULT_STABILITY_MODES: usize = 4;
+/// Fixed-interface modes kept in the stability model by default, chosen by the
+/// convergence of the reference rotor's bifurcations (20 um, H = 5, 160 samples, 1-750 Hz;
+/// BENCHMARKS.md, issue 12): with 4, 8 and 12 modes the list above 100 Hz changes from one
+/// count to the next (4 modes miss the period doubling at 160-171 Hz that time marching of
+/// the same model shows, and find one at 39.5-40.3 Hz that it refutes); with 16 and 24 it
+/// is the same within 1 Hz. The monodromy's cost grows as the cube of the states.
+pub const DEFAULT_STABILITY_MODES: usize = 16;
 
 impl CondensedBalance {
     /// Sets up condensed harmonic balance for `problem`.

@@ -53,7 +53,7 @@ pub fn aliasing_free_samples(harmonics: usize, degree: usize) -> usize {
 /// at 50 (the thesis used up to 5).
 pub const MAX_HARMONICS: usize = 50;
 
-/// The most time samples per period N: 20 times the default (16 H) at [`MAX_HARMONICS`];
+/// The most time samples per period N: 40 times the default (32 H) at [`MAX_HARMONICS`];
 /// every Newton step transforms each of them, and the default already resolves the contacts.
 pub const MAX_SAMPLES: usize = 65_536;
 
@@ -64,7 +64,7 @@ pub const MAX_SAMPLES: usize = 65_536;
 /// # Errors
 /// [`crate::Error::Input`] naming `harmonics` or `samples` otherwise.
 pub fn check_counts(harmonics: usize, samples: usize) -> Result<()> {
-    let default = "leave it out for the default (16 H, at least 64)";
+    let default = "leave it out for the default (32 H, at least 64)";
     if !(1..=MAX_HARMONICS).contains(&harmonics) {
         return Err(InputError::field(
             "harmonics",
@@ -93,7 +93,7 @@ pub fn check_counts(harmonics: usize, samples: usize) -> Result<()> {
             "samples",
             format!(
                 "{samples} time samples per period: at most {MAX_SAMPLES} (every Newton step \
-                 transforms each of them; the default 16 H already resolves the contacts)"
+                 transforms each of them; the default 32 H already resolves the contacts)"
             ),
         )
         .help(default)

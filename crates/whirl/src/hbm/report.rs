@@ -63,6 +63,9 @@ pub struct SweepSummary {
     /// AFT samples per period of the bifurcations' resolution check (twice
     /// `samples_per_period`), when they were checked.
     pub resolution_samples: Option<usize>,
+    /// Fixed-interface modes of the resolution check's stability model (twice
+    /// `stability_modes`), when the bifurcations were checked.
+    pub resolution_stability_modes: Option<usize>,
     /// Distance of the resolution check's two orbits from each bifurcation, relative to its
     /// speed.
     pub resolution_tolerance: f64,
@@ -90,8 +93,8 @@ pub struct BifurcationSummary {
     /// Located on the branch (false: the locator's corrector failed and the speed is
     /// interpolated between two branch points).
     pub located: bool,
-    /// The same change at twice the samples ([`crate::hbm::resolution`]); `None` when not
-    /// checked.
+    /// The same change at twice the samples and stability modes
+    /// ([`crate::hbm::resolution`]); `None` when not checked.
     pub resolved: Option<bool>,
     /// What the check found, when it was made.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -334,6 +337,11 @@ impl Report for SweepReport {
                 .bifurcations
                 .iter()
                 .find_map(|b| b.resolution.map(|r| r.samples)),
+            resolution_stability_modes: branch
+                .bifurcations
+                .iter()
+                .find_map(|b| b.resolution)
+                .map(|_| 2 * options.stability_modes),
             resolution_tolerance: RESOLUTION_TOLERANCE,
             first_stability_loss_hz: branch
                 .bifurcations

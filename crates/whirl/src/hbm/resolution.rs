@@ -1,18 +1,22 @@
-//! Whether a located bifurcation holds at twice the AFT samples.
+//! Whether a located bifurcation holds at twice the AFT samples and twice the stability
+//! model's modes.
 //!
 //! On a branch whose orbit grazes the contacts the Floquet multipliers stay within a few
 //! hundredths of the unit circle over long stretches, and the alternating frequency-time
 //! transform of a law whose curvature is unbounded at first contact converges slowly in the
-//! samples: some changes of stability move, or come and go, with the sample count N.
+//! samples: some changes of stability move, or come and go, with the sample count N. The
+//! monodromy matrix is formed on a Craig-Bampton model with M fixed-interface modes, and
+//! the multipliers move with M too (the reference rotor's period doubling at 160-171 Hz,
+//! which time marching of the same model confirms, is missed with 4 modes).
 //! Each bifurcation is therefore checked at 2N samples (the balance and the monodromy
-//! matrix both): on either side of it along the path, at a distance of
+//! matrix both) and 2M modes, with `fine` set up so by the caller: on either side of it along the path, at a distance of
 //! [`RESOLUTION_TOLERANCE`] of its speed, the orbit is solved again by Newton at fixed
 //! speed from the branch's, and its multipliers formed. The bifurcation is resolved when the
 //! side it leaves is stable (for a loss; unstable for a regain), the side it reaches is
 //! not, and the unstable side's largest multiplier names the same kind of crossing (+1,
-//! -1 or a complex pair). This says that the change holds at 2N within the tolerance; it
-//! does not bound where it lies within it, nor prove that 4N would agree, and it cannot find
-//! a change the branch at N does not show.
+//! -1 or a complex pair). This says that the change holds at 2N and 2M within the
+//! tolerance; it does not bound where it lies within it, nor prove that 4N or 4M would
+//! agree, and it cannot find a change the branch does not show.
 
 use serde::Serialize;
 
@@ -35,10 +39,10 @@ pub const RESOLUTION_TOLERANCE: f64 = 0.005;
 /// the force jump; a slightly different speed moves the samples off it.
 const DISTANCES: [f64; 4] = [1.0, 1.2, 0.8, 1.4];
 
-/// The check of one bifurcation at twice the samples.
+/// The check of one bifurcation at more samples (and, in a sweep, more stability modes).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Resolution {
-    /// AFT samples per period of the check (twice the branch's).
+    /// AFT samples per period of the check (twice the branch's in a sweep).
     pub samples: usize,
     /// Speeds of the orbits checked before and after the bifurcation along the path, rad/s:
     /// [`RESOLUTION_TOLERANCE`] of its speed away (or 0.8-1.4 times that where Newton
@@ -56,8 +60,8 @@ pub struct Resolution {
 }
 
 /// Checks `bifurcation` of `branch` with `fine`, the same problem at more AFT samples per
-/// period (twice the branch's in [`super::sweep()`]:
-/// [`HarmonicBalance::with_samples`](super::HarmonicBalance::with_samples)).
+/// period (in [`super::sweep()`] twice the branch's, and twice the stability modes:
+/// [`CondensedBalance::with_samples`](super::CondensedBalance::with_samples)).
 ///
 /// # Errors
 /// When a Floquet problem cannot be built or solved (a singular mass matrix, a tangent

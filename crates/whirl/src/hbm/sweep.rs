@@ -16,7 +16,7 @@ use super::continuation::{
 use super::fourier::{check_counts, cos_slot, sin_slot, MAX_SAMPLES};
 use super::resolution;
 use super::stability::{FloquetProblem, Stability};
-use super::{aliasing_free_samples, CondensedBalance, HbOptions, HbSolution};
+use super::{default_samples, CondensedBalance, HbOptions, HbSolution};
 use crate::bearing::forcing_bearings;
 use crate::bearing::ContactLaw;
 use crate::error::{Error, Result};
@@ -107,17 +107,6 @@ impl SweepOptions {
             ContactLaw::Linear | ContactLaw::Lagrange => self.contact.name().into(),
         }
     }
-}
-
-/// AFT samples per period for H harmonics: 16 per harmonic and at least 64. Contact forces
-/// switch on and off within a period, so their spectra decay slowly and aliasing, not the
-/// polynomial rule of [`aliasing_free_samples`], sets the count. On the reference rotor
-/// (10 um, 330 Hz, H = 5) going from 16 H = 80 to 64 H = 320 samples changes the 1X by
-/// 6e-5 (disk) and 1e-4 (bearing) and the bearing's 2X by 2e-4 relative.
-pub fn default_samples(harmonics: usize) -> usize {
-    (16 * harmonics)
-        .max(64)
-        .max(aliasing_free_samples(harmonics, 3))
 }
 
 /// A followed branch with every point's full Fourier coefficients.
@@ -267,9 +256,9 @@ pub fn sweep_with_progress(
     )?;
     let dofs = problem.size();
     let mut hb_options = HbOptions::new(options.harmonics);
-    hb_options.samples = options
-        .samples
-        .unwrap_or_else(|| default_samples(options.harmonics));
+    if let Some(samples) = options.samples {
+        hb_options.samples = samples;
+    }
     let mut hb = Reporting {
         inner: CondensedBalance::new(problem, hb_options)?
             .with_stability_modes(options.stability_modes),
@@ -319,7 +308,7 @@ pub fn sweep_with_progress(
             });
         }
     }
-    check_resolution(hb.inner, &mut branch)?;
+    check_resolution(hb.inner, &mut branch, options.stability_modes)?;
     Ok(Sweep {
         branch,
         coefficients,
@@ -331,18 +320,25 @@ pub fn sweep_with_progress(
     })
 }
 
-/// Checks every bifurcation of `branch` at twice its AFT samples ([`super::resolution`]):
-/// two Newton solves and two monodromy matrices each, at about 1 % of the sweep's time on the
-/// reference rotor. Not checked when twice the samples exceed [`MAX_SAMPLES`].
+/// Checks every bifurcation of `branch` at twice its AFT samples and twice the
+/// `stability_modes` of its stability model ([`super::resolution`]): two Newton solves and
+/// two monodromy matrices each, about 2 % of the sweep's time on the reference rotor. Not
+/// checked when twice the samples exceed [`MAX_SAMPLES`].
 ///
 /// # Errors
 /// When a Floquet problem cannot be built or solved.
-fn check_resolution(hb: CondensedBalance, branch: &mut Branch) -> Result<()> {
+fn check_resolution(
+    hb: CondensedBalance,
+    branch: &mut Branch,
+    stability_modes: usize,
+) -> Result<()> {
     let samples = 2 * branch.options.samples;
     if branch.bifurcations.is_empty() || samples > MAX_SAMPLES {
         return Ok(());
     }
-    let mut fine = hb.with_samples(samples)?;
+    let mut fine = hb
+        .with_samples(samples)?
+        .with_stability_modes(2 * stability_modes);
     for k in 0..branch.bifurcations.len() {
         let checked = resolution::check(&mut fine, branch, &branch.bifurcations[k])?;
         branch.bifurcations[k].resolution = Some(checked);
