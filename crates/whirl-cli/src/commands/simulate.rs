@@ -121,7 +121,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let nodes = args.nodes.resolve(model)?;
     let (progress, line) = progress_line("simulating".into());
     let mut options = request(args, nodes).options().map_err(option_error)?;
-    options.progress = Some(progress.clone());
+    options.progress = Some(progress);
     let result = simulate(model, &options);
     line.clear();
     let result = result.map_err(option_error)?;

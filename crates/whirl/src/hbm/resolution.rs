@@ -9,9 +9,10 @@
 //! the multipliers move with M too (the reference rotor's period doubling at 160-171 Hz,
 //! which time marching of the same model confirms, is missed with 4 modes).
 //! Each bifurcation is therefore checked at 2N samples (the balance and the monodromy
-//! matrix both) and 2M modes, with `fine` set up so by the caller: on either side of it along the path, at a distance of
-//! [`RESOLUTION_TOLERANCE`] of its speed, the orbit is solved again by Newton at fixed
-//! speed from the branch's, and its multipliers formed. The bifurcation is resolved when the
+//! matrix both) and 2M modes, on a problem the caller sets up so (`fine` of [`check`]): on
+//! either side of it along the path, at a distance of [`RESOLUTION_TOLERANCE`] of its
+//! speed, the orbit is solved again by Newton at fixed speed from the branch's, and its
+//! multipliers formed. The bifurcation is resolved when the
 //! side it leaves is stable (for a loss; unstable for a regain), the side it reaches is
 //! not, and the unstable side's largest multiplier names the same kind of crossing (+1,
 //! -1 or a complex pair). This says that the change holds at 2N and 2M within the

@@ -322,8 +322,9 @@ pub fn sweep_with_progress(
 
 /// Checks every bifurcation of `branch` at twice its AFT samples and twice the
 /// `stability_modes` of its stability model ([`super::resolution`]): two Newton solves and
-/// two monodromy matrices each, about 2 % of the sweep's time on the reference rotor. Not
-/// checked when twice the samples exceed [`MAX_SAMPLES`].
+/// two monodromy matrices of twice the states each (on the reference rotor with the default
+/// counts, 1-750 Hz: 4.8 s of the sweep's 36 s of CPU). Not checked when twice the samples
+/// exceed [`MAX_SAMPLES`].
 ///
 /// # Errors
 /// When a Floquet problem cannot be built or solved.

@@ -95,7 +95,6 @@ fn pade_scaled(a: &[f64], n: usize) -> Option<Vec<f64>> {
 
 /// a b of two n x n row-major matrices, by faer's blocked kernels (the state matrices of a
 /// Floquet problem are 16 to 80 wide, where they beat a loop of row updates severalfold).
-#[inline(always)]
 pub(crate) fn product(a: &[f64], b: &[f64], n: usize) -> Vec<f64> {
     let mut out = vec![0.0; n * n];
     matmul(
