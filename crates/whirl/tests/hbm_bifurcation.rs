@@ -11,10 +11,12 @@ use std::f64::consts::TAU;
 
 use whirl::force::{Kinematics, NonlinearForce};
 use whirl::hbm::{
-    continuation, resolution, BifurcationKind, ContinuationOptions, HarmonicBalance, HbOptions,
+    continuation, resolution, Bifurcation, BifurcationKind, Branch, ContinuationOptions,
+    Derivatives, FloquetProblem, HarmonicBalance, HbOptions, HbSolution, Periodic,
     RESOLUTION_TOLERANCE,
 };
 use whirl::system::System;
+use whirl::Result;
 
 mod common;
 use common::{Jeffcott, Oscillator};
@@ -60,22 +62,26 @@ impl NonlinearForce for InternalDamping {
 const EXTERNAL: f64 = 0.02;
 const INTERNAL: f64 = 0.04;
 
-#[test]
-fn internal_damping_loses_stability_by_neimark_sacker_at_the_threshold_speed() {
+/// The Jeffcott rotor with internal damping.
+fn internally_damped() -> System {
     let rotor = Jeffcott {
         mass: 1.0,
         stiffness: 1.0,
         damping: EXTERNAL,
         unbalance: 0.01,
     };
-    let problem = System {
+    System {
         nonlinear: vec![Box::new(InternalDamping {
             dofs: [0, 1],
             coefficient: INTERNAL,
         })],
         ..rotor.system()
-    };
-    let mut hb = HarmonicBalance::new(problem, HbOptions::new(3)).unwrap();
+    }
+}
+
+#[test]
+fn internal_damping_loses_stability_by_neimark_sacker_at_the_threshold_speed() {
+    let mut hb = HarmonicBalance::new(internally_damped(), HbOptions::new(3)).unwrap();
     let guess = vec![0.0; hb.unknowns()];
     let branch = continuation(&mut hb, 0.5, 3.0, &guess, &ContinuationOptions::default()).unwrap();
     // With z = x + i y: m z'' + (c_e + c_i) z' + (k - i c_i w) z = 0 has the root z = e^{i
@@ -215,24 +221,33 @@ fn mathieu() -> System {
     }
 }
 
-#[test]
-fn mathieu_tongue_is_bounded_by_period_doublings_where_the_monodromy_matrix_says() {
-    let problem = mathieu();
-    // The exponential midpoint rule's error in these boundaries falls as (2 pi / N)^2
-    // (measured against this Runge-Kutta monodromy: 2.2e-5 relative at N = 64, 1.4e-6 at
-    // 256); 1024 samples put it near 1e-7.
+/// The loaded Mathieu oscillator's harmonic balance, H = 8 and 1024 samples: the
+/// exponential midpoint rule's error in the tongue's boundaries falls as (2 pi / N)^2
+/// (measured against the Runge-Kutta monodromy: 2.2e-5 relative at N = 64, 1.4e-6 at
+/// 256); 1024 samples put it near 1e-7.
+fn fine_mathieu() -> HarmonicBalance {
     let mut options = HbOptions::new(8);
     options.samples = 1024;
-    let mut hb = HarmonicBalance::new(problem, options).unwrap();
+    HarmonicBalance::new(mathieu(), options).unwrap()
+}
+
+/// The boundaries of the first tongue by the Runge-Kutta monodromy, rad/s. Undamped, to
+/// first order in e, the tongue is (w / 2)^2 = 1 +- e / 2: w = 1.897 and 2.098; damping
+/// narrows it.
+fn mathieu_tongue() -> [f64; 2] {
+    [
+        period_doubling_boundary(1.85, 2.0),
+        period_doubling_boundary(2.0, 2.15),
+    ]
+}
+
+#[test]
+fn mathieu_tongue_is_bounded_by_period_doublings_where_the_monodromy_matrix_says() {
+    let mut hb = fine_mathieu();
     let guess = vec![0.0; hb.unknowns()];
     let branch = continuation(&mut hb, 1.5, 2.5, &guess, &ContinuationOptions::default()).unwrap();
     eprintln!("Mathieu: {:?}", branch.bifurcations);
-    // Undamped, to first order in e, the tongue is (w / 2)^2 = 1 +- e / 2: w = 1.897 and
-    // 2.098; damping narrows it.
-    let reference = [
-        period_doubling_boundary(1.85, 2.0),
-        period_doubling_boundary(2.0, 2.15),
-    ];
+    let reference = mathieu_tongue();
     assert_eq!(branch.bifurcations.len(), 2);
     for (b, exact) in branch.bifurcations.iter().zip(reference) {
         let error = (b.frequency - exact).abs() / exact;
@@ -300,4 +315,114 @@ fn resolution_check_confirms_the_mathieu_boundaries_and_refuses_false_ones() {
     let r = resolution::check(&mut fine, &branch, &misnamed).unwrap();
     assert_eq!(r.kind, Some(BifurcationKind::PeriodDoubling));
     assert!(!r.resolved);
+}
+
+/// A harmonic balance with a corner between every two points of its path: while its
+/// bifurcations are located (the only time continuation asks for refined residuals,
+/// [`Periodic::refine_residuals`]) every residual is NaN, so every trial point's arclength
+/// corrector fails, as it does at a corner of the reference rotor's branch where a contact
+/// opens. Newton at a fixed speed ([`Periodic::solve`]) is untouched.
+struct Cornered {
+    hb: HarmonicBalance,
+    locating: bool,
+}
+
+impl Periodic for Cornered {
+    fn options(&self) -> &HbOptions {
+        self.hb.options()
+    }
+    fn solve(&mut self, frequency: f64, guess: &[f64]) -> Result<HbSolution> {
+        self.hb.solve(frequency, guess)
+    }
+    fn residual_at(&mut self, x: &[f64], frequency: f64) -> (Vec<f64>, f64) {
+        if self.locating {
+            (vec![f64::NAN; x.len()], f64::NAN)
+        } else {
+            Periodic::residual_at(&mut self.hb, x, frequency)
+        }
+    }
+    fn derivatives(&mut self, x: &[f64], frequency: f64) -> Derivatives {
+        Periodic::derivatives(&mut self.hb, x, frequency)
+    }
+    fn floquet_problem(&mut self, x: &[f64], frequency: f64) -> Result<FloquetProblem> {
+        Periodic::floquet_problem(&mut self.hb, x, frequency)
+    }
+    fn refine_residuals(&mut self, on: bool) {
+        self.locating = on;
+    }
+}
+
+/// The branch of `hb` from `from` to `to` (rad/s) from rest, with a corner between every
+/// two of its points ([`Cornered`]).
+fn cornered_branch(hb: HarmonicBalance, from: f64, to: f64) -> Branch {
+    let guess = vec![0.0; hb.unknowns()];
+    let mut cornered = Cornered {
+        hb,
+        locating: false,
+    };
+    continuation(
+        &mut cornered,
+        from,
+        to,
+        &guess,
+        &ContinuationOptions::default(),
+    )
+    .unwrap()
+}
+
+/// The speed where the largest real part crosses zero, interpolated linearly between the
+/// two path points around `b`: where a locator that gives up at a corner puts it.
+fn between_points(branch: &Branch, b: &Bifurcation) -> f64 {
+    let (p, q) = (&branch.points[b.after], &branch.points[b.after + 1]);
+    let (ga, gb) = (
+        p.stability.as_ref().unwrap().max_real,
+        q.stability.as_ref().unwrap().max_real,
+    );
+    let (wa, wb) = (p.solution.frequency, q.solution.frequency);
+    wa + ga / (ga - gb) * (wb - wa)
+}
+
+/// Where every arclength trial fails, the crossing is still located on the branch, by
+/// Newton at fixed speed (the branch does not turn there), as accurately as along the
+/// arclength: the Jeffcott threshold and the Mathieu boundaries of the tests above, to the
+/// same tolerances. Interpolated between the path's points instead, each would be off by
+/// far more (checked, so that this test can fail).
+#[test]
+fn a_crossing_the_arclength_corrector_cannot_reach_is_located_at_fixed_speed() {
+    let hb = HarmonicBalance::new(internally_damped(), HbOptions::new(3)).unwrap();
+    let branch = cornered_branch(hb, 0.5, 3.0);
+    let threshold = 1.0 + EXTERNAL / INTERNAL;
+    assert_eq!(branch.bifurcations.len(), 1);
+    let b = branch.bifurcations[0];
+    assert_eq!(b.kind, BifurcationKind::NeimarkSacker);
+    assert!(b.loses_stability && b.located);
+    // The exponents are the linear system's to round-off (the first test), smooth in the
+    // speed; the regula falsi in the speed stops at a bracket of 1e-5 relative and
+    // interpolates linearly across it, an error of the order of the bracket squared times
+    // the real part's curvature: measured 4e-14. Across the path's points (a few hundredths
+    // apart) the same interpolation is 5.6e-7 off.
+    let error = (b.frequency - threshold).abs() / threshold;
+    let interpolated = (between_points(&branch, &b) - threshold).abs() / threshold;
+    eprintln!("cornered Jeffcott: located {error:.1e} off, between points {interpolated:.1e}");
+    assert!(
+        error < 1e-9,
+        "threshold {threshold}, located {}",
+        b.frequency
+    );
+    assert!(interpolated > 1e-7, "{interpolated}");
+
+    let branch = cornered_branch(fine_mathieu(), 1.5, 2.5);
+    let reference = mathieu_tongue();
+    assert_eq!(branch.bifurcations.len(), 2);
+    for (b, exact) in branch.bifurcations.iter().zip(reference) {
+        let error = (b.frequency - exact).abs() / exact;
+        let interpolated = (between_points(&branch, b) - exact).abs() / exact;
+        eprintln!("cornered Mathieu: located {error:.1e} off, between points {interpolated:.1e}");
+        assert_eq!(b.kind, BifurcationKind::PeriodDoubling);
+        assert!(b.located);
+        // The tolerance of the Mathieu test above (the midpoint rule at 1024 samples,
+        // about 1e-7; the bracket 1e-5 of the speed, interpolated across).
+        assert!(error < 1e-6, "{} against {exact}", b.frequency);
+        assert!(interpolated > 1e-5, "{interpolated}");
+    }
 }

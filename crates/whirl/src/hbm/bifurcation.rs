@@ -17,12 +17,18 @@
 //! multiplier directly. Each change found between two branch points is located by the
 //! Illinois regula falsi on the largest real part of the exponents along the arclength,
 //! every trial point corrected onto the branch and its monodromy matrix formed; the
-//! multiplier is read where it crosses.
+//! multiplier is read where it crosses. Where a trial's arclength corrector fails (a
+//! corner of a non-smooth branch, where a contact opens), the search goes on in the speed,
+//! each trial solved by Newton at that fixed speed, which is well posed where the branch
+//! does not turn: a crossing is then placed on the branch instead of between the path's
+//! points, where it would move with where they fall.
 
+use super::balance::HbSolution;
 use super::continuation::{arclength_frame, correct, BranchPoint, Fold, Periodic};
 use super::resolution::Resolution;
 use super::stability::Stability;
 use crate::error::Result;
+use crate::linalg::{difference, norm};
 
 /// How a periodic solution loses (or regains) stability.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -45,9 +51,11 @@ pub struct Bifurcation {
     pub kind: BifurcationKind,
     /// Frequency where the largest real part of the exponents crosses zero, rad/s: located
     /// on the branch when `located`, otherwise linearly interpolated between the two
-    /// points. At a fold, the fold's frequency.
+    /// nearest branch points the search reached (the path's or its trial points). At a
+    /// fold, the fold's frequency.
     pub frequency: f64,
-    /// True when located on the branch by regula falsi (or at a located fold).
+    /// True when located on the branch by regula falsi to a bracket of 1e-5 of the speed
+    /// (or at a located fold).
     pub located: bool,
     /// The crossing multiplier, (real, imaginary), at the trial point nearest the crossing
     /// (of a complex pair, the one with positive imaginary part).
@@ -79,9 +87,10 @@ const ON_AXIS: f64 = 1e-9;
 /// count moves the reference rotor's bifurcations by 0.1 to 2 Hz, and each is checked at
 /// 0.5 % of its speed either side ([`super::resolution`]). Where the largest real part
 /// jumps across zero (a contact opening at a corner) the bracket only halves per trial:
-/// 1e-7 cost 7 more trials each there, and a trial whose corrector failed left the
-/// crossing interpolated between the path's points instead (on the 20 um sweep the loss
-/// at 44.981 Hz, located now, had been interpolated at 44.951 Hz).
+/// 1e-7 cost 7 more trials each there. A trial whose arclength corrector fails is
+/// solved at fixed speed instead, and where Newton stalls there too (a time sample at a
+/// contact's edge, where the contact damping makes the force jump) the bracket's middle
+/// is tried before the crossing is left interpolated across the bracket reached.
 const BRACKET: f64 = 1e-5;
 const MAX_TRIALS: usize = 40;
 
@@ -114,89 +123,178 @@ pub(super) fn locate_bifurcations(
                 located: true,
                 nearest: if a.stable { b.clone() } else { a.clone() },
             },
-            None => crossing(hb, (&pair[0], a), (&pair[1], b))?,
+            None => {
+                let turns = folds.iter().any(|f| f.after == i);
+                crossing(hb, (&pair[0], a), (&pair[1], b), turns)?
+            }
         };
         found.push(classify(crossing, i, a.stable, fold.is_some()));
     }
     Ok(found)
 }
 
-/// Where the largest real part crosses zero, and the stability nearest the crossing (the
-/// unstable end when it was not located).
+/// Where the largest real part crosses zero, and the stability nearest the crossing.
 struct Located {
     frequency: f64,
     located: bool,
     nearest: Stability,
 }
 
-/// Illinois regula falsi on g(sigma) = the largest real part at the branch point at
-/// arclength sigma from `before` (along its tangent, corrected onto the branch). Should a
-/// corrector fail (a corner between the points), the linear interpolation of g between
-/// the two points stands in.
+/// One end of a regula falsi bracket: a point on the branch, where it lies in the search's
+/// parameter, and the largest real part of its exponents (as the Illinois rule weights it,
+/// and as it is).
+struct End {
+    at: f64,
+    weighted: f64,
+    max_real: f64,
+    solution: HbSolution,
+}
+
+impl End {
+    fn new(at: f64, max_real: f64, solution: HbSolution) -> End {
+        End {
+            at,
+            weighted: max_real,
+            max_real,
+            solution,
+        }
+    }
+
+    /// The same point as an end of a search in another parameter, unweighted.
+    fn moved_to(self, at: f64) -> End {
+        End::new(at, self.max_real, self.solution)
+    }
+}
+
+/// A crossing's search: the trial points spent and the stability nearest the crossing so
+/// far (the crossing exponent is the one with the largest real part on both sides, so it
+/// is read at the trial where that is smallest in magnitude).
+struct Search {
+    trials: usize,
+    nearest: Stability,
+}
+
+/// Where g(s), the largest real part of the exponents at the branch point with parameter
+/// s, crosses zero between `before` and `after`. First along the arclength from `before`
+/// (its tangent, each trial corrected onto the branch). Should a trial's corrector fail (a
+/// corner between the points), at fixed speed between the two nearest points found so
+/// far: Newton from their interpolation, well posed where the branch does not turn between
+/// them (`turns` false), so that the speed is a parameter of the branch. Only where both
+/// fail is the crossing interpolated linearly between those two points (`located`
+/// false); it then depends on where they fall.
 fn crossing(
     hb: &mut impl Periodic,
     (before, sa): (&BranchPoint, &Stability),
     (after, sb): (&BranchPoint, &Stability),
+    turns: bool,
 ) -> Result<Located> {
-    let (w0, w1) = (before.solution.frequency, after.solution.frequency);
-    let interpolated = || {
-        let u = sa.max_real / (sa.max_real - sb.max_real);
-        Located {
-            frequency: w0 + u * (w1 - w0),
-            located: false,
-            nearest: if sa.stable { sb.clone() } else { sa.clone() },
-        }
+    let mut search = Search {
+        trials: 0,
+        nearest: if sa.stable { sb.clone() } else { sa.clone() },
     };
-    let Ok((y0, t0, chord_length, scaling)) =
+    let mut a = End::new(0.0, sa.max_real, before.solution.clone());
+    let mut b = End::new(0.0, sb.max_real, after.solution.clone());
+    if let Ok((y0, t0, chord_length, scaling)) =
         arclength_frame(hb, &before.solution, &after.solution)
-    else {
-        return Ok(interpolated());
-    };
-    // Bracket ends (arclength, the value the Illinois rule works with, true value, w).
-    let mut a = (0.0, sa.max_real, sa.max_real, w0);
-    let mut b = (chord_length, sb.max_real, sb.max_real, w1);
-    let mut nearest = if sa.stable { sb.clone() } else { sa.clone() };
-    let mut kept_side = 0;
-    for _ in 0..MAX_TRIALS {
-        if (b.0 - a.0).abs() < BRACKET {
-            break;
+    {
+        let along =
+            |hb: &mut _, _: &End, _: &End, sigma| correct(hb, &y0, &t0, sigma, &scaling).ok();
+        let (reached_a, reached_b, located) =
+            search.narrow(hb, a, b.moved_to(chord_length), along)?;
+        if located {
+            return Ok(search.interpolated(&reached_a, &reached_b, true));
         }
-        let sigma = (a.0 * b.1 - b.0 * a.1) / (b.1 - a.1);
-        let Ok(point) = correct(hb, &y0, &t0, sigma, &scaling) else {
-            return Ok(interpolated());
-        };
-        let verdict = hb
-            .floquet_problem(&point.coefficients, point.frequency)?
-            .solve()?;
-        let g = verdict.max_real;
-        // The crossing exponent is read at the trial nearest the crossing, on either side:
-        // it is the one with the largest real part on both.
-        if g.abs() < nearest.max_real.abs() {
-            nearest = verdict;
+        (a, b) = (reached_a, reached_b);
+    }
+    if turns {
+        return Ok(search.interpolated(&a, &b, false));
+    }
+    // The speed relative to `before`'s, so the bracket is the same relative change.
+    let w0 = before.solution.frequency;
+    let (wa, wb) = (a.solution.frequency / w0, b.solution.frequency / w0);
+    let (a, b, located) = search.narrow(hb, a.moved_to(wa), b.moved_to(wb), |hb, a, b, at| {
+        at_speed(hb, a, b, at * w0)
+    })?;
+    Ok(search.interpolated(&a, &b, located))
+}
+
+impl Search {
+    /// Illinois regula falsi between `a` and `b` (values of opposite signs) with trial
+    /// points `trial(hb, a, b, s)`, until the bracket is shorter than [`BRACKET`] in the
+    /// parameter (true) or a trial fails (false). The bracket reached, either way.
+    fn narrow<H: Periodic>(
+        &mut self,
+        hb: &mut H,
+        mut a: End,
+        mut b: End,
+        mut trial: impl FnMut(&mut H, &End, &End, f64) -> Option<HbSolution>,
+    ) -> Result<(End, End, bool)> {
+        let mut kept_side = 0;
+        while self.trials < MAX_TRIALS && (b.at - a.at).abs() >= BRACKET {
+            let falsi = (a.at * b.weighted - b.at * a.weighted) / (b.weighted - a.weighted);
+            self.trials += 1;
+            // Newton stalls where a time sample sits at a contact's edge (the contact
+            // damping makes the force jump there); the bracket's middle moves the samples off
+            // it.
+            let middle = 0.5 * (a.at + b.at);
+            let Some((at, point)) = [falsi, middle]
+                .into_iter()
+                .find_map(|at| Some((at, trial(hb, &a, &b, at)?)))
+            else {
+                return Ok((a, b, false));
+            };
+            let verdict = hb
+                .floquet_problem(&point.coefficients, point.frequency)?
+                .solve()?;
+            let g = verdict.max_real;
+            if g.abs() < self.nearest.max_real.abs() {
+                self.nearest = verdict;
+            }
+            let end = End::new(at, g, point);
+            // Illinois: halve the value kept twice in a row, so both ends move.
+            if g * a.max_real > 0.0 {
+                a = end;
+                if kept_side == 1 {
+                    b.weighted /= 2.0;
+                }
+                kept_side = 1;
+            } else {
+                b = end;
+                if kept_side == -1 {
+                    a.weighted /= 2.0;
+                }
+                kept_side = -1;
+            }
         }
-        let trial = (sigma, g, g, point.frequency);
-        // Illinois: halve the value kept twice in a row, so both ends move.
-        if g * a.2 > 0.0 {
-            a = trial;
-            if kept_side == 1 {
-                b.1 /= 2.0;
-            }
-            kept_side = 1;
-        } else {
-            b = trial;
-            if kept_side == -1 {
-                a.1 /= 2.0;
-            }
-            kept_side = -1;
+        Ok((a, b, true))
+    }
+
+    /// The crossing between the ends `a` and `b`: the largest real part is linear in the
+    /// parameter through a simple crossing, so it is interpolated linearly in the speed
+    /// across a bracket narrowed to [`BRACKET`] (`located`), and across whatever the
+    /// search reached otherwise.
+    fn interpolated(self, a: &End, b: &End, located: bool) -> Located {
+        let (wa, wb) = (a.solution.frequency, b.solution.frequency);
+        let u = a.max_real / (a.max_real - b.max_real);
+        Located {
+            frequency: wa + u * (wb - wa),
+            located,
+            nearest: self.nearest,
         }
     }
-    // The largest real part is linear in the arclength through a simple crossing.
-    let u = a.2 / (a.2 - b.2);
-    Ok(Located {
-        frequency: a.3 + u * (b.3 - a.3),
-        located: true,
-        nearest,
-    })
+}
+
+/// The branch point at speed `frequency` between the ends `a` and `b`: Newton at that
+/// speed from the linear interpolation of their orbits. Newton at a fixed speed may find
+/// another orbit where several coexist; one farther from the interpolation than the ends
+/// are from each other is not on this stretch and is refused.
+fn at_speed(hb: &mut impl Periodic, a: &End, b: &End, frequency: f64) -> Option<HbSolution> {
+    let (xa, xb) = (&a.solution.coefficients, &b.solution.coefficients);
+    let u = (frequency - a.solution.frequency) / (b.solution.frequency - a.solution.frequency);
+    let guess: Vec<f64> = xa.iter().zip(xb).map(|(p, q)| p + u * (q - p)).collect();
+    let solution = hb.solve(frequency, &guess).ok()?;
+    (norm(&difference(&solution.coefficients, &guess)) <= norm(&difference(xb, xa)))
+        .then_some(solution)
 }
 
 /// The kind of the crossing from the multiplier of largest modulus nearest the crossing.

@@ -90,8 +90,9 @@ pub struct BifurcationSummary {
     pub exponent_frequency_hz: f64,
     /// Stability lost (true) or regained.
     pub loses_stability: bool,
-    /// Located on the branch (false: the locator's corrector failed and the speed is
-    /// interpolated between two branch points).
+    /// Located on the branch (false: the locator's trial points failed, along the arclength
+    /// and at fixed speed, and the speed is interpolated between the two nearest branch
+    /// points it reached).
     pub located: bool,
     /// The same change at twice the samples and stability modes
     /// ([`crate::hbm::resolution`]); `None` when not checked.
