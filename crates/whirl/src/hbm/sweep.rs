@@ -4,7 +4,10 @@
 //! equilibrium, continued in speed with Floquet stability at every point. What `whirl hbm`
 //! runs.
 
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
+
+use rayon::prelude::*;
 
 use serde::Serialize;
 
@@ -246,22 +249,11 @@ pub fn sweep_with_progress(
 ) -> Result<Sweep> {
     check(options)?;
     let start = Instant::now();
-    let (problem, equilibrium, reduction) = model_problem(
-        model,
-        options.reduction,
-        options.from,
-        options.contact,
-        options.cage,
-        options.contact_smoothing,
-    )?;
-    let dofs = problem.size();
-    let mut hb_options = HbOptions::new(options.harmonics);
-    if let Some(samples) = options.samples {
-        hb_options.samples = samples;
-    }
+    let (balance, equilibrium, reduction) = condensed_problem(model, options)?;
+    // The equilibrium holds every coordinate of the model.
+    let dofs = equilibrium.len();
     let mut hb = Reporting {
-        inner: CondensedBalance::new(problem, hb_options)?
-            .with_stability_modes(options.stability_modes),
+        inner: balance,
         progress,
         from: options.from,
         to: options.to,
@@ -308,7 +300,8 @@ pub fn sweep_with_progress(
             });
         }
     }
-    check_resolution(hb.inner, &mut branch, options.stability_modes)?;
+    let another = || condensed_problem(model, options).map(|(balance, ..)| balance);
+    check_resolution(hb.inner, another, &mut branch, options.stability_modes)?;
     Ok(Sweep {
         branch,
         coefficients,
@@ -320,29 +313,89 @@ pub fn sweep_with_progress(
     })
 }
 
+/// The condensed harmonic balance of `model` as `options` ask, the static equilibrium (at
+/// the first speed) to start from, and the reduction when one is asked for.
+///
+/// # Errors
+/// As [`model_problem`] and [`CondensedBalance::new`].
+fn condensed_problem(
+    model: &Model,
+    options: &SweepOptions,
+) -> Result<(CondensedBalance, Vec<f64>, Option<CraigBampton>)> {
+    let (problem, equilibrium, reduction) = model_problem(
+        model,
+        options.reduction,
+        options.from,
+        options.contact,
+        options.cage,
+        options.contact_smoothing,
+    )?;
+    let mut hb_options = HbOptions::new(options.harmonics);
+    if let Some(samples) = options.samples {
+        hb_options.samples = samples;
+    }
+    let balance =
+        CondensedBalance::new(problem, hb_options)?.with_stability_modes(options.stability_modes);
+    Ok((balance, equilibrium, reduction))
+}
+
 /// Checks every bifurcation of `branch` at twice its AFT samples and twice the
 /// `stability_modes` of its stability model ([`super::resolution`]): two Newton solves and
 /// two monodromy matrices of twice the states each (on the reference rotor with the default
 /// counts, 1-750 Hz: 4.8 s of the sweep's 36 s of CPU). Not checked when twice the samples
 /// exceed [`MAX_SAMPLES`].
 ///
+/// The checks are independent (each condenses at its own speeds, and a condensation is
+/// reused only at the speed it was made at), so they run on rayon's threads, each thread
+/// with its own copy of the problem: `hb` and, for the others, ones made by `another`. A
+/// thread takes the next bifurcation in order; every check gives the bits a single thread
+/// would, and the error returned is the first in order, as one thread checking them in
+/// turn would stop at.
+///
 /// # Errors
-/// When a Floquet problem cannot be built or solved.
+/// When a Floquet problem cannot be built or solved, or `another` fails.
 fn check_resolution(
     hb: CondensedBalance,
+    another: impl Fn() -> Result<CondensedBalance> + Sync,
     branch: &mut Branch,
     stability_modes: usize,
 ) -> Result<()> {
     let samples = 2 * branch.options.samples;
-    if branch.bifurcations.is_empty() || samples > MAX_SAMPLES {
+    let count = branch.bifurcations.len();
+    if count == 0 || samples > MAX_SAMPLES {
         return Ok(());
     }
-    let mut fine = hb
-        .with_samples(samples)?
-        .with_stability_modes(2 * stability_modes);
-    for k in 0..branch.bifurcations.len() {
-        let checked = resolution::check(&mut fine, branch, &branch.bifurcations[k])?;
-        branch.bifurcations[k].resolution = Some(checked);
+    let next = AtomicUsize::new(0);
+    let failed = AtomicBool::new(false);
+    let mut problems = vec![Some(hb)];
+    problems.resize_with(rayon::current_num_threads().clamp(1, count), || None);
+    let checked = problems
+        .into_par_iter()
+        .map(|problem| {
+            let mut fine = problem
+                .map_or_else(&another, Ok)?
+                .with_samples(samples)?
+                .with_stability_modes(2 * stability_modes);
+            let mut done = Vec::new();
+            while !failed.load(Ordering::Relaxed) {
+                let k = next.fetch_add(1, Ordering::Relaxed);
+                let Some(bifurcation) = branch.bifurcations.get(k) else {
+                    break;
+                };
+                let check = resolution::check(&mut fine, branch, bifurcation);
+                if check.is_err() {
+                    failed.store(true, Ordering::Relaxed);
+                }
+                done.push((k, check));
+            }
+            Ok(done)
+        })
+        .collect::<Result<Vec<_>>>()?;
+    // Every bifurcation before a failed one was taken before it, and so was checked.
+    let mut checked: Vec<_> = checked.into_iter().flatten().collect();
+    checked.sort_by_key(|&(k, _)| k);
+    for (k, check) in checked {
+        branch.bifurcations[k].resolution = Some(check?);
     }
     Ok(())
 }
