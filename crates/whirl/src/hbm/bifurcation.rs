@@ -22,6 +22,11 @@
 //! each trial solved by Newton at that fixed speed, which is well posed where the branch
 //! does not turn: a crossing is then placed on the branch instead of between the path's
 //! points, where it would move with where they fall.
+//!
+//! A window of the other verdict narrower than the spacing of the path's points shows in
+//! no point's verdict; where the largest real part reaches an extremum towards zero at a
+//! point, closer to zero than it varies to the neighbours, the stretch round it is probed
+//! for one ([`probe`]), and both edges of a window found are located as above.
 
 use super::balance::HbSolution;
 use super::continuation::{arclength_frame, correct, BranchPoint, Fold, Periodic};
@@ -130,7 +135,133 @@ pub(super) fn locate_bifurcations(
         };
         found.push(classify(crossing, i, a.stable, fold.is_some()));
     }
+    for i in 1..points.len().saturating_sub(1) {
+        let turns = folds.iter().any(|f| f.after + 1 == i || f.after == i);
+        if turns || boundaries.contains(&(i - 1)) || boundaries.contains(&i) {
+            continue;
+        }
+        if let Some((k, inside)) = probe(hb, &points[i - 1..=i + 1])? {
+            let (before, after) = (&points[i - 1 + k], &points[i + k]);
+            found.extend(window(hb, before, &inside, after, i - 1 + k)?);
+        }
+    }
+    // A window lies between two points of the same verdict, where no other change is.
+    found.sort_by_key(|b| b.after);
     Ok(found)
+}
+
+/// The two changes of stability round `inside`, a point of the branch between `before`
+/// and `after` (both of the other verdict), in path order; `after_index` is `before`'s.
+fn window(
+    hb: &mut impl Periodic,
+    before: &BranchPoint,
+    inside: &BranchPoint,
+    after: &BranchPoint,
+    after_index: usize,
+) -> Result<Vec<Bifurcation>> {
+    let (Some(sa), Some(si), Some(sb)) = (&before.stability, &inside.stability, &after.stability)
+    else {
+        return Ok(Vec::new());
+    };
+    let into = crossing(hb, (before, sa), (inside, si), false)?;
+    let out = crossing(hb, (inside, si), (after, sb), false)?;
+    Ok(vec![
+        classify(into, after_index, sa.stable, false),
+        classify(out, after_index, si.stable, false),
+    ])
+}
+
+/// Trial points a window's probe spends at most on one extremum.
+const PROBE_TRIALS: usize = 8;
+
+/// A window of the other verdict narrower than the spacing of the path's points lies
+/// between two points of the same verdict, where g, the largest real part of the
+/// exponents, reaches an extremum towards zero. `three` are successive points of one
+/// verdict; where the middle one's g is such an extremum and closer to zero than g varies
+/// to either neighbour, the extremum between them is sought by successive parabolic
+/// interpolation in the speed (Newton at fixed speed, the stretch does not turn), at most
+/// [`PROBE_TRIALS`] points. For a smooth g sampled at equal spacing the parabola through
+/// three points rises above the middle one by at most a quarter of its larger difference
+/// to the other two: the margin leaves a factor of 4 for uneven spacing and the corners
+/// of a non-smooth branch. The first trial point of the other verdict found, and whether
+/// it lies after the first (0) or the second (1) of `three`; `None` when the extremum
+/// stays of the points' verdict (to [`BRACKET`] of the speed) or moves away from zero.
+fn probe(hb: &mut impl Periodic, three: &[BranchPoint]) -> Result<Option<(usize, BranchPoint)>> {
+    let verdicts: Vec<&Stability> = three.iter().filter_map(|p| p.stability.as_ref()).collect();
+    let [first, middle, last] = verdicts[..] else {
+        return Ok(None);
+    };
+    let stable = middle.stable;
+    if first.stable != stable || last.stable != stable {
+        return Ok(None);
+    }
+    // g turned towards zero: negative on both verdicts, largest at the extremum sought.
+    let toward = |g: f64| if stable { g } else { -g };
+    let end = |p: &BranchPoint, s: &Stability| {
+        End::new(p.solution.frequency, toward(s.max_real), p.solution.clone())
+    };
+    let (mut lo, mut mid, mut hi) = (
+        end(&three[0], first),
+        end(&three[1], middle),
+        end(&three[2], last),
+    );
+    if lo.at > hi.at {
+        std::mem::swap(&mut lo, &mut hi);
+    }
+    let centre = mid.at;
+    for _ in 0..PROBE_TRIALS {
+        let rise = (mid.max_real - lo.max_real).max(mid.max_real - hi.max_real);
+        let extremum = mid.max_real > lo.max_real && mid.max_real > hi.max_real;
+        if !extremum || -mid.max_real >= rise || hi.at - lo.at < BRACKET * centre {
+            return Ok(None);
+        }
+        let w = vertex(&lo, &mid, &hi);
+        let (a, b) = if w < mid.at { (&lo, &mid) } else { (&mid, &hi) };
+        let Some(point) = at_speed(hb, a, b, w) else {
+            return Ok(None);
+        };
+        let verdict = hb
+            .floquet_problem(&point.coefficients, point.frequency)?
+            .solve()?;
+        if verdict.stable != stable {
+            // Between the first two points when on the first's side of the middle one.
+            let side = usize::from((w - centre) * (three[0].solution.frequency - centre) < 0.0);
+            let inside = BranchPoint {
+                solution: point,
+                frequency_slope: three[side].frequency_slope,
+                stability: Some(verdict),
+            };
+            return Ok(Some((side, inside)));
+        }
+        let trial = End::new(w, toward(verdict.max_real), point);
+        // Keep the best point bracketed by its two neighbours.
+        match (trial.max_real > mid.max_real, w < mid.at) {
+            (true, true) => (hi, mid) = (mid, trial),
+            (true, false) => (lo, mid) = (mid, trial),
+            (false, true) => lo = trial,
+            (false, false) => hi = trial,
+        }
+    }
+    Ok(None)
+}
+
+/// The speed of the vertex of the parabola through the three ends (by speed, values
+/// `max_real`), or the middle of the larger half of the bracket where the vertex is not
+/// strictly inside it or falls on the middle end (a percent of the bracket from it).
+fn vertex(lo: &End, mid: &End, hi: &End) -> f64 {
+    let (x0, x1, x2) = (lo.at, mid.at, hi.at);
+    let (y0, y1, y2) = (lo.max_real, mid.max_real, hi.max_real);
+    let p = (x1 - x0).powi(2) * (y1 - y2) - (x1 - x2).powi(2) * (y1 - y0);
+    let q = (x1 - x0) * (y1 - y2) - (x1 - x2) * (y1 - y0);
+    let x = x1 - 0.5 * p / q;
+    let inside = x > x0 && x < x2 && (x - x1).abs() > 0.01 * (x2 - x0);
+    if inside {
+        x
+    } else if x1 - x0 > x2 - x1 {
+        0.5 * (x0 + x1)
+    } else {
+        0.5 * (x1 + x2)
+    }
 }
 
 /// Where the largest real part crosses zero, and the stability nearest the crossing.
