@@ -26,7 +26,7 @@
 //! A window of the other verdict narrower than the spacing of the path's points shows in
 //! no point's verdict; where the largest real part reaches an extremum towards zero at a
 //! point, closer to zero than it varies to the neighbours, the stretch round it is probed
-//! for one ([`probe`]), and both edges of a window found are located as above.
+//! for one, and both edges of a window found are located as above.
 
 use super::balance::HbSolution;
 use super::continuation::{arclength_frame, correct, BranchPoint, Fold, Periodic};
