@@ -25,7 +25,7 @@
 use faer::Mat;
 use rayon::prelude::*;
 
-use super::balance::{line_search, relative, Residual, FULL_STEPS, LINE_SEARCH_HALVINGS};
+use super::balance::{line_search, relative, GiveUp, Residual, FULL_STEPS, LINE_SEARCH_HALVINGS};
 use super::fourier::{cos_slot, sin_slot};
 use super::stability::{FloquetModel, FloquetProblem, Stability};
 use super::{HarmonicBalance, HbOptions, HbSolution};
@@ -566,9 +566,12 @@ impl CondensedBalance {
         let options = *self.options();
         let mut x = guess.to_vec();
         let mut last = f64::NAN;
+        let mut taken = 0;
+        let mut give_up = GiveUp::new(halvings);
         let mut residual = self.condensed_residual(condensed, &x);
         for iteration in 0..=options.max_iterations {
             last = relative(&residual);
+            taken = iteration;
             if last <= options.tolerance {
                 return Ok(HbSolution {
                     frequency,
@@ -577,7 +580,7 @@ impl CondensedBalance {
                     relative_residual: last,
                 });
             }
-            if !last.is_finite() || iteration == options.max_iterations {
+            if !last.is_finite() || iteration == options.max_iterations || give_up.now(last) {
                 break;
             }
             let (jacobian, _) = self.linearise(condensed, &x);
@@ -593,12 +596,12 @@ impl CondensedBalance {
         }
         Err(Error::not_converged(
             "condensed harmonic balance",
-            Some(options.max_iterations),
+            Some(taken),
             Some(last),
             format!(
-                "condensed harmonic balance did not converge at {frequency} rad/s after {} \
-             Newton iterations (relative residual {last:e}, tolerance {:e})",
-                options.max_iterations, options.tolerance
+                "condensed harmonic balance did not converge at {frequency} rad/s after \
+             {taken} Newton iterations (relative residual {last:e}, tolerance {:e})",
+                options.tolerance
             ),
         ))
     }

@@ -22,7 +22,8 @@
 //! extremum of the cubic Hermite interpolant of w(s) between the two points stands in.
 
 use super::balance::{
-    line_search, relative, HarmonicBalance, HbSolution, Residual, FULL_STEPS, LINE_SEARCH_HALVINGS,
+    line_search, relative, GiveUp, HarmonicBalance, HbSolution, Residual, FULL_STEPS,
+    LINE_SEARCH_HALVINGS,
 };
 use super::bifurcation::{locate_bifurcations, Bifurcation};
 use super::condensation::CondensedBalance;
@@ -917,7 +918,8 @@ fn unit_tangent(
 /// Pseudo-arclength corrector from the predictor y_0 + h t_0: plain Newton, then, should
 /// it fail, Newton with a line search ([`line_search`]), which converges where full steps
 /// cycle between contact states. Plain Newton first keeps every point it reaches as it was
-/// and costs no extra residuals where it converges.
+/// and costs no extra residuals where it converges; either run stops early once it shows
+/// it cannot converge ([`GiveUp`]).
 pub(super) fn correct(
     hb: &mut impl Periodic,
     y0: &[f64],
@@ -942,6 +944,7 @@ fn newton_on_arclength(
     let mut y: Vec<f64> = y0.iter().zip(t0).map(|(a, t)| a + step * t).collect();
     let max_iterations = hb.options().max_iterations;
     let tolerance = hb.options().tolerance;
+    let mut give_up = GiveUp::new(halvings);
     let mut residual = scaled_residual(hb, &y, scaling);
     for iteration in 0..=max_iterations {
         let r = relative(&residual);
@@ -956,7 +959,7 @@ fn newton_on_arclength(
                 relative_residual: r,
             });
         }
-        if !r.is_finite() || iteration == max_iterations {
+        if !r.is_finite() || iteration == max_iterations || give_up.now(r) {
             break;
         }
         let (x, w) = scaling.unscaled(&y);
