@@ -17,11 +17,12 @@
 //! basis (cos r -> -r w sin r, sin r -> r w cos r).
 
 use faer::Mat;
+use rayon::prelude::*;
 
 use super::fourier::{cos_slot, sin_slot, slot_basis, Aft};
 use super::HbOptions;
 use crate::error::{Error, Result};
-use crate::force::Kinematics;
+use crate::force::{Kinematics, NonlinearForce};
 use crate::linalg::{add_product, norm, solve_dense};
 use crate::system::System;
 
@@ -86,12 +87,8 @@ pub struct HarmonicBalance {
     /// Tangent samples per pair of nonlinear coordinates, (a * m + c) rows of N.
     jq_t: Vec<f64>,
     jv_t: Vec<f64>,
-    /// One force's arguments and values at one sample.
-    fq: Vec<f64>,
-    fv: Vec<f64>,
-    ff: Vec<f64>,
-    fjq: Vec<f64>,
-    fjv: Vec<f64>,
+    /// Each force's arguments, values and tangents over one period.
+    per_force: Vec<ForceSamples>,
     /// Coefficients of one coordinate, and a Galerkin block.
     slots_buf: Vec<f64>,
     block: Vec<f64>,
@@ -120,12 +117,11 @@ impl HarmonicBalance {
             })
             .collect();
         let (m, n_t) = (nl_dofs.len(), options.samples);
-        let widest = problem
+        let per_force = problem
             .nonlinear
             .iter()
-            .map(|f| f.dofs().len())
-            .max()
-            .unwrap_or(0);
+            .map(|f| ForceSamples::new(f.dofs().len(), n_t))
+            .collect();
         let slots = 2 * options.harmonics + 1;
         Ok(HarmonicBalance {
             problem,
@@ -138,11 +134,7 @@ impl HarmonicBalance {
             f_t: vec![0.0; m * n_t],
             jq_t: vec![0.0; m * m * n_t],
             jv_t: vec![0.0; m * m * n_t],
-            fq: vec![0.0; widest],
-            fv: vec![0.0; widest],
-            ff: vec![0.0; widest],
-            fjq: vec![0.0; widest * widest],
-            fjv: vec![0.0; widest * widest],
+            per_force,
             slots_buf: vec![0.0; slots],
             block: vec![0.0; slots * slots],
         })
@@ -422,16 +414,6 @@ impl HarmonicBalance {
         }
     }
 
-    /// Kinematics of sample j: phase theta_j = 2 pi j / N, time theta_j / w.
-    fn kinematics(&self, j: usize, frequency: f64) -> Kinematics {
-        let angle = std::f64::consts::TAU * j as f64 / self.aft.samples() as f64;
-        Kinematics {
-            time: angle / frequency,
-            speed: frequency,
-            angle,
-        }
-    }
-
     /// F_nl(x, w) by AFT, in the unknowns' layout.
     fn nonlinear_force(&mut self, x: &[f64], frequency: f64) -> Vec<f64> {
         let mut out = vec![0.0; x.len()];
@@ -440,18 +422,17 @@ impl HarmonicBalance {
         }
         self.sample_motion(x, frequency);
         let n_t = self.aft.samples();
+        self.each_sample(frequency, |force, at, j, work| {
+            let k = work.q.len();
+            force.force(at, &work.q, &work.v, &mut work.values[j * k..(j + 1) * k]);
+        });
+        // Added sample by sample in the forces' order, as one thread would.
         self.f_t.fill(0.0);
         for j in 0..n_t {
-            let at = self.kinematics(j, frequency);
-            for (force, local) in self.problem.nonlinear.iter_mut().zip(&self.local) {
+            for (local, work) in self.local.iter().zip(&self.per_force) {
                 let k = local.len();
                 for (b, &a) in local.iter().enumerate() {
-                    self.fq[b] = self.q_t[a * n_t + j];
-                    self.fv[b] = self.v_t[a * n_t + j];
-                }
-                force.force(&at, &self.fq[..k], &self.fv[..k], &mut self.ff[..k]);
-                for (b, &a) in local.iter().enumerate() {
-                    self.f_t[a * n_t + j] += self.ff[b];
+                    self.f_t[a * n_t + j] += work.values[j * k + b];
                 }
             }
         }
@@ -487,28 +468,60 @@ impl HarmonicBalance {
         }
         self.sample_motion(x, frequency);
         let (n_t, m) = (self.aft.samples(), self.nl_dofs.len());
+        self.each_sample(frequency, |force, at, j, work| {
+            let kk = work.q.len() * work.q.len();
+            let dq = &mut work.dq[j * kk..(j + 1) * kk];
+            let dv = &mut work.dv[j * kk..(j + 1) * kk];
+            force.jacobian(at, &work.q, &work.v, dq, dv);
+        });
+        // Added sample by sample in the forces' order, as one thread would.
         for j in 0..n_t {
-            let at = self.kinematics(j, frequency);
-            for (force, local) in self.problem.nonlinear.iter_mut().zip(&self.local) {
+            for (local, work) in self.local.iter().zip(&self.per_force) {
                 let k = local.len();
-                for (b, &a) in local.iter().enumerate() {
-                    self.fq[b] = self.q_t[a * n_t + j];
-                    self.fv[b] = self.v_t[a * n_t + j];
-                }
-                force.jacobian(
-                    &at,
-                    &self.fq[..k],
-                    &self.fv[..k],
-                    &mut self.fjq[..k * k],
-                    &mut self.fjv[..k * k],
-                );
+                let (dq, dv) = (&work.dq[j * k * k..], &work.dv[j * k * k..]);
                 for (b, &a) in local.iter().enumerate() {
                     for (e, &c) in local.iter().enumerate() {
-                        self.jq_t[(a * m + c) * n_t + j] += self.fjq[b * k + e];
-                        self.jv_t[(a * m + c) * n_t + j] += self.fjv[b * k + e];
+                        self.jq_t[(a * m + c) * n_t + j] += dq[b * k + e];
+                        self.jv_t[(a * m + c) * n_t + j] += dv[b * k + e];
                     }
                 }
             }
+        }
+    }
+
+    /// Runs `evaluate(force, kinematics, j, buffers)` for every force at every sample j of
+    /// the motion in `q_t` and `v_t`, the force's motion at j in its buffers' `q` and `v`.
+    /// The forces run at once on rayon's threads when there are several (a caged roller
+    /// bearing over one period is N samples of 8 cage positions of all its rollers, a
+    /// coarse task), else on this thread.
+    fn each_sample(
+        &mut self,
+        frequency: f64,
+        evaluate: impl Fn(&mut Box<dyn NonlinearForce>, &Kinematics, usize, &mut ForceSamples) + Sync,
+    ) {
+        let (q_t, v_t, n_t) = (&self.q_t, &self.v_t, self.aft.samples());
+        let run = |((force, local), work): (
+            (&mut Box<dyn NonlinearForce>, &Vec<usize>),
+            &mut ForceSamples,
+        )| {
+            for j in 0..n_t {
+                work.gather(local, q_t, v_t, n_t, j);
+                evaluate(force, &kinematics(j, n_t, frequency), j, work);
+            }
+        };
+        let forces = &mut self.problem.nonlinear;
+        if forces.len() > 1 {
+            forces
+                .par_iter_mut()
+                .zip(&self.local)
+                .zip(&mut self.per_force)
+                .for_each(run);
+        } else {
+            forces
+                .iter_mut()
+                .zip(&self.local)
+                .zip(&mut self.per_force)
+                .for_each(run);
         }
     }
 
@@ -542,6 +555,49 @@ impl HarmonicBalance {
             }
         }
         (gq, gv)
+    }
+}
+
+/// One nonlinear force's part of an AFT: its coordinates' motion at the sample in hand, and
+/// its values (k per sample) or tangents (k x k per sample, row-major) at every sample, so
+/// that the forces are evaluated on several threads and then added in their order.
+struct ForceSamples {
+    q: Vec<f64>,
+    v: Vec<f64>,
+    values: Vec<f64>,
+    dq: Vec<f64>,
+    dv: Vec<f64>,
+}
+
+impl ForceSamples {
+    /// Buffers for a force on `k` coordinates over `samples` samples.
+    fn new(k: usize, samples: usize) -> ForceSamples {
+        ForceSamples {
+            q: vec![0.0; k],
+            v: vec![0.0; k],
+            values: vec![0.0; k * samples],
+            dq: vec![0.0; k * k * samples],
+            dv: vec![0.0; k * k * samples],
+        }
+    }
+
+    /// Takes the motion of the force's coordinates (`local`, positions among the sampled
+    /// ones) at sample j from `q_t` and `v_t`, rows of `samples` per coordinate.
+    fn gather(&mut self, local: &[usize], q_t: &[f64], v_t: &[f64], samples: usize, j: usize) {
+        for (b, &a) in local.iter().enumerate() {
+            self.q[b] = q_t[a * samples + j];
+            self.v[b] = v_t[a * samples + j];
+        }
+    }
+}
+
+/// Kinematics of sample j of N: phase theta_j = 2 pi j / N, time theta_j / w.
+fn kinematics(j: usize, samples: usize, frequency: f64) -> Kinematics {
+    let angle = std::f64::consts::TAU * j as f64 / samples as f64;
+    Kinematics {
+        time: angle / frequency,
+        speed: frequency,
+        angle,
     }
 }
 
