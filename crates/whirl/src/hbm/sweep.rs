@@ -247,6 +247,18 @@ pub fn sweep_with_progress(
     options: &SweepOptions,
     progress: Option<&Progress>,
 ) -> Result<Sweep> {
+    // On one of rayon's threads: the parallel parts of every condensation and AFT then
+    // start on the path's thread and are shared with an idle one, instead of the path's
+    // thread waking the pool and sleeping until it is done, tens of thousands of times.
+    rayon::scope(|_| follow_sweep(model, options, progress))
+}
+
+/// [`sweep_with_progress`] on the calling thread.
+fn follow_sweep(
+    model: &Model,
+    options: &SweepOptions,
+    progress: Option<&Progress>,
+) -> Result<Sweep> {
     check(options)?;
     let start = Instant::now();
     let (balance, equilibrium, reduction) = condensed_problem(model, options)?;
