@@ -156,6 +156,28 @@ fn a_round_off_change_of_the_disk_mass_leaves_the_60_um_branch_where_it_was() {
     }
 }
 
+/// With 60 um and the default 160 AFT samples, the branch from 120 Hz passes a fold at
+/// 154 Hz, walks back down to 139 Hz, turns, and climbing again meets a corner at
+/// 145.185 Hz where the corrector fails at every step and Newton at fixed speed cycles up
+/// to 1e-3 of the speed ahead, and nothing converges ahead of the fold: the sweep used to
+/// end there (as the 1-750 Hz sweep did, where 80 and 320 samples reach 750 Hz). It must
+/// go on along the leg it climbs, to the end of the range.
+#[test]
+fn the_60_um_branch_climbs_on_past_a_corner_below_its_furthest_point() {
+    let mut options = SweepOptions::new(TAU * 120.0, TAU * 160.0, 5);
+    options.stability = false;
+    let result = sweep(&reference("60 um"), &options).unwrap();
+    let branch = &result.branch;
+    assert!(
+        matches!(branch.end, whirl::hbm::BranchEnd::Reached),
+        "{:?}, jumps {:?}",
+        branch.end,
+        branch.jumps
+    );
+    let last = &branch.points[branch.points.len() - 1].solution;
+    assert_eq!(last.frequency, TAU * 160.0);
+}
+
 /// The monodromy matrix is integrated over the AFT samples of the orbit (the exponential
 /// midpoint rule): its verdict must not depend on their number. The same orbits of the
 /// reference rotor's branch through the first resonance (20 um, H = 5, solved with the

@@ -255,7 +255,8 @@ pub struct Branch {
     /// on the spot for `stall_points` points), turned back out of the range, walked back
     /// over what it followed, or where the
     /// corrector failed even at the smallest step: Newton at fixed frequency ahead of the
-    /// furthest point. What lies between is not followed, as in a
+    /// furthest point (or, where nothing converges there, ahead of the last point of a leg
+    /// that climbs below it). What lies between is not followed, as in a
     /// sweep experiment that jumps.
     pub jumps: Vec<(f64, f64)>,
     /// Indices of the points after which the path jumped ([`Branch::jumps`]): what lies
@@ -548,7 +549,11 @@ fn trace<H: Periodic>(
                     None => {
                         let guesses = [last, &points[0].solution];
                         let ahead = (direction * furthest, to);
-                        match jump_ahead(hb, &guesses, ahead, direction, &scaling) {
+                        let restart =
+                            jump_ahead(hb, &guesses, ahead, direction, &scaling).or_else(|| {
+                                climb_on(hb, last, &tangent, furthest, to, direction, &scaling)
+                            });
+                        match restart {
                             Some((next_tangent, s)) => {
                                 jumps.push((last.frequency, s.frequency));
                                 boundaries.push(points.len() - 1);
@@ -856,6 +861,36 @@ fn jump_ahead(
             Some((t, s))
         })
     })
+}
+
+/// Where the corrector and [`step_over`] fail on a leg that climbs along the range below
+/// the furthest point (`furthest`, signed by `direction` as in [`trace`]) and nothing
+/// converges ahead of the furthest point: Newton at fixed frequency ahead of the last
+/// point instead ([`jump_ahead`] from `last`), so the path goes on along the leg it is on,
+/// which round an overhang is the leg that comes back past the furthest point. Ending there
+/// instead made the outcome hang on round-off: on the reference rotor with 60 um and 160
+/// AFT samples the path passed a fold at 153.99 Hz, walked back down to 139.2 Hz, turned,
+/// and climbing again met a corner at 145.185 Hz where Newton cycled at 1e-6 to 1e-3 of the
+/// frequency ahead (a residual stuck at 2e-6 to 2e-5 relative) and converged at 1e-2, on the
+/// same leg (0.077 along the tangent for a 0.01 change of the speed, the tangent's
+/// frequency component 0.13): the sweep stopped there, where 80 and 320 samples reach
+/// 750 Hz. A leg the path walks back down (against the range) is left to [`step_over`]:
+/// sent ahead, it would climb back over what it followed.
+fn climb_on(
+    hb: &mut impl Periodic,
+    last: &HbSolution,
+    tangent: &[f64],
+    furthest: f64,
+    to: f64,
+    direction: f64,
+    scaling: &Scaling,
+) -> Option<(Vec<f64>, HbSolution)> {
+    let climbing = direction * tangent[tangent.len() - 1] > 0.0;
+    let behind = direction * last.frequency < furthest;
+    if !(climbing && behind) {
+        return None;
+    }
+    jump_ahead(hb, &[last], (last.frequency, to), direction, scaling)
 }
 
 /// Quick convergence (at most 3 iterations) lengthens the step by half, slow convergence
