@@ -323,7 +323,8 @@ fn text_summary(model: &Model, report: &SweepReport) -> String {
     for (a, b) in &branch.jumps {
         let _ = writeln!(
             text,
-            "  the path stalled near {:.2} Hz and was restarted at {:.2} Hz (not followed between)",
+            "  jumped from {:.2} to {:.2} Hz: the path could not go on there (a stall, a walk back \
+             or a corner) and was restarted ahead; not followed between",
             hz(*a),
             hz(*b)
         );
