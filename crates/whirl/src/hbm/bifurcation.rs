@@ -29,7 +29,9 @@
 //! for one, and both edges of a window found are located as above.
 
 use super::balance::HbSolution;
-use super::continuation::{arclength_frame, correct, BranchPoint, Fold, Periodic};
+use super::continuation::{
+    arclength_frame, correct, interpolated_orbit, BranchPoint, Fold, Periodic,
+};
 use super::resolution::Resolution;
 use super::stability::Stability;
 use crate::error::Result;
@@ -420,12 +422,10 @@ impl Search {
 /// another orbit where several coexist; one farther from the interpolation than the ends
 /// are from each other is not on this stretch and is refused.
 fn at_speed(hb: &mut impl Periodic, a: &End, b: &End, frequency: f64) -> Option<HbSolution> {
-    let (xa, xb) = (&a.solution.coefficients, &b.solution.coefficients);
-    let u = (frequency - a.solution.frequency) / (b.solution.frequency - a.solution.frequency);
-    let guess: Vec<f64> = xa.iter().zip(xb).map(|(p, q)| p + u * (q - p)).collect();
+    let guess = interpolated_orbit(&a.solution, &b.solution, frequency);
     let solution = hb.solve(frequency, &guess).ok()?;
-    (norm(&difference(&solution.coefficients, &guess)) <= norm(&difference(xb, xa)))
-        .then_some(solution)
+    let spread = difference(&b.solution.coefficients, &a.solution.coefficients);
+    (norm(&difference(&solution.coefficients, &guess)) <= norm(&spread)).then_some(solution)
 }
 
 /// The kind of the crossing from the multiplier of largest modulus nearest the crossing.

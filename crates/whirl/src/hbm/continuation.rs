@@ -1047,14 +1047,19 @@ fn land_on(
     after: &HbSolution,
     to: f64,
 ) -> Result<HbSolution> {
+    hb.solve(to, &interpolated_orbit(before, after, to))
+}
+
+/// The coefficients at frequency `to` linearly interpolated (or extrapolated) between the
+/// orbits `before` and `after`: Newton's start at a fixed frequency between two points.
+pub(super) fn interpolated_orbit(before: &HbSolution, after: &HbSolution, to: f64) -> Vec<f64> {
     let u = (to - before.frequency) / (after.frequency - before.frequency);
-    let guess: Vec<f64> = before
+    before
         .coefficients
         .iter()
         .zip(&after.coefficients)
         .map(|(a, b)| a + u * (b - a))
-        .collect();
-    hb.solve(to, &guess)
+        .collect()
 }
 
 /// Folds between successive points whose frequency slopes differ in sign.
