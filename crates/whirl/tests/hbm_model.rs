@@ -178,6 +178,37 @@ fn the_60_um_branch_climbs_on_past_a_corner_below_its_furthest_point() {
     assert_eq!(last.frequency, TAU * 160.0);
 }
 
+/// At 200 Hz with 20 um the unbalance carries the orbit far from the static equilibrium
+/// and Newton from it does not converge: a sweep that starts there used to stop at its
+/// first point. It must start on the branch followed up from standstill, on the same
+/// orbit as a sweep from 1 Hz.
+#[test]
+fn a_sweep_that_starts_high_starts_on_the_branch_from_standstill() {
+    let model = reference("20 um");
+    let mut high = SweepOptions::new(TAU * 200.0, TAU * 202.0, 5);
+    high.stability = false;
+    let started = sweep(&model, &high).unwrap();
+    assert_eq!(started.approached_from, Some(TAU));
+    let whole = sweep(
+        &model,
+        &SweepOptions {
+            from: TAU,
+            ..high.clone()
+        },
+    )
+    .unwrap();
+    let disk = dof(10, Direction::Uy);
+    let last = |s: &whirl::hbm::Sweep| {
+        let k = s.branch.points.len() - 1;
+        assert_eq!(s.branch.points[k].solution.frequency, TAU * 202.0);
+        s.amplitude(k, disk, 1)
+    };
+    let (a, b) = (last(&started), last(&whole));
+    // Both are Newton solutions at exactly 202 Hz to a relative residual of 1e-10 on one
+    // orbit (disk 1X 16.5 um); another orbit of the branch differs by percents.
+    assert!((a - b).abs() < 1e-6 * b, "{a:e} vs {b:e}");
+}
+
 /// The monodromy matrix is integrated over the AFT samples of the orbit (the exponential
 /// midpoint rule): its verdict must not depend on their number. The same orbits of the
 /// reference rotor's branch through the first resonance (20 um, H = 5, solved with the

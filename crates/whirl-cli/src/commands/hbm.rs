@@ -320,6 +320,15 @@ fn text_summary(model: &Model, report: &SweepReport) -> String {
         result.bearings,
         branch.end.reason()
     );
+    if let Some(low) = result.approached_from {
+        let _ = writeln!(
+            text,
+            "  started on the branch followed up from {:.2} Hz: Newton from the static \
+             equilibrium did not converge at {:.2} Hz",
+            hz(low),
+            hz(report.options.from)
+        );
+    }
     for (a, b) in &branch.jumps {
         let _ = writeln!(
             text,

@@ -42,6 +42,9 @@ pub struct SweepSummary {
     pub points: usize,
     /// Why the branch stopped.
     pub end: String,
+    /// The speed (Hz) the branch was followed up from to reach the first speed, where
+    /// Newton from the static equilibrium did not converge at it; `None` when it did.
+    pub approached_from_hz: Option<f64>,
     /// Wall-clock time of the sweep, s.
     pub wall_time_s: f64,
     /// Whether the Floquet stability was computed.
@@ -306,6 +309,7 @@ impl Report for SweepReport {
             speed_range_hz: [hz(options.from), hz(options.to)],
             points: branch.points.len(),
             end: branch.end.reason(),
+            approached_from_hz: self.sweep.approached_from.map(hz),
             wall_time_s: self.sweep.wall_time_s,
             stability: options.stability,
             stability_modes: options.stability_modes,

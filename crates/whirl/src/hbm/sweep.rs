@@ -14,7 +14,7 @@ use serde::Serialize;
 use super::bearings::{caged_bearings, CageModel};
 use super::condensation::DEFAULT_STABILITY_MODES;
 use super::continuation::{
-    continuation, solutions_at, Branch, ContinuationOptions, Derivatives, Periodic,
+    continuation, solutions_at, Branch, BranchEnd, ContinuationOptions, Derivatives, Periodic,
 };
 use super::fourier::{check_counts, cos_slot, sin_slot, MAX_SAMPLES};
 use super::resolution;
@@ -129,6 +129,9 @@ pub struct Sweep {
     pub at_speeds: Vec<AtSpeed>,
     /// How the bearings were modelled.
     pub bearings: String,
+    /// The speed (rad/s) the branch was followed up from to reach the first speed, where
+    /// Newton from the static equilibrium did not converge at it; `None` when it did.
+    pub approached_from: Option<f64>,
     /// Wall-clock time of the continuation, stability and recovery, s.
     pub wall_time_s: f64,
 }
@@ -279,6 +282,8 @@ fn follow_sweep(
     }
     let mut continuation_options = options.continuation;
     continuation_options.stability = options.stability;
+    let (guess, approached_from) =
+        start_on_branch(&mut hb, options.from, guess, &continuation_options)?;
     let mut branch = continuation(
         &mut hb,
         options.from,
@@ -321,8 +326,55 @@ fn follow_sweep(
         dofs,
         reduction,
         bearings: options.describe_bearings(),
+        approached_from,
         wall_time_s: start.elapsed().as_secs_f64(),
     })
+}
+
+/// Where Newton from the static equilibrium is trusted: at 1 Hz (rad/s) the unbalance
+/// force of any rotor is small against its bearings' static load.
+const STANDSTILL: f64 = std::f64::consts::TAU;
+
+/// The start of a sweep at `from`: `guess` (the static equilibrium) where Newton converges
+/// from it, or else the orbit at `from` of the branch followed up from [`STANDSTILL`], with
+/// that speed. Higher up the unbalance can carry the orbit far from equilibrium (at 60 um
+/// of clearance Newton fails at 100 Hz), and a start on the branch from standstill makes the
+/// answer the same as a sweep's from the bottom of the range.
+///
+/// # Errors
+/// Newton's failure at `from` when the branch from standstill does not reach it either.
+fn start_on_branch(
+    hb: &mut Reporting,
+    from: f64,
+    guess: Vec<f64>,
+    options: &ContinuationOptions,
+) -> Result<(Vec<f64>, Option<f64>)> {
+    if from <= STANDSTILL {
+        return Ok((guess, None));
+    }
+    let direct = match hb.solve(from, &guess) {
+        Ok(_) => return Ok((guess, None)),
+        Err(e) => e,
+    };
+    let approach = ContinuationOptions {
+        stability: false,
+        ..*options
+    };
+    match continuation(hb, STANDSTILL, from, &guess, &approach) {
+        Ok(branch) if matches!(branch.end, BranchEnd::Reached) => {
+            let last = branch
+                .points
+                .last()
+                .map(|p| p.solution.coefficients.clone());
+            Ok((last.unwrap_or(guess), Some(STANDSTILL)))
+        }
+        Ok(_) | Err(_) => Err(direct.map_message(|m| {
+            format!(
+                "{m}. Newton started from the static equilibrium, and the branch followed up \
+                 from 1 Hz does not reach this speed either: start the sweep lower"
+            )
+        })),
+    }
 }
 
 /// The condensed harmonic balance of `model` as `options` ask, the static equilibrium (at
