@@ -24,12 +24,13 @@
 use faer::diag::Diag;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::evd;
-use faer::{Mat, Spec};
+use faer::linalg::matmul::matmul;
+use faer::{Accum, Mat, MatRef, Par, Spec};
 
 use super::balance::SampledTangents;
 use crate::error::{Error, Result};
 use crate::fe::SystemMatrices;
-use crate::linalg::{exponential, product};
+use crate::linalg::Exponential;
 
 /// Floquet multipliers and exponents of a periodic solution.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -189,15 +190,25 @@ impl FloquetProblem {
                 format!("the monodromy matrix could not be formed at {frequency} rad/s"),
             )
         };
-        let mut monodromy: Vec<f64> = (0..s * s)
-            .map(|k| if k.is_multiple_of(s + 1) { 1.0 } else { 0.0 })
-            .collect();
+        // Every step's exponential and product reuse the same buffers.
+        let mut exponential = Exponential::new(s);
+        let mut monodromy = Mat::<f64>::identity(s, s);
+        let mut next = Mat::<f64>::zeros(s, s);
         for generator in self.generators.chunks_exact(s * s) {
-            let step = exponential(generator, s).ok_or_else(failed)?;
-            monodromy = product(&step, &monodromy, s);
+            let step = exponential
+                .of(MatRef::from_row_major_slice(generator, s, s))
+                .ok_or_else(failed)?;
+            matmul(
+                next.as_mut(),
+                Accum::Replace,
+                step,
+                monodromy.as_ref(),
+                1.0,
+                Par::Seq,
+            );
+            std::mem::swap(&mut monodromy, &mut next);
         }
-        let multipliers =
-            eigenvalues(&Mat::from_fn(s, s, |i, j| monodromy[i * s + j])).map_err(|_| failed())?;
+        let multipliers = eigenvalues(&monodromy).map_err(|_| failed())?;
         let period = std::f64::consts::TAU / frequency;
         let exponents: Vec<(f64, f64)> = multipliers
             .iter()

@@ -2,7 +2,7 @@
 //! products and factorisations that vectorise and allocate nothing inside the time-step
 //! loop ([`Dense`], [`Columns`], [`Band`], [`BandLu`], [`Factors`]), the pivoting band LU of
 //! harmonic balance's condensation ([`banded::BandedLu`]), the exponential of a small
-//! matrix for its stability ([`exponential()`]), and the one cost model that
+//! matrix for its stability ([`Exponential`]), and the one cost model that
 //! chooses between dense and banded steps ([`Layout`]), and the plain dense kernels of the
 //! Newton solvers (`norm`, `multiply`, `solve_dense`, ...).
 
@@ -11,7 +11,7 @@ mod dense;
 mod exponential;
 
 pub(crate) use dense::{add_product, difference, multiply, norm, solve_dense};
-pub(crate) use exponential::{exponential, product};
+pub(crate) use exponential::Exponential;
 
 use faer::traits::pulp::Arch;
 use faer::Mat;
