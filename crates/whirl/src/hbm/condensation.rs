@@ -22,6 +22,9 @@
 //! and likewise for g. The nonlinear forces are evaluated by the same AFT as the full
 //! problem, on a problem holding only the a coordinates.
 
+use std::collections::HashMap;
+use std::sync::OnceLock;
+
 use faer::Mat;
 use rayon::prelude::*;
 
@@ -72,17 +75,24 @@ impl NonlinearForce for Renumbered {
 struct Block {
     /// S, the Schur complement on a.
     schur: Mat<f64>,
-    /// dS/dw.
-    schur_derivative: Mat<f64>,
     /// g, the external force reduced onto a.
     force: Vec<f64>,
-    /// dg/dw.
-    force_derivative: Vec<f64>,
     /// X = D_bb^-1 D_ba and z = D_bb^-1 f_b, for q_b = z - X q_a.
     transfer: Mat<f64>,
     particular: Vec<f64>,
-    /// D_bb factorised, for residuals at nearby frequencies ([`CondensedBalance::refine`]).
+    /// D_ab, for the w-derivatives.
+    coupling: Mat<f64>,
+    /// D_bb factorised, for the w-derivatives ([`Condenser::differentiate`]) and for
+    /// residuals at nearby frequencies ([`CondensedBalance::refine`]).
     lu: BandedLu,
+}
+
+/// The w-derivatives of one block.
+struct BlockDerivative {
+    /// dS/dw.
+    schur: Mat<f64>,
+    /// dg/dw.
+    force: Vec<f64>,
 }
 
 /// The linear part condensed onto the nonlinear coordinates at one frequency: block 0 for
@@ -91,6 +101,11 @@ pub struct Condensed {
     /// Frequency w, rad/s.
     pub frequency: f64,
     blocks: Vec<Block>,
+    /// The blocks' w-derivatives, made the first time they are asked for
+    /// ([`CondensedBalance::derivatives_of`]): a residual alone (a line-search trial, a
+    /// solution's recovery, Newton at fixed frequency) does not need them, and they cost
+    /// about as much again as the values (a second solve with 2m + 1 right-hand sides).
+    derivatives: OnceLock<Vec<BlockDerivative>>,
 }
 
 /// Harmonic balance on the coordinates that carry nonlinear forces, with the linear rest
@@ -111,6 +126,9 @@ pub struct CondensedBalance {
     sparse: SparseMatrices,
     /// The last condensation, reused at the same frequency.
     last: Option<Condensed>,
+    /// Path points recovered from their own condensation while it was the last
+    /// ([`Self::keep_recovered`]), by their frequency's bits.
+    recovered: HashMap<u64, Vec<Recovered>>,
     /// Whether residuals at other frequencies are refined from `last`
     /// ([`Self::residual_near`]).
     refining: bool,
@@ -118,6 +136,12 @@ pub struct CondensedBalance {
     stability_modes: usize,
     /// The linear part of the stability model, made at the first stability request.
     stability_model: Option<FloquetModel>,
+}
+
+/// A solution's condensed coefficients and the full ones recovered from them.
+struct Recovered {
+    condensed: Vec<f64>,
+    full: Vec<f64>,
 }
 
 /// Fixed-interface modes kept in the stability model by default, chosen by the
@@ -177,6 +201,7 @@ impl CondensedBalance {
             plain,
             sparse,
             last: None,
+            recovered: HashMap::new(),
             refining: false,
             stability_modes: DEFAULT_STABILITY_MODES,
             stability_model: None,
@@ -270,7 +295,7 @@ impl CondensedBalance {
     /// with the kept coordinates held fixed, where the rest cannot be condensed.
     pub fn condense(&self, frequency: f64) -> Result<Condensed> {
         let forces: Vec<_> = (0..=self.harmonics())
-            .map(|r| self.external_force(r, frequency))
+            .map(|r| self.external_force(r, frequency).0)
             .collect();
         // The blocks are independent: each is condensed on one of rayon's threads, every
         // block with the same arithmetic as alone, and collected in order (the bits do not
@@ -280,16 +305,34 @@ impl CondensedBalance {
         let blocks = forces
             .into_par_iter()
             .enumerate()
-            .map(|(r, (force, force_derivative))| {
-                let block = HarmonicBlock {
-                    matrices: condenser.plain,
-                    r,
-                    frequency,
-                };
-                condenser.condense_block(&block, &force, &force_derivative)
-            })
+            .map(|(r, force)| condenser.condense_block(&condenser.harmonic(r, frequency), &force))
             .collect::<Result<Vec<_>>>()?;
-        Ok(Condensed { frequency, blocks })
+        Ok(Condensed {
+            frequency,
+            blocks,
+            derivatives: OnceLock::new(),
+        })
+    }
+
+    /// The w-derivatives of the blocks of `condensed`, made at the first call (on rayon's
+    /// threads, as the blocks) and kept with it.
+    fn derivatives_of<'c>(&self, condensed: &'c Condensed) -> &'c [BlockDerivative] {
+        condensed.derivatives.get_or_init(|| {
+            let frequency = condensed.frequency;
+            let forces: Vec<_> = (0..=self.harmonics())
+                .map(|r| self.external_force(r, frequency).1)
+                .collect();
+            let condenser = self.condenser();
+            condensed
+                .blocks
+                .par_iter()
+                .zip(forces)
+                .enumerate()
+                .map(|(r, (block, df))| {
+                    condenser.differentiate(&condenser.harmonic(r, frequency), block, &df)
+                })
+                .collect()
+        })
     }
 
     /// What the condensation of a block reads.
@@ -518,8 +561,27 @@ impl CondensedBalance {
     /// dR_a/dx_a and dR_a/dw at (x_a, w), exact.
     pub fn linearise(&mut self, condensed: &Condensed, x: &[f64]) -> (Mat<f64>, Vec<f64>) {
         let nonlinear = self.reduced.linearise(x, condensed.frequency);
-        let mut jacobian = nonlinear.jacobian;
+        let jacobian = self.with_schur(condensed, nonlinear.jacobian);
         let mut frequency_derivative = nonlinear.frequency_derivative;
+        for (r, derivative) in self.derivatives_of(condensed).iter().enumerate() {
+            let range = self.block_range(r);
+            let mut ds_x = vec![0.0; range.len()];
+            multiply(&derivative.schur, &x[range.clone()], &mut ds_x);
+            for (i, row) in range.enumerate() {
+                frequency_derivative[row] += ds_x[i] - derivative.force[i];
+            }
+        }
+        (jacobian, frequency_derivative)
+    }
+
+    /// dR_a/dx_a at (x_a, w), exact: Newton at a fixed frequency needs no w-derivatives.
+    fn jacobian(&mut self, condensed: &Condensed, x: &[f64]) -> Mat<f64> {
+        let nonlinear = self.reduced.linearise(x, condensed.frequency);
+        self.with_schur(condensed, nonlinear.jacobian)
+    }
+
+    /// `jacobian` (the nonlinear forces' dR_a/dx_a) with the Schur complements added.
+    fn with_schur(&self, condensed: &Condensed, mut jacobian: Mat<f64>) -> Mat<f64> {
         for (r, block) in condensed.blocks.iter().enumerate() {
             let range = self.block_range(r);
             for (i, row) in range.clone().enumerate() {
@@ -527,13 +589,8 @@ impl CondensedBalance {
                     jacobian[(row, col)] += block.schur[(i, j)];
                 }
             }
-            let mut ds_x = vec![0.0; range.len()];
-            multiply(&block.schur_derivative, &x[range.clone()], &mut ds_x);
-            for (i, row) in range.enumerate() {
-                frequency_derivative[row] += ds_x[i] - block.force_derivative[i];
-            }
         }
-        (jacobian, frequency_derivative)
+        jacobian
     }
 
     /// Harmonic balance at w by Newton-Raphson from `guess` (condensed unknowns); the
@@ -583,7 +640,7 @@ impl CondensedBalance {
             if !last.is_finite() || iteration == options.max_iterations || give_up.now(last) {
                 break;
             }
-            let (jacobian, _) = self.linearise(condensed, &x);
+            let jacobian = self.jacobian(condensed, &x);
             let step = solve_dense(&jacobian, &residual.values).ok_or_else(|| {
                 Error::singular(
                     "Jacobian",
@@ -606,15 +663,43 @@ impl CondensedBalance {
         ))
     }
 
-    /// The full Fourier coefficients x[slot * n + dof] of a condensed solution (the
-    /// condensation of its solve is reused).
+    /// The full Fourier coefficients x[slot * n + dof] of a condensed solution: kept from
+    /// the path ([`Self::keep_recovered`]), else from the condensation of its solve when
+    /// that was the last, else from a new one.
     ///
     /// # Errors
     /// As [`Self::condense`].
     pub fn recover(&mut self, solution: &HbSolution) -> Result<Vec<f64>> {
+        let kept = self
+            .recovered
+            .get(&solution.frequency.to_bits())
+            .and_then(|kept| kept.iter().find(|k| k.condensed == solution.coefficients));
+        if let Some(kept) = kept {
+            return Ok(kept.full.clone());
+        }
         self.with_condensed(solution.frequency, |hb, condensed| {
             hb.recover_with(condensed, &solution.coefficients)
         })
+    }
+
+    /// Keeps the full coefficients of `solution`, a point of a path, when the last
+    /// condensation was made at its frequency (as it is just after the point was solved
+    /// and its tangent taken): a sweep recovers every point after the path, and would
+    /// otherwise condense at each point's frequency once more.
+    pub(crate) fn keep_recovered(&mut self, solution: &HbSolution) {
+        let full = match &self.last {
+            Some(last) if last.frequency == solution.frequency => {
+                self.recover_with(last, &solution.coefficients)
+            }
+            _ => return,
+        };
+        self.recovered
+            .entry(solution.frequency.to_bits())
+            .or_default()
+            .push(Recovered {
+                condensed: solution.coefficients.clone(),
+                full,
+            });
     }
 
     /// The full coefficients from the condensed ones x: q_a as solved, q_b = z - X q_a
@@ -670,42 +755,47 @@ impl Condenser<'_> {
         (kept, rest)
     }
 
-    /// Condenses one block: D with dD/dw, its force f with df/dw. One factorisation of
-    /// D_bb serves X, z and their w-derivatives (two solves more, made always because
-    /// continuation needs them at every frequency it condenses). Only entries within the
-    /// band of D_bb are formed, so the cost grows linearly with the model size.
-    fn condense_block(&self, block: &HarmonicBlock<'_>, f: &[f64], df: &[f64]) -> Result<Block> {
-        let frequency = block.frequency;
-        let copies = f.len() / self.plain.n;
+    /// Harmonic r's dynamic stiffness at w.
+    fn harmonic(&self, r: usize, frequency: f64) -> HarmonicBlock<'_> {
+        HarmonicBlock {
+            matrices: self.plain,
+            r,
+            frequency,
+        }
+    }
+
+    /// The rows and columns of a block of `copies` copies ([`Self::partition`]) as
+    /// indices and as (copy, coordinate), split once: the entries are read many times
+    /// over; and the half-bandwidth of D_bb.
+    fn layout(&self, copies: usize) -> Layout {
         let (a, b) = self.partition(copies);
-        // (copy, coordinate) of every row and column, split once: the entries are read
-        // many times over.
         let n = self.plain.n;
         let positions = |indices: &[usize]| -> Vec<(usize, usize)> {
             indices.iter().map(|&i| (i / n, i % n)).collect()
         };
         let (a_at, b_at) = (positions(&a), positions(&b));
-        let value = |rows: &[(usize, usize)], cols: &[(usize, usize)]| {
-            Mat::from_fn(rows.len(), cols.len(), |i, j| {
-                block.entry(rows[i], cols[j]).0
-            })
-        };
-        let derivative = |rows: &[(usize, usize)], cols: &[(usize, usize)]| {
-            Mat::from_fn(rows.len(), cols.len(), |i, j| {
-                block.entry(rows[i], cols[j]).1
-            })
-        };
-        let pick = |v: &[f64], rows: &[usize]| Mat::from_fn(rows.len(), 1, |i, _| v[rows[i]]);
-        // Interleaved, D_bb couples rows at most `copies` times the band apart.
-        let band = copies * (self.rest_bandwidth + 1) - 1;
-        // D_bb and dD_bb within the band, row i at offsets k - i + band.
-        let width = 2 * band + 1;
-        let mut d_bb = vec![(0.0, 0.0); b.len() * width];
-        for i in 0..b.len() {
-            for k in i.saturating_sub(band)..(i + band + 1).min(b.len()) {
-                d_bb[i * width + k + band - i] = block.entry(b_at[i], b_at[k]);
-            }
+        Layout {
+            a,
+            b,
+            a_at,
+            b_at,
+            // Interleaved, D_bb couples rows at most `copies` times the band apart.
+            band: copies * (self.rest_bandwidth + 1) - 1,
         }
+    }
+
+    /// Condenses one block D with its force f. One factorisation of D_bb serves X and z
+    /// here and their w-derivatives later ([`Self::differentiate`]). Only entries within
+    /// the band of D_bb are formed, so the cost grows linearly with the model size.
+    fn condense_block(&self, block: &HarmonicBlock<'_>, f: &[f64]) -> Result<Block> {
+        let frequency = block.frequency;
+        let Layout {
+            a,
+            b,
+            a_at,
+            b_at,
+            band,
+        } = self.layout(f.len() / self.plain.n);
         let singular = || {
             Error::singular(
                 "condensed linear part",
@@ -715,7 +805,7 @@ impl Condenser<'_> {
                 ),
             )
         };
-        let lu = BandedLu::new(b.len(), band, band, |i, k| d_bb[i * width + k + band - i].0)
+        let lu = BandedLu::new(b.len(), band, band, |i, k| block.entry(b_at[i], b_at[k]).0)
             .ok_or_else(singular)?;
         // [X | z] = D_bb^-1 [D_ba | f_b], row by row (one column per kept coordinate, then z).
         let (nb, cols) = (b.len(), a.len() + 1);
@@ -727,7 +817,52 @@ impl Condenser<'_> {
             row[a.len()] = f[b[i]];
         }
         lu.solve_rows(&mut solution, cols);
-        // [dX | dz] = D_bb^-1 ([dD_ba | df_b] - dD_bb [X | z]), dD_bb within the band.
+        if !solution.iter().all(|v| v.is_finite()) {
+            return Err(singular());
+        }
+        let (transfer, particular) = split(&solution, nb, a.len());
+        let coupling = entries(block, &a_at, &b_at, |e| e.0);
+        let schur = entries(block, &a_at, &a_at, |e| e.0) - &coupling * &transfer;
+        let force = pick(f, &a) - &coupling * &particular;
+        Ok(Block {
+            schur,
+            force: column(force),
+            transfer,
+            particular: column(particular),
+            coupling,
+            lu,
+        })
+    }
+
+    /// The w-derivatives of a block condensed by [`Self::condense_block`], df/dw its
+    /// force's: [dX | dz] = D_bb^-1 ([dD_ba | df_b] - dD_bb [X | z]) with the same
+    /// factorisation, then dS = dD_aa - dD_ab X - D_ab dX and dg = df_a - dD_ab z - D_ab dz.
+    fn differentiate(
+        &self,
+        block: &HarmonicBlock<'_>,
+        values: &Block,
+        df: &[f64],
+    ) -> BlockDerivative {
+        let Layout {
+            a,
+            b,
+            a_at,
+            b_at,
+            band,
+        } = self.layout(df.len() / self.plain.n);
+        let (nb, cols) = (b.len(), a.len() + 1);
+        let particular = Mat::from_fn(nb, 1, |i, _| values.particular[i]);
+        // [X | z] row by row.
+        let solution: Vec<f64> = (0..nb)
+            .flat_map(|i| (0..cols).map(move |j| (i, j)))
+            .map(|(i, j)| {
+                if j < a.len() {
+                    values.transfer[(i, j)]
+                } else {
+                    particular[(i, 0)]
+                }
+            })
+            .collect();
         let mut derivative_solution = vec![0.0; nb * cols];
         for (i, row) in derivative_solution.chunks_mut(cols).enumerate() {
             for (j, r) in row.iter_mut().take(a.len()).enumerate() {
@@ -735,7 +870,7 @@ impl Condenser<'_> {
             }
             row[a.len()] = df[b[i]];
             for k in i.saturating_sub(band)..(i + band + 1).min(nb) {
-                let c = d_bb[i * width + k + band - i].1;
+                let c = block.entry(b_at[i], b_at[k]).1;
                 if c != 0.0 {
                     for (r, y) in row.iter_mut().zip(&solution[k * cols..(k + 1) * cols]) {
                         *r -= c * y;
@@ -743,39 +878,61 @@ impl Condenser<'_> {
                 }
             }
         }
-        lu.solve_rows(&mut derivative_solution, cols);
-        if !solution
-            .iter()
-            .chain(&derivative_solution)
-            .all(|v| v.is_finite())
-        {
-            return Err(singular());
-        }
-        let split = |y: &[f64]| {
-            (
-                Mat::from_fn(nb, a.len(), |i, j| y[i * cols + j]),
-                Mat::from_fn(nb, 1, |i, _| y[i * cols + a.len()]),
-            )
-        };
-        let (transfer, particular) = split(&solution);
-        let (d_transfer, d_particular) = split(&derivative_solution);
-        let d_ab = value(&a_at, &b_at);
-        let schur = value(&a_at, &a_at) - &d_ab * &transfer;
-        let force = pick(f, &a) - &d_ab * &particular;
-        let dd_ab = derivative(&a_at, &b_at);
-        let schur_derivative = derivative(&a_at, &a_at) - &dd_ab * &transfer - &d_ab * &d_transfer;
-        let force_derivative = pick(df, &a) - &dd_ab * &particular - &d_ab * &d_particular;
-        let column = |m: Mat<f64>| (0..m.nrows()).map(|i| m[(i, 0)]).collect::<Vec<_>>();
-        Ok(Block {
+        values.lu.solve_rows(&mut derivative_solution, cols);
+        let (d_transfer, d_particular) = split(&derivative_solution, nb, a.len());
+        let d_coupling = entries(block, &a_at, &b_at, |e| e.1);
+        let schur = entries(block, &a_at, &a_at, |e| e.1)
+            - &d_coupling * &values.transfer
+            - &values.coupling * &d_transfer;
+        let force = pick(df, &a) - &d_coupling * &particular - &values.coupling * &d_particular;
+        BlockDerivative {
             schur,
-            schur_derivative,
             force: column(force),
-            force_derivative: column(force_derivative),
-            transfer,
-            particular: column(particular),
-            lu,
-        })
+        }
     }
+}
+
+/// Where a block's kept (a) and condensed (b) rows lie ([`Condenser::layout`]).
+struct Layout {
+    a: Vec<usize>,
+    b: Vec<usize>,
+    a_at: Vec<(usize, usize)>,
+    b_at: Vec<(usize, usize)>,
+    /// Half-bandwidth of D_bb.
+    band: usize,
+}
+
+/// The matrix of `part` (the value or the w-derivative) of the entries of `block` at
+/// `rows` and `cols`, given as (copy, coordinate).
+fn entries(
+    block: &HarmonicBlock<'_>,
+    rows: &[(usize, usize)],
+    cols: &[(usize, usize)],
+    part: impl Fn((f64, f64)) -> f64,
+) -> Mat<f64> {
+    Mat::from_fn(rows.len(), cols.len(), |i, j| {
+        part(block.entry(rows[i], cols[j]))
+    })
+}
+
+/// The entries `rows` of v as a column.
+fn pick(v: &[f64], rows: &[usize]) -> Mat<f64> {
+    Mat::from_fn(rows.len(), 1, |i, _| v[rows[i]])
+}
+
+/// A column's entries.
+fn column(m: Mat<f64>) -> Vec<f64> {
+    (0..m.nrows()).map(|i| m[(i, 0)]).collect()
+}
+
+/// The row-major solution [Y | y] of `rows` rows and `kept` + 1 columns as the matrix Y
+/// and the column y.
+fn split(solution: &[f64], rows: usize, kept: usize) -> (Mat<f64>, Mat<f64>) {
+    let cols = kept + 1;
+    (
+        Mat::from_fn(rows, kept, |i, j| solution[i * cols + j]),
+        Mat::from_fn(rows, 1, |i, _| solution[i * cols + kept]),
+    )
 }
 
 /// The dynamic stiffness of one harmonic r at w: the constant term's K for r = 0, else the

@@ -59,6 +59,11 @@ pub trait Periodic {
     /// residuals throughout, the 60 um sweep stopped at 45.96 Hz instead of reaching
     /// 750 Hz).
     fn refine_residuals(&mut self, _on: bool) {}
+    /// Told of each point of the path once it is on the path for good, just after it was
+    /// solved or reached, so that what the point's frequency made can be kept for it (the
+    /// condensed problem keeps the point's full coefficients from its condensation, which
+    /// recovering them later would make again).
+    fn on_path(&mut self, _solution: &HbSolution) {}
 }
 
 /// dR/dx and dR/dw.
@@ -143,6 +148,9 @@ impl Periodic for CondensedBalance {
     }
     fn refine_residuals(&mut self, on: bool) {
         self.set_refining(on);
+    }
+    fn on_path(&mut self, solution: &HbSolution) {
+        self.keep_recovered(solution);
     }
 }
 
@@ -502,6 +510,7 @@ fn trace<H: Periodic>(
     let mut armed = true;
     let end = loop {
         for (index, point) in points.iter().enumerate().skip(told) {
+            hb.on_path(&point.solution);
             on_point(hb, index, point)?;
         }
         told = points.len();
@@ -654,6 +663,7 @@ fn trace<H: Periodic>(
         }
     };
     for (index, point) in points.iter().enumerate().skip(told) {
+        hb.on_path(&point.solution);
         on_point(hb, index, point)?;
     }
     Ok(Path {

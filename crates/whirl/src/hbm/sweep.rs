@@ -515,6 +515,9 @@ impl Periodic for Reporting<'_> {
     fn stop_requested(&self) -> bool {
         self.stopped
     }
+    fn on_path(&mut self, solution: &HbSolution) {
+        self.inner.on_path(solution);
+    }
 }
 
 fn check(options: &SweepOptions) -> Result<()> {
