@@ -764,38 +764,16 @@ impl Condenser<'_> {
         }
     }
 
-    /// The rows and columns of a block of `copies` copies ([`Self::partition`]) as
-    /// indices and as (copy, coordinate), split once: the entries are read many times
-    /// over; and the half-bandwidth of D_bb.
-    fn layout(&self, copies: usize) -> Layout {
-        let (a, b) = self.partition(copies);
-        let n = self.plain.n;
-        let positions = |indices: &[usize]| -> Vec<(usize, usize)> {
-            indices.iter().map(|&i| (i / n, i % n)).collect()
-        };
-        let (a_at, b_at) = (positions(&a), positions(&b));
-        Layout {
-            a,
-            b,
-            a_at,
-            b_at,
-            // Interleaved, D_bb couples rows at most `copies` times the band apart.
-            band: copies * (self.rest_bandwidth + 1) - 1,
-        }
-    }
-
     /// Condenses one block D with its force f. One factorisation of D_bb serves X and z
     /// here and their w-derivatives later ([`Self::differentiate`]). Only entries within
     /// the band of D_bb are formed, so the cost grows linearly with the model size.
     fn condense_block(&self, block: &HarmonicBlock<'_>, f: &[f64]) -> Result<Block> {
         let frequency = block.frequency;
-        let Layout {
-            a,
-            b,
-            a_at,
-            b_at,
-            band,
-        } = self.layout(f.len() / self.plain.n);
+        let copies = f.len() / self.plain.n;
+        let (a, b) = self.partition(copies);
+        let band = self.rest_band(copies);
+        let d_bb = self.rest_entries(block, copies, band);
+        let width = 2 * band + 1;
         let singular = || {
             Error::singular(
                 "condensed linear part",
@@ -805,14 +783,15 @@ impl Condenser<'_> {
                 ),
             )
         };
-        let lu = BandedLu::new(b.len(), band, band, |i, k| block.entry(b_at[i], b_at[k]).0)
+        let lu = BandedLu::new(b.len(), band, band, |i, k| d_bb[i * width + k + band - i].0)
             .ok_or_else(singular)?;
         // [X | z] = D_bb^-1 [D_ba | f_b], row by row (one column per kept coordinate, then z).
         let (nb, cols) = (b.len(), a.len() + 1);
+        let d_ba = self.entries(block, copies, Part::Rest, Part::Kept);
         let mut solution = vec![0.0; nb * cols];
         for (i, row) in solution.chunks_mut(cols).enumerate() {
             for (j, r) in row.iter_mut().take(a.len()).enumerate() {
-                *r = block.entry(b_at[i], a_at[j]).0;
+                *r = d_ba[i * a.len() + j].0;
             }
             row[a.len()] = f[b[i]];
         }
@@ -821,8 +800,10 @@ impl Condenser<'_> {
             return Err(singular());
         }
         let (transfer, particular) = split(&solution, nb, a.len());
-        let coupling = entries(block, &a_at, &b_at, |e| e.0);
-        let schur = entries(block, &a_at, &a_at, |e| e.0) - &coupling * &transfer;
+        let d_ab = self.entries(block, copies, Part::Kept, Part::Rest);
+        let d_aa = self.entries(block, copies, Part::Kept, Part::Kept);
+        let coupling = matrix(&d_ab, a.len(), |e| e.0);
+        let schur = matrix(&d_aa, a.len(), |e| e.0) - &coupling * &transfer;
         let force = pick(f, &a) - &coupling * &particular;
         Ok(Block {
             schur,
@@ -843,13 +824,11 @@ impl Condenser<'_> {
         values: &Block,
         df: &[f64],
     ) -> BlockDerivative {
-        let Layout {
-            a,
-            b,
-            a_at,
-            b_at,
-            band,
-        } = self.layout(df.len() / self.plain.n);
+        let copies = df.len() / self.plain.n;
+        let (a, b) = self.partition(copies);
+        let band = self.rest_band(copies);
+        let d_bb = self.rest_entries(block, copies, band);
+        let width = 2 * band + 1;
         let (nb, cols) = (b.len(), a.len() + 1);
         let particular = Mat::from_fn(nb, 1, |i, _| values.particular[i]);
         // [X | z] row by row.
@@ -863,14 +842,15 @@ impl Condenser<'_> {
                 }
             })
             .collect();
+        let d_ba = self.entries(block, copies, Part::Rest, Part::Kept);
         let mut derivative_solution = vec![0.0; nb * cols];
         for (i, row) in derivative_solution.chunks_mut(cols).enumerate() {
             for (j, r) in row.iter_mut().take(a.len()).enumerate() {
-                *r = block.entry(b_at[i], a_at[j]).1;
+                *r = d_ba[i * a.len() + j].1;
             }
             row[a.len()] = df[b[i]];
             for k in i.saturating_sub(band)..(i + band + 1).min(nb) {
-                let c = block.entry(b_at[i], b_at[k]).1;
+                let c = d_bb[i * width + k + band - i].1;
                 if c != 0.0 {
                     for (r, y) in row.iter_mut().zip(&solution[k * cols..(k + 1) * cols]) {
                         *r -= c * y;
@@ -880,8 +860,10 @@ impl Condenser<'_> {
         }
         values.lu.solve_rows(&mut derivative_solution, cols);
         let (d_transfer, d_particular) = split(&derivative_solution, nb, a.len());
-        let d_coupling = entries(block, &a_at, &b_at, |e| e.1);
-        let schur = entries(block, &a_at, &a_at, |e| e.1)
+        let d_ab = self.entries(block, copies, Part::Kept, Part::Rest);
+        let d_aa = self.entries(block, copies, Part::Kept, Part::Kept);
+        let d_coupling = matrix(&d_ab, a.len(), |e| e.1);
+        let schur = matrix(&d_aa, a.len(), |e| e.1)
             - &d_coupling * &values.transfer
             - &values.coupling * &d_transfer;
         let force = pick(df, &a) - &d_coupling * &particular - &values.coupling * &d_particular;
@@ -890,29 +872,99 @@ impl Condenser<'_> {
             force: column(force),
         }
     }
+
+    /// Half-bandwidth of D_bb in a block of `copies` copies: interleaved, its rows couple
+    /// at most `copies` times the band of the coordinates apart.
+    fn rest_band(&self, copies: usize) -> usize {
+        copies * (self.rest_bandwidth + 1) - 1
+    }
+
+    /// D_bb and dD_bb/dw of a block of `copies` copies within the half-bandwidth `band`,
+    /// row i at offsets k - i + band; each pair of coordinates is formed once for all its
+    /// copies.
+    fn rest_entries(
+        &self,
+        block: &HarmonicBlock<'_>,
+        copies: usize,
+        band: usize,
+    ) -> Vec<(f64, f64)> {
+        let (count, width) = (self.rest.len(), 2 * band + 1);
+        let mut d_bb = vec![(0.0, 0.0); copies * count * width];
+        // Rows within the band belong to coordinates at most this far apart.
+        let reach = band / copies + 1;
+        for (ic, &row) in self.rest.iter().enumerate() {
+            for kc in ic.saturating_sub(reach)..(ic + reach + 1).min(count) {
+                let pair = block.pair(row, self.rest[kc]);
+                for (ci, ck) in (0..copies).flat_map(|ci| (0..copies).map(move |ck| (ci, ck))) {
+                    let (i, k) = (copies * ic + ci, copies * kc + ck);
+                    if i.abs_diff(k) <= band {
+                        d_bb[i * width + k + band - i] = pair.at(ci, ck);
+                    }
+                }
+            }
+        }
+        d_bb
+    }
+
+    /// The entries of a block of `copies` copies, and their w-derivatives, on the rows of
+    /// the coordinates `rows` and the columns of `cols`, row-major in the layout of
+    /// [`Self::partition`]; each pair of coordinates is formed once for all its copies.
+    fn entries(
+        &self,
+        block: &HarmonicBlock<'_>,
+        copies: usize,
+        rows: Part,
+        cols: Part,
+    ) -> Vec<(f64, f64)> {
+        let (row_dofs, col_dofs) = (self.dofs(rows), self.dofs(cols));
+        let width = copies * col_dofs.len();
+        let mut out = vec![(0.0, 0.0); copies * row_dofs.len() * width];
+        for (ic, &row) in row_dofs.iter().enumerate() {
+            for (jc, &col) in col_dofs.iter().enumerate() {
+                let pair = block.pair(row, col);
+                for (ci, cj) in (0..copies).flat_map(|ci| (0..copies).map(move |cj| (ci, cj))) {
+                    let i = rows.position(ic, ci, row_dofs.len(), copies);
+                    let j = cols.position(jc, cj, col_dofs.len(), copies);
+                    out[i * width + j] = pair.at(ci, cj);
+                }
+            }
+        }
+        out
+    }
+
+    /// The coordinates of `part`.
+    fn dofs(&self, part: Part) -> &[usize] {
+        match part {
+            Part::Kept => self.kept,
+            Part::Rest => self.rest,
+        }
+    }
 }
 
-/// Where a block's kept (a) and condensed (b) rows lie ([`Condenser::layout`]).
-struct Layout {
-    a: Vec<usize>,
-    b: Vec<usize>,
-    a_at: Vec<(usize, usize)>,
-    b_at: Vec<(usize, usize)>,
-    /// Half-bandwidth of D_bb.
-    band: usize,
+/// The kept (a) or the condensed (b) coordinates of a block.
+#[derive(Clone, Copy)]
+enum Part {
+    Kept,
+    Rest,
 }
 
-/// The matrix of `part` (the value or the w-derivative) of the entries of `block` at
-/// `rows` and `cols`, given as (copy, coordinate).
-fn entries(
-    block: &HarmonicBlock<'_>,
-    rows: &[(usize, usize)],
-    cols: &[(usize, usize)],
-    part: impl Fn((f64, f64)) -> f64,
-) -> Mat<f64> {
-    Mat::from_fn(rows.len(), cols.len(), |i, j| {
-        part(block.entry(rows[i], cols[j]))
-    })
+impl Part {
+    /// Row (or column) of copy `copy` of the `index`-th of `count` coordinates in a block
+    /// of `copies` copies, as [`Condenser::partition`] lays them out: kept ones in slot
+    /// order (all cos, then all sin), condensed ones interleaving the copies.
+    fn position(self, index: usize, copy: usize, count: usize, copies: usize) -> usize {
+        match self {
+            Part::Kept => copy * count + index,
+            Part::Rest => copies * index + copy,
+        }
+    }
+}
+
+/// The matrix of `part` (the value or the w-derivative) of row-major entries with `rows`
+/// rows.
+fn matrix(entries: &[(f64, f64)], rows: usize, part: impl Fn((f64, f64)) -> f64) -> Mat<f64> {
+    let cols = entries.len() / rows;
+    Mat::from_fn(rows, cols, |i, j| part(entries[i * cols + j]))
 }
 
 /// The entries `rows` of v as a column.
@@ -945,31 +997,46 @@ struct HarmonicBlock<'a> {
 }
 
 impl HarmonicBlock<'_> {
-    /// Entry of D_r and of dD_r/dw at the row of copy `row.0`, coordinate `row.1`, and the
-    /// column `col` likewise.
-    fn entry(&self, row: (usize, usize), col: (usize, usize)) -> (f64, f64) {
+    /// The entries of D_r and dD_r/dw that the coordinates `row` and `col` give in every
+    /// pair of copies.
+    fn pair(&self, row: usize, col: usize) -> PairEntries {
         let p = self.matrices;
-        let at = row.1 * p.n + col.1;
+        let at = row * p.n + col;
         if self.r == 0 {
-            return (p.stiffness[at], 0.0);
+            return PairEntries {
+                diagonal: (p.stiffness[at], 0.0),
+                coupling: (0.0, 0.0),
+            };
         }
         let (rf, w) = (self.r as f64, self.frequency);
         let rw = rf * w;
-        match (row.0, col.0) {
-            (0, 0) | (1, 1) => (
+        let damping = p.damping[at] + w * p.gyroscopic[at];
+        PairEntries {
+            diagonal: (
                 p.stiffness[at] - rw * rw * p.mass[at],
                 -2.0 * rf * rw * p.mass[at],
             ),
-            (copy, _) => {
-                let damping = p.damping[at] + w * p.gyroscopic[at];
-                // d(r w (C + w G))/dw = r (C + 2 w G).
-                let coupling = (rw * damping, rf * (damping + w * p.gyroscopic[at]));
-                if copy == 0 {
-                    coupling
-                } else {
-                    (-coupling.0, -coupling.1)
-                }
-            }
+            // d(r w (C + w G))/dw = r (C + 2 w G).
+            coupling: (rw * damping, rf * (damping + w * p.gyroscopic[at])),
+        }
+    }
+}
+
+/// Entry (value, w-derivative) of D_r for one pair of coordinates: Z_r on the copies'
+/// diagonal, r w D from sin to cos and -r w D from cos to sin.
+#[derive(Clone, Copy)]
+struct PairEntries {
+    diagonal: (f64, f64),
+    coupling: (f64, f64),
+}
+
+impl PairEntries {
+    /// The entry in the row of copy `row` and the column of copy `col` (0 cos, 1 sin).
+    fn at(self, row: usize, col: usize) -> (f64, f64) {
+        match (row, col) {
+            (0, 0) | (1, 1) => self.diagonal,
+            (0, _) => self.coupling,
+            _ => (-self.coupling.0, -self.coupling.1),
         }
     }
 }
