@@ -30,7 +30,7 @@
 
 use super::balance::HbSolution;
 use super::continuation::{
-    arclength_frame, correct, interpolated_orbit, BranchPoint, Fold, Periodic,
+    arclength_frame, correct, interpolated_orbit, on_threads, BranchPoint, Fold, Periodic,
 };
 use super::resolution::Resolution;
 use super::stability::Stability;
@@ -87,14 +87,18 @@ pub struct Bifurcation {
 /// resolved to round-off only.
 const ON_AXIS: f64 = 1e-9;
 
-/// The regula falsi stops when the bracket is this short in scaled arclength (a relative
-/// change of 1e-5 of the speed or the orbit: 5 mHz at 500 Hz, 0.4 mHz at 40 Hz; the last
-/// step's interpolation makes a simple crossing more accurate still), or after
-/// [`MAX_TRIALS`] trial points. What the answer resolves is far coarser: the AFT sample
-/// count moves the reference rotor's bifurcations by 0.1 to 2 Hz, and each is checked at
-/// 0.5 % of its speed either side ([`super::resolution`]). Where the largest real part
-/// jumps across zero (a contact opening at a corner) the bracket only halves per trial:
-/// 1e-7 cost 7 more trials each there. A trial whose arclength corrector fails is
+/// The regula falsi stops when the speeds of the bracket's ends are within this fraction
+/// of each other (5 mHz at 500 Hz, 0.4 mHz at 40 Hz; the last step's interpolation makes
+/// a simple crossing more accurate still), or the bracket is this short in the search's
+/// parameter, or after [`MAX_TRIALS`] trial points. The speed is what is reported (to
+/// 0.01 Hz in the text summary): along the arclength, where the orbit changes much faster
+/// than the speed (a resonance's flank), a bracket of 1e-5 in scaled arclength took up to
+/// 10 more trials for a speed already within 1e-5 (BENCHMARKS.md, issue 12, session 14).
+/// What the answer resolves is far coarser: the AFT sample count moves the reference
+/// rotor's bifurcations by 0.1 to 2 Hz, and each is checked at 0.5 % of its speed either
+/// side ([`super::resolution`]). Where the largest real part jumps across zero (a contact
+/// opening at a corner) the bracket only halves per trial: 1e-7 cost 7 more trials each
+/// there. A trial whose arclength corrector fails is
 /// solved at fixed speed instead, and where Newton stalls there too (a time sample at a
 /// contact's edge, where the contact damping makes the force jump) the bracket's middle
 /// is tried before the crossing is left interpolated across the bracket reached.
@@ -102,54 +106,94 @@ const BRACKET: f64 = 1e-5;
 const MAX_TRIALS: usize = 40;
 
 /// The changes of stability along `points`, each located on the branch, except across
-/// `boundaries` (indices after which the path jumped). `folds` are the branch's turning
-/// points: a +1 crossing in the same interval is that fold.
+/// `boundaries` (indices after which the path jumped), on `problems` (copies of one
+/// problem, one a thread: [`on_threads`]). `folds` are the branch's turning points: a +1
+/// crossing in the same interval is that fold.
 ///
 /// # Errors
 /// When the Floquet problem cannot be built (a singular mass matrix).
-pub(super) fn locate_bifurcations(
-    hb: &mut impl Periodic,
+pub(super) fn locate_bifurcations<H: Periodic + Send>(
+    problems: &mut [&mut H],
     points: &[BranchPoint],
     folds: &[Fold],
     boundaries: &[usize],
 ) -> Result<Vec<Bifurcation>> {
-    let mut found = Vec::new();
-    for (i, pair) in points.windows(2).enumerate() {
-        let (Some(a), Some(b)) = (&pair[0].stability, &pair[1].stability) else {
-            continue;
-        };
-        if a.stable == b.stable || boundaries.contains(&i) {
-            continue;
-        }
-        let fold = folds.iter().find(|f| f.after == i && f.refined);
-        let crossing = match fold {
-            // The exponent crosses zero as the square root of the distance at a fold,
-            // which regula falsi converges to slowly: the fold is already on the branch.
-            Some(f) => Located {
-                frequency: f.frequency,
-                located: true,
-                nearest: if a.stable { b.clone() } else { a.clone() },
-            },
-            None => {
-                let turns = folds.iter().any(|f| f.after == i);
-                crossing(hb, (&pair[0], a), (&pair[1], b), turns)?
-            }
-        };
-        found.push(classify(crossing, i, a.stable, fold.is_some()));
-    }
-    for i in 1..points.len().saturating_sub(1) {
-        let turns = folds.iter().any(|f| f.after + 1 == i || f.after == i);
-        if turns || boundaries.contains(&(i - 1)) || boundaries.contains(&i) {
-            continue;
-        }
-        if let Some((k, inside)) = probe(hb, &points[i - 1..=i + 1])? {
-            let (before, after) = (&points[i - 1 + k], &points[i + k]);
-            found.extend(window(hb, before, &inside, after, i - 1 + k)?);
-        }
-    }
+    let changes = points
+        .windows(2)
+        .enumerate()
+        .filter(|(i, pair)| {
+            let verdicts = (&pair[0].stability, &pair[1].stability);
+            let change = matches!(verdicts, (Some(a), Some(b)) if a.stable != b.stable);
+            change && !boundaries.contains(i)
+        })
+        .map(|(i, _)| Stretch::Change(i));
+    let windows = (1..points.len().saturating_sub(1))
+        .filter(|&i| {
+            let turns = folds.iter().any(|f| f.after + 1 == i || f.after == i);
+            !(turns || boundaries.contains(&(i - 1)) || boundaries.contains(&i))
+        })
+        .map(Stretch::Window);
+    let stretches: Vec<Stretch> = changes.chain(windows).collect();
+    let found = on_threads(problems, stretches.len(), |hb, k| match stretches[k] {
+        Stretch::Change(i) => change_after(&mut **hb, points, folds, i),
+        Stretch::Window(i) => window_round(&mut **hb, points, i),
+    })?;
+    let mut found: Vec<Bifurcation> = found.into_iter().flatten().collect();
     // A window lies between two points of the same verdict, where no other change is.
     found.sort_by_key(|b| b.after);
     Ok(found)
+}
+
+/// Where a change of stability is sought: between points i and i + 1 of different
+/// verdicts, or round point i ([`probe`]).
+#[derive(Clone, Copy)]
+enum Stretch {
+    Change(usize),
+    Window(usize),
+}
+
+/// The change of stability between points `i` and `i + 1` (of different verdicts).
+fn change_after(
+    hb: &mut impl Periodic,
+    points: &[BranchPoint],
+    folds: &[Fold],
+    i: usize,
+) -> Result<Vec<Bifurcation>> {
+    let (p, q) = (&points[i], &points[i + 1]);
+    let (Some(a), Some(b)) = (&p.stability, &q.stability) else {
+        return Ok(Vec::new());
+    };
+    let fold = folds.iter().find(|f| f.after == i && f.refined);
+    let crossing = match fold {
+        // The exponent crosses zero as the square root of the distance at a fold,
+        // which regula falsi converges to slowly: the fold is already on the branch.
+        Some(f) => Located {
+            frequency: f.frequency,
+            located: true,
+            nearest: if a.stable { b.clone() } else { a.clone() },
+        },
+        None => {
+            let turns = folds.iter().any(|f| f.after == i);
+            crossing(hb, (p, a), (q, b), turns)?
+        }
+    };
+    Ok(vec![classify(crossing, i, a.stable, fold.is_some())])
+}
+
+/// The window of the other verdict round point `i`, if [`probe`] finds one: its two
+/// changes of stability.
+fn window_round(
+    hb: &mut impl Periodic,
+    points: &[BranchPoint],
+    i: usize,
+) -> Result<Vec<Bifurcation>> {
+    match probe(hb, &points[i - 1..=i + 1])? {
+        Some((k, inside)) => {
+            let (before, after) = (&points[i - 1 + k], &points[i + k]);
+            window(hb, before, &inside, after, i - 1 + k)
+        }
+        None => Ok(Vec::new()),
+    }
 }
 
 /// The two changes of stability round `inside`, a point of the branch between `before`
@@ -314,7 +358,10 @@ struct Search {
 /// far: Newton from their interpolation, well posed where the branch does not turn between
 /// them (`turns` false), so that the speed is a parameter of the branch. Only where both
 /// fail is the crossing interpolated linearly between those two points (`located`
-/// false); it then depends on where they fall.
+/// false); it then depends on where they fall. A failed arclength trial costs a plain and
+/// a line-search corrector run (on the reference rotor about 45 condensations, against one
+/// for a trial at fixed speed), and the search at fixed speed tries the bracket's middle
+/// itself, so the arclength search tries it only where no search at fixed speed follows.
 fn crossing(
     hb: &mut impl Periodic,
     (before, sa): (&BranchPoint, &Stability),
@@ -333,7 +380,7 @@ fn crossing(
         let along =
             |hb: &mut _, _: &End, _: &End, sigma| correct(hb, &y0, &t0, sigma, &scaling).ok();
         let (reached_a, reached_b, located) =
-            search.narrow(hb, a, b.moved_to(chord_length), along)?;
+            search.narrow(hb, a, b.moved_to(chord_length), turns, along)?;
         if located {
             return Ok(search.interpolated(&reached_a, &reached_b, true));
         }
@@ -345,33 +392,36 @@ fn crossing(
     // The speed relative to `before`'s, so the bracket is the same relative change.
     let w0 = before.solution.frequency;
     let (wa, wb) = (a.solution.frequency / w0, b.solution.frequency / w0);
-    let (a, b, located) = search.narrow(hb, a.moved_to(wa), b.moved_to(wb), |hb, a, b, at| {
-        at_speed(hb, a, b, at * w0)
-    })?;
+    let at = |hb: &mut _, a: &End, b: &End, at| at_speed(hb, a, b, at * w0);
+    let (a, b, located) = search.narrow(hb, a.moved_to(wa), b.moved_to(wb), true, at)?;
     Ok(search.interpolated(&a, &b, located))
 }
 
 impl Search {
     /// Illinois regula falsi between `a` and `b` (values of opposite signs) with trial
     /// points `trial(hb, a, b, s)`, until the bracket is shorter than [`BRACKET`] in the
-    /// parameter (true) or a trial fails (false). The bracket reached, either way.
+    /// parameter or in the relative speed (true) or a trial fails (false); with
+    /// `middle`, a failed trial is tried again at the bracket's middle first. The bracket
+    /// reached, either way.
     fn narrow<H: Periodic>(
         &mut self,
         hb: &mut H,
         mut a: End,
         mut b: End,
+        middle: bool,
         mut trial: impl FnMut(&mut H, &End, &End, f64) -> Option<HbSolution>,
     ) -> Result<(End, End, bool)> {
         let mut kept_side = 0;
-        while self.trials < MAX_TRIALS && (b.at - a.at).abs() >= BRACKET {
+        while self.trials < MAX_TRIALS && !bracketed(&a, &b) {
             let falsi = (a.at * b.weighted - b.at * a.weighted) / (b.weighted - a.weighted);
             self.trials += 1;
             // Newton stalls where a time sample sits at a contact's edge (the contact
             // damping makes the force jump there); the bracket's middle moves the samples off
             // it.
-            let middle = 0.5 * (a.at + b.at);
-            let Some((at, point)) = [falsi, middle]
+            let halfway = 0.5 * (a.at + b.at);
+            let Some((at, point)) = [falsi, halfway]
                 .into_iter()
+                .take(if middle { 2 } else { 1 })
                 .find_map(|at| Some((at, trial(hb, &a, &b, at)?)))
             else {
                 return Ok((a, b, false));
@@ -415,6 +465,13 @@ impl Search {
             nearest: self.nearest,
         }
     }
+}
+
+/// Whether the ends `a` and `b` lie within [`BRACKET`] of each other in the search's
+/// parameter or in the speed, relative.
+fn bracketed(a: &End, b: &End) -> bool {
+    let (wa, wb) = (a.solution.frequency, b.solution.frequency);
+    (b.at - a.at).abs() < BRACKET || (wb - wa).abs() < BRACKET * wa.abs()
 }
 
 /// The branch point at speed `frequency` between the ends `a` and `b`: Newton at that

@@ -32,6 +32,8 @@ use super::HbOptions;
 use crate::error::{Error, Result};
 use crate::linalg::{difference, dot_in_order as dot, norm, solve_dense};
 use faer::Mat;
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{mpsc, Mutex, PoisonError};
 
 /// What continuation asks of a harmonic balance, so that the full ([`HarmonicBalance`]) and
@@ -322,8 +324,29 @@ impl Scaling {
 /// [`Error::NotConverged`] or [`Error::Singular`] when the first point does not converge,
 /// [`Error::InvalidOption`] when the range is empty;
 /// later failures end the branch ([`BranchEnd::StepTooSmall`]) and keep what converged.
-pub fn continuation(
-    hb: &mut impl Periodic,
+pub fn continuation<H: Periodic + Send>(
+    hb: &mut H,
+    from: f64,
+    to: f64,
+    guess: &[f64],
+    options: &ContinuationOptions,
+) -> Result<Branch> {
+    continuation_sharing(hb, &mut [], from, to, guess, options)
+}
+
+/// As [`continuation`], with `helpers`, copies of the same problem: the folds and the
+/// bifurcations are located on rayon's threads, one problem a thread, `hb` among them.
+/// Each is located from the path's points alone on whichever problem takes it, so the
+/// branch is the same to the bit with or without helpers, except where the problem refines
+/// residuals ([`Periodic::refine_residuals`]): a refined residual's round-off depends on
+/// the condensation the problem's last search left, so refinement is asked for only
+/// without helpers.
+///
+/// # Errors
+/// As [`continuation`].
+pub fn continuation_sharing<H: Periodic + Send>(
+    hb: &mut H,
+    helpers: &mut [H],
     from: f64,
     to: f64,
     guess: &[f64],
@@ -331,7 +354,14 @@ pub fn continuation(
 ) -> Result<Branch> {
     check_range(from, to)?;
     let first = hb.solve(from, guess)?;
-    follow(hb, first, (to - from).signum(), (from, to), options)
+    follow(
+        hb,
+        helpers,
+        first,
+        (to - from).signum(),
+        (from, to),
+        options,
+    )
 }
 
 /// Restarts a branch from a saved point within the range `from`..`to` (rad/s), in the
@@ -341,8 +371,8 @@ pub fn continuation(
 ///
 /// # Errors
 /// As [`continuation`].
-pub fn resume(
-    hb: &mut impl Periodic,
+pub fn resume<H: Periodic + Send>(
+    hb: &mut H,
     point: &BranchPoint,
     from: f64,
     to: f64,
@@ -355,7 +385,7 @@ pub fn resume(
     } else {
         (to - from).signum()
     };
-    follow(hb, first, orientation, (from, to), options)
+    follow(hb, &mut [], first, orientation, (from, to), options)
 }
 
 fn check_range(from: f64, to: f64) -> Result<()> {
@@ -369,9 +399,10 @@ fn check_range(from: f64, to: f64) -> Result<()> {
 }
 
 /// The branch from the converged point `first` (see [`trace`]), with its folds and
-/// bifurcations.
-fn follow<H: Periodic>(
+/// bifurcations, located on `hb` and `helpers` ([`continuation_sharing`]).
+fn follow<H: Periodic + Send>(
     hb: &mut H,
+    helpers: &mut [H],
     first: HbSolution,
     orientation: f64,
     range: (f64, f64),
@@ -389,13 +420,19 @@ fn follow<H: Periodic>(
             &mut |_, _, _| Ok(()),
         )?
     };
-    hb.refine_residuals(true);
-    let folds = locate_folds(hb, &path.points, &path.boundaries);
-    let bifurcations = locate_bifurcations(hb, &path.points, &folds, &path.boundaries);
-    hb.refine_residuals(false);
-    let bifurcations = bifurcations?;
+    let options = *hb.options();
+    let mut problems: Vec<&mut H> = std::iter::once(hb).chain(helpers).collect();
+    let refine = problems.len() == 1;
+    problems[0].refine_residuals(refine);
+    let located = locate_folds(&mut problems, &path.points, &path.boundaries).and_then(|folds| {
+        let bifurcations =
+            locate_bifurcations(&mut problems, &path.points, &folds, &path.boundaries)?;
+        Ok((folds, bifurcations))
+    });
+    problems[0].refine_residuals(false);
+    let (folds, bifurcations) = located?;
     Ok(Branch {
-        options: *hb.options(),
+        options,
         folds,
         corners: path.corners,
         jumps: path.jumps,
@@ -1072,40 +1109,110 @@ pub(super) fn interpolated_orbit(before: &HbSolution, after: &HbSolution, to: f6
         .collect()
 }
 
-/// Folds between successive points whose frequency slopes differ in sign.
-fn locate_folds(hb: &mut impl Periodic, points: &[BranchPoint], boundaries: &[usize]) -> Vec<Fold> {
-    let mut folds = Vec::new();
-    for (i, p) in points.windows(2).enumerate() {
-        if p[0].frequency_slope * p[1].frequency_slope >= 0.0 || boundaries.contains(&i) {
-            continue;
-        }
-        let (before, after) = (&p[0].solution, &p[1].solution);
-        let fold = match refine_fold(hb, before, after) {
-            Ok(frequency) => Fold {
-                frequency,
-                refined: true,
-                after: i,
-            },
-            Err(_) => {
-                let scaling = Scaling::at(before);
-                let chord = difference(&scaling.scaled(after), &scaling.scaled(before));
-                Fold {
-                    frequency: hermite_extremum(
-                        before.frequency,
-                        after.frequency,
-                        p[0].frequency_slope,
-                        p[1].frequency_slope,
-                        norm(&chord),
-                    ),
-                    refined: false,
-                    after: i,
+/// Runs `job(problem, k)` for every k in 0..`count` on rayon's threads, each thread with
+/// one of `problems` (copies of the same problem: a job must give the same bits on any of
+/// them, whatever they ran before), and returns the results in order of k. A thread takes
+/// the next k in turn, and none starts a job once one has failed: every job before a
+/// failed one was taken before it and so finished, and the error returned is the first in
+/// order, the one a single thread running the jobs in turn would stop at.
+///
+/// # Errors
+/// The first job's error in order of k.
+pub(super) fn on_threads<P: Send, T: Send>(
+    problems: &mut [P],
+    count: usize,
+    job: impl Fn(&mut P, usize) -> Result<T> + Sync,
+) -> Result<Vec<T>> {
+    let next = AtomicUsize::new(0);
+    let failed = AtomicBool::new(false);
+    let mut done: Vec<(usize, Result<T>)> = problems
+        .par_iter_mut()
+        .flat_map_iter(|problem| {
+            let mut mine = Vec::new();
+            while !failed.load(Ordering::Relaxed) {
+                let k = next.fetch_add(1, Ordering::Relaxed);
+                if k >= count {
+                    break;
                 }
+                let result = job(problem, k);
+                if result.is_err() {
+                    failed.store(true, Ordering::Relaxed);
+                }
+                mine.push((k, result));
             }
-        };
-        folds.push(fold);
-    }
-    folds
+            mine
+        })
+        .collect();
+    done.sort_by_key(|&(k, _)| k);
+    done.into_iter().map(|(_, result)| result).collect()
 }
+
+/// Folds between successive points whose frequency slopes differ in sign, located on
+/// `problems` ([`on_threads`]).
+///
+/// # Errors
+/// None in practice: a fold whose search fails is estimated instead.
+fn locate_folds<H: Periodic + Send>(
+    problems: &mut [&mut H],
+    points: &[BranchPoint],
+    boundaries: &[usize],
+) -> Result<Vec<Fold>> {
+    let turning: Vec<usize> = points
+        .windows(2)
+        .enumerate()
+        .filter(|(i, p)| {
+            p[0].frequency_slope * p[1].frequency_slope < 0.0 && !boundaries.contains(i)
+        })
+        .map(|(i, _)| i)
+        .collect();
+    on_threads(problems, turning.len(), |hb, k| {
+        Ok(fold_after(&mut **hb, points, turning[k]))
+    })
+}
+
+/// The fold between points `i` and `i + 1`: located on the branch, or where its search
+/// fails, the extremum of the Hermite interpolant.
+fn fold_after(hb: &mut impl Periodic, points: &[BranchPoint], i: usize) -> Fold {
+    let (p, q) = (&points[i], &points[i + 1]);
+    let (before, after) = (&p.solution, &q.solution);
+    match refine_fold(hb, before, after) {
+        Ok(frequency) => Fold {
+            frequency,
+            refined: true,
+            after: i,
+        },
+        Err(_) => {
+            let scaling = Scaling::at(before);
+            let chord = difference(&scaling.scaled(after), &scaling.scaled(before));
+            Fold {
+                frequency: hermite_extremum(
+                    before.frequency,
+                    after.frequency,
+                    p.frequency_slope,
+                    q.frequency_slope,
+                    norm(&chord),
+                ),
+                refined: false,
+                after: i,
+            }
+        }
+    }
+}
+
+/// The fold locator's trials stop once the tangent's frequency component t_w is below
+/// this: w is stationary at the fold, so its error is of order t_w^2, and 1e-9 leaves it
+/// exact to round-off.
+const FOLD_SLOPE: f64 = 1e-9;
+
+/// ... or once the bracket is shorter than this fraction of the chord between the two
+/// points. Where the fold sits on a corner (a contact opening) t_w jumps sign across it
+/// and never falls below [`FOLD_SLOPE`]: on the reference rotor the bracket reaches 1e-6
+/// of the chord by about the 20th trial, where the trial's speed is already within 1e-10
+/// relative of the 40th's (1e-12 to 6e-11 at the 20 um sweep's corner folds).
+const FOLD_BRACKET: f64 = 1e-6;
+
+/// ... or after this many trials.
+const FOLD_TRIALS: usize = 40;
 
 /// The fold between `before` and `after`: the root of the tangent's frequency component
 /// along the arclength from `before`, by the Illinois regula falsi.
@@ -1119,14 +1226,12 @@ fn refine_fold(hb: &mut impl Periodic, before: &HbSolution, after: &HbSolution) 
     let (mut b, mut gb) = (length, unit_tangent(hb, after, scaling, &chord)?[last]);
     let mut frequency = before.frequency;
     let mut kept_side = 0;
-    for _ in 0..40 {
+    for _ in 0..FOLD_TRIALS {
         let sigma = (a * gb - b * ga) / (gb - ga);
         let point = correct(hb, &y0, &t0, sigma, scaling)?;
         let g = unit_tangent(hb, &point, scaling, &t0)?[last];
         frequency = point.frequency;
-        // w is stationary at the fold, so its error is of order g^2: 1e-9 leaves w exact
-        // to round-off.
-        if g.abs() < 1e-9 {
+        if g.abs() < FOLD_SLOPE {
             break;
         }
         // Illinois: halve the value kept twice in a row, so both ends move.
@@ -1142,6 +1247,9 @@ fn refine_fold(hb: &mut impl Periodic, before: &HbSolution, after: &HbSolution) 
                 ga /= 2.0;
             }
             kept_side = -1;
+        }
+        if (b - a).abs() < FOLD_BRACKET * length {
+            break;
         }
     }
     Ok(frequency)

@@ -4,17 +4,15 @@
 //! equilibrium, continued in speed with Floquet stability at every point. What `whirl hbm`
 //! runs.
 
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
-
-use rayon::prelude::*;
 
 use serde::Serialize;
 
 use super::bearings::{caged_bearings, CageModel};
 use super::condensation::DEFAULT_STABILITY_MODES;
 use super::continuation::{
-    continuation, solutions_at, Branch, BranchEnd, ContinuationOptions, Derivatives, Periodic,
+    continuation, continuation_sharing, on_threads, solutions_at, Branch, BranchEnd,
+    ContinuationOptions, Derivatives, Periodic,
 };
 use super::fourier::{check_counts, cos_slot, sin_slot, MAX_SAMPLES};
 use super::resolution;
@@ -267,14 +265,14 @@ fn follow_sweep(
     let (balance, equilibrium, reduction) = condensed_problem(model, options)?;
     // The equilibrium holds every coordinate of the model.
     let dofs = equilibrium.len();
-    let mut hb = Reporting {
-        inner: balance,
-        progress,
-        from: options.from,
-        to: options.to,
-        furthest: options.from,
-        stopped: false,
-    };
+    let mut hb = Reporting::new(balance, progress, options);
+    // A copy of the problem for each other thread of rayon's: the folds and bifurcations
+    // are located on all of them, and the bifurcations checked. The copies are built from the model as `hb` was, so every job gives the
+    // bits it would on `hb` ([`continuation_sharing`]).
+    let another = || condensed_problem(model, options).map(|(balance, ..)| balance);
+    let mut helpers = (1..rayon::current_num_threads())
+        .map(|_| Ok(Reporting::new(another()?, None, options)))
+        .collect::<Result<Vec<_>>>()?;
     // Start at the static equilibrium: the unbalance force is small at the first speed.
     let mut guess = vec![0.0; hb.inner.unknowns()];
     for (i, &d) in hb.inner.kept().iter().enumerate() {
@@ -284,8 +282,9 @@ fn follow_sweep(
     continuation_options.stability = options.stability;
     let (guess, approached_from) =
         start_on_branch(&mut hb, options.from, guess, &continuation_options)?;
-    let mut branch = continuation(
+    let mut branch = continuation_sharing(
         &mut hb,
+        &mut helpers,
         options.from,
         options.to,
         &guess,
@@ -317,8 +316,11 @@ fn follow_sweep(
             });
         }
     }
-    let another = || condensed_problem(model, options).map(|(balance, ..)| balance);
-    check_resolution(hb.inner, another, &mut branch, options.stability_modes)?;
+    let problems = std::iter::once(hb)
+        .chain(helpers)
+        .map(|h| h.inner)
+        .collect();
+    check_resolution(problems, &mut branch, options.stability_modes)?;
     Ok(Sweep {
         branch,
         coefficients,
@@ -411,16 +413,13 @@ fn condensed_problem(
 ///
 /// The checks are independent (each condenses at its own speeds, and a condensation is
 /// reused only at the speed it was made at), so they run on rayon's threads, each thread
-/// with its own copy of the problem: `hb` and, for the others, ones made by `another`. A
-/// thread takes the next bifurcation in order; every check gives the bits a single thread
-/// would, and the error returned is the first in order, as one thread checking them in
-/// turn would stop at.
+/// with its own copy of the problem, one of `problems` ([`on_threads`]): every check gives
+/// the bits a single thread would.
 ///
 /// # Errors
-/// When a Floquet problem cannot be built or solved, or `another` fails.
+/// When a Floquet problem cannot be built or solved.
 fn check_resolution(
-    hb: CondensedBalance,
-    another: impl Fn() -> Result<CondensedBalance> + Sync,
+    problems: Vec<CondensedBalance>,
     branch: &mut Branch,
     stability_modes: usize,
 ) -> Result<()> {
@@ -429,37 +428,19 @@ fn check_resolution(
     if count == 0 || samples > MAX_SAMPLES {
         return Ok(());
     }
-    let next = AtomicUsize::new(0);
-    let failed = AtomicBool::new(false);
-    let mut problems = vec![Some(hb)];
-    problems.resize_with(rayon::current_num_threads().clamp(1, count), || None);
-    let checked = problems
-        .into_par_iter()
-        .map(|problem| {
-            let mut fine = problem
-                .map_or_else(&another, Ok)?
+    let mut fine = problems
+        .into_iter()
+        .map(|hb| {
+            Ok(hb
                 .with_samples(samples)?
-                .with_stability_modes(2 * stability_modes);
-            let mut done = Vec::new();
-            while !failed.load(Ordering::Relaxed) {
-                let k = next.fetch_add(1, Ordering::Relaxed);
-                let Some(bifurcation) = branch.bifurcations.get(k) else {
-                    break;
-                };
-                let check = resolution::check(&mut fine, branch, bifurcation);
-                if check.is_err() {
-                    failed.store(true, Ordering::Relaxed);
-                }
-                done.push((k, check));
-            }
-            Ok(done)
+                .with_stability_modes(2 * stability_modes))
         })
         .collect::<Result<Vec<_>>>()?;
-    // Every bifurcation before a failed one was taken before it, and so was checked.
-    let mut checked: Vec<_> = checked.into_iter().flatten().collect();
-    checked.sort_by_key(|&(k, _)| k);
-    for (k, check) in checked {
-        branch.bifurcations[k].resolution = Some(check?);
+    let checked = on_threads(&mut fine, count, |fine, k| {
+        resolution::check(fine, branch, &branch.bifurcations[k])
+    })?;
+    for (bifurcation, check) in branch.bifurcations.iter_mut().zip(checked) {
+        bifurcation.resolution = Some(check);
     }
     Ok(())
 }
@@ -478,6 +459,22 @@ struct Reporting<'a> {
 }
 
 impl Reporting<'_> {
+    /// `inner` reporting to `progress` over the sweep's range.
+    fn new<'a>(
+        inner: CondensedBalance,
+        progress: Option<&'a Progress>,
+        options: &SweepOptions,
+    ) -> Reporting<'a> {
+        Reporting {
+            inner,
+            progress,
+            from: options.from,
+            to: options.to,
+            furthest: options.from,
+            stopped: false,
+        }
+    }
+
     fn report(&mut self, frequency: f64) {
         if self.progress.is_none() {
             return;
