@@ -16,8 +16,8 @@
 //! R_a = S q_a - g - F_nl,a,   S = D_aa - D_ab D_bb^-1 D_ba,   g = f_a - D_ab D_bb^-1 f_b.
 //! ```
 //!
-//! S and g depend on w only, so they are made once per frequency ([`Condensed`]) together
-//! with their exact w-derivatives, which continuation needs:
+//! S and g depend on w only, so they are made once per frequency ([`Condensed`]), and their
+//! exact w-derivatives, which continuation needs, from the same factorisation when asked for:
 //! dX = D_bb^-1 (dD_ba - dD_bb X) with X = D_bb^-1 D_ba gives dS = dD_aa - dD_ab X - D_ab dX,
 //! and likewise for g. The nonlinear forces are evaluated by the same AFT as the full
 //! problem, on a problem holding only the a coordinates.
