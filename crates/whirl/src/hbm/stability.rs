@@ -25,7 +25,7 @@ use faer::diag::Diag;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::evd;
 use faer::linalg::matmul::matmul;
-use faer::{Accum, Mat, MatRef, Par, Spec};
+use faer::{Accum, Mat, Par, Spec};
 
 use super::balance::SampledTangents;
 use crate::error::{Error, Result};
@@ -141,6 +141,8 @@ impl FloquetModel {
         };
         let h = std::f64::consts::TAU / frequency / samples as f64;
         let states = 2 * n;
+        // Column-major, as the exponential reads them: its norm and scaling run along
+        // contiguous columns.
         let mut generators = vec![0.0; samples * states * states];
         for ((g, k), d) in generators
             .chunks_exact_mut(states * states)
@@ -148,10 +150,10 @@ impl FloquetModel {
             .zip(&damping)
         {
             for i in 0..n {
-                g[i * states + n + i] = h * scale;
+                g[(n + i) * states + i] = h * scale;
                 for col in 0..n {
-                    g[(n + i) * states + col] = -h * k[i * n + col] / scale;
-                    g[(n + i) * states + n + col] = -h * d[i * n + col];
+                    g[col * states + n + i] = -h * k[i * n + col] / scale;
+                    g[(n + col) * states + n + i] = -h * d[i * n + col];
                 }
             }
         }
@@ -167,7 +169,7 @@ impl FloquetModel {
 /// them needs the harmonic balance (and its work buffers), solving does not, so the solves
 /// of a branch's points can run on another thread while the path goes on.
 pub struct FloquetProblem {
-    /// h A(t_j) of every interval, row-major, one states x states block after another.
+    /// h A(t_j) of every interval, column-major, one states x states block after another.
     generators: Vec<f64>,
     /// Size of the state, twice the coordinates.
     states: usize,
@@ -195,9 +197,7 @@ impl FloquetProblem {
         let mut monodromy = Mat::<f64>::identity(s, s);
         let mut next = Mat::<f64>::zeros(s, s);
         for generator in self.generators.chunks_exact(s * s) {
-            let step = exponential
-                .of(MatRef::from_row_major_slice(generator, s, s))
-                .ok_or_else(failed)?;
+            let step = exponential.of(generator).ok_or_else(failed)?;
             matmul(
                 next.as_mut(),
                 Accum::Replace,

@@ -132,9 +132,10 @@ impl Exponential {
         }
     }
 
-    /// exp(a), a view into the work buffers valid until the next call; `None` when `a` is not
-    /// finite (the Padé denominator, regular for every finite scaled argument, then is not).
-    pub(crate) fn of(&mut self, a: MatRef<'_, f64>) -> Option<MatRef<'_, f64>> {
+    /// exp(a) of the column-major n x n matrix `a`, a view into the work buffers valid until
+    /// the next call; `None` when `a` is not finite (the Padé denominator, regular for every
+    /// finite scaled argument, then is not).
+    pub(crate) fn of(&mut self, a: &[f64]) -> Option<MatRef<'_, f64>> {
         vectorised(|| self.pade_scaled(a))?;
         Some(MatRef::from_column_major_slice(
             &self.result,
@@ -144,11 +145,13 @@ impl Exponential {
     }
 
     #[inline(always)]
-    fn pade_scaled(&mut self, a: MatRef<'_, f64>) -> Option<()> {
+    fn pade_scaled(&mut self, a: &[f64]) -> Option<()> {
         let n = self.n;
-        debug_assert_eq!((a.nrows(), a.ncols()), (n, n));
-        let norm = (0..n)
-            .map(|j| (0..n).map(|i| a[(i, j)].abs()).sum::<f64>())
+        debug_assert_eq!(a.len(), n * n);
+        // Column sums along contiguous memory: the norm and the scaled copy below vectorise.
+        let norm = a
+            .chunks_exact(n)
+            .map(|column| column.iter().map(|v| v.abs()).sum::<f64>())
             .fold(0.0, f64::max);
         if !norm.is_finite() {
             return None;
@@ -156,10 +159,8 @@ impl Exponential {
         let (b, halvings) = approximant(norm);
         // Exact powers of two, so the scaling itself rounds nothing.
         let scale = 2f64.powi(-halvings);
-        for j in 0..n {
-            for i in 0..n {
-                self.scaled[j * n + i] = a[(i, j)] * scale;
-            }
+        for (s, v) in self.scaled.iter_mut().zip(a) {
+            *s = v * scale;
         }
         let degree = b.len() - 1;
         // The even powers up to A^(m - 1), A^6 at most for degree 13.
@@ -253,8 +254,16 @@ impl Exponential {
 /// out = sum c_k X_k + identity I, elementwise over column-major n x n matrices.
 #[inline(always)]
 fn combine(out: &mut [f64], n: usize, terms: &[(f64, &[f64])], identity: f64) {
-    out.fill(0.0);
-    for &(c, x) in terms {
+    // The first term is assigned, not added to a cleared buffer (clearing was 2.6 % of a
+    // sweep's samples, in memset).
+    let [(c, x), rest @ ..] = terms else {
+        out.fill(0.0);
+        return;
+    };
+    for (o, v) in out.iter_mut().zip(*x) {
+        *o = c * v;
+    }
+    for &(c, x) in rest {
         for (o, v) in out.iter_mut().zip(x) {
             *o += c * v;
         }
@@ -285,8 +294,13 @@ mod tests {
 
     /// exp(a) of the n x n row-major matrix `a`, row-major.
     fn exponential(a: &[f64], n: usize) -> Option<Vec<f64>> {
-        let mut work = Exponential::new(n);
-        let e = work.of(MatRef::from_row_major_slice(a, n, n))?;
+        exponential_with(&mut Exponential::new(n), a, n)
+    }
+
+    /// The same with the work buffers `work`.
+    fn exponential_with(work: &mut Exponential, a: &[f64], n: usize) -> Option<Vec<f64>> {
+        let column_major: Vec<f64> = (0..n * n).map(|k| a[(k % n) * n + k / n]).collect();
+        let e = work.of(&column_major)?;
         Some((0..n * n).map(|k| e[(k / n, k % n)]).collect())
     }
 
@@ -424,9 +438,7 @@ mod tests {
         ];
         let mut work = Exponential::new(2);
         for a in &matrices {
-            let reused: Option<Vec<f64>> = work
-                .of(MatRef::from_row_major_slice(a, 2, 2))
-                .map(|e| (0..4).map(|k| e[(k / 2, k % 2)]).collect());
+            let reused = exponential_with(&mut work, a, 2);
             assert_eq!(reused, exponential(a, 2), "{a:?}");
         }
     }
