@@ -359,7 +359,7 @@ struct Search {
 /// them (`turns` false), so that the speed is a parameter of the branch. Only where both
 /// fail is the crossing interpolated linearly between those two points (`located`
 /// false); it then depends on where they fall. A failed arclength trial costs a plain and
-/// a line-search corrector run (on the reference rotor about 45 condensations, against one
+/// a line-search corrector run (on the reference rotor about 65 condensations, against one
 /// for a trial at fixed speed), and the search at fixed speed tries the bracket's middle
 /// itself, so the arclength search tries it only where no search at fixed speed follows.
 fn crossing(
