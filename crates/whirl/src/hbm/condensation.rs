@@ -772,8 +772,7 @@ impl Condenser<'_> {
         let copies = f.len() / self.plain.n;
         let (a, b) = self.partition(copies);
         let band = self.rest_band(copies);
-        let d_bb = self.rest_entries(block, copies, band);
-        let width = 2 * band + 1;
+        let d_bb = self.rest_pairs(block, copies);
         let singular = || {
             Error::singular(
                 "condensed linear part",
@@ -783,8 +782,8 @@ impl Condenser<'_> {
                 ),
             )
         };
-        let lu = BandedLu::new(b.len(), band, band, |i, k| d_bb[i * width + k + band - i].0)
-            .ok_or_else(singular)?;
+        let lu =
+            BandedLu::new(b.len(), band, band, |i, k| d_bb.entry(i, k).0).ok_or_else(singular)?;
         // [X | z] = D_bb^-1 [D_ba | f_b], row by row (one column per kept coordinate, then z).
         let (nb, cols) = (b.len(), a.len() + 1);
         let d_ba = self.entries(block, copies, Part::Rest, Part::Kept);
@@ -827,8 +826,7 @@ impl Condenser<'_> {
         let copies = df.len() / self.plain.n;
         let (a, b) = self.partition(copies);
         let band = self.rest_band(copies);
-        let d_bb = self.rest_entries(block, copies, band);
-        let width = 2 * band + 1;
+        let d_bb = self.rest_pairs(block, copies);
         let (nb, cols) = (b.len(), a.len() + 1);
         let particular = Mat::from_fn(nb, 1, |i, _| values.particular[i]);
         // [X | z] row by row.
@@ -850,7 +848,7 @@ impl Condenser<'_> {
             }
             row[a.len()] = df[b[i]];
             for k in i.saturating_sub(band)..(i + band + 1).min(nb) {
-                let c = d_bb[i * width + k + band - i].1;
+                let c = d_bb.entry(i, k).1;
                 if c != 0.0 {
                     for (r, y) in row.iter_mut().zip(&solution[k * cols..(k + 1) * cols]) {
                         *r -= c * y;
@@ -879,31 +877,23 @@ impl Condenser<'_> {
         copies * (self.rest_bandwidth + 1) - 1
     }
 
-    /// D_bb and dD_bb/dw of a block of `copies` copies within the half-bandwidth `band`,
-    /// row i at offsets k - i + band; each pair of coordinates is formed once for all its
-    /// copies.
-    fn rest_entries(
-        &self,
-        block: &HarmonicBlock<'_>,
-        copies: usize,
-        band: usize,
-    ) -> Vec<(f64, f64)> {
-        let (count, width) = (self.rest.len(), 2 * band + 1);
-        let mut d_bb = vec![(0.0, 0.0); copies * count * width];
-        // Rows within the band belong to coordinates at most this far apart.
-        let reach = band / copies + 1;
+    /// The entries of D_bb and dD_bb/dw in a block of `copies` copies, formed once per
+    /// pair of condensed coordinates within the matrices' band.
+    fn rest_pairs(&self, block: &HarmonicBlock<'_>, copies: usize) -> RestPairs {
+        let (count, reach) = (self.rest.len(), self.rest_bandwidth);
+        let span = 2 * reach + 1;
+        let mut pairs = vec![PairEntries::ZERO; count * span];
         for (ic, &row) in self.rest.iter().enumerate() {
             for kc in ic.saturating_sub(reach)..(ic + reach + 1).min(count) {
-                let pair = block.pair(row, self.rest[kc]);
-                for (ci, ck) in (0..copies).flat_map(|ci| (0..copies).map(move |ck| (ci, ck))) {
-                    let (i, k) = (copies * ic + ci, copies * kc + ck);
-                    if i.abs_diff(k) <= band {
-                        d_bb[i * width + k + band - i] = pair.at(ci, ck);
-                    }
-                }
+                pairs[ic * span + kc + reach - ic] = block.pair(row, self.rest[kc]);
             }
         }
-        d_bb
+        RestPairs {
+            pairs,
+            // One or two copies: a shift and a mask instead of divisions in the inner loops.
+            shift: copies.trailing_zeros(),
+            reach,
+        }
     }
 
     /// The entries of a block of `copies` copies, and their w-derivatives, on the rows of
@@ -1022,6 +1012,29 @@ impl HarmonicBlock<'_> {
     }
 }
 
+/// D_bb's entries by pairs of condensed coordinates: pair (ic, kc) at
+/// `ic * (2 reach + 1) + kc + reach - ic` for |ic - kc| <= reach, the half-bandwidth of the
+/// matrices among them (coordinates further apart are not coupled).
+struct RestPairs {
+    pairs: Vec<PairEntries>,
+    /// log2 of the copies (1 or 2).
+    shift: u32,
+    reach: usize,
+}
+
+impl RestPairs {
+    /// Entry (i, k) of D_bb and of its w-derivative, rows and columns interleaving the
+    /// copies of each coordinate; zero outside the band.
+    fn entry(&self, i: usize, k: usize) -> (f64, f64) {
+        let (ic, kc) = (i >> self.shift, k >> self.shift);
+        if ic.abs_diff(kc) > self.reach {
+            return (0.0, 0.0);
+        }
+        let copy = (1 << self.shift) - 1;
+        self.pairs[ic * (2 * self.reach + 1) + kc + self.reach - ic].at(i & copy, k & copy)
+    }
+}
+
 /// Entry (value, w-derivative) of D_r for one pair of coordinates: Z_r on the copies'
 /// diagonal, r w D from sin to cos and -r w D from cos to sin.
 #[derive(Clone, Copy)]
@@ -1031,6 +1044,11 @@ struct PairEntries {
 }
 
 impl PairEntries {
+    const ZERO: PairEntries = PairEntries {
+        diagonal: (0.0, 0.0),
+        coupling: (0.0, 0.0),
+    };
+
     /// The entry in the row of copy `row` and the column of copy `col` (0 cos, 1 sin).
     fn at(self, row: usize, col: usize) -> (f64, f64) {
         match (row, col) {

@@ -20,6 +20,8 @@ pub(crate) struct BandedLu {
     /// Row i holds columns i - lower ..= i + upper at offsets 0 ..= lower + upper.
     rows: Vec<f64>,
     pivots: Vec<usize>,
+    /// The last column of row i of U that can be nonzero (at most i + upper).
+    extents: Vec<usize>,
 }
 
 impl BandedLu {
@@ -40,12 +42,19 @@ impl BandedLu {
             upper: upper_fill,
             rows: vec![0.0; n * width],
             pivots: vec![0; n],
+            extents: vec![0; n],
         };
-        for i in 0..n {
-            for j in i.saturating_sub(lower)..=(i + upper).min(n.saturating_sub(1)) {
-                *lu.at(i, j) = entry(i, j);
+        for (i, row) in lu.rows.chunks_exact_mut(width).enumerate() {
+            let first = i.saturating_sub(lower);
+            let last = (i + upper).min(n.saturating_sub(1));
+            for (j, slot) in (first..=last).zip(&mut row[first + lower - i..]) {
+                *slot = entry(i, j);
             }
         }
+        // The rightmost column that row interchanges have filled so far (LAPACK's `ju`):
+        // the rows still to be eliminated are zero to its right, so the interchanges and
+        // the updates stop there. Skipping those zeros changes no bit of the result.
+        let mut filled = 0;
         for k in 0..n {
             let last_row = (k + lower).min(n - 1);
             let pivot = (k..=last_row)
@@ -56,25 +65,25 @@ impl BandedLu {
                 return None;
             }
             lu.pivots[k] = pivot;
-            let last_col = (k + upper_fill).min(n - 1);
+            filled = filled.max((pivot + upper).min(n - 1));
+            let last_col = filled;
+            lu.extents[k] = last_col;
             if pivot != k {
-                for j in k..=last_col {
-                    let (a, b) = (lu.get(k, j), lu.get(pivot, j));
-                    *lu.at(k, j) = b;
-                    *lu.at(pivot, j) = a;
-                }
+                let (above, below) = lu.rows.split_at_mut(pivot * width);
+                let row_k = &mut above[k * width + lower..k * width + lower + last_col - k + 1];
+                let from = k + lower - pivot;
+                row_k.swap_with_slice(&mut below[from..from + last_col - k + 1]);
             }
-            let width = lu.lower + lu.upper + 1;
             for i in k + 1..=last_row {
-                let l = lu.get(i, k) / value;
-                *lu.at(i, k) = l;
+                let at = i * width + k + lower - i;
+                let l = lu.rows[at] / value;
+                lu.rows[at] = l;
                 if l != 0.0 {
                     // Columns k + 1 ..= last_col of rows k and i are contiguous in storage.
-                    let from_k = lu.index(k, k + 1);
-                    let from_i = k + 1 + lu.lower - i;
+                    let from_k = k * width + lower + 1;
                     let (pivot_row, below) = lu.rows.split_at_mut(i * width);
                     let u = &pivot_row[from_k..from_k + last_col - k];
-                    let row = &mut below[from_i..from_i + last_col - k];
+                    let row = &mut below[at - i * width + 1..at - i * width + 1 + last_col - k];
                     for (a, b) in row.iter_mut().zip(u) {
                         *a -= l * b;
                     }
@@ -92,11 +101,6 @@ impl BandedLu {
         self.rows[self.index(i, j)]
     }
 
-    fn at(&mut self, i: usize, j: usize) -> &mut f64 {
-        let index = self.index(i, j);
-        &mut self.rows[index]
-    }
-
     /// Solves A x = b in place for one right-hand side: [`Self::solve_rows`] with k = 1,
     /// with the back substitution as dot products over the contiguous rows of U.
     pub(crate) fn solve(&self, b: &mut [f64]) {
@@ -112,7 +116,7 @@ impl BandedLu {
             }
         }
         for i in (0..n).rev() {
-            let last = (i + self.upper).min(n - 1);
+            let last = self.extents[i];
             let row = &self.rows[i * width + lower..i * width + lower + last - i + 1];
             let above: f64 = row[1..]
                 .iter()
@@ -126,20 +130,19 @@ impl BandedLu {
     /// Solves A X = B in place for `k` right-hand sides stored row by row (row i of B at
     /// `i * k .. (i + 1) * k`), so every elimination step updates contiguous rows.
     pub(crate) fn solve_rows(&self, b: &mut [f64], k: usize) {
-        let n = self.n;
+        let (n, lower) = (self.n, self.lower);
+        let width = lower + self.upper + 1;
         for s in 0..n {
             let p = self.pivots[s];
             if p != s {
-                for j in 0..k {
-                    b.swap(s * k + j, p * k + j);
-                }
+                let (head, tail) = b.split_at_mut(p * k);
+                head[s * k..(s + 1) * k].swap_with_slice(&mut tail[..k]);
             }
             let (head, tail) = b.split_at_mut((s + 1) * k);
             let pivot_row = &head[s * k..];
-            for i in s + 1..=(s + self.lower).min(n - 1) {
-                let l = self.get(i, s);
+            for (i, row) in (s + 1..=(s + lower).min(n - 1)).zip(tail.chunks_exact_mut(k)) {
+                let l = self.rows[i * width + s + lower - i];
                 if l != 0.0 {
-                    let row = &mut tail[(i - s - 1) * k..(i - s) * k];
                     for (r, q) in row.iter_mut().zip(pivot_row) {
                         *r -= l * q;
                     }
@@ -147,18 +150,19 @@ impl BandedLu {
             }
         }
         for i in (0..n).rev() {
-            let last = (i + self.upper).min(n - 1);
+            let last = self.extents[i];
+            // Row i of U from its diagonal on.
+            let u = &self.rows[i * width + lower..i * width + lower + last - i + 1];
             let (head, tail) = b.split_at_mut((i + 1) * k);
             let row = &mut head[i * k..];
-            for j in i + 1..=last {
-                let u = self.get(i, j);
+            for (&u, solved) in u[1..].iter().zip(tail.chunks_exact(k)) {
                 if u != 0.0 {
-                    for (r, q) in row.iter_mut().zip(&tail[(j - i - 1) * k..(j - i) * k]) {
+                    for (r, q) in row.iter_mut().zip(solved) {
                         *r -= u * q;
                     }
                 }
             }
-            let d = self.get(i, i);
+            let d = u[0];
             row.iter_mut().for_each(|r| *r /= d);
         }
     }
