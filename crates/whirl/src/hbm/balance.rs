@@ -87,6 +87,9 @@ pub struct HarmonicBalance {
     /// Tangent samples per pair of nonlinear coordinates, (a * m + c) rows of N.
     jq_t: Vec<f64>,
     jv_t: Vec<f64>,
+    /// The orbit and frequency `jq_t` and `jv_t` were sampled at: a path point's tangent
+    /// and then its Floquet problem ask for the same samples.
+    tangents_at: Option<(Vec<f64>, f64)>,
     /// Each force's arguments, values and tangents over one period.
     per_force: Vec<ForceSamples>,
     /// Coefficients of one coordinate, and a Galerkin block.
@@ -134,6 +137,7 @@ impl HarmonicBalance {
             f_t: vec![0.0; m * n_t],
             jq_t: vec![0.0; m * m * n_t],
             jv_t: vec![0.0; m * m * n_t],
+            tangents_at: None,
             per_force,
             slots_buf: vec![0.0; slots],
             block: vec![0.0; slots * slots],
@@ -461,6 +465,14 @@ impl HarmonicBalance {
 
     /// Fills `jq_t` and `jv_t` with the tangents of the nonlinear forces at the AFT samples.
     fn sample_tangents(&mut self, x: &[f64], frequency: f64) {
+        if self
+            .tangents_at
+            .as_ref()
+            .is_some_and(|(at, w)| same_bits(&[*w], &[frequency]) && same_bits(at, x))
+        {
+            return;
+        }
+        self.tangents_at = Some((x.to_vec(), frequency));
         self.jq_t.fill(0.0);
         self.jv_t.fill(0.0);
         if self.nl_dofs.is_empty() {
@@ -755,6 +767,11 @@ pub(crate) fn line_search(
         }
     }
     (best.0, best.1)
+}
+
+/// Whether `a` and `b` hold the same values to the bit.
+fn same_bits(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
 }
 
 #[cfg(test)]

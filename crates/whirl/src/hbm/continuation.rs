@@ -562,7 +562,7 @@ fn trace<H: Periodic>(
             )));
         }
         let y0 = scaling.scaled(last);
-        let attempt = correct(hb, &y0, &tangent, step, &scaling)
+        let attempt = correct_on_path(hb, &y0, &tangent, step, &scaling, options)
             .and_then(|s| Ok((unit_tangent(hb, &s, &scaling, &tangent)?, s)));
         let turn = attempt
             .as_ref()
@@ -1011,6 +1011,28 @@ pub(super) fn correct(
 ) -> Result<HbSolution> {
     newton_on_arclength(hb, y0, t0, step, scaling, FULL_STEPS)
         .or_else(|_| newton_on_arclength(hb, y0, t0, step, scaling, LINE_SEARCH_HALVINGS))
+}
+
+/// The path's corrector: plain Newton while the step can still be halved, and [`correct`]
+/// (plain, then with a line search) only at the smallest step, before the path steps over
+/// or jumps. A line search costs a condensation per trial length, and on the path a
+/// halved step from a nearer predictor does what it would: on the reference rotor at
+/// 20 um all 16 line-search runs that followed failed plain runs failed too, at 1,016 of
+/// the path's 3,457 condensations; without them the path is the same to the bit at 20 um
+/// and follows the same branches at 60 and 120 um (BENCHMARKS.md, issue 12, session 15).
+fn correct_on_path(
+    hb: &mut impl Periodic,
+    y0: &[f64],
+    t0: &[f64],
+    step: f64,
+    scaling: &Scaling,
+    options: &ContinuationOptions,
+) -> Result<HbSolution> {
+    if step / 2.0 < options.min_step {
+        correct(hb, y0, t0, step, scaling)
+    } else {
+        newton_on_arclength(hb, y0, t0, step, scaling, FULL_STEPS)
+    }
 }
 
 /// Newton on the residual and the arclength equation from y_0 + h t_0, each step
