@@ -18,6 +18,9 @@
 //! exponential midpoint rule. It is exact when A is constant (a linear system, or a force
 //! whose tangents do not vary), of second order in h otherwise, and stable for every h: the
 //! stiff, heavily damped modes of a contact stay decaying, however coarse the samples.
+//! Each exp(h A(t_j)) is a Taylor polynomial with scaling and squaring (`linalg::Exponential`,
+//! whose documentation gives the method and its sources), its powers formed by blocks of
+//! the first-order form.
 //! Multipliers below the round-off of Phi (about 1e-16 |Phi|: modes damped out within a
 //! period) carry exponents that are only bounds, far from deciding stability.
 
@@ -160,6 +163,7 @@ impl FloquetModel {
         FloquetProblem {
             generators,
             states,
+            coupling: h * scale,
             frequency,
         }
     }
@@ -173,6 +177,8 @@ pub struct FloquetProblem {
     generators: Vec<f64>,
     /// Size of the state, twice the coordinates.
     states: usize,
+    /// The upper right block of every h A(t_j), h s times the identity.
+    coupling: f64,
     frequency: f64,
 }
 
@@ -183,7 +189,7 @@ impl FloquetProblem {
     /// [`Error::NotConverged`] when an exponential or the eigen-solver fails (a tangent
     /// that is not finite).
     pub fn solve(self) -> Result<Stability> {
-        let (s, frequency) = (self.states, self.frequency);
+        let (s, frequency, coupling) = (self.states, self.frequency, self.coupling);
         let failed = || {
             Error::not_converged(
                 "monodromy matrix",
@@ -197,7 +203,9 @@ impl FloquetProblem {
         let mut monodromy = Mat::<f64>::identity(s, s);
         let mut next = Mat::<f64>::zeros(s, s);
         for generator in self.generators.chunks_exact(s * s) {
-            let step = exponential.of(generator).ok_or_else(failed)?;
+            let step = exponential
+                .of_state(generator, coupling)
+                .ok_or_else(failed)?;
             matmul(
                 next.as_mut(),
                 Accum::Replace,
