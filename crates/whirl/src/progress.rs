@@ -8,7 +8,7 @@
 //! A display paces itself: a simulation reports at most a thousand times, a sweep at every
 //! solve, a cascade after every speed, the linear analyses (Campbell diagram, unbalance
 //! response, FRF, critical-speed map, mesh convergence) after every speed, frequency,
-//! stiffness or mesh ([`map_told`]).
+//! stiffness or mesh (`map_told`).
 
 use std::fmt;
 use std::ops::ControlFlow;

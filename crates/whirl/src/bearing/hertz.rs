@@ -68,7 +68,7 @@ impl HertzBearing {
     /// The law with bounded curvature at contact entry, for harmonic balance: below the
     /// approach `scale` (m) the elastic force K delta^n is replaced by the quintic that
     /// starts at zero with zero slope and curvature and meets K delta^n with its slope and
-    /// curvature at `scale` ([`blend`]), and the damping is faded in by the C2 step
+    /// curvature at `scale` (`blend`), and the damping is faded in by the C2 step
     /// 10 t^3 - 15 t^4 + 6 t^5 of t = delta / scale. At and above `scale` the law is the
     /// exact one. Hertz's curvature n (n - 1) K delta^(n - 2) grows without bound as the
     /// contact opens (delta^(-8/9) for a line contact) and the damping force jumps by

@@ -179,7 +179,7 @@ impl HarmonicBalance {
     /// Harmonic balance at frequency w (rad/s) by Newton-Raphson from `guess`: plain
     /// Newton, then, should it fail, Newton with a line search (`line_search`), which
     /// converges where full steps cycle between contact states; either stops early once it
-    /// shows it cannot converge ([`GiveUp`]).
+    /// shows it cannot converge (`GiveUp`).
     ///
     /// # Errors
     /// [`Error::NotConverged`] when Newton does not converge within `max_iterations`: an

@@ -664,7 +664,7 @@ impl CondensedBalance {
     }
 
     /// The full Fourier coefficients x[slot * n + dof] of a condensed solution: kept from
-    /// the path ([`Self::keep_recovered`]), else from the condensation of its solve when
+    /// the path (`keep_recovered`), else from the condensation of its solve when
     /// that was the last, else from a new one.
     ///
     /// # Errors

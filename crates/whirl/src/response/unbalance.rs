@@ -130,7 +130,7 @@ pub fn unbalance_response(
 /// Unbalance response at `nodes` over `speeds` (rad/s) and, added to them, speeds around
 /// every peak of a node's major semi-axis (where it exceeds a quarter of the peak) until
 /// the peak's half-power band holds [`BAND_SAMPLES`] steps, over at most
-/// [`REFINE_PASSES`] passes; a local maximum within the curve's round-off is no peak. The
+/// `REFINE_PASSES` (16) passes; a local maximum within the curve's round-off is no peak. The
 /// result's speeds are sorted ascending without duplicates.
 /// `progress` is told after every speed; its total grows with each pass of refinement.
 ///
