@@ -118,7 +118,7 @@ fn the_solution_at_330_hz_does_not_depend_on_the_end_of_the_range() {
 /// Shorter ranges do not show it (30-70 Hz and 120-220 Hz end on the same orbit with and
 /// without the change, before the fix too).
 #[test]
-#[ignore = "minutes: two 1-750 Hz sweeps of 1222 and 1673 points (about 2.3 min of CPU); \
+#[ignore = "a minute: two 1-750 Hz sweeps of 1707 and 1283 points (about 40 s of CPU); \
             run with --ignored"]
 fn a_round_off_change_of_the_disk_mass_leaves_the_60_um_branch_where_it_was() {
     let model = reference("60 um");
