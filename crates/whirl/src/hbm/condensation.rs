@@ -85,6 +85,18 @@ struct Block {
     /// D_bb factorised, for the w-derivatives ([`Condenser::differentiate`]) and for
     /// residuals at nearby frequencies ([`CondensedBalance::refine`]).
     lu: BandedLu,
+    /// What the w-derivatives read besides: the entries (with their derivatives) as
+    /// formed for the values, and [X | z] row by row.
+    entries: BlockEntries,
+    solution: Vec<f64>,
+}
+
+/// The entries of a block and their w-derivatives, by part.
+struct BlockEntries {
+    rest_rest: RestPairs,
+    rest_kept: Vec<(f64, f64)>,
+    kept_rest: Vec<(f64, f64)>,
+    kept_kept: Vec<(f64, f64)>,
 }
 
 /// The w-derivatives of one block.
@@ -327,10 +339,7 @@ impl CondensedBalance {
                 .blocks
                 .par_iter()
                 .zip(forces)
-                .enumerate()
-                .map(|(r, (block, df))| {
-                    condenser.differentiate(&condenser.harmonic(r, frequency), block, &df)
-                })
+                .map(|(block, df)| condenser.differentiate(block, &df))
                 .collect()
         })
     }
@@ -811,36 +820,28 @@ impl Condenser<'_> {
             particular: column(particular),
             coupling,
             lu,
+            entries: BlockEntries {
+                rest_rest: d_bb,
+                rest_kept: d_ba,
+                kept_rest: d_ab,
+                kept_kept: d_aa,
+            },
+            solution,
         })
     }
 
     /// The w-derivatives of a block condensed by [`Self::condense_block`], df/dw its
     /// force's: [dX | dz] = D_bb^-1 ([dD_ba | df_b] - dD_bb [X | z]) with the same
     /// factorisation, then dS = dD_aa - dD_ab X - D_ab dX and dg = df_a - dD_ab z - D_ab dz.
-    fn differentiate(
-        &self,
-        block: &HarmonicBlock<'_>,
-        values: &Block,
-        df: &[f64],
-    ) -> BlockDerivative {
+    fn differentiate(&self, values: &Block, df: &[f64]) -> BlockDerivative {
         let copies = df.len() / self.plain.n;
         let (a, b) = self.partition(copies);
         let band = self.rest_band(copies);
-        let d_bb = self.rest_pairs(block, copies);
+        let entries = &values.entries;
+        let (d_bb, d_ba) = (&entries.rest_rest, &entries.rest_kept);
         let (nb, cols) = (b.len(), a.len() + 1);
         let particular = Mat::from_fn(nb, 1, |i, _| values.particular[i]);
-        // [X | z] row by row.
-        let solution: Vec<f64> = (0..nb)
-            .flat_map(|i| (0..cols).map(move |j| (i, j)))
-            .map(|(i, j)| {
-                if j < a.len() {
-                    values.transfer[(i, j)]
-                } else {
-                    particular[(i, 0)]
-                }
-            })
-            .collect();
-        let d_ba = self.entries(block, copies, Part::Rest, Part::Kept);
+        let solution = &values.solution;
         let mut derivative_solution = vec![0.0; nb * cols];
         for (i, row) in derivative_solution.chunks_mut(cols).enumerate() {
             for (j, r) in row.iter_mut().take(a.len()).enumerate() {
@@ -858,10 +859,8 @@ impl Condenser<'_> {
         }
         values.lu.solve_rows(&mut derivative_solution, cols);
         let (d_transfer, d_particular) = split(&derivative_solution, nb, a.len());
-        let d_ab = self.entries(block, copies, Part::Kept, Part::Rest);
-        let d_aa = self.entries(block, copies, Part::Kept, Part::Kept);
-        let d_coupling = matrix(&d_ab, a.len(), |e| e.1);
-        let schur = matrix(&d_aa, a.len(), |e| e.1)
+        let d_coupling = matrix(&entries.kept_rest, a.len(), |e| e.1);
+        let schur = matrix(&entries.kept_kept, a.len(), |e| e.1)
             - &d_coupling * &values.transfer
             - &values.coupling * &d_transfer;
         let force = pick(df, &a) - &d_coupling * &particular - &values.coupling * &d_particular;
