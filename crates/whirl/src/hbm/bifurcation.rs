@@ -152,7 +152,10 @@ enum Stretch {
     Window(usize),
 }
 
-/// The change of stability between points `i` and `i + 1` (of different verdicts).
+/// The change of stability between points `i` and `i + 1` (of different verdicts). A +1
+/// crossing where the branch turns between them is the fold, whether or not the fold
+/// locator placed the turn on the branch (where it fell back to the Hermite estimate the
+/// crossing used to be named symmetry breaking: 5 changes at 60 and 120 um).
 fn change_after(
     hb: &mut impl Periodic,
     points: &[BranchPoint],
@@ -164,6 +167,7 @@ fn change_after(
         return Ok(Vec::new());
     };
     let fold = folds.iter().find(|f| f.after == i && f.refined);
+    let turns = folds.iter().any(|f| f.after == i);
     let crossing = match fold {
         // The exponent crosses zero as the square root of the distance at a fold,
         // which regula falsi converges to slowly: the fold is already on the branch.
@@ -172,12 +176,9 @@ fn change_after(
             located: true,
             nearest: if a.stable { b.clone() } else { a.clone() },
         },
-        None => {
-            let turns = folds.iter().any(|f| f.after == i);
-            crossing(hb, (p, a), (q, b), turns)?
-        }
+        None => crossing(hb, (p, a), (q, b), turns)?,
     };
-    Ok(vec![classify(crossing, i, a.stable, fold.is_some())])
+    Ok(vec![classify(crossing, i, a.stable, turns)])
 }
 
 /// The window of the other verdict round point `i`, if [`probe`] finds one: its two
