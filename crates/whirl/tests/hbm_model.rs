@@ -209,6 +209,39 @@ fn a_sweep_that_starts_high_starts_on_the_branch_from_standstill() {
     assert!((a - b).abs() < 1e-6 * b, "{a:e} vs {b:e}");
 }
 
+/// With 120 um the branch turns at 436.9 Hz and loses stability there by a real multiplier
+/// through +1: the fold. The fold locator places this turn by its Hermite estimate
+/// (436.890 Hz against the crossing's 436.877 Hz), not on the branch, and the crossing was
+/// then named symmetry breaking, a multiplier at +1 where the branch does not turn.
+#[test]
+fn a_loss_where_the_branch_turns_is_a_fold_also_at_an_estimated_turn() {
+    let result = sweep(
+        &reference("120 um"),
+        &SweepOptions::new(TAU * 425.0, TAU * 450.0, 5),
+    )
+    .unwrap();
+    let branch = &result.branch;
+    let loss = branch
+        .bifurcations
+        .iter()
+        .find(|b| b.loses_stability)
+        .expect("the branch loses stability at its turn");
+    let turn = branch
+        .folds
+        .iter()
+        .find(|f| f.after == loss.after)
+        .expect("the branch turns where it loses stability");
+    // The crossing and the turn are one point: 1e-3 allows the Hermite estimate's error
+    // (3e-5 measured); the next change of the branch is tens of Hz away.
+    assert!(
+        (turn.frequency - loss.frequency).abs() < 1e-3 * loss.frequency,
+        "{} vs {} rad/s",
+        turn.frequency,
+        loss.frequency
+    );
+    assert_eq!(loss.kind, whirl::hbm::BifurcationKind::Fold, "{loss:?}");
+}
+
 /// The monodromy matrix is integrated over the AFT samples of the orbit (the exponential
 /// midpoint rule): its verdict must not depend on their number. The same orbits of the
 /// reference rotor's branch through the first resonance (20 um, H = 5, solved with the
