@@ -231,7 +231,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     out.table_named(&tables, "branch")?;
     out.table_named(&tables, "bifurcations")?;
     let common = &args.common;
-    let figure = harmonics_plot(result, node, &report.comparisons);
+    let figure = harmonics_plot(result, node, &report.comparisons, report.options.from);
     out.plot("harmonics", |p| {
         common.speed_axis(figure, SpeedAxis::X).save(p)
     })?;
@@ -329,6 +329,16 @@ fn text_summary(model: &Model, report: &SweepReport) -> String {
             hz(report.options.from)
         );
     }
+    let (lowest, from) = (branch.speed_span().0, report.options.from);
+    if lowest < from {
+        let _ = writeln!(
+            text,
+            "  followed out of the range down to {:.2} Hz: the branch turns back below {:.2} Hz \
+             and comes back into the range (its points below are kept and plotted)",
+            hz(lowest),
+            hz(from)
+        );
+    }
     for (a, b) in &branch.jumps {
         let _ = writeln!(
             text,
@@ -420,7 +430,9 @@ fn stability_runs(result: &Sweep) -> Vec<(bool, Vec<usize>)> {
     runs
 }
 
-fn harmonics_plot(result: &Sweep, node: usize, comparisons: &[Comparison]) -> Figure2d {
+/// The harmonics of `node` along the branch; `from` (rad/s), the start of the range asked
+/// for, is marked where the branch went below it.
+fn harmonics_plot(result: &Sweep, node: usize, comparisons: &[Comparison], from: f64) -> Figure2d {
     let uy = dof(node, Direction::Uy);
     let mut figure = Figure2d::new(
         format!(
@@ -500,6 +512,11 @@ fn harmonics_plot(result: &Sweep, node: usize, comparisons: &[Comparison]) -> Fi
         .filter(|b| b.loses_stability)
         .map(|b| RefLine::new(hz(b.frequency)).label(kind_label(b.kind)))
         .collect();
+    if result.branch.speed_span().0 < from {
+        figure
+            .vertical_lines
+            .push(RefLine::new(hz(from)).label("start of range"));
+    }
     figure
 }
 

@@ -174,11 +174,13 @@ pub struct ContinuationOptions {
     pub stability: bool,
     /// When this many successive points advance by less than 1 % (a chord of 0.01 in
     /// scaled arclength: the path wiggles or crawls on the spot), or
-    /// the path turns back out of the range or walks back over what it followed, it is
+    /// the path walks back over what it followed or turns back out of the range further
+    /// than a quarter of its first speed (a leg that turns back out of the range is
+    /// followed out there, back into it), it is
     /// restarted ahead of the furthest point ([`Branch::jumps`]); where no restart
     /// converges, a path still in the range goes on with the stall and retrace tests off
     /// until it passes its furthest point; 0 never (the path then ends with
-    /// [`BranchEnd::LeftRange`]).
+    /// [`BranchEnd::LeftRange`] as soon as it turns back out of the range).
     pub stall_points: usize,
 }
 
@@ -276,6 +278,19 @@ pub struct Branch {
     pub bifurcations: Vec<Bifurcation>,
     /// Why the branch ended.
     pub end: BranchEnd,
+}
+
+impl Branch {
+    /// The lowest and the highest speed of the points, rad/s: the range followed, wider
+    /// than the sweep's where the branch turned back out of it and came back.
+    pub fn speed_span(&self) -> (f64, f64) {
+        self.points
+            .iter()
+            .map(|p| p.solution.frequency)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), w| {
+                (lo.min(w), hi.max(w))
+            })
+    }
 }
 
 /// Scales of the coefficients and of the frequency in the arclength.
@@ -638,11 +653,18 @@ fn trace<H: Periodic>(
                 }
             }
         }
-        let left = direction * (solution.frequency - from) < 0.0;
-        if left && options.stall_points == 0 {
+        let outside = direction * (solution.frequency - from) < 0.0;
+        if outside && options.stall_points == 0 {
             break BranchEnd::LeftRange;
         }
-        if !left {
+        // A leg that turns back out of the range is followed out there, where it may turn
+        // again and come back: the branch a sweep from further down follows. Restarted
+        // ahead instead, the path skipped what that leg leads to (on the reference rotor
+        // with 120 um, from 425 Hz, the leg below the fold at 436.9 Hz, which returns at
+        // 384 Hz, and all its solutions up to 568 Hz).
+        let beyond =
+            outside && direction * (solution.frequency - from * EXCURSION.powf(direction)) < 0.0;
+        if !beyond {
             step = next_step(step, solution.iterations, options);
             if direction * solution.frequency > furthest {
                 (furthest, furthest_index) = (direction * solution.frequency, points.len());
@@ -652,9 +674,9 @@ fn trace<H: Periodic>(
             travelled.push(travelled[travelled.len() - 1] + chord(&scaling, &points, &solution));
             points.push(branch_point(solution, &tangent, &scaling));
         }
-        // A path that turns back out of the range, wiggles on the spot, or retraces what
-        // it followed is restarted ahead of the furthest point, from it.
-        if left
+        // A path that goes that far out of the range, wiggles on the spot, or retraces
+        // what it followed is restarted ahead of the furthest point, from it.
+        if beyond
             || (armed
                 && (stalled(&points, options.stall_points)
                     || retraced(&points, &travelled, options.stall_points)))
@@ -669,7 +691,7 @@ fn trace<H: Periodic>(
                 &points[0].solution,
             ];
             let Some((t, s)) = jump_ahead(hb, &guesses, ahead, direction, &scaling) else {
-                if !left {
+                if !beyond {
                     // Nothing converges ahead (the furthest point is a fold whose other
                     // leg lies far off), but the path itself can go on, and round an
                     // overhang it comes back past the furthest point on another leg:
@@ -939,6 +961,11 @@ fn climb_on(
     }
     jump_ahead(hb, &[last], (last.frequency, to), direction, scaling)
 }
+
+/// How far out of the range, as a factor of the speed it starts at, the path follows a
+/// leg that turned back out of it ([`trace`]) before it is restarted ahead: the reference
+/// rotor's 120 um branch from 425 Hz goes down to 186 Hz and comes back.
+const EXCURSION: f64 = 0.25;
 
 /// Quick convergence (at most 3 iterations) lengthens the step by half, slow convergence
 /// (more than 6) shortens it: the corrector then works in its quadratic range.

@@ -40,6 +40,10 @@ pub struct SweepSummary {
     pub speed_range_hz: [f64; 2],
     /// Branch points.
     pub points: usize,
+    /// The lowest and the highest speed of the branch points, Hz: wider than
+    /// `speed_range_hz` where the branch turned back out of the range and came back (its
+    /// points out there are kept).
+    pub branch_span_hz: [f64; 2],
     /// Why the branch stopped.
     pub end: String,
     /// The speed (Hz) the branch was followed up from to reach the first speed, where
@@ -308,6 +312,10 @@ impl Report for SweepReport {
             samples_per_period: branch.options.samples,
             speed_range_hz: [hz(options.from), hz(options.to)],
             points: branch.points.len(),
+            branch_span_hz: {
+                let (lo, hi) = branch.speed_span();
+                [hz(lo), hz(hi)]
+            },
             end: branch.end.reason(),
             approached_from_hz: self.sweep.approached_from.map(hz),
             wall_time_s: self.sweep.wall_time_s,
