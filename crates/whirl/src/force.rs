@@ -42,6 +42,22 @@ pub trait NonlinearForce: Send {
         dfdq: &mut [f64],
         dfdv: &mut [f64],
     );
+    /// [`Self::force`] and [`Self::jacobian`] at one state, the same values as the two
+    /// calls: for a caller that needs both (the harmonic balance evaluates its residual
+    /// and then its Jacobian at each Newton iterate). A force whose law is costly
+    /// evaluates it once for both.
+    fn force_and_jacobian(
+        &mut self,
+        at: &Kinematics,
+        q: &[f64],
+        v: &[f64],
+        out: &mut [f64],
+        dfdq: &mut [f64],
+        dfdv: &mut [f64],
+    ) {
+        self.force(at, q, v, out);
+        self.jacobian(at, q, v, dfdq, dfdv);
+    }
     /// The largest tangent stiffness -dF/dq expected during a run (row-major), used for the
     /// explicit stability limit.
     fn stiffness_bound(&self) -> Vec<f64>;

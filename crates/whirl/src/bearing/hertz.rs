@@ -138,51 +138,40 @@ impl HertzBearing {
         )
     }
 
-    /// Adds the force of one slice at cage speed `cage_speed` to `out`: what
-    /// [`NonlinearForce::force`] sums over the slices of [`RollerGeometry::for_each_slice`],
-    /// for callers that keep the slices of fixed roller positions.
-    pub fn add_slice_force(
+    /// Adds what one slice at cage speed `cage_speed` gives: its force to `force`, and its
+    /// tangents to `tangents` (dF/dq and dF/dv, row-major, m x m for the m coordinates),
+    /// each where asked for. What [`NonlinearForce::force`] and
+    /// [`NonlinearForce::jacobian`] sum over the slices of [`RollerGeometry::for_each_slice`],
+    /// for callers that keep the slices of fixed roller positions; the approach and the law
+    /// are evaluated once for both.
+    pub fn add_slice(
         &self,
         slice: &Slice,
         cage_speed: f64,
-        q: &[f64],
-        v: &[f64],
-        out: &mut [f64],
+        (q, v): (&[f64], &[f64]),
+        force: Option<&mut [f64]>,
+        tangents: Option<(&mut [f64], &mut [f64])>,
     ) {
         let (delta, rate) = self.approach(slice, cage_speed, q, v);
-        let (force, _, _) = self.slice_force(delta, rate);
-        if force > 0.0 {
-            let g = slice.direction();
-            for (o, ga) in out.iter_mut().zip(g) {
-                *o -= force * ga;
-            }
-        }
-    }
-
-    /// Adds the tangent of one slice to `dfdq` and `dfdv` (row-major, m x m for the m
-    /// coordinates), as [`Self::add_slice_force`] adds its force.
-    pub fn add_slice_jacobian(
-        &self,
-        slice: &Slice,
-        cage_speed: f64,
-        q: &[f64],
-        v: &[f64],
-        dfdq: &mut [f64],
-        dfdv: &mut [f64],
-    ) {
-        let m = q.len();
-        let (delta, rate) = self.approach(slice, cage_speed, q, v);
-        let (force, k, c) = self.slice_force(delta, rate);
-        if force <= 0.0 {
+        let (value, k, c) = self.slice_force(delta, rate);
+        if value <= 0.0 {
             return;
         }
         let g = slice.direction();
-        let gt = slice.direction_turn();
-        // F = -Q g with dQ/du = k g + c w_c g_theta and dQ/dv = c g.
-        for a in 0..m {
-            for b in 0..m {
-                dfdq[a * m + b] -= g[a] * (k * g[b] + c * cage_speed * gt[b]);
-                dfdv[a * m + b] -= g[a] * c * g[b];
+        if let Some(out) = force {
+            for (o, ga) in out.iter_mut().zip(g) {
+                *o -= value * ga;
+            }
+        }
+        if let Some((dfdq, dfdv)) = tangents {
+            let m = q.len();
+            let gt = slice.direction_turn();
+            // F = -Q g with dQ/du = k g + c w_c g_theta and dQ/dv = c g.
+            for a in 0..m {
+                for b in 0..m {
+                    dfdq[a * m + b] -= g[a] * (k * g[b] + c * cage_speed * gt[b]);
+                    dfdv[a * m + b] -= g[a] * c * g[b];
+                }
             }
         }
     }
@@ -239,7 +228,7 @@ impl NonlinearForce for HertzBearing {
         out.iter_mut().for_each(|f| *f = 0.0);
         let cage_speed = self.geometry.cage_speed(at.speed);
         self.geometry.for_each_slice(at, |slice| {
-            self.add_slice_force(slice, cage_speed, q, v, out);
+            self.add_slice(slice, cage_speed, (q, v), Some(&mut *out), None);
         });
     }
 
@@ -255,7 +244,13 @@ impl NonlinearForce for HertzBearing {
         dfdv.iter_mut().for_each(|x| *x = 0.0);
         let cage_speed = self.geometry.cage_speed(at.speed);
         self.geometry.for_each_slice(at, |slice| {
-            self.add_slice_jacobian(slice, cage_speed, q, v, dfdq, dfdv);
+            self.add_slice(
+                slice,
+                cage_speed,
+                (q, v),
+                None,
+                Some((&mut *dfdq, &mut *dfdv)),
+            );
         });
     }
 

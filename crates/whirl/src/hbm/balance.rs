@@ -418,7 +418,10 @@ impl HarmonicBalance {
         }
     }
 
-    /// F_nl(x, w) by AFT, in the unknowns' layout.
+    /// F_nl(x, w) by AFT, in the unknowns' layout. The tangents at the samples are made in
+    /// the same pass and kept for the orbit ([`Self::sample_tangents`]): Newton asks for the
+    /// Jacobian at each iterate whose residual it has, and the rollers' law is then
+    /// evaluated once for both.
     fn nonlinear_force(&mut self, x: &[f64], frequency: f64) -> Vec<f64> {
         let mut out = vec![0.0; x.len()];
         if self.nl_dofs.is_empty() {
@@ -428,8 +431,14 @@ impl HarmonicBalance {
         let n_t = self.aft.samples();
         self.each_sample(frequency, |force, at, j, work| {
             let k = work.q.len();
-            force.force(at, &work.q, &work.v, &mut work.values[j * k..(j + 1) * k]);
+            let (dq, dv) = (
+                &mut work.dq[j * k * k..(j + 1) * k * k],
+                &mut work.dv[j * k * k..(j + 1) * k * k],
+            );
+            let values = &mut work.values[j * k..(j + 1) * k];
+            force.force_and_jacobian(at, &work.q, &work.v, values, dq, dv);
         });
+        self.gather_tangents(x, frequency);
         // Added sample by sample in the forces' order, as one thread would.
         self.f_t.fill(0.0);
         for j in 0..n_t {
@@ -463,7 +472,8 @@ impl HarmonicBalance {
         }
     }
 
-    /// Fills `jq_t` and `jv_t` with the tangents of the nonlinear forces at the AFT samples.
+    /// Fills `jq_t` and `jv_t` with the tangents of the nonlinear forces at the AFT samples,
+    /// unless the last residual or Jacobian was made at the same orbit and speed.
     fn sample_tangents(&mut self, x: &[f64], frequency: f64) {
         if self
             .tangents_at
@@ -472,20 +482,28 @@ impl HarmonicBalance {
         {
             return;
         }
-        self.tangents_at = Some((x.to_vec(), frequency));
-        self.jq_t.fill(0.0);
-        self.jv_t.fill(0.0);
         if self.nl_dofs.is_empty() {
+            self.gather_tangents(x, frequency);
             return;
         }
         self.sample_motion(x, frequency);
-        let (n_t, m) = (self.aft.samples(), self.nl_dofs.len());
         self.each_sample(frequency, |force, at, j, work| {
             let kk = work.q.len() * work.q.len();
             let dq = &mut work.dq[j * kk..(j + 1) * kk];
             let dv = &mut work.dv[j * kk..(j + 1) * kk];
             force.jacobian(at, &work.q, &work.v, dq, dv);
         });
+        self.gather_tangents(x, frequency);
+    }
+
+    /// Adds the forces' tangents at each sample, as the last pass over the samples left
+    /// them in the forces' buffers, into `jq_t` and `jv_t`, kept as those of the orbit x at
+    /// w.
+    fn gather_tangents(&mut self, x: &[f64], frequency: f64) {
+        self.tangents_at = Some((x.to_vec(), frequency));
+        self.jq_t.fill(0.0);
+        self.jv_t.fill(0.0);
+        let (n_t, m) = (self.aft.samples(), self.nl_dofs.len());
         // Added sample by sample in the forces' order, as one thread would.
         for j in 0..n_t {
             for (local, work) in self.local.iter().zip(&self.per_force) {

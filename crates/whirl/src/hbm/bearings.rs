@@ -72,6 +72,8 @@ pub struct CagedBearing {
     slices: Vec<Vec<Slice>>,
     /// The speed the slices were made at (NaN before the first call).
     slices_speed: f64,
+    /// One cage position's force, dF/dq and dF/dv, summed over its slices.
+    force_buffer: Vec<f64>,
     buffer: Vec<f64>,
     buffer_v: Vec<f64>,
 }
@@ -111,6 +113,7 @@ impl CagedBearing {
             slices: vec![Vec::new(); angles.len()],
             slices_speed: f64::NAN,
             angles,
+            force_buffer: vec![0.0; m],
             buffer: vec![0.0; m * m],
             buffer_v: vec![0.0; m * m],
         })
@@ -139,6 +142,58 @@ impl CagedBearing {
     fn weight(&self) -> f64 {
         1.0 / self.angles.len() as f64
     }
+
+    /// The force (into `force`) and the tangents (into `tangents`, dF/dq and dF/dv), each
+    /// where asked for, averaged over the cage positions: each position's slices summed
+    /// apart, then weighted, so either part is the same alone or with the other.
+    fn accumulate(
+        &mut self,
+        at: &Kinematics,
+        motion: (&[f64], &[f64]),
+        mut force: Option<&mut [f64]>,
+        mut tangents: Option<(&mut [f64], &mut [f64])>,
+    ) {
+        if let Some(out) = force.as_deref_mut() {
+            out.fill(0.0);
+        }
+        if let Some((dfdq, dfdv)) = tangents.as_mut() {
+            dfdq.fill(0.0);
+            dfdv.fill(0.0);
+        }
+        self.place_rollers(at.speed);
+        let w = self.weight();
+        let m = motion.0.len();
+        let cage_speed = self.inner.geometry().cage_speed(at.speed);
+        for slices in &self.slices {
+            self.force_buffer.fill(0.0);
+            self.buffer.fill(0.0);
+            self.buffer_v.fill(0.0);
+            for slice in slices {
+                self.inner.add_slice(
+                    slice,
+                    cage_speed,
+                    motion,
+                    force.is_some().then_some(&mut self.force_buffer[..m]),
+                    tangents
+                        .is_some()
+                        .then_some((&mut self.buffer[..], &mut self.buffer_v[..])),
+                );
+            }
+            if let Some(out) = force.as_deref_mut() {
+                for (o, f) in out.iter_mut().zip(&self.force_buffer) {
+                    *o += w * f;
+                }
+            }
+            if let Some((dfdq, dfdv)) = tangents.as_mut() {
+                for (o, f) in dfdq.iter_mut().zip(&self.buffer) {
+                    *o += w * f;
+                }
+                for (o, f) in dfdv.iter_mut().zip(&self.buffer_v) {
+                    *o += w * f;
+                }
+            }
+        }
+    }
 }
 
 impl NonlinearForce for CagedBearing {
@@ -151,21 +206,7 @@ impl NonlinearForce for CagedBearing {
     }
 
     fn force(&mut self, at: &Kinematics, q: &[f64], v: &[f64], out: &mut [f64]) {
-        out.iter_mut().for_each(|f| *f = 0.0);
-        self.place_rollers(at.speed);
-        let w = self.weight();
-        let m = out.len();
-        let cage_speed = self.inner.geometry().cage_speed(at.speed);
-        for slices in &self.slices {
-            let buffer = &mut self.buffer[..m];
-            buffer.fill(0.0);
-            for slice in slices {
-                self.inner.add_slice_force(slice, cage_speed, q, v, buffer);
-            }
-            for (o, f) in out.iter_mut().zip(buffer.iter()) {
-                *o += w * f;
-            }
-        }
+        self.accumulate(at, (q, v), Some(out), None);
     }
 
     fn jacobian(
@@ -176,31 +217,19 @@ impl NonlinearForce for CagedBearing {
         dfdq: &mut [f64],
         dfdv: &mut [f64],
     ) {
-        dfdq.iter_mut().for_each(|f| *f = 0.0);
-        dfdv.iter_mut().for_each(|f| *f = 0.0);
-        self.place_rollers(at.speed);
-        let w = self.weight();
-        let cage_speed = self.inner.geometry().cage_speed(at.speed);
-        for slices in &self.slices {
-            self.buffer.fill(0.0);
-            self.buffer_v.fill(0.0);
-            for slice in slices {
-                self.inner.add_slice_jacobian(
-                    slice,
-                    cage_speed,
-                    q,
-                    v,
-                    &mut self.buffer,
-                    &mut self.buffer_v,
-                );
-            }
-            for (o, f) in dfdq.iter_mut().zip(&self.buffer) {
-                *o += w * f;
-            }
-            for (o, f) in dfdv.iter_mut().zip(&self.buffer_v) {
-                *o += w * f;
-            }
-        }
+        self.accumulate(at, (q, v), None, Some((dfdq, dfdv)));
+    }
+
+    fn force_and_jacobian(
+        &mut self,
+        at: &Kinematics,
+        q: &[f64],
+        v: &[f64],
+        out: &mut [f64],
+        dfdq: &mut [f64],
+        dfdv: &mut [f64],
+    ) {
+        self.accumulate(at, (q, v), Some(out), Some((dfdq, dfdv)));
     }
 
     fn stiffness_bound(&self) -> Vec<f64> {

@@ -66,6 +66,17 @@ impl NonlinearForce for Renumbered {
     ) {
         self.force.jacobian(at, q, v, dfdq, dfdv);
     }
+    fn force_and_jacobian(
+        &mut self,
+        at: &Kinematics,
+        q: &[f64],
+        v: &[f64],
+        out: &mut [f64],
+        dfdq: &mut [f64],
+        dfdv: &mut [f64],
+    ) {
+        self.force.force_and_jacobian(at, q, v, out, dfdq, dfdv);
+    }
     fn stiffness_bound(&self) -> Vec<f64> {
         self.force.stiffness_bound()
     }
