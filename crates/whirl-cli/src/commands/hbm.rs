@@ -333,8 +333,8 @@ fn text_summary(model: &Model, report: &SweepReport) -> String {
     if lowest < from {
         let _ = writeln!(
             text,
-            "  followed out of the range down to {:.2} Hz: the branch turns back below {:.2} Hz \
-             and comes back into the range (its points below are kept and plotted)",
+            "  followed out of the range down to {:.2} Hz: the branch turns back below the first \
+             speed, {:.2} Hz (its points there are kept and plotted)",
             hz(lowest),
             hz(from)
         );

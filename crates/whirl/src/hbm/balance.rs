@@ -478,7 +478,7 @@ impl HarmonicBalance {
         if self
             .tangents_at
             .as_ref()
-            .is_some_and(|(at, w)| same_bits(&[*w], &[frequency]) && same_bits(at, x))
+            .is_some_and(|(at, w)| w.to_bits() == frequency.to_bits() && same_bits(at, x))
         {
             return;
         }
