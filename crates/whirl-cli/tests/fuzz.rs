@@ -1,4 +1,4 @@
-//! Fuzzing (issue 16): model files and command lines generated and mutated from the bundled
+//! Fuzzing: model files and command lines generated and mutated from the bundled
 //! examples, checking that nothing panics or aborts and that every rejection is located.
 //!
 //! Model files run in this process, on every core: read and validated, and when accepted,

@@ -1,4 +1,4 @@
-//! Runs that meet each other, get interrupted or fail part-way (issue 16): one run per
+//! Runs that meet each other, get interrupted or fail part-way: one run per
 //! output folder, Ctrl-C keeps the checkpoint and leaves no temporary folder, the next run
 //! cleans what a killed one left, and the exit status says whether anything was computed.
 

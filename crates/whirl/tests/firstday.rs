@@ -39,7 +39,7 @@ fn default_sweep_resolves_the_first_critical_as_a_fine_step_does() {
         let want = first(&reference.nodes[k].peaks);
         let raw = first(&unrefined.nodes[k].peaks);
         let af = |p: &ResponsePeak| p.amplification_factor.unwrap();
-        // The bound: amplitude and AF within 1 % of the 0.01 Hz-step run.
+        // The bound a first report needs: amplitude and AF within 1 % of the 0.01 Hz-step run.
         assert!(
             relative(got.amplitude, want.amplitude) < 0.01,
             "node {node}: amplitude {} vs {}",

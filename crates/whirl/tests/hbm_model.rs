@@ -1,4 +1,4 @@
-//! Harmonic balance of the reference rotor on its roller bearings (issue 5): the thesis'
+//! Harmonic balance of the reference rotor on its roller bearings: the thesis'
 //! fig. 4.27a check against time marching, and the reduced model against the full one.
 
 use std::f64::consts::TAU;
@@ -110,7 +110,7 @@ fn the_solution_at_330_hz_does_not_depend_on_the_end_of_the_range() {
     }
 }
 
-/// Round-off must not decide where a branch goes (issue 12). With 60 um the branch above
+/// Round-off must not decide where a branch goes. With 60 um the branch above
 /// the first resonance folds back at 154 Hz, where nothing converges just ahead. Unchanged,
 /// the path followed the overhang round on its own and reached 750 Hz; with the disk mass
 /// 1e-12 larger it walked back over what it had followed, was restarted ahead of the fold,

@@ -2,7 +2,7 @@
 //! [--contact hertz|forcing] [--cage passage|frozen] [--compare-time 100Hz,330Hz]
 //! [--harmonics-study 1..5]`: the periodic (synchronous) response by harmonic balance,
 //! followed over speed by continuation, with Floquet stability and the bifurcations where it
-//! changes (issue 5).
+//! changes (thesis 4.3; docs/theory.md section 7).
 //!
 //! Writes `branch.csv` (one row per continuation point in path order: speed, stability,
 //! largest real part of the Floquet exponents, Newton iterations, and per node the

@@ -1,4 +1,4 @@
-//! Roller bearings in harmonic balance (issue 5 item 2).
+//! Roller bearings in harmonic balance (docs/theory.md section 7).
 //!
 //! With the rollers orbiting at the cage speed w_c the bearing force varies at the roller
 //! passage frequency N_b w_c, which is incommensurate with the running speed w: the true

@@ -93,7 +93,7 @@ const ON_AXIS: f64 = 1e-9;
 /// parameter, or after [`MAX_TRIALS`] trial points. The speed is what is reported (to
 /// 0.01 Hz in the text summary): along the arclength, where the orbit changes much faster
 /// than the speed (a resonance's flank), a bracket of 1e-5 in scaled arclength took up to
-/// 10 more trials for a speed already within 1e-5 (BENCHMARKS.md, issue 12, session 14).
+/// 10 more trials for a speed already within 1e-5 (BENCHMARKS.md, harmonic balance).
 /// What the answer resolves is far coarser: the AFT sample count moves the reference
 /// rotor's bifurcations by 0.1 to 2 Hz, and each is checked at 0.5 % of its speed either
 /// side ([`super::resolution`]). Where the largest real part jumps across zero (a contact

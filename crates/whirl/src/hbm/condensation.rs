@@ -1,5 +1,5 @@
 //! Exact dynamic condensation per harmonic of the linear coordinates onto those that carry
-//! nonlinear forces (issue 5 item 1), so a Newton step costs the same for any model size.
+//! nonlinear forces, so a Newton step costs the same for any model size.
 //!
 //! The linear operator is block diagonal over harmonics: slot 0 holds K and harmonic r the
 //! real form of the complex dynamic stiffness on (cos r, sin r),
@@ -169,7 +169,7 @@ struct Recovered {
 
 /// Fixed-interface modes kept in the stability model by default, chosen by the
 /// convergence of the reference rotor's bifurcations (20 um, H = 5, 160 samples, 1-750 Hz;
-/// BENCHMARKS.md, issue 12): with 4, 8 and 12 modes the list above 100 Hz changes from one
+/// BENCHMARKS.md, harmonic balance): with 4, 8 and 12 modes the list above 100 Hz changes from one
 /// count to the next (4 modes miss the period doubling at 160-171 Hz that time marching of
 /// the same model shows, and find one at 39.5-40.3 Hz that it refutes); with 16 and 24 it
 /// is the same within 1 Hz. The monodromy's cost grows as the cube of the states.

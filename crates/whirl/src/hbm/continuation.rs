@@ -1046,7 +1046,7 @@ pub(super) fn correct(
 /// halved step from a nearer predictor does what it would: on the reference rotor at
 /// 20 um all 16 line-search runs that followed failed plain runs failed too, at 1,016 of
 /// the path's 3,457 condensations; without them the path is the same to the bit at 20 um
-/// and follows the same branches at 60 and 120 um (BENCHMARKS.md, issue 12, session 15).
+/// and follows the same branches at 60 and 120 um (BENCHMARKS.md, harmonic balance).
 fn correct_on_path(
     hb: &mut impl Periodic,
     y0: &[f64],

@@ -88,7 +88,7 @@ impl HbOptions {
 /// quintic come out exact). Chosen on the reference rotor (20 um, H = 5, 1-750 Hz, each
 /// bifurcation checked at twice the count, docs/theory.md section 7): 80 samples left 5
 /// of 19 bifurcations unresolved, 160 left 3 of 19 and 320 left 6 of 19, at 21.1, 24.0
-/// and 35.8 s of CPU (BENCHMARKS.md, issue 12); the orbits agree within 0.08 % from 80 to
+/// and 35.8 s of CPU (BENCHMARKS.md, harmonic balance); the orbits agree within 0.08 % from 80 to
 /// 640.
 pub fn default_samples(harmonics: usize) -> usize {
     (32 * harmonics).max(64)

@@ -29,7 +29,7 @@ use crate::error::Result;
 /// The sides are this fraction of the bifurcation's speed from it. On the reference rotor
 /// (20 um, H = 5) the changes that hold from 160 samples on move by up to 0.45 % between N
 /// and 2N, and the narrowest window that holds (about 507-511 Hz) is 0.75 % wide, while
-/// the windows that come and go with N are 0.02-0.23 % wide (BENCHMARKS.md, issue 12): at
+/// the windows that come and go with N are 0.02-0.23 % wide (BENCHMARKS.md, harmonic balance): at
 /// 0.5 % the former are resolved and the latter are not. A real window narrower than this
 /// is reported unresolved.
 pub const RESOLUTION_TOLERANCE: f64 = 0.005;

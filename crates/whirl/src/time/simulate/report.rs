@@ -660,7 +660,8 @@ mod tests {
             stems(&["bearing A", "Bearing-A", "", "x/y"]),
             ["bearing_a", "bearing_a_2", "bearing", "x_y"]
         );
-        // A 300-character name (issue 16: "File name too long" after the computation).
+        // A 300-character name: used whole as a file name it failed with "File name too long"
+        // after the computation.
         let long = "b".repeat(300);
         assert_eq!(
             stems(&[&long, &long]),
