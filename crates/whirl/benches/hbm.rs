@@ -1,4 +1,5 @@
-//! Benchmarks of harmonic balance on the reference rotor; figures go to BENCHMARKS.md. Run with `cargo bench -p whirl --bench hbm`.
+//! Benchmarks of harmonic balance on the reference rotor; figures go to BENCHMARKS.md.
+//! Run with `cargo bench -p whirl --bench hbm`.
 
 mod common;
 // The test models; a benchmark uses only the reference rotor.
