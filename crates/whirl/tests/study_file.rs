@@ -165,7 +165,7 @@ fn a_study_without_speeds_takes_the_command_lines_default_speeds() {
     let default = whirl::nsv::default_speeds(&point.model).unwrap();
     assert_eq!(study_speeds, default);
     // ... which is the command line's range over [operating] (1 to 750 Hz), the one the
-    // README's main-job numbers rest on, to the bit.
+    // main-job numbers of docs/results.md rest on, to the bit.
     let range = parse_range("1Hz:750Hz:150", Dimension::AngularSpeed).unwrap();
     assert_eq!(default, range);
 }
