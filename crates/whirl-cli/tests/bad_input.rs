@@ -356,7 +356,7 @@ fn out_folder_that_is_not_a_whirl_result_is_left_alone() {
     );
 }
 
-// Issue 16: nothing crashes, nothing runs away, nothing impossible is accepted.
+// Limits: nothing crashes, nothing runs away, nothing impossible is accepted.
 
 #[test]
 fn an_error_past_column_65535_is_located_not_a_panic() {

@@ -132,7 +132,7 @@ fn settled_one_x_matches_unbalance(extra: &[&str]) {
             channel["name"],
             f(&s["wall_time_s"])
         );
-        // Issue 4: within 0.5 %. Modes 1F/1B have 2 % damping at 49.8 Hz, so the transient
+        // Within 0.5 %. Modes 1F/1B have 2 % damping at 49.8 Hz, so the transient
         // from the static start decays as exp(-6.3 t): 5e-4 of its size (about the orbit's)
         // after the 1.2 s settling time. The step error at 50 Hz is below 1e-5 and the
         // reduction's error at mode 1 is 1e-7.
@@ -365,7 +365,7 @@ fn bad_arguments_are_explained() {
     );
 }
 
-/// Issue 8's must-show, from the command line: the spectrum at each bearing shows the
+/// Waviness from the command line: the spectrum at each bearing shows the
 /// varying-compliance frequency N_b w_c and its outer ring's waviness frequency
 /// (N_w - 1) w_c within one FFT bin (crates/whirl/tests/roller_simulation.rs explains the
 /// speed and the record length).

@@ -241,7 +241,7 @@ fn settled_unbalance_response_matches_the_frequency_domain() {
         (Method::CentralDifference, 1e-5, Some(12)),
     ] {
         let a = reference_simulation(method, step, reduction);
-        // Issue 3: within 0.5 %. The transient from the static start has decayed to 1e-4
+        // Within 0.5 %. The transient from the static start has decayed to 1e-4
         // after 1.5 s at 2 % damping, and the reduction error at 100 Hz is ~1e-6.
         let err = (a - expected).abs() / expected;
         assert!(

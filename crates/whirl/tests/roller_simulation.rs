@@ -125,7 +125,7 @@ fn the_spectrum_shows_the_varying_compliance_and_waviness_frequencies() {
                 peak.amplitude,
                 peak.amplitude / background
             );
-            // Issue 8's must-show: at the predicted frequency within one FFT bin.
+            // At the predicted frequency within one FFT bin.
             assert!(
                 offset.abs() <= 1.0,
                 "{} {}: {offset} bins",
