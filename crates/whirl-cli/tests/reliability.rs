@@ -222,10 +222,10 @@ fn a_bearing_name_of_300_characters_does_not_fail_at_write_time() {
 fn an_absurdly_long_cascade_warns_before_it_starts() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("cascade");
-    // 0.5 s settling and the 4 records averaged at least (2 s) at 2e-8 s: 1.25e8 steps per
-    // speed, 40 speeds: 54 min at least on 2 cores (the estimate counts 1.3 us per step),
-    // while a speed's longest run (4 s + 8 records of 0.5 s) stays within the 5e8 steps a
-    // run may take. The warning comes first; Ctrl-C stops it.
+    // 0.5 s settling and the 4 records averaged at least (overlapping by half: 1.25 s) at
+    // 2e-8 s: 8.75e7 steps per speed, 40 speeds: 38 min at least on 2 cores (the estimate
+    // counts 1.3 us per step), while a speed's longest run (4 s + 8 records of 0.5 s
+    // overlapping by half) stays within the 5e8 steps a run may take. The warning comes first; Ctrl-C stops it.
     let mut run = cascade(&out)
         .args(["--step", "2e-8s", "--max-records", "8"])
         .stdout(Stdio::null())
@@ -251,7 +251,7 @@ fn an_absurdly_long_cascade_warns_before_it_starts() {
         .unwrap();
     assert_eq!(status.code(), Some(130), "{message}");
     assert!(
-        message.contains("warning: --step 2e-8 s makes 1.250e8 time steps per speed, 40 speeds"),
+        message.contains("warning: --step 2e-8 s makes 8.750e7 time steps per speed, 40 speeds"),
         "{message}"
     );
     assert!(message.contains("of computing on"), "{message}");

@@ -318,8 +318,31 @@ pub fn hz_to_rad_s(f: f64) -> f64 {
     f * 2.0 * PI
 }
 
+/// `value +- error` with no more digits than the error allows: the error rounded to one
+/// significant digit (two when that digit is 1, as in 0.14), the value to the same
+/// decimal place; a zero or non-finite error prints the value with `default_decimals`.
+pub fn with_uncertainty(value: f64, error: f64, default_decimals: usize) -> String {
+    if !(error.is_finite() && error > 0.0) {
+        return format!("{value:.default_decimals$}");
+    }
+    let exponent = error.log10().floor() as i32;
+    let leading = (error / 10f64.powi(exponent)).floor();
+    let digits = if leading < 2.0 { 2 } else { 1 };
+    let decimals = (digits - 1 - exponent).max(0) as usize;
+    format!("{value:.decimals$} +- {error:.decimals$}")
+}
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_value_is_printed_to_the_digits_its_error_allows() {
+        use super::with_uncertainty;
+        assert_eq!(with_uncertainty(1.4861, 0.157, 3), "1.49 +- 0.16");
+        assert_eq!(with_uncertainty(1.4861, 0.3, 3), "1.5 +- 0.3");
+        assert_eq!(with_uncertainty(148.28, 3.3, 2), "148 +- 3");
+        assert_eq!(with_uncertainty(2.63, 0.0, 3), "2.630");
+    }
+
     use super::*;
 
     #[test]

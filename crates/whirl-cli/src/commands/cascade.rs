@@ -31,8 +31,8 @@ use std::path::{Path, PathBuf};
 use whirl::bearing::ContactLaw;
 use whirl::model::Model;
 use whirl::nsv::{
-    compare_starts, other_start_options, Cascade, CascadeOptions, CascadeReport, CascadeRequest,
-    Component, NsvSummary, PreparedCascade, StartComparison, DEFAULT_MAX_ADDED,
+    compare_starts, other_start_options, records_span, Cascade, CascadeOptions, CascadeReport,
+    CascadeRequest, Component, NsvSummary, PreparedCascade, StartComparison, DEFAULT_MAX_ADDED,
     DEFAULT_MAX_RECORDS, DEFAULT_RELATIVE_ERROR, DEFAULT_THRESHOLD_M, DEFAULT_TOLERANCE_BINS,
     STARTS_DIFFER_SIGMAS,
 };
@@ -40,7 +40,7 @@ use whirl::post::Window;
 use whirl::report::Report;
 use whirl::time::Initial;
 use whirl::time::DEFAULT_MODES;
-use whirl::units::{parse_quantity, Dimension};
+use whirl::units::{parse_quantity, with_uncertainty, Dimension};
 
 use whirl_plot::SpeedAxis;
 
@@ -87,8 +87,9 @@ pub struct Args {
     /// Time recorded at each speed; its inverse is the bin spacing (0.5 s: 2 Hz).
     #[arg(long, value_name = "TIME", default_value = "0.5s", value_parser = time, allow_hyphen_values = true)]
     pub record: f64,
-    /// Most records averaged at a settled speed: records are added until the NSV's
-    /// standard error is within --average-tolerance (at least 4); 1 for a single record.
+    /// Most records averaged at a settled speed (overlapping by half): records are added
+    /// until the NSV's standard error is within --average-tolerance, or within 20 % with
+    /// the NSV clear of every onset level (at least 4); 1 for a single record.
     #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_RECORDS)]
     pub max_records: usize,
     /// Averaging stops once the NSV's standard error is within this fraction of it (or
@@ -313,8 +314,8 @@ pub const LONG_RUN_S: f64 = 1800.0;
 pub fn least_seconds(options: &CascadeOptions) -> Option<(f64, f64)> {
     let step = options.step?;
     // At least the shortest settling and the fewest records averaged.
-    let least_records = options.averaging.min_records as f64;
-    let steps_per_speed = (options.settle + least_records * options.record) / step;
+    let least_records = records_span(options.averaging.min_records, options.record);
+    let steps_per_speed = (options.settle + least_records) / step;
     let seconds = steps_per_speed * options.speeds.len() as f64 * SECONDS_PER_STEP / cores() as f64;
     Some((steps_per_speed, seconds))
 }
@@ -471,13 +472,18 @@ fn flag(field: &str) -> Option<&'static str> {
     })
 }
 
+/// A length in micrometres with the digits its uncertainty allows.
+fn micrometres(value_m: f64, error_m: f64) -> String {
+    with_uncertainty(1e6 * value_m, 1e6 * error_m, 3)
+}
+
 fn text(model: &Model, c: &Cascade, nsv: &NsvSummary, checkpoint: &Path) -> String {
     let mut t = String::new();
     let (low, high) = c.speed_range_hz();
     let _ = writeln!(
         t,
         "{}: cascade of {} speeds {low:.1}-{high:.1} Hz ({} added by refinement; {} contact, \
-         {}), settled {}-{} s + up to {} records of {} s averaged each, {:.2} Hz bins up to {:.0} Hz, in {:.1} s \
+         {}), settled {}-{} s + up to {} records of {} s (overlapping by half) averaged each, {:.2} Hz bins up to {:.0} Hz, in {:.1} s \
          ({} speeds from the checkpoint {})",
         model.name,
         c.points.len(),
@@ -538,12 +544,13 @@ fn text(model: &Model, c: &Cascade, nsv: &NsvSummary, checkpoint: &Path) -> Stri
     if let Some(st) = &nsv.statistics {
         let _ = writeln!(
             t,
-            "NSV over {:.1}-{:.1} Hz: median {:.3} um, 90th percentile {:.3} um, mean {:.3} um",
+            "NSV over {:.1}-{:.1} Hz: median {} um, 90th percentile {} um, mean {} um (+- from \
+             the scatter of four interleaved sub-grids)",
             st.range_hz.0,
             st.range_hz.1,
-            1e6 * st.median_m,
-            1e6 * st.p90_m,
-            1e6 * st.mean_m
+            micrometres(st.median_m, st.uncertainty.median_m),
+            micrometres(st.p90_m, st.uncertainty.p90_m),
+            micrometres(st.mean_m, st.uncertainty.mean_m)
         );
     }
     if let Some(d) = nsv.dominant_class {

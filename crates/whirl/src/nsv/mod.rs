@@ -72,10 +72,10 @@ use serde::Serialize;
 
 pub use classify::{NamedFrequency, Nsv, NsvClass, WhirlDirection};
 pub use options::{
-    default_speeds, Averaging, CascadeOptions, Component, Refinement, Resolved,
-    DEFAULT_ABSOLUTE_ERROR_M, DEFAULT_MAX_ADDED, DEFAULT_MAX_RECORDS, DEFAULT_MIN_RECORDS,
-    DEFAULT_MIN_SPACING_HZ, DEFAULT_ONSET_LEVELS_M, DEFAULT_RELATIVE_ERROR, DEFAULT_SETTLE,
-    DEFAULT_SETTLE_MAX, DEFAULT_SPEED_COUNT, DEFAULT_TOLERANCE_BINS,
+    default_speeds, records_span, Averaging, CascadeOptions, Component, Refinement, Resolved,
+    DEFAULT_ABSOLUTE_ERROR_M, DEFAULT_DECIDED_ERROR, DEFAULT_MAX_ADDED, DEFAULT_MAX_RECORDS,
+    DEFAULT_MIN_RECORDS, DEFAULT_MIN_SPACING_HZ, DEFAULT_ONSET_LEVELS_M, DEFAULT_RELATIVE_ERROR,
+    DEFAULT_SETTLE, DEFAULT_SETTLE_MAX, DEFAULT_SPEED_COUNT, DEFAULT_TOLERANCE_BINS,
 };
 pub use point::{
     dies_away, negligible, CascadePoint, NsvPeak, DECAY_PER_STRETCH, NEGLIGIBLE_FRACTION,
@@ -89,8 +89,8 @@ pub use starts::{
     STARTS_DIFFER_SIGMAS,
 };
 pub use summary::{
-    ClassCount, LargestNsv, NsvStatistics, NsvSummary, Onset, SpeedLevel, DEFAULT_THRESHOLD_M,
-    SUSTAINED_FRACTION, SUSTAINED_WINDOW,
+    ClassCount, GridSpread, LargestNsv, NsvStatistics, NsvSummary, Onset, SpeedLevel,
+    DEFAULT_THRESHOLD_M, SUSTAINED_FRACTION, SUSTAINED_WINDOW,
 };
 
 use crate::bearing::contact_frequencies;

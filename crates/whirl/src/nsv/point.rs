@@ -18,12 +18,33 @@
 //! mode rings at 45-50 Hz, driven by roller impacts, with an amplitude that wanders by
 //! +-35 % from one half-second record to the next. One record is then one draw: two starts
 //! that both settle (the static equilibrium and rest) gave NSV differing by more than 20 %
-//! at 46 of 150 speeds. So a settled run goes on recording: the spectra of consecutive
-//! records are power-averaged (the amplitude of a bin is the root of its mean square, a
-//! signal analyser's RMS averaging, which leaves a steady sine's amplitude exactly as one
-//! record gives it) until the standard error of the largest non-synchronous peak is within
-//! [`Averaging`]'s tolerance (at least `min_records`, at most `max_records` records). The
-//! peak carries that standard error and the record-to-record variation of its amplitude.
+//! at 46 of 150 speeds. So a settled run goes on recording: the spectra of records that
+//! overlap by half (Welch's method: with the Hann window two such records share little,
+//! so each adds nearly a whole record's worth of information for half a record's time)
+//! are power-averaged (the amplitude of a bin is the root of its mean square, a signal
+//! analyser's RMS averaging, which leaves a steady sine's amplitude exactly as one record
+//! gives it) until the largest non-synchronous peak is known as well as the summary needs
+//! it ([`Averaging`]: at least `min_records`, at most `max_records` records).
+//!
+//! # How well is well enough
+//!
+//! The standard error of the averaged peak comes from the records' scatter, inflated by
+//! the correlation of neighbouring records (measured at one and two records' distance:
+//! overlapping records share samples, and a slowly wandering whip correlates records that
+//! do not). Averaging stops at the first check where either
+//!
+//! - the standard error is within `relative_error` of the amplitude (or
+//!   `absolute_error_m`), or the peak is negligible next to the 1X; or
+//! - the standard error is within `decided_error` of the amplitude and the peak lies at
+//!   least [`CLEAR_ERRORS`] standard errors from every onset level of the cascade: more
+//!   records cannot move it across a level, so they cannot change an onset, and a summary
+//!   statistic over many speeds (median, mean, 90th percentile) averages the remaining
+//!   scatter down.
+//!
+//! So a steady vibration stops at `min_records`, an irregular whip far from the levels at
+//! a few more, and only a speed whose NSV sits near a level runs to `max_records`: the rule
+//! knows each speed's own variation. The peak carries its standard error and the
+//! record-to-record variation of its amplitude.
 
 use std::f64::consts::PI;
 use std::ops::ControlFlow;
@@ -64,6 +85,16 @@ pub const NEGLIGIBLE_FRACTION: f64 = 1e-3;
 
 /// ... or below this amplitude, m, whatever the 1X.
 pub const NEGLIGIBLE_M: f64 = 1e-9;
+
+/// A peak this many standard errors from every onset level is on its side of each: at
+/// two, a normal estimate is on the wrong side about once in 40.
+pub const CLEAR_ERRORS: f64 = 2.0;
+
+/// Correlation of the power estimates of two Hann-windowed records overlapping by half,
+/// for a stationary random signal: the square of the window's overlap correlation
+/// sum(w[n] w[n + N/2]) / sum(w[n]^2) = 1/6 (Harris 1978). The least the records'
+/// correlation is taken to be, however few records there are to measure it.
+const HANN_HALF_OVERLAP_POWER_CORRELATION: f64 = 1.0 / 36.0;
 
 /// The largest non-synchronous peak at one speed.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -110,7 +141,8 @@ pub struct CascadePoint {
     /// Whether the record is settled (see the module documentation); an unsettled point's
     /// peak is free vibration still dying away at the cap.
     pub settled: bool,
-    /// Records averaged into the spectra (1 for an unsettled point, 0 for a diverged one).
+    /// Records averaged into the spectra, each `record` seconds long and overlapping the
+    /// one before by half (1 for an unsettled point, 0 for a diverged one).
     pub records: usize,
     /// Why the run started from rest although the static equilibrium was asked for;
     /// `None` when it started where asked.
@@ -206,6 +238,18 @@ fn samples_in(time: f64, r: &Resolved) -> usize {
     (time * r.sample_rate_hz - 1e-9).ceil().max(0.0) as usize
 }
 
+/// Samples between the starts of two consecutive records: they overlap by half.
+pub(super) fn hop(r: &Resolved) -> usize {
+    (r.samples / 2).max(1)
+}
+
+/// Complete records in `available` samples from the first record's start.
+fn records_in(available: usize, r: &Resolved) -> usize {
+    available
+        .checked_sub(r.samples)
+        .map_or(0, |rest| rest / hop(r) + 1)
+}
+
 /// Where a speed's run stands: settling, then averaging records.
 struct Watch<'a> {
     o: &'a CascadeOptions,
@@ -244,7 +288,7 @@ impl Watch<'_> {
                 start
             }
         };
-        let complete = ((values.len() - start) / r.samples).min(o.averaging.max_records);
+        let complete = records_in(values.len() - start, r).min(o.averaging.max_records);
         if complete == self.records.powers.len() {
             // No record finished since the last check (checks come every half record).
             return Ok(ControlFlow::Continue(()));
@@ -255,7 +299,7 @@ impl Watch<'_> {
                 && self
                     .records
                     .estimate(self.speed_hz, o, r)
-                    .converged(&o.averaging));
+                    .converged(&o.averaging, &o.refine.onset_levels_m));
         Ok(if enough {
             ControlFlow::Break(())
         } else {
@@ -264,7 +308,7 @@ impl Watch<'_> {
     }
 }
 
-/// The one-sided power spectra of consecutive records from a settled start.
+/// The one-sided power spectra of records from a settled start, overlapping by half.
 #[derive(Default)]
 struct Records {
     /// Squared amplitude of every bin, one vector per record.
@@ -277,7 +321,7 @@ struct Records {
 }
 
 impl Records {
-    /// Takes the spectra of records `len..count` (consecutive, from `start`).
+    /// Takes the spectra of records `len..count` (from `start`, one [`hop`] apart).
     fn extend(
         &mut self,
         values: &[f64],
@@ -287,17 +331,21 @@ impl Records {
         planners: &mut Planners,
     ) -> Result<()> {
         while self.powers.len() < count {
-            let x = record(values, start + self.powers.len() * r.samples, r)?;
-            let spectrum = planners.one_sided(x)?;
-            let power: Vec<f64> = spectrum.amplitude.iter().map(|a| a * a).collect();
-            self.sum.resize(power.len(), 0.0);
-            for (total, p) in self.sum.iter_mut().zip(&power) {
-                *total += p;
-            }
-            self.powers.push(power);
-            self.first.get_or_insert(spectrum);
+            let x = record(values, start + self.powers.len() * hop(r), r)?;
+            self.push(planners.one_sided(x)?);
         }
         Ok(())
+    }
+
+    /// Adds one record's spectrum.
+    fn push(&mut self, spectrum: Spectrum) {
+        let power: Vec<f64> = spectrum.amplitude.iter().map(|a| a * a).collect();
+        self.sum.resize(power.len(), 0.0);
+        for (total, p) in self.sum.iter_mut().zip(&power) {
+            *total += p;
+        }
+        self.powers.push(power);
+        self.first.get_or_insert(spectrum);
     }
 
     /// The power-averaged spectrum (amplitude = root of the mean squared amplitude, as a
@@ -364,9 +412,10 @@ impl Records {
         let (mean_amplitude, sd_amplitude) = mean_and_deviation(&amplitudes);
         let n = powers.len() as f64;
         Spread {
-            // A = sqrt(mean P): its relative error is half that of the mean power.
+            // A = sqrt(mean P): its relative error is half that of the mean power, whose
+            // variance is that of independent records times the correlation's inflation.
             relative_error: if mean_power > 0.0 {
-                0.5 * sd_power / mean_power / n.sqrt()
+                0.5 * sd_power / mean_power * (correlation_inflation(&powers) / n).sqrt()
             } else {
                 0.0
             },
@@ -377,6 +426,41 @@ impl Records {
             },
         }
     }
+}
+
+/// How much the correlation of neighbouring records' powers inflates the variance of their
+/// mean over that of independent records: 1 + 2 (rho_1 + rho_2), the correlations at one
+/// record (overlapping: at least [`HANN_HALF_OVERLAP_POWER_CORRELATION`]) and at two
+/// (records that touch), each measured once there are enough records to, and never taken
+/// as negative (which would claim more than independent records know).
+fn correlation_inflation(powers: &[f64]) -> f64 {
+    let n = powers.len();
+    let next = if n >= 4 {
+        autocorrelation(powers, 1)
+    } else {
+        0.0
+    };
+    let touching = if n >= 6 {
+        autocorrelation(powers, 2)
+    } else {
+        0.0
+    };
+    1.0 + 2.0 * (next.max(HANN_HALF_OVERLAP_POWER_CORRELATION) + touching.max(0.0))
+}
+
+/// Sample autocorrelation of `x` at `lag`, within -1..=1 (0 where `x` does not vary).
+fn autocorrelation(x: &[f64], lag: usize) -> f64 {
+    let (mean, _) = mean_and_deviation(x);
+    let variance: f64 = x.iter().map(|v| (v - mean).powi(2)).sum();
+    if variance <= 0.0 || lag >= x.len() {
+        return 0.0;
+    }
+    let covariance: f64 = x
+        .iter()
+        .zip(&x[lag..])
+        .map(|(a, b)| (a - mean) * (b - mean))
+        .sum();
+    (covariance / variance).clamp(-1.0, 1.0)
 }
 
 /// Mean and sample standard deviation (0 for fewer than two values).
@@ -410,15 +494,26 @@ struct Estimate {
 }
 
 impl Estimate {
-    /// Whether the averaged NSV is known well enough: its standard error within the
-    /// tolerance, or the peak negligible next to the 1X.
-    fn converged(&self, a: &Averaging) -> bool {
+    /// Whether the averaged NSV is known as well as the summary needs (the module
+    /// documentation): its standard error within the tolerance, the peak negligible next to
+    /// the 1X, or within `decided_error` and clear of every level in `levels_m`.
+    fn converged(&self, a: &Averaging, levels_m: &[f64]) -> bool {
         self.peak.is_none_or(|(p, s)| {
-            s.relative_error * p.amplitude
-                <= (a.relative_error * p.amplitude).max(a.absolute_error_m)
+            let error = s.relative_error * p.amplitude;
+            error <= (a.relative_error * p.amplitude).max(a.absolute_error_m)
                 || p.amplitude < negligible(self.one_x_m)
+                || (error <= a.decided_error * p.amplitude
+                    && clear_of_levels(p.amplitude, error, levels_m))
         })
     }
+}
+
+/// Whether an amplitude with this standard error lies [`CLEAR_ERRORS`] standard errors or
+/// more from every level, m.
+fn clear_of_levels(amplitude_m: f64, error_m: f64, levels_m: &[f64]) -> bool {
+    levels_m
+        .iter()
+        .all(|level| (amplitude_m - level).abs() >= CLEAR_ERRORS * error_m)
 }
 
 /// The linear system every speed of the cascade marches, and whose stability limit sets
@@ -448,12 +543,13 @@ pub(super) fn compute(
     };
     let first_start = samples_in(o.settle, r);
     let last_start = samples_in(o.settle_max, r).max(first_start);
-    let most = o.averaging.max_records as f64;
     let simulation = SimulationOptions {
         speed: SpeedProfile::Constant(speed),
         // Two samples more than the records, so that rounding of the step count never
         // leaves the last a sample short.
-        duration: o.settle_max.max(o.settle) + most * o.record + 2.0 / r.sample_rate_hz,
+        duration: o.settle_max.max(o.settle)
+            + o.averaging.recorded_time(o.record)
+            + 2.0 / r.sample_rate_hz,
         step: Some(r.step),
         record_every: Some(r.record_every),
         ..o.run_settings()
@@ -509,7 +605,7 @@ pub(super) fn compute(
     let start = watch.start.unwrap_or(last_start);
     let first = read(values, start, speed_hz, o, r, planners)?;
     let count = if first.settled() {
-        ((values.len().saturating_sub(start)) / r.samples).clamp(1, o.averaging.max_records)
+        records_in(values.len().saturating_sub(start), r).clamp(1, o.averaging.max_records)
     } else {
         1
     };
@@ -557,7 +653,8 @@ pub(super) fn compute(
     })
 }
 
-/// The full spectrum of x + i y power-averaged over `count` records from `start`.
+/// The full spectrum of x + i y power-averaged over `count` records from `start` (one
+/// [`hop`] apart).
 fn averaged_two_sided(
     x: &[f64],
     y: &[f64],
@@ -568,7 +665,7 @@ fn averaged_two_sided(
 ) -> Result<Vec<f64>> {
     let mut power = vec![0.0; r.samples];
     for k in 0..count {
-        let from = start + k * r.samples;
+        let from = start + k * hop(r);
         let full = planners.two_sided(record(x, from, r)?, record(y, from, r)?)?;
         for (p, a) in power.iter_mut().zip(&full) {
             *p += a * a;
@@ -744,9 +841,21 @@ mod tests {
         assert!(dies_away(&peak(0.1, None)));
     }
 
-    /// Records of a unit sine at 10 Hz (exactly on a bin) whose amplitude is `amplitudes`
-    /// record by record, averaged as a settled speed's are.
+    /// Records of a sine at 10 Hz (exactly on a bin) whose amplitude is `amplitudes` record
+    /// by record, averaged as a settled speed's are (each record its own sine, so the
+    /// scatter is known exactly; overlapping records are tested with a steady sine).
     fn averaged(amplitudes: &[f64]) -> (Records, Resolved, CascadeOptions) {
+        let (o, r) = one_hertz_bins();
+        let mut planners = Planners::new(&o, &r).unwrap();
+        let mut records = Records::default();
+        for a in amplitudes {
+            records.push(planners.one_sided(&sine(*a, 1000)).unwrap());
+        }
+        (records, r, o)
+    }
+
+    /// Options and sampling of 1 s records at 1 kHz (1 Hz bins).
+    fn one_hertz_bins() -> (CascadeOptions, Resolved) {
         let model =
             crate::model::Model::from_toml_str(crate::examples::REFERENCE_ROTOR, None).unwrap();
         let mut o = CascadeOptions::new(&model, vec![1.0]);
@@ -760,55 +869,81 @@ mod tests {
             max_frequency_hz: 100.0,
             bins: 101,
         };
-        let values: Vec<f64> = amplitudes
-            .iter()
-            .flat_map(|a| (0..1000).map(move |n| a * (2.0 * PI * 10.0 * n as f64 / 1000.0).sin()))
-            .collect();
-        let mut planners = Planners::new(&o, &r).unwrap();
-        let mut records = Records::default();
-        records
-            .extend(&values, 0, amplitudes.len(), &r, &mut planners)
-            .unwrap();
-        (records, r, o)
+        (o, r)
+    }
+
+    /// `len` samples of a 10 Hz sine of amplitude `a` at 1 kHz.
+    fn sine(a: f64, len: usize) -> Vec<f64> {
+        (0..len)
+            .map(|n| a * (2.0 * PI * 10.0 * n as f64 / 1000.0).sin())
+            .collect()
     }
 
     #[test]
-    fn averaging_keeps_a_steady_sine_and_measures_a_wandering_one() {
+    fn overlapping_records_keep_a_steady_sine() {
         // Running at 40 Hz: 10 Hz is a quarter of the running speed, non-synchronous.
-        let speed_hz = 40.0;
-        let (steady, r, o) = averaged(&[2.0, 2.0, 2.0, 2.0]);
-        let e = steady.estimate(speed_hz, &o, &r);
-        let (p, spread) = e.peak.unwrap();
+        let (o, r) = one_hertz_bins();
+        let values = sine(2.0, 2500);
+        assert_eq!(
+            records_in(values.len(), &r),
+            4,
+            "2.5 records' time holds 4 halves"
+        );
+        let mut planners = Planners::new(&o, &r).unwrap();
+        let mut steady = Records::default();
+        steady.extend(&values, 0, 4, &r, &mut planners).unwrap();
+        let (p, spread) = steady.estimate(40.0, &o, &r).peak.unwrap();
         // An integer number of periods on a bin: the Hann spectrum is exact to round-off.
         assert!((p.amplitude - 2.0).abs() < 1e-9, "{}", p.amplitude);
         assert!(spread.relative_error < 1e-9 && spread.variation < 1e-9);
+    }
 
+    #[test]
+    fn averaging_measures_a_wandering_sine_with_its_correlation() {
+        let speed_hz = 40.0;
         let (wandering, r, o) = averaged(&[1.0, 3.0, 1.0, 3.0]);
         let (p, spread) = wandering.estimate(speed_hz, &o, &r).peak.unwrap();
-        // Power average: sqrt((1 + 9) / 2); the powers 1, 9, 1, 9 have a sample standard
-        // deviation of 4.6188 (n - 1), so the amplitude's relative standard error is
-        // 0.5 * 4.6188 / 5 / sqrt(4) = 0.23094; the amplitudes' variation is
-        // 1.1547 / 2 = 0.57735.
+        // Power average: sqrt((1 + 9) / 2). The powers 1, 9, 1, 9 have a sample standard
+        // deviation of 4.6188 (n - 1) and a negative correlation at one record, so the
+        // overlap's least correlation 1/36 inflates the variance: the amplitude's relative
+        // standard error is 0.5 * 4.6188 / 5 * sqrt((1 + 2/36) / 4) = 0.237273; the
+        // amplitudes' variation is 1.1547 / 2 = 0.57735.
         assert!((p.amplitude - 5f64.sqrt()).abs() < 1e-9, "{}", p.amplitude);
         assert!(
-            (spread.relative_error - 0.230_940).abs() < 1e-5,
+            (spread.relative_error - 0.237_273).abs() < 1e-5,
             "{spread:?}"
         );
         assert!((spread.variation - 0.577_350).abs() < 1e-5, "{spread:?}");
-        let mut tolerance = Averaging::default();
-        assert!(!e_converged(&wandering, &o, &r, speed_hz, &tolerance));
-        tolerance.relative_error = 0.25;
-        assert!(e_converged(&wandering, &o, &r, speed_hz, &tolerance));
+
+        // Pairs of equal records: correlated at one record (0.125), anti-correlated at two
+        // (taken as 0): inflation 1.25, so 0.5 * 4.2762 / 5 * sqrt(1.25 / 8) = 0.169030.
+        let (paired, r, o) = averaged(&[1.0, 1.0, 3.0, 3.0, 1.0, 1.0, 3.0, 3.0]);
+        let (_, spread) = paired.estimate(speed_hz, &o, &r).peak.unwrap();
+        assert!(
+            (spread.relative_error - 0.169_030).abs() < 1e-5,
+            "{spread:?}"
+        );
     }
 
-    fn e_converged(
-        records: &Records,
-        o: &CascadeOptions,
-        r: &Resolved,
-        speed_hz: f64,
-        a: &Averaging,
-    ) -> bool {
-        records.estimate(speed_hz, o, r).converged(a)
+    #[test]
+    fn averaging_stops_once_the_peak_is_known_or_clear_of_every_level() {
+        let speed_hz = 40.0;
+        let (wandering, r, o) = averaged(&[1.0, 3.0, 1.0, 3.0]);
+        let e = wandering.estimate(speed_hz, &o, &r);
+        // Amplitude 2.236 with a relative standard error of 0.237 (0.531 absolute).
+        let mut a = Averaging::default();
+        assert!(!e.converged(&a, &[]), "5 % is not met");
+        a.relative_error = 0.25;
+        assert!(e.converged(&a, &[]), "25 % is");
+        a.relative_error = 0.05;
+        a.decided_error = 0.25;
+        // Clear of a level at 1.0 (2.3 standard errors) and of one at 5.0 (5.2): decided.
+        assert!(e.converged(&a, &[1.0, 5.0]));
+        // 2.0 is within 0.5 standard errors: more records could cross it.
+        assert!(!e.converged(&a, &[1.0, 2.0]));
+        // Clear, but the error is above the decided tolerance.
+        a.decided_error = 0.2;
+        assert!(!e.converged(&a, &[1.0, 5.0]));
     }
 
     #[test]

@@ -58,9 +58,10 @@ pub fn spectral_peaks(
     min_relative: f64,
     max_peaks: usize,
 ) -> Vec<SpectralPeak> {
-    let mut peaks: Vec<SpectralPeak> = local_maxima(spectrum)
-        .map(|k| peak_at(spectrum, k, running_speed_hz))
-        .collect();
+    let mut peaks = refined_candidates(spectrum, running_speed_hz, min_relative, max_peaks);
+    // In bin order, then largest first: ties keep the lower frequency first.
+    peaks.sort_by(|a, b| a.0.cmp(&b.0));
+    let mut peaks: Vec<SpectralPeak> = peaks.into_iter().map(|(_, p)| p).collect();
     peaks.sort_by(|a, b| b.amplitude.total_cmp(&a.amplitude));
     let largest = peaks.first().map_or(0.0, |p| p.amplitude);
     if min_relative > 0.0 {
@@ -69,6 +70,46 @@ pub fn spectral_peaks(
     }
     peaks.truncate(max_peaks);
     peaks
+}
+
+/// The local maxima of `spectrum` that may be among the `max_peaks` largest and at least
+/// `min_relative` times the largest once refined, refined, with their bins. Refining raises
+/// a bin by at most the window's largest scalloping gain, so the maxima are refined in
+/// order of their raw bins until none left could reach what is already kept: the same
+/// peaks as refining every maximum (a long record has thousands), for a few refinements.
+fn refined_candidates(
+    spectrum: &Spectrum,
+    running_speed_hz: f64,
+    min_relative: f64,
+    max_peaks: usize,
+) -> Vec<(usize, SpectralPeak)> {
+    let gain = largest_scalloping_gain(spectrum.window);
+    let mut candidates: Vec<usize> = local_maxima(spectrum).collect();
+    candidates.sort_by(|&i, &j| {
+        let (a, b) = (shape(&spectrum.amplitude, i), shape(&spectrum.amplitude, j));
+        b.total_cmp(&a).then(i.cmp(&j))
+    });
+    let mut kept: Vec<(usize, SpectralPeak)> = Vec::new();
+    let mut amplitudes: Vec<f64> = Vec::new();
+    let mut largest = 0.0_f64;
+    for k in candidates {
+        let bound = gain * shape(&spectrum.amplitude, k);
+        let relative_cut = min_relative.clamp(0.0, 1.0) * largest;
+        let count_cut = if amplitudes.len() >= max_peaks {
+            amplitudes[max_peaks.saturating_sub(1)]
+        } else {
+            0.0
+        };
+        if !kept.is_empty() && bound < relative_cut.max(count_cut) {
+            break;
+        }
+        let p = peak_at(spectrum, k, running_speed_hz);
+        largest = largest.max(p.amplitude);
+        let at = amplitudes.partition_point(|a| *a >= p.amplitude);
+        amplitudes.insert(at, p.amplitude);
+        kept.push((k, p));
+    }
+    kept
 }
 
 /// The largest peak that is not within `tolerance_bins` bins of `k * running_speed_hz` for
