@@ -90,6 +90,33 @@ fn a_small_study_runs_resumes_and_refuses_another_studys_points() {
 }
 
 #[test]
+fn points_that_differ_only_in_their_threshold_share_one_cascade() {
+    let tmp = tempfile::tempdir().unwrap();
+    let body = SMALL.replace(
+        "parameter = \"roller_bearing[*].clearance\"\nvalues = [\"20 um\", \"120 um\"]",
+        "parameter = \"cascade.nsv_threshold\"\nvalues = [\"1 um\", \"10 um\"]",
+    );
+    assert_ne!(body, SMALL);
+    let file = write_study(tmp.path(), &body);
+    let out = tmp.path().join("out");
+    let run = study(&file, &out, &[]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    assert_eq!(
+        stderr
+            .matches("its cascade shared with another point")
+            .count(),
+        1,
+        "{stderr}"
+    );
+    // The same spectra read at two thresholds: the largest NSV is one number.
+    let largest = &summary(&out)["sweeps"][0]["largest_nsv"];
+    assert_eq!(largest[0], largest[1], "{largest}");
+    // Every point finished: no cascade is left half done.
+    assert!(!tmp.path().join("out.points").join("partial").exists());
+}
+
+#[test]
 fn a_bad_value_is_reported_at_its_line_and_nothing_is_written() {
     let tmp = tempfile::tempdir().unwrap();
     let file = write_study(

@@ -16,15 +16,15 @@ use whirl::study::{point, Point, Study};
 use crate::error::{lib, to_py};
 use crate::watch::{run_watched, Watch};
 
-/// A point's cascade, its finished speeds kept in `<store>/partial/<key>` until the point is
-/// saved whole (as the command line does), so a point interrupted half-way, or whose
-/// worker died, continues from its finished speeds.
+/// A point's cascade, its finished speeds kept in [`Point::partial_dir`] until the study
+/// ends (as the command line does), so a point interrupted half-way, or whose worker died,
+/// continues from its finished speeds, and a point sharing its cascade reads it whole.
 fn compute_point(
     p: &Point,
     store_dir: &Path,
     watch: Option<&Arc<Watch>>,
 ) -> whirl::Result<PointResult> {
-    let partial = store_dir.join("partial").join(&p.key);
+    let partial = p.partial_dir(store_dir);
     let watch = watch.cloned();
     let stop = Progress::new(
         move |_| match watch.as_deref().is_some_and(Watch::stopped) {
@@ -32,12 +32,8 @@ fn compute_point(
             false => ControlFlow::Continue(()),
         },
     );
-    let result = point::compute(p, Some(&partial), Some(&stop))?;
-    let _ = std::fs::remove_dir_all(&partial);
-    if let Some(parent) = partial.parent() {
-        let _ = std::fs::remove_dir(parent);
-    }
-    Ok(result)
+    // Its speeds stay until the study ends, for a point that shares its cascade.
+    point::compute(p, Some(&partial), Some(&stop))
 }
 
 /// Point `index` of the study file `path`, computed on a worker, as exact JSON; its
@@ -82,14 +78,21 @@ pub fn study<'py>(
     let total = study.points.len();
     let outcomes = run_watched(py, progress.as_ref(), |watch| -> whirl::Result<_> {
         if let Some(runner) = &runner {
-            let missing: Vec<usize> = (0..total)
+            // One task per cascade: a point sharing another's cascade (another threshold)
+            // resumes it here afterwards, where two tasks would race for its folder.
+            let unfinished: Vec<usize> = (0..total)
                 .filter(|&k| {
                     store
                         .load::<PointResult>(&study.points[k].key)
                         .is_none_or(|r| r.key != study.points[k].key)
                 })
                 .collect();
-            let mut done = total - missing.len();
+            let mut done = total - unfinished.len();
+            let mut cascades = std::collections::HashSet::new();
+            let missing: Vec<usize> = unfinished
+                .into_iter()
+                .filter(|&k| cascades.insert(study.points[k].cascade_key.clone()))
+                .collect();
             watch.tell(done, total);
             run_remote(runner, &missing, |k, result| {
                 store.save(&study.points[k].key, &result)?;

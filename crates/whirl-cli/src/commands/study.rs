@@ -204,25 +204,26 @@ fn warn_if_long(study: &Study) {
 
 /// One point's cascade, resuming from its own folder of finished speeds.
 fn compute_point(p: &Point, store: &Store) -> whirl::Result<PointResult> {
-    let partial = store.dir().join("partial").join(&p.key);
+    let partial = p.partial_dir(store.dir());
     // The speeds of the point running (as `whirl cascade` shows them); Ctrl-C stops the
     // point between speeds, its finished speeds kept.
     let (progress, line) = progress_line("cascade".into());
     let result = point::compute(p, Some(&partial), Some(&progress));
     line.clear();
-    let result = result?;
-    // The point is saved whole by the caller; its speeds are no longer needed (nor their
-    // folder, once no point is half done).
-    let _ = std::fs::remove_dir_all(&partial);
-    if let Some(parent) = partial.parent() {
-        let _ = std::fs::remove_dir(parent);
-    }
-    Ok(result)
+    // The point is saved whole by the caller; its speeds stay until the study ends, for a
+    // point that shares its cascade.
+    result
 }
 
 /// A line on stderr per point, as it becomes available.
 fn tell(k: usize, total: usize, p: &Point, source: Source, outcome: &PointOutcome) {
     let what = match (outcome, source) {
+        (Ok(r), Source::Computed) if r.resumed_speeds == r.map.speeds_hz.len() => {
+            format!(
+                "largest NSV {:.3e} m (its cascade shared with another point)",
+                r.nsv.largest
+            )
+        }
         (Ok(r), Source::Computed) => {
             format!(
                 "largest NSV {:.3e} m ({:.1} s)",

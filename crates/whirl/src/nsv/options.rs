@@ -354,8 +354,9 @@ pub(super) fn resolve(model: &Model, o: &CascadeOptions, linear: &Linear) -> Res
 fn fft_friendly_step(step: f64, record_every: usize, record: f64) -> f64 {
     let interval = step * record_every as f64;
     let samples = (record / interval + 1e-9).floor() as usize;
-    if samples < MIN_SAMPLES {
-        // Refused by the caller with the record's own message.
+    if !(MIN_SAMPLES..=MAX_RECORD_SAMPLES).contains(&samples) {
+        // Refused by the caller with the record's own message (and the search for a smooth
+        // length would be long where those numbers are sparse).
         return step;
     }
     let smooth = next_five_smooth(samples);
@@ -569,5 +570,7 @@ mod tests {
         assert!(shorter < step && shorter > step * (1.0 - 1.0 / 15_413.0 * 200.0));
         let samples = (0.5 / shorter + 1e-9).floor() as usize;
         assert_eq!(samples, 15_552);
+        // A record the cascade refuses keeps its step: it is refused with its own message.
+        assert_eq!(fft_friendly_step(step, 1, 1e9), step);
     }
 }

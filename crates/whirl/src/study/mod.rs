@@ -93,6 +93,10 @@ pub struct Point {
     /// Fingerprint of its validated model and cascade settings (and whirl's build, [`crate::BUILD_ID`]):
     /// names its file in the checkpoint folder.
     pub key: String,
+    /// Fingerprint of its cascade alone: the key without the NSV threshold, which only
+    /// reads the cascade. Points that differ only in their threshold share one cascade,
+    /// computed once ([`Point::partial_dir`]).
+    pub cascade_key: String,
     /// What differs from the base model and settings, `path = value`, in order.
     pub changes: Vec<(String, String)>,
     /// The validated model.
@@ -104,6 +108,14 @@ pub struct Point {
 }
 
 impl Point {
+    /// The folder under a study's checkpoint folder `store_dir` where this point's cascade
+    /// keeps its finished speeds while the study runs: one per cascade, so a second point
+    /// with the same cascade (another threshold) resumes it whole instead of computing it
+    /// again. [`store::remove_partial`] empties them once every point is finished.
+    pub fn partial_dir(&self, store_dir: &Path) -> PathBuf {
+        store_dir.join(store::PARTIAL).join(&self.cascade_key)
+    }
+
     /// A short label: the changes, or "base" when there are none.
     pub fn label(&self) -> String {
         if self.changes.is_empty() {
@@ -374,6 +386,12 @@ impl Expander {
         let model_json = serde_json::to_string(&valid).unwrap_or_default();
         let cascade_json = serde_json::to_string(&settings).unwrap_or_default();
         let key = store::fingerprint(&[crate::BUILD_ID, &model_json, &cascade_json]);
+        let unread = CascadeSettings {
+            nsv_threshold: None,
+            ..settings.clone()
+        };
+        let unread_json = serde_json::to_string(&unread).unwrap_or_default();
+        let cascade_key = store::fingerprint(&[crate::BUILD_ID, &model_json, &unread_json]);
         if let Some(&k) = self.by_key.get(&key) {
             return Ok(k);
         }
@@ -387,6 +405,7 @@ impl Expander {
         }
         self.points.push(Point {
             key: key.clone(),
+            cascade_key,
             changes: edits
                 .iter()
                 .map(|e| (e.path.to_string(), e.text.clone()))

@@ -107,5 +107,6 @@ pub fn point_result(key: &str, c: &Cascade, threshold: f64) -> PointResult {
             amplitude,
         },
         wall_time_s: c.wall_time_s,
+        resumed_speeds: c.resumed,
     }
 }

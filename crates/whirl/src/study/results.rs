@@ -122,6 +122,10 @@ pub struct PointResult {
     pub map: CascadeMap,
     /// Wall-clock time of the cascade, s.
     pub wall_time_s: f64,
+    /// Speeds read from the cascade's folder instead of computed: all of them when another
+    /// point shares the cascade (the same model and settings, another threshold), some
+    /// when an interrupted run is resumed.
+    pub resumed_speeds: usize,
 }
 
 /// One sweep's outcome.
@@ -200,6 +204,9 @@ pub fn run_points(
         };
         report(k, point, source, &outcome);
         results.push(outcome);
+    }
+    if results.iter().all(|r| r.is_ok()) {
+        super::store::remove_partial(store.dir());
     }
     Ok(results)
 }

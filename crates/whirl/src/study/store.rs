@@ -124,6 +124,17 @@ impl Store {
     }
 }
 
+/// The folder under a study's checkpoint folder holding the cascades still running
+/// ([`super::Point::partial_dir`]).
+pub const PARTIAL: &str = "partial";
+
+/// Removes the running cascades' folder of the study checkpoint `store_dir`: called once
+/// every point is saved, when no point can resume them any more. A folder that cannot be
+/// removed is left (it only holds finished speeds).
+pub fn remove_partial(store_dir: &Path) {
+    let _ = fs::remove_dir_all(store_dir.join(PARTIAL));
+}
+
 fn read_manifest(path: &Path) -> Option<Manifest> {
     serde_json::from_str(&fs::read_to_string(path).ok()?).ok()
 }
