@@ -124,7 +124,8 @@ class CascadeResult(Reported):
     #: Per speed, as the library holds it: added, settled, settle_s, records, one_x_m, peak
     #: (the largest non-synchronous peak or None), diverged, start_fallback.
     points: list[dict[str, Any]]
-    #: Per speed, the classified NSV (class, explanation, direction, peak) or None.
+    #: Per speed, the classified NSV (class, explanation, direction, slope in Hz per Hz of
+    #: speed or None, peak) or None.
     nsv: list[dict[str, Any] | None]
     report: Report
 

@@ -1,56 +1,84 @@
-//! What the largest non-synchronous peak at each speed is (docs/theory.md section 8; thesis 5.1).
+//! What the largest non-synchronous peak at each speed is: the mechanism behind it, named
+//! from how its frequency moves with the running speed, the lines beside it and the
+//! bearings' contact frequencies (docs/theory.md section 8; thesis 5.1).
 //!
-//! The classes name the physics and, for the sub-synchronous ones, the whirl direction
-//! (from the full spectrum of x + i y: forward when the component at +f is the larger):
-//! whip is forward precession locked at a natural frequency, and a backward whirl locked
-//! the same way is `backward-whip`, never plain whip.
+//! The evidence is gathered in [`super::trend`]: the slope `df/dOmega` of the NSV line over
+//! the settled neighbours within a window in hertz of speed, and its companions `k Omega -+
+//! f` in the point's own spectrum. The rotor-whirl classes carry the whirl direction from
+//! the full spectrum of x + i y (forward when the component at +f is the larger): whip is
+//! forward precession locked at a natural frequency, and a backward whirl locked the same
+//! way is `backward-whip`, never plain whip.
 //!
 //! A point whose run did not settle (see [`crate::nsv`]: its largest non-synchronous peak was
 //! still dying away at the longest settling time) is **unsettled**, whatever its frequency;
-//! it is never an NSV of any other class. Otherwise the checks run in this order, the first
-//! that holds names the peak (`tol` is the cascade's tolerance, `tolerance_bins` times the
-//! bin spacing):
+//! it is never an NSV of any other class. Otherwise the first rule that holds names the
+//! peak (`tol` is the cascade's tolerance, `tolerance_bins` times the bin spacing; `s` the
+//! slope where it was measured). The rules ask for different slopes, so their order
+//! matters only where a frequency fits two mechanisms' ratios:
 //!
-//! 1. **sub-synchronous whirl** (`forward-` or `backward-sub-synchronous-whirl`): within
-//!    `tol` of 0.5X (the thesis' whirl "at twice the first critical speed").
-//! 2. **whip** (`forward-whip`, `backward-whip`), frequency-locked: sub-synchronous, and
-//!    another settled speed within [`lock_window`] of this one has its NSV within
-//!    [`lock_tolerance`] of it, although a vibration proportional to speed would have moved
-//!    by more than twice that (the thesis' "frequency-locked phenomenon": the whip's
-//!    frequency does not follow the speed). The window is in hertz of speed, not in
-//!    neighbours, so a refined grid finds the same locks as a coarse one, and wide enough
-//!    for a low order to have moved by that much.
-//! 3. **varying compliance** `m N_b w_c` (`m` = 1..3, eq. 4.4; waviness frequencies
-//!    `(N_w - 1) w_c` likewise), and **combination** tones `|m f_c +- n Omega|` (`n` = 1..3),
-//!    within `tol`. Combinations are named only where the running speed exceeds 4 `tol`:
-//!    below that they pack so densely that any frequency would match one.
-//! 4. **whip**, near a natural frequency: sub-synchronous and within [`NATURAL_TOLERANCE`]
-//!    of a natural frequency of the rotor on linearised bearings at that speed (Campbell):
-//!    the contact stiffness of a bearing with clearance is not its linear stiffness, so the
-//!    match is loose.
-//! 5. **super-harmonic**: above 1X and not explained above (a peak above 1X within
-//!    [`NATURAL_TOLERANCE`] of a natural frequency is a mode ringing, named **other**).
-//! 6. **other**.
+//! 1. **subharmonic** (`forward-` or `backward-subharmonic`): within `tol` of `Omega/n`
+//!    (`n` = 2, 3), moving at `1/n` (`s` within [`SLOPE_TOLERANCE`] of it), or with no
+//!    slope measured. A locked whip that crosses `Omega/2` is not one; one that crosses
+//!    `Omega/3` while drifting at 0.2-0.3 would be (the slopes overlap there, and the
+//!    exact ratio decides).
+//! 2. **varying compliance**: within `tol` of `m f_c` or `|m f_c +- n Omega|` (`f_c` a
+//!    bearing's `N_b w_c` or waviness frequency `(N_w - 1) w_c`, eq. 4.4; `m` = 1..3,
+//!    `n` = 1..8, the sidebands only where the running speed exceeds 4 `tol`, below which
+//!    they pack so densely that any frequency would match one), and moving in proportion
+//!    to the speed (`s` within [`SLOPE_TOLERANCE`] plus a tenth of `f/Omega` of `f/Omega`),
+//!    or with no slope measured. Largest where it meets a natural frequency (the
+//!    explanation says so): a varying-compliance resonance.
+//! 3. **whip** (`forward-whip`, `backward-whip`), locked: below 1X and `|s|` at most
+//!    [`LOCKED_SLOPE`]: the frequency stays at a natural frequency of the rotor on its
+//!    contacts while the speed changes (the thesis' "frequency-locked phenomenon"); the
+//!    nearest natural frequency of the linearised rotor is named (the contact stiffness is
+//!    not the linear one, so it is only near). Above 1X a locked line is a mode ringing:
+//!    **other**.
+//! 4. **combination resonance** (`forward-` or `backward-combination-resonance`): `|s|`
+//!    above [`LOCKED_SLOPE`], and a companion at
+//!    `k Omega - f` (sum type `f + f_j = k Omega`) or `k Omega + f` (difference type) in
+//!    its spectrum: a frequency that moves with the speed, with `k` or less where the
+//!    partner mode is pulled along.
+//! 5. **whip**, unmeasured: no settled neighbour within the window shows the line, the peak
+//!    is below 1X and within [`NATURAL_TOLERANCE`] of a linearised natural frequency.
+//! 6. **super-harmonic**: above 1X and not explained above.
+//! 7. **other**: what is left, with its slope where measured (a line that moves without a
+//!    companion, or a locked one above 1X).
 
 use serde::{Deserialize, Serialize, Serializer};
 
 use super::point::{CascadePoint, NsvPeak};
+use super::trend::{self, Companion, Lines, Reading, Trend};
 
-/// A sub-synchronous peak within this fraction of a linearised natural frequency is whip.
+/// With no slope measured, a sub-synchronous peak within this fraction of a linearised
+/// natural frequency is whip.
 pub const NATURAL_TOLERANCE: f64 = 0.1;
 
-/// Combination tones are named only when the running speed exceeds this many tolerances.
+/// A line moving by at most this many hertz per hertz of speed is locked. The reference
+/// rotor's whips hold within 0.1 where they are steady and drift by up to 0.3 where the
+/// irregular whip's frequency wanders by a few hertz from speed to speed (20 um clearance,
+/// 230-270 Hz); its combination resonance moves by 0.8-1.1 (20 um, 580-600 Hz).
+pub const LOCKED_SLOPE: f64 = 0.3;
+
+/// A line moves in proportion to the speed when its slope is within this (plus a tenth of
+/// its order, for the steep super-synchronous tones) of its order `f/Omega`: a
+/// tolerance-wide step of speed (two bins) reads a slope to about a quarter of a bin over
+/// two bins, 0.125, before the median over the neighbours.
+pub const SLOPE_TOLERANCE: f64 = 0.15;
+
+/// Sidebands `|m f_c +- n Omega|` are named only when the running speed exceeds this many
+/// tolerances.
 const COMBINATION_SPACING: f64 = 4.0;
 
-/// Multiples m of a contact frequency and n of the running speed tried.
+/// Multiples m of a contact frequency tried ...
 const MAX_CONTACT_MULTIPLE: usize = 3;
-const MAX_SPEED_MULTIPLE: usize = 3;
+/// ... and n of the running speed in its sidebands: the reference rotor shows
+/// `n Omega - N_b w_c` up to `n` = 8 (4.35X at 510 Hz).
+const MAX_SPEED_MULTIPLE: usize = 8;
 
-/// The lock window's fraction of the running speed ...
-const LOCK_WINDOW_FRACTION: f64 = 0.1;
-/// ... and its least width, Hz: about two steps of the default 150-speed grid over
-/// 1-750 Hz, where whip locks were first seen.
-const LOCK_WINDOW_MIN_HZ: f64 = 12.0;
+/// Orders n of the subharmonics `Omega/n` named (from the fourth on, at slope 1/4 or less,
+/// the slope would not tell them from a lock).
+const MAX_SUBHARMONIC: usize = 3;
 
 /// Whirl direction of a peak, from the full spectrum.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
@@ -75,14 +103,15 @@ impl WhirlDirection {
 /// What kind of non-synchronous vibration a peak is (rules in the module documentation).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum NsvClass {
-    /// Near half the running speed, whirling this way.
-    SubSynchronousWhirl(WhirlDirection),
+    /// At `Omega/n` and moving at `1/n`, whirling this way.
+    Subharmonic(WhirlDirection),
     /// Locked near a natural frequency while the speed changes, whirling this way.
     Whip(WhirlDirection),
-    /// A multiple of a bearing's varying-compliance (or waviness) frequency.
+    /// Moving with the speed, with a companion at `k Omega -+ f`: whirling this way.
+    CombinationResonance(WhirlDirection),
+    /// A multiple of a bearing's varying-compliance (or waviness) frequency, or a sideband
+    /// of one with the running speed.
     VaryingCompliance,
-    /// A combination `|m f_c +- n Omega|` of a contact frequency and the running speed.
-    Combination,
     /// Above 1X, at no multiple of it, not otherwise explained.
     SuperHarmonic,
     /// None of the above.
@@ -93,28 +122,30 @@ pub enum NsvClass {
 
 impl NsvClass {
     /// Every class, in the order of the module documentation's list.
-    pub const ALL: [NsvClass; 9] = [
-        NsvClass::SubSynchronousWhirl(WhirlDirection::Forward),
-        NsvClass::SubSynchronousWhirl(WhirlDirection::Backward),
+    pub const ALL: [NsvClass; 10] = [
+        NsvClass::Subharmonic(WhirlDirection::Forward),
+        NsvClass::Subharmonic(WhirlDirection::Backward),
+        NsvClass::VaryingCompliance,
         NsvClass::Whip(WhirlDirection::Forward),
         NsvClass::Whip(WhirlDirection::Backward),
-        NsvClass::VaryingCompliance,
-        NsvClass::Combination,
+        NsvClass::CombinationResonance(WhirlDirection::Forward),
+        NsvClass::CombinationResonance(WhirlDirection::Backward),
         NsvClass::SuperHarmonic,
         NsvClass::Other,
         NsvClass::Unsettled,
     ];
 
-    /// Name as in tables: `forward-whip`, `backward-sub-synchronous-whirl`, ...
+    /// Name as in tables: `forward-whip`, `backward-combination-resonance`, ...
     pub fn name(self) -> &'static str {
         use WhirlDirection::{Backward, Forward};
         match self {
-            NsvClass::SubSynchronousWhirl(Forward) => "forward-sub-synchronous-whirl",
-            NsvClass::SubSynchronousWhirl(Backward) => "backward-sub-synchronous-whirl",
+            NsvClass::Subharmonic(Forward) => "forward-subharmonic",
+            NsvClass::Subharmonic(Backward) => "backward-subharmonic",
             NsvClass::Whip(Forward) => "forward-whip",
             NsvClass::Whip(Backward) => "backward-whip",
+            NsvClass::CombinationResonance(Forward) => "forward-combination-resonance",
+            NsvClass::CombinationResonance(Backward) => "backward-combination-resonance",
             NsvClass::VaryingCompliance => "varying-compliance",
-            NsvClass::Combination => "combination",
             NsvClass::SuperHarmonic => "super-harmonic",
             NsvClass::Other => "other",
             NsvClass::Unsettled => "unsettled",
@@ -152,46 +183,49 @@ pub struct Nsv {
     pub peak: NsvPeak,
     /// What it is.
     pub class: NsvClass,
-    /// Why: `0.5X`, `N_b w_c - 1X (bearing A)`, `locked near 45.1 Hz`, ...
+    /// Why: `Omega/2`, `N_b w_c - 1X (bearing A)`, `locked: 0.01 Hz per Hz ...`, ...
     pub explanation: String,
     /// Forward or backward whirl.
     pub direction: WhirlDirection,
+    /// How fast its frequency moves with the running speed, Hz per Hz (median over the
+    /// settled neighbours within the window that show the line); `None` where no
+    /// neighbour does, or the point did not settle.
+    pub slope: Option<f64>,
 }
 
-/// What the classification of one speed knows besides its peak.
+/// What the classification of one speed knows besides its spectrum.
 pub(super) struct Context<'a> {
     /// Contact frequencies at this speed.
     pub contact: &'a [NamedFrequency],
     /// Natural frequencies of the linearised rotor at this speed.
     pub natural: &'a [NamedFrequency],
-    /// Tolerance, Hz.
-    pub tolerance_hz: f64,
 }
 
-/// How close two speeds' NSV frequencies must be to count as locked, Hz: the tolerance, or
-/// 2 % of the frequency (a whip drifts a little as the contact stiffness changes with
+/// How close two speeds' NSV frequencies must be to count as one line, Hz: the tolerance,
+/// or 2 % of the frequency (a whip drifts a little as the contact stiffness changes with
 /// speed), whichever is larger.
 pub fn lock_tolerance(frequency_hz: f64, tolerance_hz: f64) -> f64 {
     tolerance_hz.max(0.02 * frequency_hz)
 }
 
-/// How far in speed (Hz) from `speed_hz` a lock partner of a peak of `order` is looked
-/// for: a tenth of the speed, at least `LOCK_WINDOW_MIN_HZ`, and at least 1.5 times the
-/// speed change over which a vibration of that order would move by twice the lock
-/// tolerance `lock_hz` (else a low order could never show its lock).
-pub fn lock_window(speed_hz: f64, order: f64, lock_hz: f64) -> f64 {
-    let reach = if order > 0.0 {
-        1.5 * 2.0 * lock_hz / order
-    } else {
-        0.0
-    };
-    (LOCK_WINDOW_FRACTION * speed_hz)
-        .max(LOCK_WINDOW_MIN_HZ)
-        .max(reach)
+/// The evidence about one settled peak.
+struct Evidence<'a> {
+    speed_hz: f64,
+    peak: NsvPeak,
+    direction: WhirlDirection,
+    trend: Option<Trend>,
+    companion: Option<Companion>,
+    context: &'a Context<'a>,
+    tolerance_hz: f64,
 }
 
-/// Classifies every point's peak.
-pub(super) fn classify(points: &[CascadePoint], contexts: &[Context<'_>]) -> Vec<Option<Nsv>> {
+/// Classifies every point's peak; `reading` says how the points' spectra were taken.
+pub(super) fn classify(
+    points: &[CascadePoint],
+    contexts: &[Context<'_>],
+    reading: &Reading,
+) -> Vec<Option<Nsv>> {
+    let lines: Vec<Lines> = points.iter().map(|p| Lines::of(p, reading)).collect();
     points
         .iter()
         .enumerate()
@@ -202,104 +236,146 @@ pub(super) fn classify(points: &[CascadePoint], contexts: &[Context<'_>]) -> Vec
             } else {
                 WhirlDirection::Backward
             };
-            let (class, explanation) = if p.settled {
-                let locked = lock_partner(points, i, &contexts[i]);
-                name(p.speed_hz, &peak, direction, locked, &contexts[i])
-            } else {
+            if !p.settled {
                 let why = format!(
                     "still dying away after {:.2} s: {:.2} of its amplitude per half record",
                     p.settle_s, peak.decay_ratio
                 );
-                (NsvClass::Unsettled, why)
+                return Some(Nsv {
+                    speed_hz: p.speed_hz,
+                    peak,
+                    class: NsvClass::Unsettled,
+                    explanation: why,
+                    direction,
+                    slope: None,
+                });
+            }
+            let evidence = Evidence {
+                speed_hz: p.speed_hz,
+                peak,
+                direction,
+                trend: trend::trend(points, &lines, i, reading),
+                companion: trend::companion(p, &lines[i], reading),
+                context: &contexts[i],
+                tolerance_hz: reading.tolerance_hz,
             };
+            let (class, explanation) = name(&evidence);
             Some(Nsv {
                 speed_hz: p.speed_hz,
                 peak,
                 class,
                 explanation,
                 direction,
+                slope: evidence.trend.map(|t| t.slope),
             })
         })
         .collect()
 }
 
-/// The nearest settled speed in the lock window whose peak is locked with point `i`'s.
-fn lock_partner(points: &[CascadePoint], i: usize, c: &Context<'_>) -> Option<(f64, NsvPeak)> {
-    let p = &points[i];
-    let peak = p.peak?;
-    let lock_hz = lock_tolerance(peak.frequency_hz, c.tolerance_hz);
-    let window = lock_window(p.speed_hz, peak.order, lock_hz);
-    points
-        .iter()
-        .enumerate()
-        .filter(|&(j, q)| j != i && q.settled && (q.speed_hz - p.speed_hz).abs() <= window)
-        .filter_map(|(_, q)| q.peak.map(|other| (q.speed_hz, other)))
-        .filter(|(speed_hz, other)| locked_with(p.speed_hz, &peak, *speed_hz, other, c))
-        .min_by(|a, b| {
-            (a.0 - p.speed_hz)
-                .abs()
-                .total_cmp(&(b.0 - p.speed_hz).abs())
+/// Class and explanation of a settled peak, by the rules of the module documentation.
+fn name(e: &Evidence<'_>) -> (NsvClass, String) {
+    let f = e.peak.frequency_hz;
+    let slope = e.trend.map(|t| t.slope);
+    let sub = f < e.speed_hz;
+    if let Some(n) = subharmonic(e) {
+        let why = format!("Omega/{n}{}", moving(e.trend));
+        return (NsvClass::Subharmonic(e.direction), why);
+    }
+    if let Some(tone) = contact_match(e) {
+        let why = format!("{tone}{}{}", moving(e.trend), at_natural(f, e.context));
+        return (NsvClass::VaryingCompliance, why);
+    }
+    if let Some(s) = slope {
+        if s.abs() <= LOCKED_SLOPE {
+            let why = format!("locked{}{}", moving(e.trend), near_natural(f, e.context));
+            if sub {
+                return (NsvClass::Whip(e.direction), why);
+            }
+            return (NsvClass::Other, format!("{why}, above 1X: a mode ringing"));
+        }
+        if let Some(c) = e.companion {
+            let why = format!("{}{}", partner(&c), moving(e.trend));
+            return (NsvClass::CombinationResonance(e.direction), why);
+        }
+    }
+    let near = nearest_natural(f, e.context)
+        .filter(|n| (f - n.frequency_hz).abs() <= NATURAL_TOLERANCE * n.frequency_hz);
+    if let (None, true, Some(n)) = (slope, sub, near) {
+        let why = format!(
+            "near {} ({:.1} Hz); no neighbour within {:.0} Hz shows whether it is locked",
+            n.name,
+            n.frequency_hz,
+            trend::window_hz(e.tolerance_hz)
+        );
+        return (NsvClass::Whip(e.direction), why);
+    }
+    let why = format!("{:.3}X{}", e.peak.order, moving(e.trend));
+    if f > e.speed_hz {
+        return (NsvClass::SuperHarmonic, why);
+    }
+    let no_companion = if slope.is_some() {
+        ", no companion at k Omega -+ f"
+    } else {
+        ""
+    };
+    (NsvClass::Other, format!("{why}{no_companion}"))
+}
+
+/// The subharmonic order `n` whose `Omega/n` the peak sits at and moves with.
+fn subharmonic(e: &Evidence<'_>) -> Option<usize> {
+    (2..=MAX_SUBHARMONIC).find(|&n| {
+        let order = 1.0 / n as f64;
+        (e.peak.frequency_hz - order * e.speed_hz).abs() <= e.tolerance_hz
+            && e.trend
+                .is_none_or(|t| (t.slope - order).abs() <= SLOPE_TOLERANCE)
+    })
+}
+
+/// Whether a slope `s` is that of a line proportional to the speed at `order`.
+fn proportional(s: f64, order: f64) -> bool {
+    (s - order).abs() <= SLOPE_TOLERANCE + 0.1 * order
+}
+
+/// `: 0.84 Hz per Hz over 584.1-604.2 Hz (9 speeds)`, or nothing without a trend.
+fn moving(trend: Option<Trend>) -> String {
+    trend.map_or(String::new(), |t| {
+        format!(
+            ": {:.2} Hz per Hz over {:.1}-{:.1} Hz ({} speeds)",
+            t.slope,
+            t.span_hz.0,
+            t.span_hz.1,
+            t.neighbours + 1
+        )
+    })
+}
+
+/// `, near mode 1 backward (49.5 Hz)`, naming the nearest linearised natural frequency.
+fn near_natural(f: f64, c: &Context<'_>) -> String {
+    nearest_natural(f, c).map_or(String::new(), |n| {
+        format!(", near {} ({:.1} Hz)", n.name, n.frequency_hz)
+    })
+}
+
+/// `, at mode 1 backward (49.5 Hz)` where `f` is within [`NATURAL_TOLERANCE`] of a
+/// linearised natural frequency (a varying-compliance resonance), else nothing.
+fn at_natural(f: f64, c: &Context<'_>) -> String {
+    nearest_natural(f, c)
+        .filter(|n| (f - n.frequency_hz).abs() <= NATURAL_TOLERANCE * n.frequency_hz)
+        .map_or(String::new(), |n| {
+            format!(", at {} ({:.1} Hz)", n.name, n.frequency_hz)
         })
 }
 
-/// Whether `peak` at `speed_hz` and `other` at `other_speed_hz` are one frequency-locked
-/// vibration: within the lock tolerance, while a vibration proportional to speed would
-/// have moved by more than twice that.
-fn locked_with(
-    speed_hz: f64,
-    peak: &NsvPeak,
-    other_speed_hz: f64,
-    other: &NsvPeak,
-    c: &Context<'_>,
-) -> bool {
-    let tolerance = lock_tolerance(peak.frequency_hz, c.tolerance_hz);
-    (peak.frequency_hz - other.frequency_hz).abs() <= tolerance
-        && peak.order * (speed_hz - other_speed_hz).abs() > 2.0 * tolerance
-}
-
-/// Class and explanation of a settled peak, by the checks of the module documentation.
-fn name(
-    speed_hz: f64,
-    peak: &NsvPeak,
-    direction: WhirlDirection,
-    locked: Option<(f64, NsvPeak)>,
-    c: &Context<'_>,
-) -> (NsvClass, String) {
-    let f = peak.frequency_hz;
-    let tol = c.tolerance_hz;
-    let sub = f < speed_hz;
-    if (f - 0.5 * speed_hz).abs() <= tol {
-        return (NsvClass::SubSynchronousWhirl(direction), "0.5X".into());
-    }
-    if let (true, Some((other_speed, other))) = (sub, locked) {
-        let why = format!(
-            "locked: {:.1} Hz at {:.1} Hz running speed{}",
-            other.frequency_hz,
-            other_speed,
-            nearest_natural(f, c).map_or(String::new(), |n| format!(", near {}", n.name))
-        );
-        return (NsvClass::Whip(direction), why);
-    }
-    if let Some(found) = contact_match(speed_hz, f, c) {
-        return found;
-    }
-    let near = nearest_natural(f, c)
-        .filter(|n| (f - n.frequency_hz).abs() <= NATURAL_TOLERANCE * n.frequency_hz);
-    if let Some(n) = near {
-        let why = format!("near {} ({:.1} Hz)", n.name, n.frequency_hz);
-        // Above the running speed a mode ringing at its own frequency is no whip, and no
-        // super-harmonic of the speed either.
-        let class = if sub {
-            NsvClass::Whip(direction)
-        } else {
-            NsvClass::Other
-        };
-        return (class, why);
-    }
-    if f > speed_hz {
-        return (NsvClass::SuperHarmonic, format!("{:.3}X", peak.order));
-    }
-    (NsvClass::Other, format!("{:.3}X", peak.order))
+/// `f + 545.1 Hz = 1X` (sum type) or `546.3 Hz - f = 1X` (difference type), with the
+/// companion's share of the NSV.
+fn partner(c: &Companion) -> String {
+    let k = format!("{}X", c.order);
+    let relation = if c.sum {
+        format!("f + {:.1} Hz = {k}", c.frequency_hz)
+    } else {
+        format!("{:.1} Hz - f = {k}", c.frequency_hz)
+    };
+    format!("{relation} (companion {:.1} % of it)", 100.0 * c.relative)
 }
 
 /// The natural frequency nearest `f`.
@@ -311,11 +387,19 @@ fn nearest_natural<'a>(f: f64, c: &'a Context<'_>) -> Option<&'a NamedFrequency>
     })
 }
 
-/// A multiple of a contact frequency, or a combination with the running speed, within the
-/// tolerance of `f`.
-fn contact_match(speed_hz: f64, f: f64, c: &Context<'_>) -> Option<(NsvClass, String)> {
-    let tol = c.tolerance_hz;
-    let combinations = speed_hz > COMBINATION_SPACING * tol;
+/// The contact tone `m f_c` or `|m f_c +- n Omega|` within the tolerance of the peak that
+/// moves as it should (see the module documentation), named.
+fn contact_match(e: &Evidence<'_>) -> Option<String> {
+    let (f, speed_hz, tol) = (e.peak.frequency_hz, e.speed_hz, e.tolerance_hz);
+    let sidebands = if speed_hz > COMBINATION_SPACING * tol {
+        MAX_SPEED_MULTIPLE
+    } else {
+        0
+    };
+    let follows = e.trend.is_none_or(|t| proportional(t.slope, f / speed_hz));
+    if !follows {
+        return None;
+    }
     let multiple = |m: usize, name: &str| {
         if m == 1 {
             name.to_string()
@@ -323,21 +407,17 @@ fn contact_match(speed_hz: f64, f: f64, c: &Context<'_>) -> Option<(NsvClass, St
             format!("{m} {name}")
         }
     };
-    for base in c.contact {
+    for base in e.context.contact {
         for m in 1..=MAX_CONTACT_MULTIPLE {
             let fm = m as f64 * base.frequency_hz;
             if (f - fm).abs() <= tol {
-                return Some((NsvClass::VaryingCompliance, multiple(m, &base.name)));
+                return Some(multiple(m, &base.name));
             }
-            if !combinations {
-                continue;
-            }
-            for n in 1..=MAX_SPEED_MULTIPLE {
+            for n in 1..=sidebands {
                 let fn_ = n as f64 * speed_hz;
                 for (sign, value) in [("+", fm + fn_), ("-", (fm - fn_).abs())] {
                     if (f - value).abs() <= tol {
-                        let why = format!("{} {sign} {n}X", multiple(m, &base.name));
-                        return Some((NsvClass::Combination, why));
+                        return Some(format!("{} {sign} {n}X", multiple(m, &base.name)));
                     }
                 }
             }
@@ -349,27 +429,63 @@ fn contact_match(speed_hz: f64, f: f64, c: &Context<'_>) -> Option<(NsvClass, St
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::post::Window;
 
-    fn peak(frequency_hz: f64, speed_hz: f64) -> NsvPeak {
-        NsvPeak {
-            frequency_hz,
-            amplitude_m: 1e-6,
-            order: frequency_hz / speed_hz,
-            forward_m: 1e-6,
-            backward_m: 2e-7,
+    /// Bin spacing of the synthetic spectra, Hz (the default 0.5 s record), ...
+    const DF: f64 = 2.0;
+    /// ... and the default tolerance of two bins.
+    const TOL: f64 = 4.0;
+    /// The reference rotor's roller passage frequency over the running speed,
+    /// `N_b (1 - D_b/D_p) / 2`.
+    const PASSAGE_ORDER: f64 = 8.0 * (1.0 - 6.1 / 69.6) / 2.0;
+
+    fn reading() -> Reading {
+        Reading {
+            resolution_hz: DF,
+            window: Window::Hann,
+            tolerance_hz: TOL,
+        }
+    }
+
+    /// A spectral line: frequency (Hz) and amplitude (m).
+    type Line = (f64, f64);
+
+    /// A settled point at `speed_hz` whose spectrum holds a 100 um 1X, a floor of 1e-10 m,
+    /// the NSV `nsv` (whirling backward if `backward`) and the other `lines`, each as the
+    /// Hann window's main lobe.
+    fn point(speed_hz: f64, nsv: Line, backward: bool, lines: &[Line]) -> CascadePoint {
+        let bins = (3.0 * speed_hz.max(nsv.0) / DF) as usize + 8;
+        let mut amplitude = vec![1e-10; bins];
+        for &(f, a) in [(speed_hz, 1e-4), nsv].iter().chain(lines) {
+            let at = f / DF;
+            let first = (at - 2.0).ceil().max(0.0) as usize;
+            for (k, bin) in amplitude.iter_mut().enumerate().skip(first).take(4) {
+                let delta = (k as f64 - at).abs();
+                if delta < 2.0 {
+                    *bin += a * Window::Hann.response(delta);
+                }
+            }
+        }
+        let (major, minor) = (nsv.1, 0.2 * nsv.1);
+        let (forward_m, backward_m) = if backward {
+            (minor, major)
+        } else {
+            (major, minor)
+        };
+        let peak = NsvPeak {
+            frequency_hz: nsv.0,
+            amplitude_m: nsv.1,
+            order: nsv.0 / speed_hz,
+            forward_m,
+            backward_m,
             decay_ratio: 1.0,
             settling_ratio: Some(1.0),
             standard_error_m: 0.0,
             variation: 0.0,
-        }
-    }
-
-    fn context<'a>(contact: &'a [NamedFrequency], natural: &'a [NamedFrequency]) -> Context<'a> {
-        Context {
-            contact,
-            natural,
-            tolerance_hz: 4.0,
-        }
+        };
+        let mut p = CascadePoint::settled_at(speed_hz, 1e-4, Some(peak));
+        p.amplitude = amplitude;
+        p
     }
 
     fn named(name: &str, frequency_hz: f64) -> NamedFrequency {
@@ -379,40 +495,163 @@ mod tests {
         }
     }
 
+    /// Classes of `points` with the reference rotor's roller passage frequency and first
+    /// natural frequencies at each speed.
+    fn classes(points: &[CascadePoint]) -> Vec<NsvClass> {
+        let contact: Vec<[NamedFrequency; 1]> = points
+            .iter()
+            .map(|p| [named("N_b w_c", PASSAGE_ORDER * p.speed_hz)])
+            .collect();
+        let natural = [
+            named("mode 1 backward", 49.5),
+            named("mode 1 forward", 50.5),
+        ];
+        let contexts: Vec<Context<'_>> = contact
+            .iter()
+            .map(|c| Context {
+                contact: c,
+                natural: &natural,
+            })
+            .collect();
+        classify(points, &contexts, &reading())
+            .into_iter()
+            .map(|n| n.map_or(NsvClass::Other, |n| n.class))
+            .collect()
+    }
+
+    /// Speeds from `first` to `last` Hz in steps of `step`.
+    fn speeds(first: f64, last: f64, step: f64) -> Vec<f64> {
+        let n = ((last - first) / step).round() as usize;
+        (0..=n).map(|k| first + k as f64 * step).collect()
+    }
+
+    /// The reference rotor's 20 um maximum as measured with 0.5 Hz bins: backward, sliding
+    /// at 0.84 Hz per Hz through 49.5 Hz at 594.8 Hz, with its partner at Omega - f (0.8 %
+    /// of it); `companion` false leaves the partner out.
+    fn sliding(speed_hz: f64, companion: bool) -> CascadePoint {
+        let f = 49.5 + 0.84 * (speed_hz - 594.8);
+        let lines = if companion {
+            vec![(speed_hz - f, 1.2e-6)]
+        } else {
+            Vec::new()
+        };
+        point(speed_hz, (f, 1.5e-4), true, &lines)
+    }
+
+    /// The 60 um maximum: a forward whip at 48.4-48.7 Hz over 496-539 Hz, with the
+    /// intermodulation companions Omega -+ f (0.4 % and 0.2 %) that every whip has.
+    fn locked(speed_hz: f64) -> CascadePoint {
+        let f = 48.4 + 0.007 * (speed_hz - 496.0);
+        let lines = [(speed_hz - f, 2e-6), (speed_hz + f, 1e-6)];
+        point(speed_hz, (f, 4.5e-4), false, &lines)
+    }
+
     #[test]
-    fn each_check_names_its_class() {
-        use WhirlDirection::{Backward, Forward};
-        let contact = [named("N_b w_c", 365.0)];
-        let natural = [named("mode 1F", 50.0)];
-        let c = context(&contact, &natural);
-        let class = |f: f64, speed: f64| name(speed, &peak(f, speed), Forward, None, &c).0;
-        assert_eq!(class(50.5, 100.0), NsvClass::SubSynchronousWhirl(Forward));
-        assert_eq!(class(365.0, 100.0), NsvClass::VaryingCompliance);
-        assert_eq!(class(730.0, 100.0), NsvClass::VaryingCompliance);
-        assert_eq!(class(265.0, 100.0), NsvClass::Combination);
-        assert_eq!(class(47.0, 200.0), NsvClass::Whip(Forward));
-        assert_eq!(class(150.0, 100.0), NsvClass::SuperHarmonic);
-        // The first mode ringing above a low running speed.
-        assert_eq!(class(49.0, 30.0), NsvClass::Other);
-        assert_eq!(class(20.0, 200.0), NsvClass::Other);
-        // A backward whirl near the natural frequency is never plain whip.
-        let backward = name(200.0, &peak(47.0, 200.0), Backward, None, &c).0;
-        assert_eq!(backward, NsvClass::Whip(Backward));
-        assert_eq!(backward.name(), "backward-whip");
+    fn a_locked_line_is_whip_even_with_companions() {
+        let points: Vec<_> = speeds(496.0, 539.0, 5.0).into_iter().map(locked).collect();
+        for class in classes(&points) {
+            assert_eq!(class, NsvClass::Whip(WhirlDirection::Forward));
+        }
+    }
+
+    #[test]
+    fn a_line_sliding_with_its_companion_is_a_combination_resonance() {
+        let with: Vec<_> = speeds(586.0, 602.0, 2.0)
+            .into_iter()
+            .map(|w| sliding(w, true))
+            .collect();
+        for class in classes(&with) {
+            assert_eq!(
+                class,
+                NsvClass::CombinationResonance(WhirlDirection::Backward)
+            );
+        }
+        // The same slide with no partner line is not explained.
+        let without: Vec<_> = speeds(586.0, 602.0, 2.0)
+            .into_iter()
+            .map(|w| sliding(w, false))
+            .collect();
+        for class in classes(&without) {
+            assert_eq!(class, NsvClass::Other);
+        }
+    }
+
+    #[test]
+    fn a_refined_or_reordered_grid_names_the_same() {
+        let coarse: Vec<_> = speeds(580.0, 610.0, 5.0)
+            .into_iter()
+            .map(|w| sliding(w, true))
+            .collect();
+        let mut fine: Vec<_> = speeds(580.0, 610.0, 0.5)
+            .into_iter()
+            .map(|w| sliding(w, true))
+            .collect();
+        fine.reverse();
+        let expected = NsvClass::CombinationResonance(WhirlDirection::Backward);
+        assert!(classes(&coarse).iter().all(|&c| c == expected));
+        assert!(classes(&fine).iter().all(|&c| c == expected));
+    }
+
+    #[test]
+    fn a_subharmonic_moves_at_one_over_n() {
+        for n in [2.0, 3.0] {
+            let points: Vec<_> = speeds(300.0, 340.0, 5.0)
+                .into_iter()
+                .map(|w| point(w, (w / n, 1e-5), false, &[]))
+                .collect();
+            for class in classes(&points) {
+                assert_eq!(class, NsvClass::Subharmonic(WhirlDirection::Forward));
+            }
+        }
+    }
+
+    #[test]
+    fn a_locked_line_crossing_half_speed_is_whip() {
+        let points: Vec<_> = speeds(85.0, 115.0, 5.0)
+            .into_iter()
+            .map(|w| point(w, (49.4, 2e-6), true, &[]))
+            .collect();
+        // At 100 Hz the line sits at Omega/2, within the tolerance: still a lock.
+        for class in classes(&points) {
+            assert_eq!(class, NsvClass::Whip(WhirlDirection::Backward));
+        }
+    }
+
+    #[test]
+    fn varying_compliance_lines_and_sidebands_follow_the_speed() {
+        // N_b w_c crossing the first natural frequency at 13.6 Hz running speed.
+        let resonance: Vec<_> = speeds(9.0, 19.0, 0.5)
+            .into_iter()
+            .map(|w| point(w, (PASSAGE_ORDER * w, 2e-5), false, &[]))
+            .collect();
+        // 7X - N_b w_c, 3.351X, over 380-420 Hz.
+        let sideband: Vec<_> = speeds(380.0, 420.0, 5.0)
+            .into_iter()
+            .map(|w| point(w, ((7.0 - PASSAGE_ORDER) * w, 2e-7), true, &[]))
+            .collect();
+        for class in classes(&resonance).into_iter().chain(classes(&sideband)) {
+            assert_eq!(class, NsvClass::VaryingCompliance);
+        }
+    }
+
+    #[test]
+    fn a_point_without_neighbours_falls_back_on_the_natural_frequencies() {
+        let near = [point(300.0, (47.0, 1e-5), false, &[])];
+        assert_eq!(classes(&near), [NsvClass::Whip(WhirlDirection::Forward)]);
+        let far = [point(300.0, (20.0, 1e-5), false, &[])];
+        assert_eq!(classes(&far), [NsvClass::Other]);
+        let above = [point(300.0, (450.0, 1e-5), false, &[])];
+        assert_eq!(classes(&above), [NsvClass::SuperHarmonic]);
     }
 
     #[test]
     fn an_unsettled_point_has_no_other_class() {
-        let mut p = CascadePoint::settled_at(200.0, 1e-5, Some(peak(50.0, 200.0)));
+        let mut p = point(300.0, (47.0, 1e-5), false, &[]);
         (p.settled, p.settle_s, p.records) = (false, 4.0, 1);
-        let (contact, natural) = ([], [named("mode 1F", 50.0)]);
-        let c = [context(&contact, &natural)];
-        let nsv = classify(std::slice::from_ref(&p), &c);
-        assert_eq!(nsv[0].as_ref().map(|n| n.class), Some(NsvClass::Unsettled));
+        assert_eq!(classes(std::slice::from_ref(&p)), [NsvClass::Unsettled]);
         p.settled = true;
-        let nsv = classify(std::slice::from_ref(&p), &c);
-        let class = nsv[0].as_ref().map(|n| n.class);
-        assert_eq!(class, Some(NsvClass::Whip(WhirlDirection::Forward)));
+        let class = classes(std::slice::from_ref(&p));
+        assert_eq!(class, [NsvClass::Whip(WhirlDirection::Forward)]);
     }
 
     #[test]
@@ -421,35 +660,5 @@ mod tests {
         names.sort_unstable();
         names.dedup();
         assert_eq!(names.len(), NsvClass::ALL.len());
-    }
-
-    #[test]
-    fn a_frequency_that_stays_put_is_locked_one_that_follows_speed_is_not() {
-        let c = context(&[], &[]);
-        // 45 Hz at 200 and 210 Hz: a 0.225X component would have moved 2.25 Hz, and the
-        // lock tolerance is max(4, 0.9) = 4 Hz: not enough evidence.
-        assert!(!locked_with(
-            200.0,
-            &peak(45.0, 200.0),
-            210.0,
-            &peak(45.0, 210.0),
-            &c
-        ));
-        // Over 50 Hz of speed it would have moved 11 Hz: locked.
-        assert!(locked_with(
-            200.0,
-            &peak(45.0, 200.0),
-            250.0,
-            &peak(45.5, 250.0),
-            &c
-        ));
-        // 0.3X follows the speed: 60 Hz then 75 Hz.
-        assert!(!locked_with(
-            200.0,
-            &peak(60.0, 200.0),
-            250.0,
-            &peak(75.0, 250.0),
-            &c
-        ));
     }
 }

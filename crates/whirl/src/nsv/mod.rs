@@ -19,11 +19,12 @@
 //!    spectrum of `x + i y` (forward at +f, backward at -f), and its amplitude in the
 //!    record's two halves tells a steady vibration from free vibration still dying away.
 //!
-//! Then the NSV of every speed is classified ([`NsvClass`]: sub-synchronous whirl, whip,
-//! varying compliance and its combinations with the running speed, super-harmonic,
-//! transient, other; the rules are in [`classify`]'s documentation), using its neighbours
-//! in speed (is the frequency locked?), the bearings' contact frequencies (N_b w_c, eq. 4.4)
-//! and the natural frequencies of the rotor on linearised bearings (a Campbell diagram).
+//! Then the NSV of every speed is classified ([`NsvClass`]: subharmonic, varying compliance
+//! and its sidebands with the running speed, locked whip, combination resonance,
+//! super-harmonic, other, unsettled; the rules are in [`classify`]'s documentation), using
+//! how its frequency moves over the neighbouring speeds and the lines beside it in its
+//! spectrum ([`trend`]), the bearings' contact frequencies (N_b w_c, eq. 4.4) and the
+//! natural frequencies of the rotor on linearised bearings (a Campbell diagram).
 //! [`Cascade::nsv_summary`] gives the onset speed, the largest NSV and the dominant class.
 //!
 //! The band kept and searched runs from 0 to `max_frequency_hz` (by default 2.5 times the
@@ -62,6 +63,7 @@ mod report;
 mod request;
 mod starts;
 mod summary;
+pub mod trend;
 
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -102,6 +104,7 @@ use crate::progress::{tell, Progress};
 use crate::system::Linear;
 use checkpoint::Checkpoint;
 use classify::Context;
+use trend::Reading;
 
 /// Natural frequencies (Campbell branches) compared with sub-synchronous peaks.
 const NATURAL_BRANCHES: usize = 6;
@@ -498,17 +501,17 @@ fn assemble_cascade(
     let contact: Vec<Vec<NamedFrequency>> =
         speeds.iter().map(|&w| contact_bases(model, w)).collect();
     let natural = natural_frequencies(model, &speeds)?;
-    let tolerance_hz = options.tolerance_bins * df;
+    let reading = Reading {
+        resolution_hz: df,
+        window: options.window,
+        tolerance_hz: options.tolerance_bins * df,
+    };
     let contexts: Vec<Context<'_>> = contact
         .iter()
         .zip(&natural)
-        .map(|(contact, natural)| Context {
-            contact,
-            natural,
-            tolerance_hz,
-        })
+        .map(|(contact, natural)| Context { contact, natural })
         .collect();
-    let nsv = classify::classify(&points, &contexts);
+    let nsv = classify::classify(&points, &contexts, &reading);
     Ok(Cascade {
         options: options.clone(),
         resolved,

@@ -268,6 +268,7 @@ mod tests {
             class: NsvClass::Whip(WhirlDirection::Forward),
             explanation: String::new(),
             direction: WhirlDirection::Forward,
+            slope: None,
         };
         (p, Some(n))
     }

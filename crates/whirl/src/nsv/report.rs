@@ -236,6 +236,11 @@ fn nsv_table(c: &Cascade) -> Table {
         .numbers("nsv_order", peak(|p| p.order))
         .text("class", text(|n| n.class.name().into()))
         .text("direction", text(|n| n.direction.name().into()))
+        .numbers(
+            "slope",
+            n.iter()
+                .map(|n| n.as_ref().and_then(|n| n.slope).unwrap_or(f64::NAN)),
+        )
         .numbers("forward_m", peak(|p| p.forward_m))
         .numbers("backward_m", peak(|p| p.backward_m))
         .numbers("decay_ratio", peak(|p| p.decay_ratio))

@@ -22,7 +22,7 @@ pub struct NsvSummary {
     pub largest_speed_hz: Option<f64>,
     /// Its frequency, Hz.
     pub largest_frequency_hz: Option<f64>,
-    /// Its class (`sub-synchronous whirl`, `whip`, ...).
+    /// Its class (`forward-whip`, `backward-combination-resonance`, ...).
     pub largest_class: Option<String>,
     /// Lowest speed with a significant non-synchronous peak, Hz.
     pub onset_speed_hz: Option<f64>,
