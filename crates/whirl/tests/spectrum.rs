@@ -5,8 +5,8 @@ use std::f64::consts::PI;
 
 use whirl::post::{
     amplitude_at, amplitude_spectrum, amplitude_spectrum_with, full_spectrum,
-    largest_non_synchronous, spectral_peaks, FullSpectrumPlanner, SpectrumOptions, SpectrumPlanner,
-    Window,
+    largest_non_synchronous, spectral_peaks, spectral_peaks_above, FullSpectrumPlanner,
+    SpectrumOptions, SpectrumPlanner, Window,
 };
 use whirl::Error;
 
@@ -155,6 +155,22 @@ fn two_sines_are_found_with_their_orders() {
     // Far from any peak it reads the leakage floor.
     assert!(amplitude_at(&spectrum, 300.0) < 1e-12);
     assert_eq!(amplitude_at(&spectrum, 2000.0), 0.0);
+    // Above a floor: the same refined peaks as refining every maximum and keeping those
+    // above it (the leakage's maxima, down to round-off, stay below 1e-9).
+    let every = spectral_peaks(&spectrum, 50.0, 0.0, usize::MAX);
+    for floor in [1e-9, 5e-6, 2e-5] {
+        let kept: Vec<_> = every
+            .iter()
+            .filter(|p| p.amplitude > floor)
+            .copied()
+            .collect();
+        assert_eq!(
+            spectral_peaks_above(&spectrum, 50.0, floor),
+            kept,
+            "{floor}"
+        );
+    }
+    assert_eq!(spectral_peaks_above(&spectrum, 50.0, 1e-9).len(), 2);
 }
 
 #[test]

@@ -27,7 +27,7 @@
 //! contacts mix it with the unbalance response into `Omega -+ f`), so a companion confirms
 //! a combination but never makes one: the slope does.
 
-use crate::post::{spectral_peaks, SpectralPeak, Spectrum, Window};
+use crate::post::{spectral_peaks_above, SpectralPeak, Spectrum, Window};
 
 use super::point::CascadePoint;
 
@@ -103,9 +103,9 @@ impl Lines {
             let k = (f / speed).round();
             (f - k * speed).abs() <= r.tolerance_hz
         };
-        let lines = spectral_peaks(&spectrum, speed, 0.0, usize::MAX)
+        let lines = spectral_peaks_above(&spectrum, speed, floor)
             .into_iter()
-            .filter(|p| p.amplitude > floor && !synchronous(p.frequency_hz))
+            .filter(|p| !synchronous(p.frequency_hz))
             .collect();
         Lines { lines }
     }

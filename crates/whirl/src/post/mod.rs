@@ -33,7 +33,7 @@ pub mod tracking;
 
 pub use peaks::{
     amplitude_at, largest_non_synchronous, largest_non_synchronous_below, spectral_peaks,
-    SpectralPeak,
+    spectral_peaks_above, SpectralPeak,
 };
 pub use spectrum::{
     amplitude_spectrum, amplitude_spectrum_with, full_spectrum, window_mean, FullSpectrum,

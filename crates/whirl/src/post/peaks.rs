@@ -58,7 +58,7 @@ pub fn spectral_peaks(
     min_relative: f64,
     max_peaks: usize,
 ) -> Vec<SpectralPeak> {
-    let mut peaks = refined_candidates(spectrum, running_speed_hz, min_relative, max_peaks);
+    let mut peaks = refined_candidates(spectrum, running_speed_hz, min_relative, max_peaks, 0.0);
     // In bin order, then largest first: ties keep the lower frequency first.
     peaks.sort_by(|a, b| a.0.cmp(&b.0));
     let mut peaks: Vec<SpectralPeak> = peaks.into_iter().map(|(_, p)| p).collect();
@@ -72,8 +72,27 @@ pub fn spectral_peaks(
     peaks
 }
 
-/// The local maxima of `spectrum` that may be among the `max_peaks` largest and at least
-/// `min_relative` times the largest once refined, refined, with their bins. Refining raises
+/// The peaks of `spectrum` above `floor` (the signal's unit), refined between bins as in
+/// [`spectral_peaks`], largest first: only the local maxima whose raw bin could reach the
+/// floor once refined are refined.
+pub fn spectral_peaks_above(
+    spectrum: &Spectrum,
+    running_speed_hz: f64,
+    floor: f64,
+) -> Vec<SpectralPeak> {
+    let mut peaks: Vec<SpectralPeak> =
+        refined_candidates(spectrum, running_speed_hz, 0.0, usize::MAX, floor)
+            .into_iter()
+            .map(|(_, p)| p)
+            .filter(|p| p.amplitude > floor)
+            .collect();
+    peaks.sort_by(|a, b| b.amplitude.total_cmp(&a.amplitude));
+    peaks
+}
+
+/// The local maxima of `spectrum` that may be among the `max_peaks` largest, at least
+/// `min_relative` times the largest and above `floor` once refined, refined, with their
+/// bins. Refining raises
 /// a bin by at most the window's largest scalloping gain, so the maxima are refined in
 /// order of their raw bins until none left could reach what is already kept: the same
 /// peaks as refining every maximum (a long record has thousands), for a few refinements.
@@ -82,6 +101,7 @@ fn refined_candidates(
     running_speed_hz: f64,
     min_relative: f64,
     max_peaks: usize,
+    floor: f64,
 ) -> Vec<(usize, SpectralPeak)> {
     let gain = largest_scalloping_gain(spectrum.window);
     let mut candidates: Vec<usize> = local_maxima(spectrum).collect();
@@ -100,7 +120,7 @@ fn refined_candidates(
         } else {
             0.0
         };
-        if !kept.is_empty() && bound < relative_cut.max(count_cut) {
+        if bound < floor || (!kept.is_empty() && bound < relative_cut.max(count_cut)) {
             break;
         }
         let p = peak_at(spectrum, k, running_speed_hz);
@@ -299,6 +319,18 @@ pub(crate) fn offset_from_ratio(window: Window, alpha: f64) -> f64 {
     if alpha * k1 >= 1.0 {
         return 1.0;
     }
+    // The closed forms of the module documentation: a cascade refines thousands of peaks,
+    // and the bisection's 120 window responses (each a sine) were most of its reading.
+    match window {
+        Window::Hann => ((2.0 * alpha - 1.0) / (alpha + 1.0)).clamp(0.0, 1.0),
+        Window::Rectangular => (alpha / (1.0 + alpha)).clamp(0.0, 1.0),
+        Window::FlatTop => offset_by_bisection(window, alpha),
+    }
+}
+
+/// The root of `K(1 - delta) = alpha K(delta)` in [0, 1] by bisection, for a window
+/// without a closed form.
+fn offset_by_bisection(window: Window, alpha: f64) -> f64 {
     let (mut low, mut high) = (0.0_f64, 1.0_f64);
     // 60 halvings leave an interval below 1e-18 bins.
     for _ in 0..60 {
@@ -322,11 +354,14 @@ mod tests {
             let delta = i as f64 / 20.0;
             // Hann: alpha = (1 + delta) / (2 - delta).
             let alpha = (1.0 + delta) / (2.0 - delta);
-            // Bisection to 1e-18 bins; the response's own round-off is ~1e-16.
+            // The closed form is the root of the windows' responses: bisection on them
+            // finds it to 1e-18 bins; the response's own round-off is ~1e-16.
+            assert!((offset_by_bisection(Window::Hann, alpha) - delta).abs() < 1e-12);
             assert!((offset_from_ratio(Window::Hann, alpha) - delta).abs() < 1e-12);
             // Rectangular: alpha = delta / (1 - delta).
             if delta < 1.0 {
                 let alpha = delta / (1.0 - delta);
+                assert!((offset_by_bisection(Window::Rectangular, alpha) - delta).abs() < 1e-12);
                 assert!((offset_from_ratio(Window::Rectangular, alpha) - delta).abs() < 1e-12);
             }
         }
