@@ -31,7 +31,7 @@ use faer::Mat;
 use super::{check_marchable, check_state, MarchOptions, Observer};
 use crate::bearing::LagrangeContacts;
 use crate::error::{Error, Result};
-use crate::linalg::{axpy, vectorised, Band, BandLu, Columns, Layout};
+use crate::linalg::{axpy, vectorised, Band, BandLu, Columns, Layout, Turning};
 use crate::reduce::explicit_stability_limit;
 use crate::system::{NlScratch, SpeedProfile, System};
 
@@ -378,9 +378,10 @@ fn march(
         c.start_recording(options.steps);
     }
     let mut step_now = Step::new(problem, layout, speed, h, &constrained)?;
+    let mut spin = Turning::default();
     for step in 0..options.steps {
         let t = step as f64 * h;
-        let (at, unbalance) = speed_profile.unbalance_coefficients(t);
+        let (at, unbalance) = speed_profile.unbalance_coefficients_by(t, |a| spin.sin_cos(a));
         let (q_cur, q_prev) = history.split_at(n);
         if step > 0 && needs_velocity {
             for i in 0..n {
