@@ -54,13 +54,22 @@ pub(crate) fn rotate((sa, ca): (f64, f64), (sb, cb): (f64, f64)) -> (f64, f64) {
 }
 
 /// (sin x, cos x) for |x| <= [`MAX_TURN`] by their Taylor series to x^9 and x^10: the
-/// first terms left out, x^11/11! and x^12/12!, are below 3e-19 and 3e-21 there.
+/// first terms left out, x^11/11! and x^12/12!, are below 3e-19 and 3e-21 there. Horner's
+/// form with the coefficients 1/k! as constants: multiplications only (a division by a
+/// constant stays a division, some ten times slower).
 #[inline(always)]
 fn small_sin_cos(x: f64) -> (f64, f64) {
+    const SIN: [f64; 4] = [-1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0, 1.0 / 362_880.0];
+    const COS: [f64; 5] = [
+        -1.0 / 2.0,
+        1.0 / 24.0,
+        -1.0 / 720.0,
+        1.0 / 40_320.0,
+        -1.0 / 3_628_800.0,
+    ];
     let x2 = x * x;
-    let sin = x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0))));
-    let cos = 1.0
-        - x2 / 2.0 * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0 * (1.0 - x2 / 56.0 * (1.0 - x2 / 90.0))));
+    let sin = x + x * x2 * (SIN[0] + x2 * (SIN[1] + x2 * (SIN[2] + x2 * SIN[3])));
+    let cos = 1.0 + x2 * (COS[0] + x2 * (COS[1] + x2 * (COS[2] + x2 * (COS[3] + x2 * COS[4]))));
     (sin, cos)
 }
 

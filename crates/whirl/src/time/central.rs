@@ -368,9 +368,10 @@ fn march(
     let mut v_central = vec![0.0; n];
 
     let top = speed_profile.max_speed().max(1.0);
-    // A multiplication instead of a division per coordinate: the same to an ulp, and
+    // Multiplications instead of a division per coordinate: the same to an ulp, and
     // division is one of the slowest instructions.
     let over_2h = 1.0 / (2.0 * h);
+    let over_h = 1.0 / h;
     let constrained: Vec<usize> = contacts
         .as_ref()
         .map_or(Vec::new(), |c| c.coordinates().to_vec());
@@ -385,7 +386,7 @@ fn march(
         let (q_cur, q_prev) = history.split_at(n);
         if step > 0 && needs_velocity {
             for i in 0..n {
-                v_back[i] = (q_cur[i] - q_prev[i]) / h;
+                v_back[i] = (q_cur[i] - q_prev[i]) * over_h;
             }
         }
         if constant_speed {
