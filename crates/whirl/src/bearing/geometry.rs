@@ -130,6 +130,11 @@ impl RollerGeometry {
         2.0 * PI * j as f64 / self.rollers as f64 + self.cage_angle + self.cage_ratio * phi
     }
 
+    /// Angle of roller `j` at spin angle 0 (its place in the cage), rad.
+    pub fn pitch(&self, j: usize) -> f64 {
+        2.0 * PI / self.rollers as f64 * j as f64 + self.cage_angle
+    }
+
     /// Calls `visit` for every slice of every roller at instant `at`.
     pub fn for_each_slice(&self, at: &Kinematics, mut visit: impl FnMut(&Slice)) {
         let gamma = self.clearance.at_speed(at.speed);
@@ -142,7 +147,7 @@ impl RollerGeometry {
         let (step_sin, step_cos) = pitch_step.sin_cos();
         let mut sin_cos = (self.cage_angle + cage_phase).sin_cos();
         for j in 0..self.rollers {
-            let pitch = pitch_step * j as f64 + self.cage_angle;
+            let pitch = self.pitch(j);
             let (wavy, wavy_rate) = self.waviness_at(pitch, cage_phase, cage_speed, at);
             let angle = pitch + cage_phase;
             if j > 0 {
@@ -170,7 +175,7 @@ impl RollerGeometry {
     /// angle. That is what makes the whole bearing force oscillate at the waviness
     /// frequency (N_w - 1) w_c of eq. 4.5, which the spectrum must show; a ring-fixed waviness
     /// would take N_w pitch_j instead (see docs/theory-errata.md).
-    fn waviness_at(
+    pub(crate) fn waviness_at(
         &self,
         pitch: f64,
         cage_phase: f64,

@@ -2,16 +2,19 @@
 //! products and factorisations that vectorise and allocate nothing inside the time-step
 //! loop ([`Dense`], [`Columns`], [`Band`], [`BandLu`], [`Factors`]), the pivoting band LU of
 //! harmonic balance's condensation ([`banded::BandedLu`]), the exponential of a small
-//! matrix for its stability ([`Exponential`]), and the one cost model that
+//! matrix for its stability ([`Exponential`]), the sine and cosine of a turning angle
+//! ([`Turning`]), and the one cost model that
 //! chooses between dense and banded steps ([`Layout`]), and the plain dense kernels of the
 //! Newton solvers (`norm`, `multiply`, `solve_dense`, ...).
 
 pub(crate) mod banded;
 mod dense;
 mod exponential;
+mod turning;
 
 pub(crate) use dense::{add_product, difference, multiply, norm, solve_dense};
 pub(crate) use exponential::Exponential;
+pub(crate) use turning::{rotate, Turning};
 
 use faer::traits::pulp::Arch;
 use faer::Mat;

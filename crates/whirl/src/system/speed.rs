@@ -77,8 +77,18 @@ impl SpeedProfile {
     /// The one definition of the time dependence of the linear force: integrators that keep
     /// products with u_re and u_im precomputed scale them by these coefficients.
     pub fn unbalance_coefficients(&self, t: f64) -> (Kinematics, [f64; 2]) {
+        self.unbalance_coefficients_by(t, f64::sin_cos)
+    }
+
+    /// [`Self::unbalance_coefficients`] with (sin phi, cos phi) from `sin_cos`: a time step
+    /// loop follows the spin angle by rotation ([`crate::linalg::Turning`]).
+    pub(crate) fn unbalance_coefficients_by(
+        &self,
+        t: f64,
+        sin_cos: impl FnOnce(f64) -> (f64, f64),
+    ) -> (Kinematics, [f64; 2]) {
         let (k, accel) = self.at(t);
-        let (s, c) = k.angle.sin_cos();
+        let (s, c) = sin_cos(k.angle);
         let w2 = k.speed * k.speed;
         (k, [w2 * c + accel * s, accel * c - w2 * s])
     }

@@ -31,7 +31,7 @@ use faer::Mat;
 use super::{check_marchable, check_state, MarchOptions, Observer};
 use crate::bearing::LagrangeContacts;
 use crate::error::{Error, Result};
-use crate::linalg::{axpy, vectorised, Band, BandLu, Columns, Layout};
+use crate::linalg::{axpy, vectorised, Band, BandLu, Columns, Layout, Turning};
 use crate::reduce::explicit_stability_limit;
 use crate::system::{NlScratch, SpeedProfile, System};
 
@@ -368,9 +368,10 @@ fn march(
     let mut v_central = vec![0.0; n];
 
     let top = speed_profile.max_speed().max(1.0);
-    // A multiplication instead of a division per coordinate: the same to an ulp, and
+    // Multiplications instead of a division per coordinate: the same to an ulp, and
     // division is one of the slowest instructions.
     let over_2h = 1.0 / (2.0 * h);
+    let over_h = 1.0 / h;
     let constrained: Vec<usize> = contacts
         .as_ref()
         .map_or(Vec::new(), |c| c.coordinates().to_vec());
@@ -378,13 +379,14 @@ fn march(
         c.start_recording(options.steps);
     }
     let mut step_now = Step::new(problem, layout, speed, h, &constrained)?;
+    let mut spin = Turning::default();
     for step in 0..options.steps {
         let t = step as f64 * h;
-        let (at, unbalance) = speed_profile.unbalance_coefficients(t);
+        let (at, unbalance) = speed_profile.unbalance_coefficients_by(t, |a| spin.sin_cos(a));
         let (q_cur, q_prev) = history.split_at(n);
         if step > 0 && needs_velocity {
             for i in 0..n {
-                v_back[i] = (q_cur[i] - q_prev[i]) / h;
+                v_back[i] = (q_cur[i] - q_prev[i]) * over_h;
             }
         }
         if constant_speed {
