@@ -75,10 +75,16 @@ const INTERNAL: f64 = 0.04;
 
 /// The Jeffcott rotor with internal damping.
 fn internally_damped() -> System {
+    internally_damped_with(EXTERNAL)
+}
+
+/// The Jeffcott rotor with internal damping [`INTERNAL`] and external damping `external`:
+/// its threshold speed is 1 + external / [`INTERNAL`] rad/s.
+fn internally_damped_with(external: f64) -> System {
     let rotor = Jeffcott {
         mass: 1.0,
         stiffness: 1.0,
-        damping: EXTERNAL,
+        damping: external,
         unbalance: 0.01,
     };
     System {
@@ -120,6 +126,35 @@ fn internal_damping_loses_stability_by_neimark_sacker_at_the_threshold_speed() {
     // The whirl at w_n = 1 rad/s, seen in the strip |Im| <= w / 2 as w - w_n = 0.5.
     assert!((b.exponent_frequency - (threshold - 1.0)).abs() < 1e-6);
     assert!((b.multiplier.0.hypot(b.multiplier.1) - 1.0).abs() < 1e-6);
+}
+
+/// The same threshold placed at 1.5, 2 and 2.25 times the natural frequency. At 2 the
+/// forward whirl's exponent i w_n sits at exactly half the speed, so its multipliers, the
+/// conjugate pair exp(+-i w_n T), meet at -1 there: still a pair crossing the circle
+/// (Neimark-Sacker), though at the crossing itself it cannot be told from a real -1 by its
+/// imaginary part. Read there, it was named period doubling.
+#[test]
+fn a_complex_pair_crossing_at_minus_one_is_still_neimark_sacker() {
+    for threshold in [1.5, 2.0, 2.25] {
+        let external = (threshold - 1.0) * INTERNAL;
+        let mut hb =
+            HarmonicBalance::new(internally_damped_with(external), HbOptions::new(3)).unwrap();
+        let guess = vec![0.0; hb.unknowns()];
+        let branch =
+            continuation(&mut hb, 0.5, 3.0, &guess, &ContinuationOptions::default()).unwrap();
+        eprintln!("threshold {threshold}: {:?}", branch.bifurcations);
+        assert_eq!(branch.bifurcations.len(), 1);
+        let b = branch.bifurcations[0];
+        assert_eq!(b.kind, BifurcationKind::NeimarkSacker, "at {threshold}");
+        assert!(b.loses_stability && b.located);
+        // As in the test above: the exponents are the linear system's to round-off and the
+        // bracket is interpolated linearly, exact for a real part linear in the speed.
+        assert!((b.frequency - threshold).abs() < 1e-7 * threshold);
+        // The whirl at 1 rad/s seen in the strip |Im| <= w / 2: w - 1 up to w = 2, where it
+        // is w / 2, and 1 above.
+        let seen = (threshold - 1.0_f64).min(1.0);
+        assert!((b.exponent_frequency - seen).abs() < 1e-6);
+    }
 }
 
 /// The parametric stiffness -k e cos(w t) x of a Mathieu oscillator: a force that depends
