@@ -348,6 +348,15 @@ fn text_summary(model: &Model, report: &SweepReport) -> String {
             hz(*b)
         );
     }
+    for w in &branch.folds_without_crossing {
+        let _ = writeln!(
+            text,
+            "  warning: no Floquet multiplier crosses +1 at the fold at {:.2} Hz: the stability \
+             contradicts the balance there; more harmonics may be needed (docs/theory.md \
+             section 7)",
+            hz(*w)
+        );
+    }
     if let Some(check) = branch.bifurcations.iter().find_map(|b| b.resolution) {
         let _ = writeln!(
             text,

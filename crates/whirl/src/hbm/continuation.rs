@@ -27,7 +27,7 @@ use super::balance::{
 };
 use super::bifurcation::{locate_bifurcations, Bifurcation};
 use super::condensation::CondensedBalance;
-use super::stability::{FloquetModel, FloquetProblem, Stability};
+use super::stability::{outside_circle, FloquetModel, FloquetProblem, Stability};
 use super::HbOptions;
 use crate::error::{Error, Result};
 use crate::linalg::{difference, dot_in_order as dot, norm, solve_dense};
@@ -276,6 +276,12 @@ pub struct Branch {
     pub jumped_after: Vec<usize>,
     /// Changes of stability, in path order (empty without stability).
     pub bifurcations: Vec<Bifurcation>,
+    /// Folds (their speeds, rad/s) across which no real Floquet multiplier crosses +1:
+    /// the stability verdicts contradict the balance's own turning points, as they do where
+    /// the harmonics are too few for the linearisation about the truncated orbit to be the
+    /// balance's (docs/theory.md section 7). Empty without stability, and when every fold
+    /// shows its crossing.
+    pub folds_without_crossing: Vec<f64>,
     /// Why the branch ended.
     pub end: BranchEnd,
 }
@@ -446,8 +452,10 @@ fn follow<H: Periodic + Send>(
     });
     problems[0].refine_residuals(false);
     let (folds, bifurcations) = located?;
+    let folds_without_crossing = stability_contradicts_folds(&path.points, &folds);
     Ok(Branch {
         options,
+        folds_without_crossing,
         folds,
         corners: path.corners,
         jumps: path.jumps,
@@ -456,6 +464,38 @@ fn follow<H: Periodic + Send>(
         points: path.points,
         end: path.end,
     })
+}
+
+/// The speeds of the folds in `folds` across which the parity of the number of real
+/// Floquet multipliers above 1 does not change between the two points around them: at a
+/// fold of an exact periodic solution a real multiplier crosses +1 (the Jacobian of the
+/// balance and I - Phi are singular together, and det(I - Phi), of the sign of that
+/// parity, changes sign). Stability computed about a truncated orbit need not obey this:
+/// on the Duffing oscillator (c = 0.1, k3 = 1, F = 0.5, 512 samples) 1 and 2 harmonics put
+/// the +1 crossing at 1.8787 rad/s, before the fold at 2.2047, and call the middle branch
+/// stable, while from 3 harmonics on each fold carries its crossing and the middle branch
+/// is unstable. Two +1 crossings between the same two points (a fold and a branch point
+/// together) would also show here.
+fn stability_contradicts_folds(points: &[BranchPoint], folds: &[Fold]) -> Vec<f64> {
+    let parity = |p: &BranchPoint| {
+        p.stability.as_ref().map(|s| {
+            let above = s
+                .multipliers
+                .iter()
+                .filter(|&&(re, im)| im == 0.0 && re > 0.0 && outside_circle((re, im)));
+            above.count() % 2
+        })
+    };
+    folds
+        .iter()
+        .filter(|f| {
+            let (Some(a), Some(b)) = (points.get(f.after), points.get(f.after + 1)) else {
+                return false;
+            };
+            matches!((parity(a), parity(b)), (Some(x), Some(y)) if x == y)
+        })
+        .map(|f| f.frequency)
+        .collect()
 }
 
 /// A followed path before its folds and bifurcations are located.
