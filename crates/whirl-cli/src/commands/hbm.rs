@@ -348,13 +348,20 @@ fn text_summary(model: &Model, report: &SweepReport) -> String {
             hz(*b)
         );
     }
-    for w in &branch.folds_without_crossing {
+    if !branch.folds_without_crossing.is_empty() {
+        let speeds: Vec<String> = branch
+            .folds_without_crossing
+            .iter()
+            .map(|w| format!("{:.2}", hz(*w)))
+            .collect();
         let _ = writeln!(
             text,
-            "  warning: no Floquet multiplier crosses +1 at the fold at {:.2} Hz: the stability \
-             contradicts the balance there; more harmonics may be needed (docs/theory.md \
-             section 7)",
-            hz(*w)
+            "  warning: at {} of {} folds ({} Hz) no Floquet multiplier crosses +1: the \
+             stability contradicts the balance there (too few harmonics, or a fold at a \
+             contact's edge; docs/theory.md section 7)",
+            speeds.len(),
+            branch.folds.len(),
+            speeds.join(", ")
         );
     }
     if let Some(check) = branch.bifurcations.iter().find_map(|b| b.resolution) {

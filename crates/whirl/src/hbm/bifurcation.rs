@@ -16,7 +16,7 @@
 //! of exactly zero) and the others in conjugate pairs. The kind is named by the
 //! multipliers that have left the circle on the unstable side of the crossing, at the
 //! unstable point nearest it ([`crossing_kind`]): one real multiplier is a +1 or -1
-//! crossing, two leaving together a pair. One multiplier read at the crossing cannot tell
+//! crossing, a complex one or two equal reals leaving together a pair. One multiplier read at the crossing cannot tell
 //! them apart where a pair crosses at -1 (or +1): its imaginary part vanishes there, and
 //! the regula falsi puts its trial points there. Each change found between two branch points is located by the
 //! Illinois regula falsi on the largest real part of the exponents along the arclength,
@@ -541,31 +541,28 @@ fn largest(multipliers: &[(f64, f64)]) -> Option<(f64, f64)> {
 /// same speed, other than such a pair, would be a coincidence.
 const PAIR: f64 = 1e-6;
 
-/// The kind of a crossing, named by the multipliers of `unstable` (the unstable point
-/// nearest it) outside the unit circle, those that have crossed; `at_fold` when the branch
-/// turns there. A complex pair among them, or two real ones equal to [`PAIR`], is a pair
-/// crossing: Neimark-Sacker, whatever its angle (at exactly -1 or +1 a pair's two
-/// exponents sit at +-w/2 or 0 as a real multiplier's would, and the locator's trial points
-/// crowd there). Otherwise the real multiplier of largest modulus names it: through +1 a
-/// fold where the branch turns and symmetry breaking elsewhere, through -1 period doubling.
+/// The kind of a crossing, named by the multiplier of largest modulus of `unstable` (the
+/// unstable point nearest it) and by how many outside the unit circle share it; `at_fold`
+/// when the branch turns there. Complex, or real with a twin outside the circle equal to
+/// [`PAIR`], it is a pair crossing: Neimark-Sacker, whatever its angle (at exactly -1 or +1
+/// a pair's two exponents sit at +-w/2 or 0 as a real multiplier's would, and the locator's
+/// trial points crowd there). Real and alone, it names the crossing by its sign: through +1
+/// a fold where the branch turns and symmetry breaking elsewhere, through -1 period
+/// doubling. The largest, not any multiplier outside, because a point a resolution check
+/// reads 0.5 % away can hold the multipliers of earlier crossings outside as well.
 pub(super) fn crossing_kind(unstable: &Stability, at_fold: bool) -> BifurcationKind {
-    let outside: Vec<(f64, f64)> = unstable
+    let (re, im) = largest(&unstable.multipliers).unwrap_or((1.0, 0.0));
+    let complex = im.abs() > ON_AXIS * re.hypot(im);
+    let twins = unstable
         .multipliers
         .iter()
-        .copied()
-        .filter(|&m| outside_circle(m))
-        .collect();
-    let complex = |&(re, im): &(f64, f64)| im.abs() > ON_AXIS * re.hypot(im);
-    let paired = outside.iter().enumerate().any(|(k, &(a, _))| {
-        outside[k + 1..]
-            .iter()
-            .any(|&(b, _)| (a - b).abs() <= PAIR * a.abs())
-    });
-    match largest(&outside) {
-        _ if outside.iter().any(complex) || paired => BifurcationKind::NeimarkSacker,
-        Some((re, _)) if re < 0.0 => BifurcationKind::PeriodDoubling,
-        _ if at_fold => BifurcationKind::Fold,
-        _ => BifurcationKind::SymmetryBreaking,
+        .filter(|&&m| outside_circle(m) && (m.0 - re).abs() <= PAIR * re.abs())
+        .count();
+    match (complex || twins >= 2, re > 0.0) {
+        (true, _) => BifurcationKind::NeimarkSacker,
+        (false, false) => BifurcationKind::PeriodDoubling,
+        (false, true) if at_fold => BifurcationKind::Fold,
+        (false, true) => BifurcationKind::SymmetryBreaking,
     }
 }
 
