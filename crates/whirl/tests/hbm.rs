@@ -383,3 +383,64 @@ fn both_folds_are_passed_with_any_maximum_step() {
         }
     }
 }
+
+/// The Duffing oscillator forced harder, F = 0.5, at `harmonics`, 512 samples as above.
+fn strong_duffing_branch(harmonics: usize) -> Branch {
+    let strong = Duffing {
+        force: 0.5,
+        ..DUFFING
+    };
+    let problem = System {
+        harmonic_re: vec![strong.force],
+        ..strong.system()
+    };
+    let options = HbOptions {
+        samples: 512,
+        ..HbOptions::new(harmonics)
+    };
+    let mut hb = HarmonicBalance::new(problem, options).unwrap();
+    let guess = vec![0.0; hb.unknowns()];
+    continuation(&mut hb, FROM, TO, &guess, &ContinuationOptions::default()).unwrap()
+}
+
+/// With F = 0.5 the Floquet stability about the orbit truncated to 1 or 2 harmonics (the
+/// even ones are zero, so 2 is 1) contradicts the balance's own folds: a real multiplier
+/// crosses +1 at 1.8787 rad/s on the middle branch, none crosses at the upper fold at
+/// 2.2047, and the middle branch from there down to 1.8787 is called stable. From 3 harmonics on each fold
+/// carries its crossing and the middle branch is unstable. The branch says which folds show
+/// no crossing.
+#[test]
+fn stability_that_contradicts_the_folds_is_flagged() {
+    for harmonics in 1..=4 {
+        let branch = strong_duffing_branch(harmonics);
+        let (first, second) = (branch.folds[0], branch.folds[1]);
+        let middle: Vec<bool> = branch.points[first.after + 1..=second.after]
+            .iter()
+            .map(|p| p.stability.as_ref().unwrap().stable)
+            .collect();
+        let kinds: Vec<_> = branch
+            .bifurcations
+            .iter()
+            .map(|b| (b.kind, b.frequency))
+            .collect();
+        eprintln!(
+            "H = {harmonics}: folds at {:.4} and {:.4}, {} of {} middle points stable, {kinds:?}, \
+             flagged {:?}",
+            first.frequency,
+            second.frequency,
+            middle.iter().filter(|&&s| s).count(),
+            middle.len(),
+            branch.folds_without_crossing
+        );
+        if harmonics < 3 {
+            // The middle branch stable from the upper fold down to 1.8787 rad/s (13 of its
+            // 25 points), where the +1 crossing is named symmetry breaking.
+            assert!(middle[0] && middle.iter().any(|&s| !s));
+            assert_eq!(branch.folds_without_crossing, vec![first.frequency]);
+        } else {
+            assert!(middle.iter().all(|&s| !s));
+            assert!(branch.folds_without_crossing.is_empty());
+            assert!(kinds.iter().all(|(k, _)| *k == BifurcationKind::Fold));
+        }
+    }
+}

@@ -11,15 +11,15 @@ use std::f64::consts::TAU;
 
 use whirl::force::{Kinematics, NonlinearForce};
 use whirl::hbm::{
-    continuation, resolution, Bifurcation, BifurcationKind, Branch, ContinuationOptions,
-    Derivatives, FloquetProblem, HarmonicBalance, HbOptions, HbSolution, Periodic,
-    RESOLUTION_TOLERANCE,
+    continuation, resolution, solutions_at, Bifurcation, BifurcationKind, Branch,
+    ContinuationOptions, Derivatives, FloquetProblem, HarmonicBalance, HbOptions, HbSolution,
+    Periodic, RESOLUTION_TOLERANCE,
 };
 use whirl::system::System;
 use whirl::Result;
 
 mod common;
-use common::{Jeffcott, Oscillator};
+use common::{Jeffcott, Oscillator, RingRotor};
 
 /// What a spinning shaft adds to a Jeffcott rotor in the fixed frame (w the speed, J the
 /// quarter turn):
@@ -75,10 +75,16 @@ const INTERNAL: f64 = 0.04;
 
 /// The Jeffcott rotor with internal damping.
 fn internally_damped() -> System {
+    internally_damped_with(EXTERNAL)
+}
+
+/// The Jeffcott rotor with internal damping [`INTERNAL`] and external damping `external`:
+/// its threshold speed is 1 + external / [`INTERNAL`] rad/s.
+fn internally_damped_with(external: f64) -> System {
     let rotor = Jeffcott {
         mass: 1.0,
         stiffness: 1.0,
-        damping: EXTERNAL,
+        damping: external,
         unbalance: 0.01,
     };
     System {
@@ -120,6 +126,35 @@ fn internal_damping_loses_stability_by_neimark_sacker_at_the_threshold_speed() {
     // The whirl at w_n = 1 rad/s, seen in the strip |Im| <= w / 2 as w - w_n = 0.5.
     assert!((b.exponent_frequency - (threshold - 1.0)).abs() < 1e-6);
     assert!((b.multiplier.0.hypot(b.multiplier.1) - 1.0).abs() < 1e-6);
+}
+
+/// The same threshold placed at 1.5, 2 and 2.25 times the natural frequency. At 2 the
+/// forward whirl's exponent i w_n sits at exactly half the speed, so its multipliers, the
+/// conjugate pair exp(+-i w_n T), meet at -1 there: still a pair crossing the circle
+/// (Neimark-Sacker), though at the crossing itself it cannot be told from a real -1 by its
+/// imaginary part. Read there, it was named period doubling.
+#[test]
+fn a_complex_pair_crossing_at_minus_one_is_still_neimark_sacker() {
+    for threshold in [1.5, 2.0, 2.25] {
+        let external = (threshold - 1.0) * INTERNAL;
+        let mut hb =
+            HarmonicBalance::new(internally_damped_with(external), HbOptions::new(3)).unwrap();
+        let guess = vec![0.0; hb.unknowns()];
+        let branch =
+            continuation(&mut hb, 0.5, 3.0, &guess, &ContinuationOptions::default()).unwrap();
+        eprintln!("threshold {threshold}: {:?}", branch.bifurcations);
+        assert_eq!(branch.bifurcations.len(), 1);
+        let b = branch.bifurcations[0];
+        assert_eq!(b.kind, BifurcationKind::NeimarkSacker, "at {threshold}");
+        assert!(b.loses_stability && b.located);
+        // As in the test above: the exponents are the linear system's to round-off and the
+        // bracket is interpolated linearly, exact for a real part linear in the speed.
+        assert!((b.frequency - threshold).abs() < 1e-7 * threshold);
+        // The whirl at 1 rad/s seen in the strip |Im| <= w / 2: w - 1 up to w = 2, where it
+        // is w / 2, and 1 above.
+        let seen = (threshold - 1.0_f64).min(1.0);
+        assert!((b.exponent_frequency - seen).abs() < 1e-6);
+    }
 }
 
 /// The parametric stiffness -k e cos(w t) x of a Mathieu oscillator: a force that depends
@@ -505,4 +540,112 @@ fn a_window_narrower_than_the_point_spacing_is_probed_and_located() {
         let error = (found.frequency - edge).abs() / edge;
         assert!(error < 1e-6, "{} against {edge}", found.frequency);
     }
+}
+
+/// A Jeffcott rotor in a clearance ring (m = k = 1, c = 0.05, contact 10 times the shaft's
+/// stiffness, clearance 1) with the internal damping above: threshold 1 + 0.05 / 0.04 =
+/// 2.25 rad/s, on the free orbit (inside the ring the contact adds nothing).
+fn damped_ring(unbalance: f64) -> RingRotor {
+    RingRotor {
+        rotor: Jeffcott {
+            mass: 1.0,
+            stiffness: 1.0,
+            damping: 0.05,
+            unbalance,
+        },
+        contact: 10.0,
+        clearance: 1.0,
+    }
+}
+
+/// With m e = 0.15 and 0.5 the orbit hits the ring below resonance, the contact branch
+/// bends over to a fold (3.16 and 3.28 rad/s) and its middle leg comes back down to the
+/// grazing corner (1.080 and 1.412 rad/s), where it ends on the free branch, which goes
+/// back up in speed. With 0.5 the turn there is sharper than a right angle: the path found
+/// nothing ahead and jumped from the corner past the fold (1.41 to 3.28 rad/s), the free
+/// orbit over that stretch missing, the internal-damping threshold on it too, and
+/// `solutions_at` gave 2 of the 3 orbits at 2 rad/s without a word.
+#[test]
+fn the_path_turns_at_the_grazing_corner_onto_the_free_orbit() {
+    for unbalance in [0.15, 0.5] {
+        let ring = damped_ring(unbalance);
+        let mut system = ring.system();
+        system.nonlinear.push(Box::new(RotatingShaft {
+            dofs: [0, 1],
+            internal_damping: INTERNAL,
+            asymmetry: 0.0,
+        }));
+        let mut hb = HarmonicBalance::new(system, HbOptions::new(3)).unwrap();
+        let guess = vec![0.0; hb.unknowns()];
+        let branch =
+            continuation(&mut hb, 0.2, 6.0, &guess, &ContinuationOptions::default()).unwrap();
+        let kinds: Vec<_> = branch
+            .bifurcations
+            .iter()
+            .map(|b| (b.kind, b.frequency))
+            .collect();
+        eprintln!(
+            "ring, m e = {unbalance}: jumps {:?}, corners {:?}, folds {:?}, {kinds:?}",
+            branch.jumps,
+            branch.corners,
+            branch.folds.iter().map(|f| f.frequency).collect::<Vec<_>>()
+        );
+        assert!(branch.jumps.is_empty(), "m e = {unbalance}");
+        let corner = ring.corner();
+        assert!(branch
+            .points
+            .iter()
+            .any(|p| (p.solution.frequency - corner).abs() < 0.01 * corner));
+        // The threshold on the free orbit, where the contact adds nothing: as on the rotor
+        // without the ring, the exponents are the linear system's (1e-7, the test above).
+        let threshold = 1.0 + 0.05 / INTERNAL;
+        assert!(branch
+            .bifurcations
+            .iter()
+            .any(|b| b.kind == BifurcationKind::NeimarkSacker
+                && (b.frequency - threshold).abs() < 1e-7 * threshold));
+        // At 2 rad/s: the upper and middle contact orbits and the free one, all followed.
+        let at = solutions_at(&mut hb, &branch, 2.0).unwrap();
+        let radii: Vec<f64> = at
+            .crossings
+            .iter()
+            .map(|c| c.solution.coefficients[2].hypot(c.solution.coefficients[4]))
+            .collect();
+        eprintln!("m e = {unbalance}, radii at 2 rad/s: {radii:?}");
+        assert!(at.complete());
+        assert_eq!(radii.len(), 3);
+        assert_eq!(radii.iter().filter(|&&r| r < ring.clearance).count(), 1);
+    }
+}
+
+/// Where the path jumps, `solutions_at` says the list may lack orbits: the ring with
+/// m e = 0.5 restarted by hand past the fold, as the path did before it turned at corners.
+#[test]
+fn solutions_at_names_the_jump_a_speed_lies_in() {
+    let mut hb = HarmonicBalance::new(damped_ring(0.5).system(), HbOptions::new(3)).unwrap();
+    let guess = vec![0.0; hb.unknowns()];
+    let mut branch =
+        continuation(&mut hb, 0.2, 6.0, &guess, &ContinuationOptions::default()).unwrap();
+    // The middle leg ends at the corner, its lowest speed after the fold; the free orbit
+    // goes on up from there.
+    let fold = branch.folds[0].after;
+    let speed = |i: usize| branch.points[i].solution.frequency;
+    let corner = (fold..branch.points.len())
+        .min_by(|&i, &j| speed(i).total_cmp(&speed(j)))
+        .unwrap();
+    let resumed = (corner..branch.points.len())
+        .find(|&i| speed(i) > 3.3)
+        .unwrap();
+    branch.points.drain(corner + 1..resumed);
+    let (from, to) = (
+        branch.points[corner].solution.frequency,
+        branch.points[corner + 1].solution.frequency,
+    );
+    branch.jumps = vec![(from, to)];
+    branch.jumped_after = vec![corner];
+    let at = solutions_at(&mut hb, &branch, 2.0).unwrap();
+    assert_eq!(at.crossings.len(), 2);
+    assert_eq!(at.jumped_over, vec![(from, to)]);
+    assert!(!at.complete());
+    assert!(solutions_at(&mut hb, &branch, 5.0).unwrap().complete());
 }

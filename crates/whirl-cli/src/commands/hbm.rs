@@ -348,6 +348,22 @@ fn text_summary(model: &Model, report: &SweepReport) -> String {
             hz(*b)
         );
     }
+    if !branch.folds_without_crossing.is_empty() {
+        let speeds: Vec<String> = branch
+            .folds_without_crossing
+            .iter()
+            .map(|w| format!("{:.2}", hz(*w)))
+            .collect();
+        let _ = writeln!(
+            text,
+            "  warning: at {} of {} folds ({} Hz) no Floquet multiplier crosses +1: the \
+             stability contradicts the balance there (too few harmonics, or a fold at a \
+             contact's edge; docs/theory.md section 7)",
+            speeds.len(),
+            branch.folds.len(),
+            speeds.join(", ")
+        );
+    }
     if let Some(check) = branch.bifurcations.iter().find_map(|b| b.resolution) {
         let _ = writeln!(
             text,

@@ -13,8 +13,12 @@
 //!   vibration starts.
 //!
 //! The monodromy matrix is real, so its real eigenvalues come out real (an imaginary part
-//! of exactly zero) and the others in conjugate pairs: the kind is read off the crossing
-//! multiplier directly. Each change found between two branch points is located by the
+//! of exactly zero) and the others in conjugate pairs. The kind is named by the
+//! multipliers that have left the circle on the unstable side of the crossing, at the
+//! unstable point nearest it ([`crossing_kind`]): one real multiplier is a +1 or -1
+//! crossing, a complex one or two equal reals leaving together a pair. One multiplier read at the crossing cannot tell
+//! them apart where a pair crosses at -1 (or +1): its imaginary part vanishes there, and
+//! the regula falsi puts its trial points there. Each change found between two branch points is located by the
 //! Illinois regula falsi on the largest real part of the exponents along the arclength,
 //! every trial point corrected onto the branch and its monodromy matrix formed; the
 //! multiplier is read where it crosses. Where a trial's arclength corrector fails (a
@@ -33,7 +37,7 @@ use super::continuation::{
     arclength_frame, correct, interpolated_orbit, on_threads, BranchPoint, Fold, Periodic,
 };
 use super::resolution::Resolution;
-use super::stability::Stability;
+use super::stability::{outside_circle, Stability};
 use crate::error::Result;
 use crate::linalg::{difference, norm};
 
@@ -54,7 +58,7 @@ pub enum BifurcationKind {
 /// A change of stability between two successive branch points.
 #[derive(Debug, Clone, Copy, serde::Serialize)]
 pub struct Bifurcation {
-    /// The kind, from the crossing multiplier.
+    /// The kind, from the multipliers that cross (the module documentation gives the rule).
     pub kind: BifurcationKind,
     /// Frequency where the largest real part of the exponents crosses zero, rad/s: located
     /// on the branch when `located`, otherwise linearly interpolated between the two
@@ -171,11 +175,15 @@ fn change_after(
     let crossing = match fold {
         // The exponent crosses zero as the square root of the distance at a fold,
         // which regula falsi converges to slowly: the fold is already on the branch.
-        Some(f) => Located {
-            frequency: f.frequency,
-            located: true,
-            nearest: if a.stable { b.clone() } else { a.clone() },
-        },
+        Some(f) => {
+            let unstable = if a.stable { b.clone() } else { a.clone() };
+            Located {
+                frequency: f.frequency,
+                located: true,
+                nearest: unstable.clone(),
+                unstable,
+            }
+        }
         None => crossing(hb, (p, a), (q, b), turns)?,
     };
     Ok(vec![classify(crossing, i, a.stable, turns)])
@@ -311,11 +319,13 @@ fn vertex(lo: &End, mid: &End, hi: &End) -> f64 {
     }
 }
 
-/// Where the largest real part crosses zero, and the stability nearest the crossing.
+/// Where the largest real part crosses zero, the stability nearest the crossing, and the
+/// unstable one nearest it.
 struct Located {
     frequency: f64,
     located: bool,
     nearest: Stability,
+    unstable: Stability,
 }
 
 /// One end of a regula falsi bracket: a point on the branch, where it lies in the search's
@@ -344,12 +354,15 @@ impl End {
     }
 }
 
-/// A crossing's search: the trial points spent and the stability nearest the crossing so
+/// A crossing's search: the trial points spent, the stability nearest the crossing so
 /// far (the crossing exponent is the one with the largest real part on both sides, so it
-/// is read at the trial where that is smallest in magnitude).
+/// is read at the trial where that is smallest in magnitude), and the unstable one
+/// nearest it (the smallest largest real part above zero), whose multipliers outside the
+/// circle are the ones that cross.
 struct Search {
     trials: usize,
     nearest: Stability,
+    unstable: Stability,
 }
 
 /// Where g(s), the largest real part of the exponents at the branch point with parameter
@@ -369,9 +382,11 @@ fn crossing(
     (after, sb): (&BranchPoint, &Stability),
     turns: bool,
 ) -> Result<Located> {
+    let unstable = if sa.stable { sb.clone() } else { sa.clone() };
     let mut search = Search {
         trials: 0,
-        nearest: if sa.stable { sb.clone() } else { sa.clone() },
+        nearest: unstable.clone(),
+        unstable,
     };
     let mut a = End::new(0.0, sa.max_real, before.solution.clone());
     let mut b = End::new(0.0, sb.max_real, after.solution.clone());
@@ -431,6 +446,9 @@ impl Search {
                 .floquet_problem(&point.coefficients, point.frequency)?
                 .solve()?;
             let g = verdict.max_real;
+            if !verdict.stable && g < self.unstable.max_real {
+                self.unstable = verdict.clone();
+            }
             if g.abs() < self.nearest.max_real.abs() {
                 self.nearest = verdict;
             }
@@ -464,6 +482,7 @@ impl Search {
             frequency: wa + u * (wb - wa),
             located,
             nearest: self.nearest,
+            unstable: self.unstable,
         }
     }
 }
@@ -486,10 +505,13 @@ fn at_speed(hb: &mut impl Periodic, a: &End, b: &End, frequency: f64) -> Option<
     (norm(&difference(&solution.coefficients, &guess)) <= norm(&spread)).then_some(solution)
 }
 
-/// The kind of the crossing from the multiplier of largest modulus nearest the crossing.
+/// The bifurcation at `crossing`: its kind from the multipliers that have left the circle
+/// on its unstable side ([`crossing_kind`]), the multiplier and its frequency from the
+/// multiplier of largest modulus nearest it.
 fn classify(crossing: Located, after: usize, loses_stability: bool, at_fold: bool) -> Bifurcation {
     let w = crossing.frequency;
-    let (kind, (re, im)) = crossing_kind(&crossing.nearest, at_fold);
+    let kind = crossing_kind(&crossing.unstable, at_fold);
+    let (re, im) = largest(&crossing.nearest.multipliers).unwrap_or((1.0, 0.0));
     let period = std::f64::consts::TAU / w;
     Bifurcation {
         kind,
@@ -503,46 +525,79 @@ fn classify(crossing: Located, after: usize, loses_stability: bool, at_fold: boo
     }
 }
 
-/// The kind named by the multiplier of largest modulus of `stability`, and that multiplier;
-/// `at_fold` when the branch turns there.
-pub(super) fn crossing_kind(stability: &Stability, at_fold: bool) -> (BifurcationKind, (f64, f64)) {
-    let (re, im) = stability
-        .multipliers
+/// The multiplier of largest modulus.
+fn largest(multipliers: &[(f64, f64)]) -> Option<(f64, f64)> {
+    multipliers
         .iter()
         .copied()
         .max_by(|x, y| x.0.hypot(x.1).total_cmp(&y.0.hypot(y.1)))
-        .unwrap_or((1.0, 0.0));
-    let real = im.abs() <= ON_AXIS * re.hypot(im);
-    let kind = match (real, re > 0.0) {
-        (true, true) if at_fold => BifurcationKind::Fold,
-        (true, true) => BifurcationKind::SymmetryBreaking,
-        (true, false) => BifurcationKind::PeriodDoubling,
-        (false, _) => BifurcationKind::NeimarkSacker,
-    };
-    (kind, (re, im))
+}
+
+/// Two real multipliers within this fraction of each other are a conjugate pair that meets
+/// the real axis: a pair whose imaginary part is below [`ON_AXIS`] can come out of the
+/// eigen-solver as two reals split by round-off (about 1e-16 of |Phi| where the pair is
+/// semisimple, as with a symmetric rotor's two whirls; up to its square root, 1e-8, where it
+/// is about to split), while two distinct real multipliers that leave the circle at the
+/// same speed, other than such a pair, would be a coincidence.
+const PAIR: f64 = 1e-6;
+
+/// The kind of a crossing, named by the multiplier of largest modulus of `unstable` (the
+/// unstable point nearest it) and by how many outside the unit circle share it; `at_fold`
+/// when the branch turns there. Complex, or real with a twin outside the circle equal to
+/// [`PAIR`], it is a pair crossing: Neimark-Sacker, whatever its angle (at exactly -1 or +1
+/// a pair's two exponents sit at +-w/2 or 0 as a real multiplier's would, and the locator's
+/// trial points crowd there). Real and alone, it names the crossing by its sign: through +1
+/// a fold where the branch turns and symmetry breaking elsewhere, through -1 period
+/// doubling. The largest, not any multiplier outside, because a point a resolution check
+/// reads 0.5 % away can hold the multipliers of earlier crossings outside as well.
+pub(super) fn crossing_kind(unstable: &Stability, at_fold: bool) -> BifurcationKind {
+    let (re, im) = largest(&unstable.multipliers).unwrap_or((1.0, 0.0));
+    let complex = im.abs() > ON_AXIS * re.hypot(im);
+    let twins = unstable
+        .multipliers
+        .iter()
+        .filter(|&&m| outside_circle(m) && (m.0 - re).abs() <= PAIR * re.abs())
+        .count();
+    match (complex || twins >= 2, re > 0.0) {
+        (true, _) => BifurcationKind::NeimarkSacker,
+        (false, false) => BifurcationKind::PeriodDoubling,
+        (false, true) if at_fold => BifurcationKind::Fold,
+        (false, true) => BifurcationKind::SymmetryBreaking,
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// A crossing at w whose nearest trial has these multipliers.
-    fn crossing(frequency: f64, multipliers: Vec<(f64, f64)>) -> Located {
+    /// The stability with these multipliers at w.
+    fn stability(frequency: f64, multipliers: Vec<(f64, f64)>) -> Stability {
         let period = std::f64::consts::TAU / frequency;
         let exponents: Vec<(f64, f64)> = multipliers
             .iter()
             .map(|&(re, im)| (re.hypot(im).ln() / period, im.atan2(re) / period))
             .collect();
         let max_real = exponents.iter().map(|e| e.0).fold(f64::MIN, f64::max);
+        Stability {
+            multipliers,
+            exponents,
+            max_real,
+            stable: max_real * period < 1e-10,
+        }
+    }
+
+    /// A crossing at w whose nearest trial has these multipliers, and its nearest unstable
+    /// one the same multipliers grown by 1e-6.
+    fn crossing(frequency: f64, multipliers: Vec<(f64, f64)>) -> Located {
+        let grown = multipliers
+            .iter()
+            .map(|&(re, im)| (1.000001 * re, 1.000001 * im))
+            .collect();
         Located {
             frequency,
             located: true,
-            nearest: Stability {
-                multipliers,
-                exponents,
-                max_real,
-                stable: false,
-            },
+            nearest: stability(frequency, multipliers),
+            unstable: stability(frequency, grown),
         }
     }
 
@@ -574,6 +629,23 @@ mod tests {
         let real = vec![(1.000001, 0.0), (0.3, 0.2), (0.3, -0.2)];
         assert_eq!(kind(real.clone(), true), BifurcationKind::Fold);
         assert_eq!(kind(real, false), BifurcationKind::SymmetryBreaking);
+    }
+
+    #[test]
+    fn a_pair_on_the_real_axis_is_told_from_one_real_multiplier_by_the_count() {
+        let kind = |multipliers| crossing_kind(&stability(10.0, multipliers), false);
+        // A pair at -1 whose imaginary part is below round-off, or split into two reals by
+        // it: both have left the circle.
+        let pair = vec![(-1.00001, 2e-13), (-1.00001, -2e-13), (0.5, 0.0)];
+        assert_eq!(kind(pair), BifurcationKind::NeimarkSacker);
+        let split = vec![(-1.00001, 0.0), (-1.0000100000001, 0.0), (0.5, 0.0)];
+        assert_eq!(kind(split), BifurcationKind::NeimarkSacker);
+        // Two real multipliers near -1, one outside: period doubling.
+        let one = vec![(-1.00001, 0.0), (-0.99, 0.0), (0.5, 0.0)];
+        assert_eq!(kind(one), BifurcationKind::PeriodDoubling);
+        // Two distinct reals outside: the largest names it.
+        let two = vec![(-1.3, 0.0), (1.1, 0.0)];
+        assert_eq!(kind(two), BifurcationKind::PeriodDoubling);
     }
 
     #[test]

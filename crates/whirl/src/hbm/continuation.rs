@@ -27,7 +27,7 @@ use super::balance::{
 };
 use super::bifurcation::{locate_bifurcations, Bifurcation};
 use super::condensation::CondensedBalance;
-use super::stability::{FloquetModel, FloquetProblem, Stability};
+use super::stability::{outside_circle, FloquetModel, FloquetProblem, Stability};
 use super::HbOptions;
 use crate::error::{Error, Result};
 use crate::linalg::{difference, dot_in_order as dot, norm, solve_dense};
@@ -276,6 +276,12 @@ pub struct Branch {
     pub jumped_after: Vec<usize>,
     /// Changes of stability, in path order (empty without stability).
     pub bifurcations: Vec<Bifurcation>,
+    /// Folds (their speeds, rad/s) across which no real Floquet multiplier crosses +1:
+    /// the stability verdicts contradict the balance's own turning points, as they do where
+    /// the harmonics are too few for the linearisation about the truncated orbit to be the
+    /// balance's (docs/theory.md section 7). Empty without stability, and when every fold
+    /// shows its crossing.
+    pub folds_without_crossing: Vec<f64>,
     /// Why the branch ended.
     pub end: BranchEnd,
 }
@@ -446,8 +452,10 @@ fn follow<H: Periodic + Send>(
     });
     problems[0].refine_residuals(false);
     let (folds, bifurcations) = located?;
+    let folds_without_crossing = stability_contradicts_folds(&path.points, &folds);
     Ok(Branch {
         options,
+        folds_without_crossing,
         folds,
         corners: path.corners,
         jumps: path.jumps,
@@ -456,6 +464,38 @@ fn follow<H: Periodic + Send>(
         points: path.points,
         end: path.end,
     })
+}
+
+/// The speeds of the folds in `folds` across which the parity of the number of real
+/// Floquet multipliers above 1 does not change between the two points around them: at a
+/// fold of an exact periodic solution a real multiplier crosses +1 (the Jacobian of the
+/// balance and I - Phi are singular together, and det(I - Phi), of the sign of that
+/// parity, changes sign). Stability computed about a truncated orbit need not obey this:
+/// on the Duffing oscillator (c = 0.1, k3 = 1, F = 0.5, 512 samples) 1 and 2 harmonics put
+/// the +1 crossing at 1.8787 rad/s, before the fold at 2.2047, and call the middle branch
+/// stable, while from 3 harmonics on each fold carries its crossing and the middle branch
+/// is unstable. Two +1 crossings between the same two points (a fold and a branch point
+/// together) would also show here.
+fn stability_contradicts_folds(points: &[BranchPoint], folds: &[Fold]) -> Vec<f64> {
+    let parity = |p: &BranchPoint| {
+        p.stability.as_ref().map(|s| {
+            let above = s
+                .multipliers
+                .iter()
+                .filter(|&&(re, im)| im == 0.0 && re > 0.0 && outside_circle((re, im)));
+            above.count() % 2
+        })
+    };
+    folds
+        .iter()
+        .filter(|f| {
+            let (Some(a), Some(b)) = (points.get(f.after), points.get(f.after + 1)) else {
+                return false;
+            };
+            matches!((parity(a), parity(b)), (Some(x), Some(y)) if x == y)
+        })
+        .map(|f| f.frequency)
+        .collect()
 }
 
 /// A followed path before its folds and bifurcations are located.
@@ -601,7 +641,9 @@ fn trace<H: Periodic>(
                 None
             }
             Err(e) if step / 2.0 < options.min_step => {
-                match step_over(hb, last, &tangent, &scaling) {
+                let past = step_over(hb, last, &tangent, &scaling)
+                    .or_else(|| turn_at_corner(hb, last, &tangent, &scaling));
+                match past {
                     Some((next_tangent, s)) => {
                         corners.push(s.frequency);
                         step = options.initial_step;
@@ -756,7 +798,9 @@ const SAME_ORBIT: f64 = 1e-6;
 /// point lying on it is taken as it is), with Floquet stability. Where the branch crosses the
 /// frequency several times (coexisting orbits: a fold's overhang, a loop) each distinct
 /// orbit is given, so the answer does not depend on which one a sweep ends on. Stretches
-/// the path jumped over are not crossings; a crossing where Newton fails is left out.
+/// the path jumped over are not crossings, and a crossing where Newton fails is left out:
+/// the answer says where either happened ([`SolutionsAt`]), since the branch may hold
+/// orbits at this speed that the list lacks.
 ///
 /// # Errors
 /// When the Floquet problem cannot be built or solved.
@@ -764,8 +808,15 @@ pub fn solutions_at(
     hb: &mut impl Periodic,
     branch: &Branch,
     frequency: f64,
-) -> Result<Vec<Crossing>> {
+) -> Result<SolutionsAt> {
     let points = &branch.points;
+    let jumped_over = branch
+        .jumps
+        .iter()
+        .copied()
+        .filter(|&(a, b)| (a - frequency) * (b - frequency) <= 0.0)
+        .collect();
+    let mut unconverged = Vec::new();
     let mut found: Vec<(usize, HbSolution)> = Vec::new();
     for (i, p) in points.iter().enumerate() {
         let s = &p.solution;
@@ -778,8 +829,9 @@ pub fn solutions_at(
         };
         let brackets = (s.frequency - frequency) * (next.frequency - frequency) < 0.0;
         if brackets && !branch.jumped_after.contains(&i) {
-            if let Ok(solution) = land_on(hb, s, next, frequency) {
-                found.push((i, solution));
+            match land_on(hb, s, next, frequency) {
+                Ok(solution) => found.push((i, solution)),
+                Err(_) => unconverged.push(i),
             }
         }
     }
@@ -793,7 +845,7 @@ pub fn solutions_at(
             distinct.push((i, s));
         }
     }
-    distinct
+    let crossings = distinct
         .into_iter()
         .map(|(after, solution)| {
             let stability = hb
@@ -805,7 +857,35 @@ pub fn solutions_at(
                 stability,
             })
         })
-        .collect()
+        .collect::<Result<_>>()?;
+    Ok(SolutionsAt {
+        crossings,
+        jumped_over,
+        unconverged,
+    })
+}
+
+/// The solutions of a branch at one speed ([`solutions_at`]), and where the list may be
+/// incomplete.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct SolutionsAt {
+    /// Every distinct solution where the path crosses the speed, in path order.
+    pub crossings: Vec<Crossing>,
+    /// The jumps (from, to) of [`Branch::jumps`], rad/s, that span the speed: the path did
+    /// not follow the branch there, and orbits at this speed on the stretch it skipped are
+    /// missing from `crossings`.
+    pub jumped_over: Vec<(f64, f64)>,
+    /// Indices of the points after which the path crosses the speed but Newton at it did
+    /// not converge: those crossings are missing too.
+    pub unconverged: Vec<usize>,
+}
+
+impl SolutionsAt {
+    /// True when every crossing of the branch was solved and the path jumped over none:
+    /// `crossings` is then every orbit of the branch at this speed that the path followed.
+    pub fn complete(&self) -> bool {
+        self.jumped_over.is_empty() && self.unconverged.is_empty()
+    }
 }
 
 /// The scaling at the newly accepted point `s`, and the tangent `t` (unit in `scaling`)
@@ -838,6 +918,47 @@ fn step_over(
         let s = hb.solve(frequency, &last.coefficients).ok()?;
         let t = unit_tangent(hb, &s, scaling, tangent).ok()?;
         Some((t, s))
+    })
+}
+
+/// Scaled distances along the reflected tangent at which [`turn_at_corner`] tries a
+/// point: from a small fraction of the orbit up to a few percent, the steps the path takes
+/// near a corner.
+const TURN_REACH: [f64; 3] = [1e-3, 1e-2, 3e-2];
+
+/// Where neither the corrector nor [`step_over`] gets past `last`: a corner where the
+/// branch turns back in speed by more than a right angle, as where a clearance ring's
+/// middle (contact) branch, walking down in speed as its orbit shrinks, ends on the free
+/// branch at the grazing orbit, which goes on up in speed with the orbit shrinking still.
+/// No point lies ahead along the tangent (the arclength hyperplane misses the branch
+/// beyond the corner) nor at a speed further on. The orbit goes on the way it was going
+/// and the speed turns back: Newton at fixed speed from the tangent reflected in the speed,
+/// at [`TURN_REACH`] from `last`. A point whose orbit moved against the tangent is the
+/// leg the path came by, and is refused. Restarted ahead of the furthest point instead,
+/// the path jumped from the corner past the fold (a ring with m e = 0.5: 1.41 to 3.28
+/// rad/s), and the free orbit between was missing.
+fn turn_at_corner(
+    hb: &mut impl Periodic,
+    last: &HbSolution,
+    tangent: &[f64],
+    scaling: &Scaling,
+) -> Option<(Vec<f64>, HbSolution)> {
+    let n = tangent.len() - 1;
+    let mut reflected = tangent.to_vec();
+    reflected[n] = -reflected[n];
+    let y0 = scaling.scaled(last);
+    TURN_REACH.into_iter().find_map(|reach| {
+        let guess: Vec<f64> = y0
+            .iter()
+            .zip(&reflected)
+            .map(|(y, t)| y + reach * t)
+            .collect();
+        let (coefficients, frequency) = scaling.unscaled(&guess);
+        let s = hb.solve(frequency, &coefficients).ok()?;
+        let moved = difference(&scaling.scaled(&s), &y0);
+        let onward = dot(&moved[..n], &tangent[..n]) > 0.0;
+        let t = unit_tangent(hb, &s, scaling, &reflected).ok()?;
+        onward.then_some((t, s))
     })
 }
 

@@ -46,7 +46,7 @@ pub use compare::{settled_response, MarchSettings, SettledResponse};
 pub use condensation::{Condensed, CondensedBalance, DEFAULT_STABILITY_MODES};
 pub use continuation::{
     continuation, resume, solutions_at, Branch, BranchEnd, BranchPoint, ContinuationOptions,
-    Crossing, Derivatives, Fold, Periodic,
+    Crossing, Derivatives, Fold, Periodic, SolutionsAt,
 };
 pub use fourier::{aliasing_free_samples, check_counts, MAX_HARMONICS, MAX_SAMPLES};
 pub use report::SweepReport;

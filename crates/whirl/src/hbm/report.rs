@@ -65,6 +65,9 @@ pub struct SweepSummary {
     pub corners_hz: Vec<f64>,
     /// Stalls bridged by a restart: (from, to), Hz.
     pub jumps_hz: Vec<[f64; 2]>,
+    /// Folds across which no real multiplier crosses +1, Hz: the stability contradicts
+    /// the balance there (too few harmonics, docs/theory.md section 7).
+    pub folds_without_crossing_hz: Vec<f64>,
     /// Changes of stability.
     pub bifurcations: Vec<BifurcationSummary>,
     /// AFT samples per period of the bifurcations' resolution check (twice
@@ -329,6 +332,11 @@ impl Report for SweepReport {
             folds_hz: branch.folds.iter().map(|f| hz(f.frequency)).collect(),
             corners_hz: branch.corners.iter().map(|c| hz(*c)).collect(),
             jumps_hz: branch.jumps.iter().map(|(a, b)| [hz(*a), hz(*b)]).collect(),
+            folds_without_crossing_hz: branch
+                .folds_without_crossing
+                .iter()
+                .map(|w| hz(*w))
+                .collect(),
             bifurcations: branch
                 .bifurcations
                 .iter()

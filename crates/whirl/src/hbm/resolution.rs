@@ -97,7 +97,7 @@ pub fn check(
     let kind = verdicts[unstable_side]
         .as_ref()
         .filter(|s| !s.stable)
-        .map(|s| crossing_kind(s, at_fold).0);
+        .map(|s| crossing_kind(s, at_fold));
     Ok(Resolution {
         samples: fine.options().samples,
         speeds,

@@ -54,6 +54,12 @@ pub struct Stability {
 /// (1e-13), far below any physical growth over one period.
 const ROUND_OFF: f64 = 1e-10;
 
+/// Whether the multiplier (real, imaginary) lies outside the unit circle beyond the
+/// round-off, as the verdict [`Stability::stable`] judges it.
+pub(super) fn outside_circle((re, im): (f64, f64)) -> bool {
+    re.hypot(im).ln() > ROUND_OFF
+}
+
 /// The linear part of the linearised equations with M^-1 applied, shared by every Floquet
 /// problem of one model: M^-1 K, M^-1 C, M^-1 G and M^-1, row-major.
 pub(crate) struct FloquetModel {

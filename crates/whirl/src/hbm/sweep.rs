@@ -307,7 +307,7 @@ fn follow_sweep(
         .collect::<Result<Vec<_>>>()?;
     let mut at_speeds = Vec::new();
     for &speed in &options.exact_speeds {
-        for c in solutions_at(&mut hb.inner, &branch, speed)? {
+        for c in solutions_at(&mut hb.inner, &branch, speed)?.crossings {
             at_speeds.push(AtSpeed {
                 speed,
                 after: c.after,

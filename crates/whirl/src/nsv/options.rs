@@ -369,7 +369,7 @@ fn fft_friendly_step(step: f64, record_every: usize, record: f64) -> f64 {
 fn next_five_smooth(n: usize) -> usize {
     let is_smooth = |mut m: usize| {
         for p in [2, 3, 5] {
-            while m % p == 0 {
+            while m.is_multiple_of(p) {
                 m /= p;
             }
         }

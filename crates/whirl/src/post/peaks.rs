@@ -60,7 +60,7 @@ pub fn spectral_peaks(
 ) -> Vec<SpectralPeak> {
     let mut peaks = refined_candidates(spectrum, running_speed_hz, min_relative, max_peaks, 0.0);
     // In bin order, then largest first: ties keep the lower frequency first.
-    peaks.sort_by(|a, b| a.0.cmp(&b.0));
+    peaks.sort_by_key(|p| p.0);
     let mut peaks: Vec<SpectralPeak> = peaks.into_iter().map(|(_, p)| p).collect();
     peaks.sort_by(|a, b| b.amplitude.total_cmp(&a.amplitude));
     let largest = peaks.first().map_or(0.0, |p| p.amplitude);
