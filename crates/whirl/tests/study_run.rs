@@ -59,6 +59,7 @@ fn fake_cascade(point: &Point) -> whirl::Result<PointResult> {
             amplitude: vec![vec![Some(0.0), None], vec![Some(mean as f32); 2]],
         },
         wall_time_s: 0.0,
+        resumed_speeds: 0,
     })
 }
 
