@@ -159,18 +159,20 @@ impl Counter<'_> {
     }
 }
 
+/// Processor time of the process, s (every thread), from Linux's `/proc/self/stat` (user
+/// and system time in clock ticks of 1/100 s, the kernel's fixed USER_HZ).
+pub(super) fn process_cpu_seconds() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // The command name, in parentheses, may hold spaces: count fields after it.
+    let fields: Vec<&str> = text.rsplit_once(')')?.1.split_whitespace().collect();
+    let ticks = |k: usize| fields.get(k)?.parse::<f64>().ok();
+    // utime and stime are the 14th and 15th fields; the 3rd is the first after the name.
+    Some((ticks(11)? + ticks(12)?) / 100.0)
+}
+
 /// Processor time of the calling thread, s, from Linux's scheduler statistics (ns).
 fn thread_cpu_seconds() -> Option<f64> {
-    schedstat_seconds("/proc/thread-self/schedstat")
-}
-
-/// Processor time of the process, s (every thread), from Linux's scheduler statistics.
-pub(super) fn process_cpu_seconds() -> Option<f64> {
-    schedstat_seconds("/proc/self/schedstat")
-}
-
-fn schedstat_seconds(path: &str) -> Option<f64> {
-    let text = std::fs::read_to_string(path).ok()?;
+    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
     let ns: f64 = text.split_whitespace().next()?.parse().ok()?;
     (ns > 0.0).then_some(1e-9 * ns)
 }
