@@ -124,6 +124,8 @@ pub struct ValueSummary {
     pub first_loss_kind: Option<&'static str>,
     /// The unstable bands, in path order.
     pub bands: Vec<BandSummary>,
+    /// Points of the branch: what a sweep's cost grows with (0 when it failed).
+    pub points: usize,
     /// Why the branch ended, or why the sweep failed.
     pub end: String,
     /// Stretches the path jumped over (not followed), Hz.
@@ -198,8 +200,9 @@ impl MapReport {
     }
 
     fn value_summary(e: &MapEntry) -> ValueSummary {
-        let (end, jumps_hz) = match &e.run.sweep {
+        let (points, end, jumps_hz) = match &e.run.sweep {
             Ok(s) => (
+                s.branch.points.len(),
                 s.branch.end.reason(),
                 s.branch
                     .jumps
@@ -207,7 +210,7 @@ impl MapReport {
                     .map(|&(a, b)| [hz(a), hz(b)])
                     .collect(),
             ),
-            Err(err) => (err.to_string(), Vec::new()),
+            Err(err) => (0, err.to_string(), Vec::new()),
         };
         let first = e.first_loss();
         ValueSummary {
@@ -216,6 +219,7 @@ impl MapReport {
             first_stability_loss_hz: first.map(|b| hz(b.frequency)),
             first_loss_kind: first.map(|b| b.kind.name()),
             bands: e.bands.iter().map(band_summary).collect(),
+            points,
             end,
             jumps_hz,
             cpu_s: e.run.cpu_s,
