@@ -17,6 +17,7 @@ mod error;
 mod interrupt;
 mod output;
 mod plots;
+mod plots_map;
 mod plots_stiffness;
 mod plots_study;
 mod progress;
@@ -70,6 +71,9 @@ enum Command {
     FitForcing(commands::fit_forcing::Args),
     /// Periodic response by harmonic balance over speed, its stability and bifurcations.
     Hbm(commands::hbm::Args),
+    /// NSV map: where the synchronous orbit is unstable over speed and one model parameter,
+    /// and by which bifurcation.
+    Map(commands::map::Args),
     /// Cascade (waterfall) of non-synchronous vibration over a speed range, classified.
     Cascade(commands::cascade::Args),
     /// Sensitivity study: sweeps of model parameters, each point a cascade (thesis ch. 5).
@@ -95,6 +99,7 @@ impl Command {
             Command::Stiffness(a) => a.common.out_dir("stiffness"),
             Command::FitForcing(a) => a.common.out_dir("fit-forcing"),
             Command::Hbm(a) => a.common.out_dir("hbm"),
+            Command::Map(a) => a.common.out_dir("map"),
             Command::Cascade(a) => a.common.out_dir("cascade"),
             Command::Study(a) => a.out_dir(),
             Command::ImportRoss(a) => a.out_dir(),
@@ -116,6 +121,7 @@ impl Command {
             Command::Stiffness(a) => commands::stiffness::run(a),
             Command::FitForcing(a) => commands::fit_forcing::run(a),
             Command::Hbm(a) => commands::hbm::run(a),
+            Command::Map(a) => commands::map::run(a),
             Command::Cascade(a) => commands::cascade::run(a),
             Command::Study(a) => commands::study::run(a),
             Command::ImportRoss(a) => commands::import_ross::run(a),

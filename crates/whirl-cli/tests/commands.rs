@@ -466,6 +466,7 @@ fn every_default_is_stated_once_in_the_help() {
         "stiffness",
         "fit-forcing",
         "hbm",
+        "map",
         "cascade",
         "study",
         "static",

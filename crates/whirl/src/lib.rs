@@ -15,7 +15,7 @@
 //! ([`bearing`]) implement the nonlinear-force interface ([`force`]); [`system::build`] makes
 //! the one linear system with its loads and contact forces ([`system::System`], full or
 //! Craig-Bampton reduced by [`reduce`]) that time marching and harmonic balance both solve;
-//! the solvers ([`modal`], [`response`], [`statics`], [`time`], [`hbm`], [`nsv`],
+//! the solvers ([`modal`], [`response`], [`statics`], [`time`], [`hbm`], [`map`], [`nsv`],
 //! [`study`]) turn those into results types that serialize to JSON and CSV. Units are SI everywhere inside (m, kg, s,
 //! rad/s); [`units`] converts what people write (`"750 Hz"`, `"20 um"`).
 //!
@@ -170,6 +170,7 @@ pub mod force;
 pub mod hbm;
 pub(crate) mod linalg;
 pub mod lock;
+pub mod map;
 pub mod modal;
 pub mod model;
 pub mod nsv;

@@ -28,8 +28,8 @@ use whirl::bearing::ContactLaw;
 use whirl::fe::{dof, Direction};
 use whirl::hbm::{
     settled_response, sweep_with_progress, BifurcationKind, CageModel, MarchSettings,
-    SettledResponse, Sweep, SweepOptions, SweepReport, DEFAULT_STABILITY_MODES, MAX_HARMONICS,
-    RESOLUTION_TOLERANCE,
+    SettledResponse, Sweep, SweepOptions, SweepReport, SweepSettings, DEFAULT_HARMONICS,
+    DEFAULT_STABILITY_MODES, MAX_HARMONICS, RESOLUTION_TOLERANCE,
 };
 use whirl::model::Model;
 
@@ -53,21 +53,13 @@ pub enum Cage {
     Frozen,
 }
 
-/// `whirl hbm`
+/// The discretisation and bearing model of a harmonic-balance sweep, shared by `whirl hbm`
+/// and `whirl map`; [`HbFlags::settings`] hands them to the library.
 #[derive(Debug, clap::Args)]
-pub struct Args {
-    #[command(flatten)]
-    pub common: Common,
-    /// Speed range `start:stop` (a count, if given, is ignored: continuation chooses its
-    /// steps), e.g. `1:750Hz`; plain numbers are rad/s [default: 1 Hz to 1.2 x the model's
-    /// top operating speed].
-    #[arg(long, value_name = "RANGE", value_parser = speed_span)]
-    pub speeds: Option<Speeds>,
+pub struct HbFlags {
     /// Harmonics H of the running speed (1 to 50).
-    #[arg(long, value_name = "H", default_value = "5", value_parser = harmonic_count)]
+    #[arg(long, value_name = "H", default_value_t = DEFAULT_HARMONICS, value_parser = harmonic_count)]
     pub harmonics: usize,
-    #[command(flatten)]
-    pub nodes: Nodes,
     /// Contact law of the roller bearings: hertz or forcing (harmonic balance needs a
     /// force law of the displacement).
     #[arg(long, value_enum, default_value = "hertz")]
@@ -90,12 +82,49 @@ pub struct Args {
     /// do (faster; the condensation stays exact) [default: the full model].
     #[arg(long, value_name = "N", value_parser = mode_count)]
     pub reduce: Option<usize>,
-    /// Skip the Floquet stability (faster; no bifurcations).
-    #[arg(long)]
-    pub no_stability: bool,
     /// Fixed-interface modes of the stability model.
     #[arg(long, value_name = "N", default_value_t = DEFAULT_STABILITY_MODES, value_parser = mode_count)]
     pub stability_modes: usize,
+}
+
+impl HbFlags {
+    /// The library's settings of a sweep with these flags.
+    pub fn settings(&self) -> SweepSettings {
+        SweepSettings {
+            harmonics: Some(self.harmonics),
+            samples: self.samples,
+            contact: Some(self.contact),
+            cage: Some(match self.cage {
+                Cage::Passage => CageModel::PassageAveraged {
+                    positions: self.cage_positions,
+                },
+                Cage::Frozen => CageModel::Frozen,
+            }),
+            contact_smoothing: Some(self.contact_smoothing),
+            stability: None,
+            stability_modes: Some(self.stability_modes),
+            reduction: self.reduce,
+        }
+    }
+}
+
+/// `whirl hbm`
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    pub common: Common,
+    /// Speed range `start:stop` (a count, if given, is ignored: continuation chooses its
+    /// steps), e.g. `1:750Hz`; plain numbers are rad/s [default: 1 Hz to 1.2 x the model's
+    /// top operating speed].
+    #[arg(long, value_name = "RANGE", value_parser = speed_span)]
+    pub speeds: Option<Speeds>,
+    #[command(flatten)]
+    pub hb: HbFlags,
+    #[command(flatten)]
+    pub nodes: Nodes,
+    /// Skip the Floquet stability (faster; no bifurcations).
+    #[arg(long)]
+    pub no_stability: bool,
     /// Speeds at which to run the time integrator and overlay its settled amplitudes,
     /// comma-separated, e.g. `100Hz,330Hz`.
     #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = speed)]
@@ -113,7 +142,7 @@ pub struct Args {
 }
 
 /// Clap parser of `start:stop` (or `start:stop:count`, the count ignored).
-fn speed_span(text: &str) -> Result<Speeds, String> {
+pub fn speed_span(text: &str) -> Result<Speeds, String> {
     if text.split(':').count() == 2 {
         speeds(&format!("{text}:2"))
     } else {
@@ -190,12 +219,12 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         // Disks first: the first node is plotted and compared.
         nodes.sort_by_key(|n| !model.disks.iter().any(|d| d.station.node == *n));
     }
-    let options = sweep_options(args, model, args.harmonics)?;
+    let options = sweep_options(args, model, args.hb.harmonics)?;
     let most = args
         .harmonics_study
         .iter()
         .flat_map(|l| l.0.iter().copied())
-        .fold(args.harmonics, usize::max);
+        .fold(args.hb.harmonics, usize::max);
     warn_if_slow(most, options.stability);
     let result = lib(sweep_shown(model, &options))?;
     let comparisons = args
@@ -262,34 +291,28 @@ fn sweep_shown(model: &Model, options: &SweepOptions) -> whirl::Result<Sweep> {
 }
 
 fn sweep_options(args: &Args, model: &Model, harmonics: usize) -> miette::Result<SweepOptions> {
-    let range = Speeds::or_default(&args.speeds, model, TAU, 2);
-    let (from, to) = match (range.first(), range.last()) {
-        (Some(&a), Some(&b)) if a > 0.0 && b > a => (a, b),
-        _ => {
-            return Err(Diag::new(format!(
-                "--speeds: harmonic balance needs a rising range of positive speeds, got {:?} Hz",
-                range.iter().map(|w| hz(*w)).collect::<Vec<_>>()
-            ))
-            .help("e.g. --speeds 1:750Hz")
-            .into())
-        }
-    };
-    let mut options = SweepOptions::new(from, to, harmonics);
-    options.contact = args.contact;
-    options.cage = match args.cage {
-        Cage::Passage => CageModel::PassageAveraged {
-            positions: args.cage_positions,
-        },
-        Cage::Frozen => CageModel::Frozen,
-    };
-    options.contact_smoothing = args.contact_smoothing;
-    // Checked with the harmonic count by the library, before anything is allocated.
-    options.samples = args.samples;
-    options.stability = !args.no_stability;
-    options.stability_modes = args.stability_modes;
-    options.reduction = args.reduce;
+    let (from, to) = rising_range(&args.speeds, model)?;
+    let mut settings = args.hb.settings();
+    settings.harmonics = Some(harmonics);
+    settings.stability = Some(!args.no_stability);
+    let mut options = settings.options(from, to);
     options.exact_speeds = args.compare_time.clone();
     Ok(options)
+}
+
+/// The first and last speed of `--speeds` (rad/s), or the model's default range: a rising
+/// range of positive speeds, as harmonic balance needs.
+pub fn rising_range(speeds: &Option<Speeds>, model: &Model) -> miette::Result<(f64, f64)> {
+    let range = Speeds::or_default(speeds, model, TAU, 2);
+    match (range.first(), range.last()) {
+        (Some(&a), Some(&b)) if a > 0.0 && b > a => Ok((a, b)),
+        _ => Err(Diag::new(format!(
+            "--speeds: harmonic balance needs a rising range of positive speeds, got {:?} Hz",
+            range.iter().map(|w| hz(*w)).collect::<Vec<_>>()
+        ))
+        .help("e.g. --speeds 1:750Hz")
+        .into()),
+    }
 }
 
 /// A time-marching comparison: the settled response at one speed, read against the
@@ -300,10 +323,16 @@ fn compare_at(model: &Model, args: &Args, w: f64, node: usize) -> miette::Result
     let settings = MarchSettings {
         settle: args.settle,
         record: args.record,
-        contact: args.contact,
+        contact: args.hb.contact,
         ..MarchSettings::default()
     };
-    lib(settled_response(model, w, node, args.harmonics, &settings))
+    lib(settled_response(
+        model,
+        w,
+        node,
+        args.hb.harmonics,
+        &settings,
+    ))
 }
 
 fn text_summary(model: &Model, report: &SweepReport) -> String {
@@ -536,7 +565,7 @@ fn harmonics_plot(result: &Sweep, node: usize, comparisons: &[Comparison], from:
     figure
 }
 
-fn kind_label(kind: BifurcationKind) -> &'static str {
+pub fn kind_label(kind: BifurcationKind) -> &'static str {
     match kind {
         BifurcationKind::Fold => "F",
         BifurcationKind::SymmetryBreaking => "SB",

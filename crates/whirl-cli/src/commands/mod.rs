@@ -9,6 +9,7 @@ pub mod fit_forcing;
 pub mod frf;
 pub mod hbm;
 pub mod import_ross;
+pub mod map;
 pub mod modal;
 pub mod reduce;
 pub mod simulate;

@@ -287,6 +287,13 @@ pub struct Branch {
 }
 
 impl Branch {
+    /// The first change of stability along the path that loses it: where the synchronous
+    /// orbit followed from the first speed first gives way (to a jump, a subharmonic or a
+    /// non-synchronous component, by its kind); `None` when stability is never lost.
+    pub fn first_stability_loss(&self) -> Option<&Bifurcation> {
+        self.bifurcations.iter().find(|b| b.loses_stability)
+    }
+
     /// The lowest and the highest speed of the points, rad/s: the range followed, wider
     /// than the sweep's where the branch turned back out of it and came back.
     pub fn speed_span(&self) -> (f64, f64) {

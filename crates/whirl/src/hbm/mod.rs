@@ -18,7 +18,8 @@
 //! - [`bearings`]: roller bearings made periodic in the running speed ([`CageModel`]).
 //! - [`compare`]: time marching read in the same terms, to check harmonic balance against.
 //! - [`sweep()`]: a model's periodic response over a speed range, as `whirl hbm` runs it;
-//!   [`SweepReport`]: what it reports (summary and tables).
+//!   [`SweepReport`]: what it reports (summary and tables); [`SweepSettings`]: its settings
+//!   as a request gives them, each with its default.
 //! - [`stability`]: the Floquet multipliers of each periodic solution, from its monodromy
 //!   matrix; [`bifurcation`]: where and how stability changes, named by the crossing
 //!   multiplier (fold or symmetry breaking, period doubling, Neimark-Sacker);
@@ -36,6 +37,7 @@ pub mod continuation;
 pub mod fourier;
 pub mod report;
 pub mod resolution;
+pub mod settings;
 pub mod stability;
 pub mod sweep;
 
@@ -51,6 +53,7 @@ pub use continuation::{
 pub use fourier::{aliasing_free_samples, check_counts, MAX_HARMONICS, MAX_SAMPLES};
 pub use report::SweepReport;
 pub use resolution::{Resolution, RESOLUTION_TOLERANCE};
+pub use settings::{SweepSettings, DEFAULT_HARMONICS};
 pub use stability::{FloquetProblem, Stability};
 pub use sweep::{sweep, sweep_with_progress, AtSpeed, Sweep, SweepOptions};
 

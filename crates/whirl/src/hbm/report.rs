@@ -364,11 +364,7 @@ impl Report for SweepReport {
                 .find_map(|b| b.resolution)
                 .map(|_| 2 * options.stability_modes),
             resolution_tolerance: RESOLUTION_TOLERANCE,
-            first_stability_loss_hz: branch
-                .bifurcations
-                .iter()
-                .find(|b| b.loses_stability)
-                .map(|b| hz(b.frequency)),
+            first_stability_loss_hz: branch.first_stability_loss().map(|b| hz(b.frequency)),
             compare_time: self
                 .comparisons
                 .iter()

@@ -376,11 +376,12 @@ impl Expander {
         };
         let model_text = model.to_string();
         let valid = Model::from_toml_str(&model_text, None)
-            .map_err(|e| invalid(&field, span.clone(), &describe(), "model", e))?;
+            .map_err(|e| invalid(&field, &describe(), "model", e).at(span.clone()))?;
         let table: toml::Table = toml::from_str(&cascade.to_string())
             .map_err(|e| InputError::field(&field, e.message().to_string()).at(span.clone()))?;
-        let settings = cascade_settings(&table)
-            .map_err(|e| invalid(&field, span.clone(), &describe(), "cascade", Error::from(e)))?;
+        let settings = cascade_settings(&table).map_err(|e| {
+            invalid(&field, &describe(), "cascade", Error::from(e)).at(span.clone())
+        })?;
         // The key is that of the validated model and settings, so that "60 um" and 6e-5 are
         // one point.
         let model_json = serde_json::to_string(&valid).unwrap_or_default();
@@ -419,15 +420,10 @@ impl Expander {
     }
 }
 
-/// A point's model or settings refused by their own validation, reported at the study
-/// file's value with the validation's own message and help.
-fn invalid(
-    field: &str,
-    span: std::ops::Range<usize>,
-    edits: &str,
-    what: &str,
-    e: Error,
-) -> InputError {
+/// A model or settings made by `edits` and refused by their own validation, reported at
+/// `field` (a study file's value, a map's value) with the validation's own message and
+/// help.
+pub(crate) fn invalid(field: &str, edits: &str, what: &str, e: Error) -> InputError {
     let (message, help) = match e {
         Error::Input(inner) => {
             let place = inner.field.map(|f| format!("`{f}`: ")).unwrap_or_default();
@@ -435,8 +431,7 @@ fn invalid(
         }
         other => (other.to_string(), None),
     };
-    let mut err =
-        InputError::field(field, format!("{edits} makes an invalid {what}: {message}")).at(span);
+    let mut err = InputError::field(field, format!("{edits} makes an invalid {what}: {message}"));
     err.help = help;
     err
 }
@@ -508,7 +503,7 @@ fn fit_degree(i: usize, s: &SweepFile) -> std::result::Result<Option<usize>, Inp
 }
 
 /// A TOML value of the study file as a value to put into a document.
-fn to_edit_value(v: &toml::Value) -> toml_edit::Value {
+pub(crate) fn to_edit_value(v: &toml::Value) -> toml_edit::Value {
     // A value read from TOML prints back as TOML, which reads back the same.
     v.to_string()
         .parse::<toml_edit::Value>()
@@ -516,7 +511,7 @@ fn to_edit_value(v: &toml::Value) -> toml_edit::Value {
 }
 
 /// The SI number of a value: a number as it is, a quantity with a unit converted.
-fn si_value(v: &toml::Value) -> Option<f64> {
+pub(crate) fn si_value(v: &toml::Value) -> Option<f64> {
     match v {
         toml::Value::Integer(n) => Some(*n as f64),
         toml::Value::Float(x) => Some(*x),
@@ -534,7 +529,7 @@ fn si_value(v: &toml::Value) -> Option<f64> {
 }
 
 /// A value as a person reads it: a string without its quotes, anything else as TOML.
-fn plain_text(v: &toml::Value) -> String {
+pub(crate) fn plain_text(v: &toml::Value) -> String {
     match v {
         toml::Value::String(s) => s.clone(),
         other => other.to_string(),

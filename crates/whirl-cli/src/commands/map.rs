@@ -1,0 +1,164 @@
+//! `whirl map model.toml [--parameter PATH] --values LIST --speeds RANGE [hbm options]
+//! [--clear-below SPEED]`: the NSV map. One harmonic-balance sweep with Floquet stability
+//! per value of a model parameter (default `roller_bearing[*].clearance`), and per value
+//! the speed bands where the synchronous orbit is unstable, each named by the bifurcation
+//! that opens it (docs/theory.md section 7).
+//!
+//! Writes `bands.csv` (one row per unstable band: value, opening and closing speed and
+//! bifurcation, the emerging frequency, the share of the band where a stable orbit
+//! coexists), `values.csv` (per value the first loss of stability and the sweep's cost) and
+//! the plot `map` (speed on x, the parameter on y, the unstable bands coloured by what
+//! opens them). `--clear-below` asks which values keep the orbit stable below a speed.
+
+use std::fmt::Write;
+
+use clap::ValueEnum;
+use whirl::map::{map_with, MapReport, MapRequest, Parallelism};
+use whirl::report::Report;
+
+use super::hbm::{rising_range, speed_span, HbFlags};
+use super::{finish, lib, load, option_error, report_summary, speed, Common, Outcome, Speeds};
+use crate::output::Output;
+use crate::plots_map::map_plot;
+use crate::progress::shown;
+use whirl_plot::SpeedAxis;
+
+/// How the sweeps share the threads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Spread {
+    /// Each sweep on one thread, the values shared among the threads.
+    Values,
+    /// One sweep after another, each on every thread.
+    WithinSweeps,
+}
+
+/// `whirl map`
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    pub common: Common,
+    /// The parameter, as a study file addresses it, e.g. `roller_bearing[0].rollers`
+    /// [default: roller_bearing[*].clearance].
+    #[arg(long, value_name = "PATH")]
+    pub parameter: Option<String>,
+    /// The values, comma-separated, each as the model file writes it, e.g.
+    /// `10um,20um,60um` or `12,16,20`.
+    #[arg(long, value_name = "LIST", value_delimiter = ',', required = true)]
+    pub values: Vec<String>,
+    /// Speed range `start:stop` of every sweep, e.g. `1:750Hz`; plain numbers are rad/s
+    /// [default: 1 Hz to 1.2 x the model's top operating speed].
+    #[arg(long, value_name = "RANGE", value_parser = speed_span)]
+    pub speeds: Option<Speeds>,
+    #[command(flatten)]
+    pub hb: HbFlags,
+    /// Report which values keep the synchronous orbit free of unstable bands below this
+    /// speed, e.g. `600Hz`.
+    #[arg(long, value_name = "SPEED", value_parser = speed)]
+    pub clear_below: Option<f64>,
+    /// How the sweeps share the threads (the answer is the same either way).
+    #[arg(long, value_enum, default_value = "values")]
+    pub spread: Spread,
+}
+
+pub fn run(args: &Args) -> miette::Result<Outcome> {
+    let loaded = load(&args.common.model)?;
+    let (from, to) = rising_range(&args.speeds, &loaded.model)?;
+    let model_text = std::fs::read_to_string(&loaded.path).map_err(|e| {
+        crate::error::Diag::new(format!("cannot read `{}`: {e}", loaded.path.display()))
+    })?;
+    let request = MapRequest {
+        model_text,
+        model_file: Some(loaded.path.clone()),
+        parameter: args.parameter.clone(),
+        values: args.values.clone(),
+        from,
+        to,
+        settings: args.hb.settings(),
+        clear_below: args.clear_below,
+    };
+    let spread = match args.spread {
+        Spread::Values => Parallelism::Values,
+        Spread::WithinSweeps => Parallelism::WithinSweeps,
+    };
+    // Check the request before the progress line starts.
+    request.values().map_err(option_error)?;
+    let report = shown("map", |p| map_with(&request, spread, p));
+    let report = lib(report)?;
+    let summary = report_summary("map", &loaded, &report)?;
+    let text = text_summary(&report);
+    let tables = report.tables();
+    let mut out = Output::begin(&args.common.out_dir("map"))?;
+    out.table_named(&tables, "bands")?;
+    out.table_named(&tables, "values")?;
+    let figure = map_plot(&report);
+    let common = &args.common;
+    out.plot("map", |p| common.speed_axis(figure, SpeedAxis::X).save(p))?;
+    finish(out, summary, text, &args.common)
+}
+
+/// A line per value (first loss, bands) and the design query's answer.
+fn text_summary(report: &MapReport) -> String {
+    let mut text = String::new();
+    let s = report.summary();
+    let _ = writeln!(
+        text,
+        "map of `{}` over {:.1}-{:.1} Hz, H = {}: {} values in {:.1} s ({} CPU, {} threads, \
+         sweeps spread {})",
+        s.parameter,
+        s.speed_range_hz[0],
+        s.speed_range_hz[1],
+        s.harmonics,
+        s.values.len(),
+        s.wall_s,
+        s.cpu_s.map_or("unknown".into(), |c| format!("{c:.1} s")),
+        s.threads,
+        match s.parallelism {
+            Parallelism::Values => "one per thread",
+            Parallelism::WithinSweeps => "each over every thread",
+        }
+    );
+    for v in &s.values {
+        let first = match (v.first_stability_loss_hz, v.first_loss_kind) {
+            (Some(f), Some(k)) => format!("first loss {f:.2} Hz ({k})"),
+            _ if v.failed => format!("failed: {}", v.end),
+            _ => "stable throughout".into(),
+        };
+        let _ = writeln!(text, "  {}: {first}", v.value);
+        for b in &v.bands {
+            let emerging = b
+                .emerging_hz
+                .filter(|_| b.opens == "Neimark-Sacker" || b.opens == "period doubling")
+                .map_or(String::new(), |f| format!(", {f:.1} Hz emerges"));
+            let coexists = if b.coexisting_stable_hz.is_empty() {
+                String::new()
+            } else {
+                "; a stable orbit coexists over part of it".into()
+            };
+            let _ = writeln!(
+                text,
+                "    unstable {:.2}-{:.2} Hz: opens by {}{emerging}, closes by {}{coexists}",
+                b.span_hz[0], b.span_hz[1], b.opens, b.closes
+            );
+        }
+    }
+    if let Some(q) = &s.clear_below {
+        let _ = writeln!(
+            text,
+            "  no unstable band below {:.1} Hz: {} (largest {}, smallest {}){}",
+            q.speed_hz,
+            if q.clear.is_empty() {
+                "no value".into()
+            } else {
+                q.clear.join(", ")
+            },
+            q.largest_clear.as_deref().unwrap_or("none"),
+            q.smallest_clear.as_deref().unwrap_or("none"),
+            if q.undecided.is_empty() {
+                String::new()
+            } else {
+                format!("; undecided: {}", q.undecided.join(", "))
+            }
+        );
+    }
+    text
+}

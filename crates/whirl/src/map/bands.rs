@@ -1,0 +1,227 @@
+//! The speed bands where a sweep's synchronous orbit is unstable, read off the sweep's own
+//! changes of stability ([`Bifurcation`]) and its points' verdicts: nothing is located
+//! again.
+//!
+//! A band opens where the branch loses stability and closes where it regains it, each edge
+//! named by the crossing Floquet multiplier: a fold (+1 where the branch turns: the orbit
+//! jumps), symmetry breaking (+1 where it does not), period doubling (-1: a w/2 component
+//! appears) or Neimark-Sacker (a complex pair: a component at the exponent's frequency,
+//! not commensurate with w, appears: non-synchronous vibration). A band also opens or closes
+//! at the ends of the branch and where the path jumped (a stretch not followed), named so.
+//! The branch can fold, so a band's speeds are given in path order and as the span they
+//! cover, and the stable stretches of the branch elsewhere that cover some of its speeds
+//! are reported: there a stable synchronous orbit coexists with the unstable one.
+
+use serde::Serialize;
+
+use crate::hbm::{Bifurcation, BifurcationKind, Branch};
+use crate::units::rad_s_to_hz as hz;
+
+/// What opens or closes an unstable band.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Edge {
+    /// A change of stability located by the sweep.
+    Bifurcation {
+        /// Its kind, from the crossing multiplier.
+        bifurcation: BifurcationKind,
+        /// Frequency of the crossing exponent, Hz: the emerging component (w/2 at period
+        /// doubling, the non-synchronous frequency at Neimark-Sacker, 0 at +1).
+        emerging_hz: f64,
+        /// Located on the branch (false: interpolated across the bracket reached).
+        located: bool,
+        /// Whether it holds at twice the samples and stability modes; `None` unchecked.
+        resolved: Option<bool>,
+    },
+    /// The first point of the branch, already unstable.
+    BranchStart,
+    /// The last point of the branch, still unstable.
+    BranchEnd,
+    /// The path jumped here: what lies across was not followed.
+    Jump,
+}
+
+impl Edge {
+    /// A short name: the bifurcation's name, `branch start`, `branch end` or `jump`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Edge::Bifurcation { bifurcation, .. } => bifurcation.name(),
+            Edge::BranchStart => "branch start",
+            Edge::BranchEnd => "branch end",
+            Edge::Jump => "jump",
+        }
+    }
+
+    /// The emerging frequency, Hz, at a bifurcation.
+    pub fn emerging_hz(&self) -> Option<f64> {
+        match self {
+            Edge::Bifurcation { emerging_hz, .. } => Some(*emerging_hz),
+            _ => None,
+        }
+    }
+
+    fn of(b: &Bifurcation) -> Edge {
+        Edge::Bifurcation {
+            bifurcation: b.kind,
+            emerging_hz: hz(b.exponent_frequency),
+            located: b.located,
+            resolved: b.resolution.map(|r| r.resolved),
+        }
+    }
+}
+
+/// A stretch of the branch, in path order, where the synchronous orbit is unstable.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct UnstableBand {
+    /// Speed where it opens, Hz.
+    pub opens_hz: f64,
+    /// What opens it.
+    pub opens: Edge,
+    /// Speed where it closes, Hz (below `opens_hz` where the branch ran back in speed).
+    pub closes_hz: f64,
+    /// What closes it.
+    pub closes: Edge,
+    /// The lowest and highest speed the band covers, Hz.
+    pub span_hz: [f64; 2],
+    /// Stretches of speed within `span_hz` where a stable stretch of the same branch
+    /// (elsewhere along the path) gives a stable synchronous orbit too, Hz, ascending.
+    pub coexisting_stable_hz: Vec<[f64; 2]>,
+}
+
+impl UnstableBand {
+    /// The fraction of the band's span where a stable orbit coexists, 0 to 1.
+    pub fn coexisting_fraction(&self) -> f64 {
+        let width = self.span_hz[1] - self.span_hz[0];
+        if width <= 0.0 {
+            return 0.0;
+        }
+        let covered: f64 = self.coexisting_stable_hz.iter().map(|s| s[1] - s[0]).sum();
+        (covered / width).min(1.0)
+    }
+}
+
+/// A band being read: where it opened, and the points inside it.
+struct Open {
+    speed: f64,
+    edge: Edge,
+    points: Vec<usize>,
+}
+
+/// The unstable bands of `branch` in path order (none without stability).
+pub fn unstable_bands(branch: &Branch) -> Vec<UnstableBand> {
+    let mut bands = Vec::new();
+    let mut open: Option<Open> = None;
+    let points = &branch.points;
+    let stable = |i: usize| points[i].stability.as_ref().map(|s| s.stable);
+    let speed = |i: usize| hz(points[i].solution.frequency);
+    for i in 0..points.len() {
+        let Some(verdict) = stable(i) else {
+            return Vec::new();
+        };
+        let jumped = i > 0 && branch.jumped_after.contains(&(i - 1));
+        match (&mut open, verdict) {
+            (None, false) if i == 0 || jumped => {
+                let edge = if i == 0 {
+                    Edge::BranchStart
+                } else {
+                    Edge::Jump
+                };
+                open = Some(Open {
+                    speed: speed(i),
+                    edge,
+                    points: Vec::new(),
+                });
+            }
+            (Some(o), true) if jumped => {
+                let before = speed(i - 1);
+                bands.push(close(branch, o, before, Edge::Jump));
+                open = None;
+            }
+            _ => {}
+        }
+        if let Some(o) = &mut open {
+            o.points.push(i);
+        }
+        for b in branch.bifurcations.iter().filter(|b| b.after == i) {
+            open = step(branch, open, b, &mut bands);
+        }
+    }
+    if let Some(o) = open {
+        let last = points.len() - 1;
+        bands.push(close(branch, &o, speed(last), Edge::BranchEnd));
+    }
+    bands
+}
+
+/// The band state after bifurcation `b`: opened at a loss, closed (into `bands`) at a
+/// regain. A loss while open, or a regain while closed, cannot follow from the sweep's
+/// alternating verdicts and leaves the state as it is.
+fn step(
+    branch: &Branch,
+    open: Option<Open>,
+    b: &Bifurcation,
+    bands: &mut Vec<UnstableBand>,
+) -> Option<Open> {
+    match (open, b.loses_stability) {
+        (None, true) => Some(Open {
+            speed: hz(b.frequency),
+            edge: Edge::of(b),
+            points: Vec::new(),
+        }),
+        (Some(o), false) => {
+            bands.push(close(branch, &o, hz(b.frequency), Edge::of(b)));
+            None
+        }
+        (state, _) => state,
+    }
+}
+
+/// The band `o` closed at `speed` by `edge`, with its span and the stable orbits that
+/// coexist within it.
+fn close(branch: &Branch, o: &Open, speed: f64, edge: Edge) -> UnstableBand {
+    let inside = o
+        .points
+        .iter()
+        .map(|&i| hz(branch.points[i].solution.frequency));
+    let (lo, hi) = inside
+        .chain([o.speed, speed])
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), w| {
+            (lo.min(w), hi.max(w))
+        });
+    UnstableBand {
+        opens_hz: o.speed,
+        opens: o.edge,
+        closes_hz: speed,
+        closes: edge,
+        span_hz: [lo, hi],
+        coexisting_stable_hz: stable_within(branch, lo, hi),
+    }
+}
+
+/// The speeds within [lo, hi] (Hz) that a stable stretch of `branch` covers: each segment
+/// between two successive stable points (not across a jump) covers the speeds between
+/// them; merged and ascending.
+fn stable_within(branch: &Branch, lo: f64, hi: f64) -> Vec<[f64; 2]> {
+    let points = &branch.points;
+    let stable = |i: usize| points[i].stability.as_ref().is_some_and(|s| s.stable);
+    let mut covered: Vec<[f64; 2]> = (0..points.len().saturating_sub(1))
+        .filter(|&i| stable(i) && stable(i + 1) && !branch.jumped_after.contains(&i))
+        .filter_map(|i| {
+            let (a, b) = (
+                hz(points[i].solution.frequency),
+                hz(points[i + 1].solution.frequency),
+            );
+            let (a, b) = (a.min(b).max(lo), a.max(b).min(hi));
+            (b > a).then_some([a, b])
+        })
+        .collect();
+    covered.sort_by(|x, y| x[0].total_cmp(&y[0]));
+    let mut merged: Vec<[f64; 2]> = Vec::new();
+    for s in covered {
+        match merged.last_mut() {
+            Some(m) if s[0] <= m[1] => m[1] = m[1].max(s[1]),
+            _ => merged.push(s),
+        }
+    }
+    merged
+}

@@ -1,0 +1,82 @@
+//! The NSV map: where the synchronous orbit of a rotor on roller bearings is unstable, over
+//! its speed and one model parameter (clearance, damping, unbalance, roller count), and by
+//! which bifurcation each unstable band opens (docs/theory.md section 7).
+//!
+//! For each value p_j of the parameter the map follows the periodic (synchronous) response
+//! q(t; w, p_j) by harmonic balance over the speed range, with the Floquet multipliers mu of
+//! every orbit ([`crate::hbm::sweep`]). Non-synchronous vibration can only grow where that
+//! orbit is unstable, |mu| > 1 for some multiplier, so the unstable bands in (w, p) bound
+//! where it can appear, and the multiplier that crosses the unit circle at a band's edge
+//! says how: +1 a fold (a jump to another orbit) or symmetry breaking, -1 period doubling
+//! (w/2), a complex pair Neimark-Sacker (an incommensurate frequency: NSV proper).
+//!
+//! - [`request`]: the parameter, its values and the sweeps' settings, each value's model
+//!   made by editing the model file's text as a study does ([`crate::study::path`]).
+//! - [`bands`]: the unstable bands of one sweep, from its own bifurcations.
+//! - [`report`]: the summary, the tables and the design query (which values keep the orbit
+//!   stable below a speed).
+//! - [`Parallelism`]: the sweeps one per thread, or each on every thread.
+
+pub mod bands;
+pub mod report;
+pub mod request;
+mod run;
+
+use std::time::Instant;
+
+pub use bands::{unstable_bands, Edge, UnstableBand};
+pub use report::{ClearBelow, Clearance, MapEntry, MapReport, MapSummary};
+pub use request::{MapRequest, MapValue, DEFAULT_PARAMETER, MAX_VALUES};
+pub use run::{Parallelism, ValueRun};
+
+use crate::error::Result;
+use crate::progress::Progress;
+
+/// The map `request` asks for, its sweeps one per thread.
+///
+/// # Errors
+/// As [`MapRequest::values`]: a bad parameter path, no values, a value the model refuses.
+/// A sweep that fails does not stop the map: its value reports why.
+pub fn map(request: &MapRequest) -> Result<MapReport> {
+    map_with(request, Parallelism::default(), None)
+}
+
+/// As [`map`], the sweeps spread over rayon's threads as `parallelism` says, telling
+/// `progress` of the values done; `progress` may stop the map.
+///
+/// # Errors
+/// As [`map`]; [`crate::Error::Interrupted`] when `progress` stopped it.
+pub fn map_with(
+    request: &MapRequest,
+    parallelism: Parallelism,
+    progress: Option<&Progress>,
+) -> Result<MapReport> {
+    let values = request.values()?;
+    let options = request.sweep_options();
+    let (start, cpu_start) = (Instant::now(), run::process_cpu_seconds());
+    let runs = run::run_sweeps(&values, &options, parallelism, progress)?;
+    let entries = values
+        .into_iter()
+        .zip(runs)
+        .map(|(value, run)| MapEntry {
+            bands: run
+                .sweep
+                .as_ref()
+                .map_or(Vec::new(), |s| unstable_bands(&s.branch)),
+            value,
+            run,
+        })
+        .collect();
+    Ok(MapReport {
+        parameter: request.parameter().to_string(),
+        options,
+        entries,
+        clear_below: request.clear_below,
+        parallelism,
+        threads: rayon::current_num_threads(),
+        cpu_s: run::process_cpu_seconds()
+            .zip(cpu_start)
+            .map(|(b, a)| b - a),
+        wall_s: start.elapsed().as_secs_f64(),
+    })
+}

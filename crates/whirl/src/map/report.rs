@@ -1,0 +1,327 @@
+//! What a map reports ([`crate::report`]): per value the first loss of stability and the
+//! unstable bands with what opens and closes each, the cost of each sweep, and the design
+//! query: which values keep the synchronous orbit stable below a given speed.
+
+use serde::Serialize;
+
+use super::bands::{Edge, UnstableBand};
+use super::request::MapValue;
+use super::run::{Parallelism, ValueRun};
+use crate::hbm::{Bifurcation, SweepOptions};
+use crate::report::{Report, Table};
+use crate::units::rad_s_to_hz as hz;
+
+/// One value of a map: its sweep and the bands read off it.
+#[derive(Debug)]
+pub struct MapEntry {
+    /// The value and its model.
+    pub value: MapValue,
+    /// Its sweep and what it cost.
+    pub run: ValueRun,
+    /// The unstable bands of its branch, in path order (empty when the sweep failed).
+    pub bands: Vec<UnstableBand>,
+}
+
+/// A map of the synchronous orbit's stability over speed and one parameter.
+#[derive(Debug)]
+pub struct MapReport {
+    /// The parameter's path in the model file.
+    pub parameter: String,
+    /// What every sweep solved.
+    pub options: SweepOptions,
+    /// The values in the order given.
+    pub entries: Vec<MapEntry>,
+    /// The design query's speed, rad/s.
+    pub clear_below: Option<f64>,
+    /// How the sweeps were spread over the threads.
+    pub parallelism: Parallelism,
+    /// Rayon's threads.
+    pub threads: usize,
+    /// Processor time of the whole map, s, where the system tells it.
+    pub cpu_s: Option<f64>,
+    /// Wall-clock time of the whole map, s.
+    pub wall_s: f64,
+}
+
+/// Whether a value keeps the orbit stable below the query's speed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Clearance {
+    /// No unstable band below the speed, and the branch followed all the way to it.
+    Clear,
+    /// An unstable band below the speed.
+    Unstable,
+    /// Not known: the sweep failed, stopped below the speed, or jumped over a stretch
+    /// below it.
+    Undecided,
+}
+
+impl MapEntry {
+    /// Whether this value keeps the orbit stable below `speed` (rad/s).
+    pub fn clearance(&self, speed: f64) -> Clearance {
+        let below = hz(speed);
+        if self.bands.iter().any(|b| b.span_hz[0] < below) {
+            return Clearance::Unstable;
+        }
+        let Ok(sweep) = &self.run.sweep else {
+            return Clearance::Undecided;
+        };
+        let branch = &sweep.branch;
+        let reached = branch.speed_span().1 >= speed;
+        let jumped = branch.jumps.iter().any(|&(from, _)| from < speed);
+        if reached && !jumped {
+            Clearance::Clear
+        } else {
+            Clearance::Undecided
+        }
+    }
+
+    /// The sweep's first loss of stability, the same as `whirl hbm` reports.
+    pub fn first_loss(&self) -> Option<&Bifurcation> {
+        self.run.sweep.as_ref().ok()?.branch.first_stability_loss()
+    }
+}
+
+/// The key numbers of a [`MapReport`].
+#[derive(Debug, Clone, Serialize)]
+pub struct MapSummary {
+    /// The parameter's path in the model file.
+    pub parameter: String,
+    /// First and last speed of every sweep, Hz.
+    pub speed_range_hz: [f64; 2],
+    /// How the bearings were modelled.
+    pub bearings: String,
+    /// Harmonics H.
+    pub harmonics: usize,
+    /// AFT samples per period (`None`: the default for H).
+    pub samples_per_period: Option<usize>,
+    /// Fixed-interface modes of the stability model.
+    pub stability_modes: usize,
+    /// How the sweeps were spread over the threads.
+    pub parallelism: Parallelism,
+    /// Threads.
+    pub threads: usize,
+    /// Processor time of the whole map, s.
+    pub cpu_s: Option<f64>,
+    /// Wall-clock time of the whole map, s.
+    pub wall_s: f64,
+    /// Each value, in the order given.
+    pub values: Vec<ValueSummary>,
+    /// The design query, when asked.
+    pub clear_below: Option<ClearBelow>,
+}
+
+/// One value of a map.
+#[derive(Debug, Clone, Serialize)]
+pub struct ValueSummary {
+    /// The value as given.
+    pub value: String,
+    /// In SI, when it is a number or a quantity.
+    pub si: Option<f64>,
+    /// Speed of the first loss of stability, Hz.
+    pub first_stability_loss_hz: Option<f64>,
+    /// The bifurcation there.
+    pub first_loss_kind: Option<&'static str>,
+    /// The unstable bands, in path order.
+    pub bands: Vec<BandSummary>,
+    /// Points of the branch: what a sweep's cost grows with (0 when it failed).
+    pub points: usize,
+    /// Why the branch ended, or why the sweep failed.
+    pub end: String,
+    /// Stretches the path jumped over (not followed), Hz.
+    pub jumps_hz: Vec<[f64; 2]>,
+    /// Processor time of the sweep, s.
+    pub cpu_s: Option<f64>,
+    /// Wall-clock time of the sweep, s.
+    pub wall_s: f64,
+    /// The sweep failed.
+    pub failed: bool,
+}
+
+/// One unstable band.
+#[derive(Debug, Clone, Serialize)]
+pub struct BandSummary {
+    /// Speed where it opens, Hz.
+    pub opens_hz: f64,
+    /// What opens it (a bifurcation's name, `branch start` or `jump`).
+    pub opens: &'static str,
+    /// The frequency that emerges where it opens, Hz (at a bifurcation).
+    pub emerging_hz: Option<f64>,
+    /// Whether the opening bifurcation holds at twice the samples and modes.
+    pub opens_resolved: Option<bool>,
+    /// Speed where it closes, Hz.
+    pub closes_hz: f64,
+    /// What closes it (a bifurcation's name, `branch end` or `jump`).
+    pub closes: &'static str,
+    /// The lowest and highest speed it covers, Hz.
+    pub span_hz: [f64; 2],
+    /// Speeds within it where a stable synchronous orbit coexists, Hz.
+    pub coexisting_stable_hz: Vec<[f64; 2]>,
+}
+
+/// The answer to "which values keep the orbit free of unstable bands below this speed".
+#[derive(Debug, Clone, Serialize)]
+pub struct ClearBelow {
+    /// The speed, Hz.
+    pub speed_hz: f64,
+    /// The values that do, as given.
+    pub clear: Vec<String>,
+    /// The values that do not.
+    pub unstable: Vec<String>,
+    /// The values not decided (a failed sweep, a branch that stops or jumps below).
+    pub undecided: Vec<String>,
+    /// The largest numeric value that does.
+    pub largest_clear: Option<String>,
+    /// The smallest numeric value that does.
+    pub smallest_clear: Option<String>,
+}
+
+impl MapReport {
+    /// The design query at `speed` (rad/s).
+    pub fn clear_below(&self, speed: f64) -> ClearBelow {
+        let with = |c: Clearance| -> Vec<&MapEntry> {
+            self.entries
+                .iter()
+                .filter(|e| e.clearance(speed) == c)
+                .collect()
+        };
+        let names = |v: &[&MapEntry]| v.iter().map(|e| e.value.text.clone()).collect();
+        let clear = with(Clearance::Clear);
+        let numeric = || clear.iter().filter_map(|e| Some((e.value.si?, e)));
+        let text = |e: Option<(f64, &&MapEntry)>| e.map(|(_, e)| e.value.text.clone());
+        ClearBelow {
+            speed_hz: hz(speed),
+            largest_clear: text(numeric().max_by(|a, b| a.0.total_cmp(&b.0))),
+            smallest_clear: text(numeric().min_by(|a, b| a.0.total_cmp(&b.0))),
+            clear: names(&clear),
+            unstable: names(&with(Clearance::Unstable)),
+            undecided: names(&with(Clearance::Undecided)),
+        }
+    }
+
+    fn value_summary(e: &MapEntry) -> ValueSummary {
+        let (points, end, jumps_hz) = match &e.run.sweep {
+            Ok(s) => (
+                s.branch.points.len(),
+                s.branch.end.reason(),
+                s.branch
+                    .jumps
+                    .iter()
+                    .map(|&(a, b)| [hz(a), hz(b)])
+                    .collect(),
+            ),
+            Err(err) => (0, err.to_string(), Vec::new()),
+        };
+        let first = e.first_loss();
+        ValueSummary {
+            value: e.value.text.clone(),
+            si: e.value.si,
+            first_stability_loss_hz: first.map(|b| hz(b.frequency)),
+            first_loss_kind: first.map(|b| b.kind.name()),
+            bands: e.bands.iter().map(band_summary).collect(),
+            points,
+            end,
+            jumps_hz,
+            cpu_s: e.run.cpu_s,
+            wall_s: e.run.wall_s,
+            failed: e.run.sweep.is_err(),
+        }
+    }
+}
+
+fn band_summary(b: &UnstableBand) -> BandSummary {
+    let resolved = match b.opens {
+        Edge::Bifurcation { resolved, .. } => resolved,
+        _ => None,
+    };
+    BandSummary {
+        opens_hz: b.opens_hz,
+        opens: b.opens.name(),
+        emerging_hz: b.opens.emerging_hz(),
+        opens_resolved: resolved,
+        closes_hz: b.closes_hz,
+        closes: b.closes.name(),
+        span_hz: b.span_hz,
+        coexisting_stable_hz: b.coexisting_stable_hz.clone(),
+    }
+}
+
+impl Report for MapReport {
+    type Summary = MapSummary;
+
+    fn summary(&self) -> MapSummary {
+        MapSummary {
+            parameter: self.parameter.clone(),
+            speed_range_hz: [hz(self.options.from), hz(self.options.to)],
+            bearings: self.options.describe_bearings(),
+            harmonics: self.options.harmonics,
+            samples_per_period: self.options.samples,
+            stability_modes: self.options.stability_modes,
+            parallelism: self.parallelism,
+            threads: self.threads,
+            cpu_s: self.cpu_s,
+            wall_s: self.wall_s,
+            values: self.entries.iter().map(MapReport::value_summary).collect(),
+            clear_below: self.clear_below.map(|w| self.clear_below(w)),
+        }
+    }
+
+    fn tables(&self) -> Vec<Table> {
+        vec![self.bands_table(), self.values_table()]
+    }
+}
+
+impl MapReport {
+    /// `bands`: one row per unstable band of every value.
+    fn bands_table(&self) -> Table {
+        let rows: Vec<(&MapEntry, &UnstableBand)> = self
+            .entries
+            .iter()
+            .flat_map(|e| e.bands.iter().map(move |b| (e, b)))
+            .collect();
+        let mut t = Table::new("bands");
+        t.text("value", rows.iter().map(|(e, _)| e.value.text.clone()))
+            .optional("value_si", rows.iter().map(|(e, _)| e.value.si))
+            .numbers("opens_hz", rows.iter().map(|(_, b)| b.opens_hz))
+            .numbers("closes_hz", rows.iter().map(|(_, b)| b.closes_hz))
+            .numbers("span_low_hz", rows.iter().map(|(_, b)| b.span_hz[0]))
+            .numbers("span_high_hz", rows.iter().map(|(_, b)| b.span_hz[1]))
+            .text("opens", rows.iter().map(|(_, b)| b.opens.name()))
+            .optional(
+                "emerging_hz",
+                rows.iter().map(|(_, b)| b.opens.emerging_hz()),
+            )
+            .text("closes", rows.iter().map(|(_, b)| b.closes.name()))
+            .optional(
+                "closing_emerging_hz",
+                rows.iter().map(|(_, b)| b.closes.emerging_hz()),
+            )
+            .numbers(
+                "coexisting_stable_fraction",
+                rows.iter().map(|(_, b)| b.coexisting_fraction()),
+            );
+        t
+    }
+
+    /// `values`: one row per value, its first loss of stability and cost.
+    fn values_table(&self) -> Table {
+        let e = &self.entries;
+        let first = |x: &MapEntry| x.first_loss().map(|b| hz(b.frequency));
+        let lowest = |x: &MapEntry| x.bands.iter().map(|b| b.span_hz[0]).min_by(f64::total_cmp);
+        let mut t = Table::new("values");
+        t.text("value", e.iter().map(|x| x.value.text.clone()))
+            .optional("value_si", e.iter().map(|x| x.value.si))
+            .optional("first_stability_loss_hz", e.iter().map(first))
+            .text(
+                "first_loss_kind",
+                e.iter()
+                    .map(|x| x.first_loss().map_or("", |b| b.kind.name())),
+            )
+            .counts("bands", e.iter().map(|x| x.bands.len()))
+            .optional("lowest_unstable_hz", e.iter().map(lowest))
+            .optional("cpu_s", e.iter().map(|x| x.run.cpu_s))
+            .numbers("wall_s", e.iter().map(|x| x.run.wall_s))
+            .bits("failed", e.iter().map(|x| x.run.sweep.is_err()));
+        t
+    }
+}

@@ -1,0 +1,103 @@
+//! The NSV map: each value's first loss of stability is the single sweep's, its bands
+//! agree with the sweep's bifurcations, and bad requests name what is wrong.
+
+use std::f64::consts::TAU;
+
+use whirl::hbm::{sweep, SweepSettings};
+use whirl::map::{map, map_with, Clearance, MapRequest, Parallelism};
+use whirl::model::Model;
+use whirl::units::rad_s_to_hz as hz;
+
+/// The reference rotor through its first resonance (1-60 Hz), where the 20 and 60 um
+/// branches lose stability (near 45 and 40 Hz), on a cheap discretisation: H = 2 on a
+/// 12-mode Craig-Bampton model.
+fn request(values: &[&str]) -> MapRequest {
+    MapRequest {
+        model_text: whirl::examples::REFERENCE_ROTOR.to_string(),
+        model_file: None,
+        parameter: None,
+        values: values.iter().map(|v| v.to_string()).collect(),
+        from: TAU,
+        to: TAU * 60.0,
+        settings: SweepSettings {
+            harmonics: Some(2),
+            reduction: Some(12),
+            ..SweepSettings::default()
+        },
+        clear_below: Some(TAU * 30.0),
+    }
+}
+
+fn reference(clearance: &str) -> Model {
+    let text = whirl::examples::REFERENCE_ROTOR.replace(
+        "clearance = \"20 um\"",
+        &format!("clearance = \"{clearance}\""),
+    );
+    Model::from_toml_str(&text, None).unwrap()
+}
+
+#[test]
+fn first_loss_of_stability_is_the_single_sweeps_at_each_value() {
+    let request = request(&["20 um", "60um"]);
+    let report = map(&request).unwrap();
+    for (entry, clearance) in report.entries.iter().zip(["20 um", "60 um"]) {
+        let single = sweep(&reference(clearance), &request.sweep_options()).unwrap();
+        let expected = single.branch.first_stability_loss().map(|b| b.frequency);
+        let got = entry.first_loss().map(|b| b.frequency);
+        // The same code path on the same model: a sweep gives the same bits on any number
+        // of threads, so equality is exact.
+        assert_eq!(got, expected, "{clearance}");
+        assert!(
+            expected.is_some(),
+            "{clearance}: the branch loses stability"
+        );
+        // The first band opens at the first loss.
+        assert_eq!(entry.bands.first().map(|b| b.opens_hz), got.map(hz));
+        // Each band's edges are the sweep's bifurcations, none re-located.
+        let speeds: Vec<f64> = single
+            .branch
+            .bifurcations
+            .iter()
+            .map(|b| hz(b.frequency))
+            .collect();
+        for band in &entry.bands {
+            assert!(speeds.contains(&band.opens_hz), "{clearance}: {band:?}");
+        }
+        // Below 30 Hz the orbit is stable at both clearances (first losses near 40-45 Hz).
+        assert_eq!(entry.clearance(TAU * 30.0), Clearance::Clear, "{clearance}");
+    }
+    let query = report.clear_below(TAU * 30.0);
+    assert_eq!(query.largest_clear.as_deref(), Some("60um"));
+    assert_eq!(query.smallest_clear.as_deref(), Some("20 um"));
+}
+
+#[test]
+fn both_ways_of_spreading_the_sweeps_give_the_same_map() {
+    let request = request(&["60 um"]);
+    let a = map_with(&request, Parallelism::Values, None).unwrap();
+    let b = map_with(&request, Parallelism::WithinSweeps, None).unwrap();
+    assert_eq!(a.entries[0].bands, b.entries[0].bands);
+}
+
+#[test]
+fn an_unknown_parameter_names_itself() {
+    let mut r = request(&["20 um"]);
+    r.parameter = Some("roller_bearing[*].clearence".into());
+    let message = map(&r).unwrap_err().to_string();
+    assert!(message.contains("clearence"), "{message}");
+    r.parameter = Some("roller_bearings[*].clearance".into());
+    let message = map(&r).unwrap_err().to_string();
+    assert!(message.contains("roller_bearings"), "{message}");
+}
+
+#[test]
+fn no_values_and_refused_values_are_named() {
+    let message = map(&request(&[])).unwrap_err().to_string();
+    assert!(message.contains("1 to"), "{message}");
+    let err = map(&request(&["20 um", "-5 um"])).unwrap_err();
+    let whirl::Error::Input(input) = &err else {
+        panic!("{err}")
+    };
+    assert_eq!(input.field.as_deref(), Some("values[1]"));
+    assert!(input.message.contains("-5 um"), "{}", input.message);
+}
