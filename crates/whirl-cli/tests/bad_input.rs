@@ -386,14 +386,15 @@ fn huge_speed_counts_are_refused_before_any_allocation() {
         &["hbm", "{model}", "--samples", "1000000000"],
         &["`samples`", "at most 65536"],
     );
-    // 1e-8 s makes a speed's longest run (4 s settling + 32 records of 0.5 s) 2e9 steps,
-    // beyond the 5e8 a run may take: refused before any speed starts.
+    // 1e-8 s makes a speed's longest run (4 s settling + 32 records of 0.5 s overlapping by
+    // half, 8.25 s) 1.225e9 steps, beyond the 5e8 a run may take: refused before any speed
+    // starts.
     fails(
         Some(&reference_rotor_text()),
         &["cascade", "{model}", "--step", "1e-8s"],
         &[
             "--step",
-            "1.000e-8 s steps make 2.000e9 time steps",
+            "1.000e-8 s steps make 1.225e9 time steps",
             "at most 5e8",
         ],
     );

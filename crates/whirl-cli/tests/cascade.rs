@@ -197,7 +197,10 @@ fn default_speeds_are_the_librarys_over_the_operating_range() {
 /// At 660 Hz running speed the reference rotor has two steady motions: from the static
 /// equilibrium a 5.4 um whirl of the first mode (standard error 0.09 um), from rest a
 /// 0.13 um super-harmonic orbit (measured); at 640 and 670 Hz both starts settle on the
-/// same 0.13 um motion. `--compare-starts` finds exactly the speed with two motions.
+/// same 0.13 um motion. 650 Hz holds both motions too, and which one the static
+/// equilibrium's run falls on changes with round-off (both seen when the time step's
+/// arithmetic changed), so it may or may not be marked. `--compare-starts` marks 660 Hz
+/// and never the speeds with one motion.
 #[test]
 fn compare_starts_marks_the_speed_with_two_motions() {
     let tmp = tempfile::tempdir().unwrap();
@@ -222,8 +225,9 @@ fn compare_starts_marks_the_speed_with_two_motions() {
         .iter()
         .map(|v| v.as_f64().unwrap())
         .collect();
-    assert_eq!(differing.len(), 1, "{differing:?}");
-    assert!((differing[0] - 660.0).abs() < 1e-6, "{differing:?}");
+    let marked = |hz: f64| differing.iter().any(|d| (d - hz).abs() < 1e-6);
+    assert!(marked(660.0), "{differing:?}");
+    assert!(!marked(640.0) && !marked(670.0), "{differing:?}");
     let table = String::from_utf8(read(out.join("starts.csv"))).unwrap();
     assert_eq!(table.lines().count(), 5, "{table}");
     assert!(out.join("starts.png").exists() && out.join("starts.svg").exists());

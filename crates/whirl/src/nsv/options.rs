@@ -397,7 +397,7 @@ fn check_longest_run(o: &CascadeOptions, step: f64) -> Result<()> {
         field,
         format!(
             "{step:.3e} s steps make {:.3e} time steps in a speed's longest run (settling up to {} s \
-             and up to {} records of {} s): at most {MAX_STEPS:.0e}",
+             and up to {} records of {} s overlapping by half): at most {MAX_STEPS:.0e}",
             longest / step,
             o.settle_max,
             o.averaging.max_records,
