@@ -12,7 +12,6 @@
 
 use std::fmt::Write;
 
-use clap::ValueEnum;
 use whirl::map::{map_with, MapReport, MapRequest, Parallelism};
 use whirl::report::Report;
 
@@ -22,15 +21,6 @@ use crate::output::Output;
 use crate::plots_map::map_plot;
 use crate::progress::shown;
 use whirl_plot::SpeedAxis;
-
-/// How the sweeps share the threads.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Spread {
-    /// Each sweep on one thread, the values shared among the threads.
-    Values,
-    /// One sweep after another, each on every thread.
-    WithinSweeps,
-}
 
 /// `whirl map`
 #[derive(Debug, clap::Args)]
@@ -55,9 +45,10 @@ pub struct Args {
     /// speed, e.g. `600Hz`.
     #[arg(long, value_name = "SPEED", value_parser = speed)]
     pub clear_below: Option<f64>,
-    /// How the sweeps share the threads (the answer is the same either way).
-    #[arg(long, value_enum, default_value = "values")]
-    pub spread: Spread,
+    /// How the sweeps share the threads (the answer is the same either way) [default:
+    /// values].
+    #[arg(long, value_enum)]
+    pub spread: Option<Parallelism>,
 }
 
 pub fn run(args: &Args) -> miette::Result<Outcome> {
@@ -76,10 +67,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         settings: args.hb.settings(),
         clear_below: args.clear_below,
     };
-    let spread = match args.spread {
-        Spread::Values => Parallelism::Values,
-        Spread::WithinSweeps => Parallelism::WithinSweeps,
-    };
+    let spread = args.spread.unwrap_or_default();
     // Check the request before the progress line starts.
     request.values().map_err(option_error)?;
     let report = shown("map", |p| map_with(&request, spread, p));

@@ -20,6 +20,7 @@ use crate::progress::{tell, Progress};
 
 /// How a map spreads its sweeps over rayon's threads.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "snake_case")]
 pub enum Parallelism {
     /// Each sweep on one thread, the values shared among the threads.
