@@ -1,8 +1,10 @@
 //! The NSV map's figure: the unstable bands of the synchronous orbit over speed (x) and the
-//! parameter (y), each band a thick bar coloured by the bifurcation that opens it.
+//! parameter (y), each band a thick bar coloured by the bifurcation that opens it; the
+//! resonance lines on a stable orbit as open symbols on the value's row, and where a
+//! cascade checked the map, its speeds with NSV at the check's level as dots just above.
 
 use whirl::hbm::BifurcationKind;
-use whirl::map::{Edge, MapReport};
+use whirl::map::{Edge, Excitation, MapEntry, MapReport};
 use whirl_plot::{Colour, Figure2d, LegendPosition, Marker, Series, Style};
 
 use crate::commands::hbm::kind_label;
@@ -48,6 +50,17 @@ pub fn map_plot(report: &MapReport) -> Figure2d {
                     .style(Style::solid(colour).width(BAND_WIDTH)),
             );
         }
+        draw_lines(&mut figure, entry, y);
+        if let Some(check) = report.checks.iter().find(|c| c.value == entry.value.text) {
+            let above = y + 0.4 * pad;
+            figure.series.push(
+                Series::new(
+                    check.nsv_speeds_hz.clone(),
+                    vec![above; check.nsv_speeds_hz.len()],
+                )
+                .style(Style::markers(Colour::BLACK, Marker::Circle)),
+            );
+        }
         if let Some(b) = entry.first_loss() {
             figure.series.push(
                 Series::new(vec![whirl::units::rad_s_to_hz(b.frequency)], vec![y])
@@ -61,6 +74,28 @@ pub fn map_plot(report: &MapReport) -> Figure2d {
             vec![whirl_plot::RefLine::new(whirl::units::rad_s_to_hz(w)).label("clear below")];
     }
     figure
+}
+
+/// Symbols of the resonance lines on a stable orbit: the contact frequencies' (roller
+/// passing, waviness) and the orbit's own (half the speed, sums and differences).
+const CONTACT_LINE: (Colour, Marker) = (Colour::Palette(4), Marker::OpenCircle);
+const ORBIT_LINE: (Colour, Marker) = (Colour::Palette(5), Marker::Cross);
+
+/// The resonance lines of `entry` on a stable orbit, on its row `y`.
+fn draw_lines(figure: &mut Figure2d, entry: &MapEntry, y: f64) {
+    for (contact, (colour, marker)) in [(true, CONTACT_LINE), (false, ORBIT_LINE)] {
+        let speeds: Vec<f64> = entry
+            .lines
+            .iter()
+            .filter(|l| l.on_stable_orbit)
+            .filter(|l| matches!(l.excitation, Excitation::Contact { .. }) == contact)
+            .map(|l| l.speed_hz)
+            .collect();
+        let ys = vec![y; speeds.len()];
+        figure
+            .series
+            .push(Series::new(speeds, ys).style(Style::markers(colour, marker)));
+    }
 }
 
 /// Legend entries for the kinds that open a band here, and the first-loss marker.
@@ -89,6 +124,29 @@ fn legend(figure: &mut Figure2d, report: &MapReport) {
             .label("first loss of stability")
             .style(Style::markers(Colour::BLACK, Marker::Triangle)),
     );
+    let lines = report.entries.iter().flat_map(|e| &e.lines);
+    let (contact, orbit) = lines
+        .filter(|l| l.on_stable_orbit)
+        .fold((false, false), |(c, o), l| match l.excitation {
+            Excitation::Contact { .. } => (true, o),
+            _ => (c, true),
+        });
+    let entries = [
+        (contact, "roller-passing or waviness line", CONTACT_LINE),
+        (orbit, "0.5X, sum or difference line", ORBIT_LINE),
+        (
+            !report.checks.is_empty(),
+            "cascade NSV at the check level",
+            (Colour::BLACK, Marker::Circle),
+        ),
+    ];
+    for (label, (colour, marker)) in entries.into_iter().filter(|e| e.0).map(|e| (e.1, e.2)) {
+        figure.series.push(
+            Series::new(Vec::new(), Vec::new())
+                .label(label)
+                .style(Style::markers(colour, marker)),
+        );
+    }
 }
 
 /// A band's colour, by what opens it.

@@ -16,7 +16,10 @@ use whirl::map::{map_with, MapReport, MapRequest, Parallelism};
 use whirl::report::Report;
 
 use super::hbm::{rising_range, speed_span, HbFlags};
-use super::{finish, lib, load, option_error, report_summary, speed, Common, Outcome, Speeds};
+use super::{
+    finish, lib, load, option_error, positive_length, report_summary, speed, Common, Outcome,
+    Speeds,
+};
 use crate::output::Output;
 use crate::plots_map::map_plot;
 use crate::progress::shown;
@@ -45,6 +48,15 @@ pub struct Args {
     /// speed, e.g. `600Hz`.
     #[arg(long, value_name = "SPEED", value_parser = speed)]
     pub clear_below: Option<f64>,
+    /// Run the default cascade at these values (comma-separated, among `--values`) and
+    /// report how well the map explains it: the share of speeds with NSV at the level that
+    /// lie in a band or on a matching resonance line, the share of predicted quiet speeds
+    /// that are quiet, and the speeds where they disagree.
+    #[arg(long, value_name = "LIST", value_delimiter = ',')]
+    pub check: Vec<String>,
+    /// NSV level of `--check`, e.g. `10um` [default: 10 um].
+    #[arg(long, value_name = "LENGTH", value_parser = positive_length)]
+    pub check_level: Option<f64>,
     /// How the sweeps share the threads (the answer is the same either way) [default:
     /// values].
     #[arg(long, value_enum)]
@@ -66,6 +78,8 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         to,
         settings: args.hb.settings(),
         clear_below: args.clear_below,
+        check: args.check.clone(),
+        check_level_m: args.check_level,
     };
     let spread = args.spread.unwrap_or_default();
     // Check the request before the progress line starts.
@@ -77,7 +91,11 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let tables = report.tables();
     let mut out = Output::begin(&args.common.out_dir("map"))?;
     out.table_named(&tables, "bands")?;
+    out.table_named(&tables, "lines")?;
     out.table_named(&tables, "values")?;
+    if !report.checks.is_empty() {
+        out.table_named(&tables, "checks")?;
+    }
     let figure = map_plot(&report);
     let common = &args.common;
     out.plot("map", |p| common.speed_axis(figure, SpeedAxis::X).save(p))?;
@@ -111,7 +129,11 @@ fn text_summary(report: &MapReport) -> String {
             _ if v.failed => format!("failed: {}", v.end),
             _ => "stable throughout".into(),
         };
-        let _ = writeln!(text, "  {}: {first}", v.value);
+        let _ = writeln!(
+            text,
+            "  {}: {first}; {} resonance lines ({} on a stable orbit)",
+            v.value, v.lines, v.lines_on_stable_orbit
+        );
         for b in &v.bands {
             let emerging = b
                 .emerging_hz
@@ -128,6 +150,24 @@ fn text_summary(report: &MapReport) -> String {
                 b.span_hz[0], b.span_hz[1], b.opens, b.closes
             );
         }
+    }
+    for c in &s.checks {
+        let onset = |f: Option<f64>| f.map_or("none".into(), |f| format!("{f:.1} Hz"));
+        let _ = writeln!(
+            text,
+            "  against the cascade at {}: {} of {} speeds with NSV >= {:.1} um explained ({:.0} %), \
+             {} of {} predicted quiet speeds quiet ({:.0} %); sustained onset {} (cascade) / {} (map)",
+            c.check.value,
+            c.check.explained,
+            c.check.nsv_speeds,
+            c.check.level_m * 1e6,
+            100.0 * c.explained_fraction,
+            c.check.quiet_confirmed,
+            c.check.predicted_quiet,
+            100.0 * c.quiet_fraction,
+            onset(c.check.cascade_sustained_hz),
+            onset(c.check.map_sustained_hz),
+        );
     }
     if let Some(q) = &s.clear_below {
         let _ = writeln!(

@@ -583,6 +583,7 @@ mod tests {
             exponents,
             max_real,
             stable: max_real * period < 1e-10,
+            orbit_modes: Vec::new(),
         }
     }
 

@@ -54,7 +54,7 @@ pub use fourier::{aliasing_free_samples, check_counts, MAX_HARMONICS, MAX_SAMPLE
 pub use report::SweepReport;
 pub use resolution::{Resolution, RESOLUTION_TOLERANCE};
 pub use settings::{SweepSettings, DEFAULT_HARMONICS};
-pub use stability::{FloquetProblem, Stability};
+pub use stability::{FloquetProblem, OrbitMode, Stability};
 pub use sweep::{sweep, sweep_with_progress, AtSpeed, Sweep, SweepOptions};
 
 /// Discretisation and Newton-Raphson settings.

@@ -47,6 +47,25 @@ pub struct Stability {
     pub max_real: f64,
     /// True when every multiplier lies inside the unit circle (beyond round-off).
     pub stable: bool,
+    /// The natural frequencies of the orbit: the damped natural frequencies (rad/s,
+    /// ascending) and damping ratios of the linearisation averaged over the period
+    /// ([`OrbitMode`]).
+    pub orbit_modes: Vec<OrbitMode>,
+}
+
+/// A mode of the orbit's averaged linearisation M p'' + (C + w G - <dF/dv>) p' + (K -
+/// <dF/dq>) p = 0, <.> the mean over the period of the bearings' tangents along the
+/// orbit: the natural frequency a roller bearing's contacts give the rotor while it runs
+/// on this orbit, which the stiffness written in the model file does not (a bearing with
+/// clearance is soft when its rollers barely touch and stiff when the orbit presses them).
+/// Resonance lines (a roller-passing frequency, a sum of two of these, half the speed
+/// meeting one) are drawn with these frequencies.
+#[derive(Debug, Clone, Copy, serde::Serialize)]
+pub struct OrbitMode {
+    /// Damped natural frequency, rad/s (positive).
+    pub frequency: f64,
+    /// Damping ratio, -Re(lambda) / |lambda|.
+    pub damping_ratio: f64,
 }
 
 /// A multiplier is outside the unit circle when ln|mu| exceeds this: far above the
@@ -204,6 +223,7 @@ impl FloquetProblem {
                 format!("the monodromy matrix could not be formed at {frequency} rad/s"),
             )
         };
+        let orbit_modes = self.averaged_modes().ok_or_else(failed)?;
         // Every step's exponential and product reuse the same buffers.
         let mut exponential = Exponential::new(s);
         let mut monodromy = Mat::<f64>::identity(s, s);
@@ -240,7 +260,44 @@ impl FloquetProblem {
             multipliers,
             exponents,
             max_real,
+            orbit_modes,
         })
+    }
+
+    /// The modes of the mean of the intervals' generators h A(t_j) over the period: the
+    /// averaged linearisation's state matrix times h (with the coordinates scaled by s, a
+    /// similarity that leaves the eigenvalues alone), whose eigenvalues divided by h are
+    /// lambda = -zeta w_n +- i w_d. One of each conjugate pair is kept; real eigenvalues
+    /// (overdamped) have no frequency and are left out. `None` when the eigen-solver fails.
+    fn averaged_modes(&self) -> Option<Vec<OrbitMode>> {
+        let s = self.states;
+        let intervals = self.generators.len() / (s * s);
+        let mut mean = Mat::<f64>::zeros(s, s);
+        for generator in self.generators.chunks_exact(s * s) {
+            for col in 0..s {
+                for row in 0..s {
+                    mean[(row, col)] += generator[col * s + row];
+                }
+            }
+        }
+        let h = std::f64::consts::TAU / self.frequency / intervals as f64;
+        for col in 0..s {
+            for row in 0..s {
+                mean[(row, col)] /= h * intervals as f64;
+            }
+        }
+        // The upper right block, h s I in every interval, is the same in the mean.
+        let mut modes: Vec<OrbitMode> = eigenvalues(&mean)
+            .ok()?
+            .into_iter()
+            .filter(|&(_, im)| im > 0.0)
+            .map(|(re, im)| OrbitMode {
+                frequency: im,
+                damping_ratio: -re / re.hypot(im),
+            })
+            .collect();
+        modes.sort_by(|a, b| a.frequency.total_cmp(&b.frequency));
+        Some(modes)
     }
 }
 
@@ -332,5 +389,25 @@ mod tests {
             assert!(nearest < 1e-10, "eigenvalue {re} + {im} i: {nearest:e}");
         }
         assert!(stability.stable);
+        // Without a nonlinear force the averaged linearisation is the linear system: its
+        // modes are the eigenvalues with positive imaginary part, unshifted (the average of
+        // equal generators and one eigen-solve: round-off).
+        let mut expected: Vec<(f64, f64)> = (0..4)
+            .map(|k| (values[k].re, values[k].im))
+            .filter(|v| v.1 > 0.0)
+            .collect();
+        expected.sort_by(|a, b| a.1.total_cmp(&b.1));
+        assert_eq!(stability.orbit_modes.len(), expected.len());
+        for (mode, (re, im)) in stability.orbit_modes.iter().zip(expected) {
+            assert!(
+                (mode.frequency - im).abs() < 1e-12 * im,
+                "{mode:?} against {im}"
+            );
+            let zeta = -re / re.hypot(im);
+            assert!(
+                (mode.damping_ratio - zeta).abs() < 1e-12,
+                "{mode:?} against {zeta}"
+            );
+        }
     }
 }

@@ -13,11 +13,15 @@
 //! - [`request`]: the parameter, its values and the sweeps' settings, each value's model
 //!   made by editing the model file's text as a study does ([`crate::study::path`]).
 //! - [`bands`]: the unstable bands of one sweep, from its own bifurcations.
+//! - [`lines`]: the resonance lines of one sweep, where NSV can appear on a stable orbit.
+//! - [`check`]: the map against default cascades at a few values.
 //! - [`report`]: the summary, the tables and the design query (which values keep the orbit
 //!   stable below a speed).
 //! - [`Parallelism`]: the sweeps one per thread, or each on every thread.
 
 pub mod bands;
+pub mod check;
+pub mod lines;
 pub mod report;
 pub mod request;
 mod run;
@@ -25,11 +29,14 @@ mod run;
 use std::time::Instant;
 
 pub use bands::{unstable_bands, Edge, UnstableBand};
+pub use check::{CascadeCheck, Disagreement};
+pub use lines::{resonance_lines, Excitation, ResonanceLine};
 pub use report::{ClearBelow, Clearance, MapEntry, MapReport, MapSummary};
 pub use request::{MapRequest, MapValue, DEFAULT_PARAMETER, MAX_VALUES};
 pub use run::{Parallelism, ValueRun};
 
 use crate::error::Result;
+use crate::nsv::{cascade, even_speeds, CascadeOptions, DEFAULT_SPEED_COUNT};
 use crate::progress::Progress;
 
 /// The map `request` asks for, its sweeps one per thread.
@@ -58,19 +65,26 @@ pub fn map_with(
     let entries = values
         .into_iter()
         .zip(runs)
-        .map(|(value, run)| MapEntry {
-            bands: run
-                .sweep
-                .as_ref()
-                .map_or(Vec::new(), |s| unstable_bands(&s.branch)),
-            value,
-            run,
+        .map(|(value, run)| {
+            let sweep = run.sweep.as_ref().ok();
+            MapEntry {
+                bands: sweep.map_or(Vec::new(), |s| unstable_bands(&s.branch)),
+                lines: sweep.map_or(Vec::new(), |s| resonance_lines(&s.branch, &value.model)),
+                value,
+                run,
+            }
         })
-        .collect();
+        .collect::<Vec<MapEntry>>();
+    let checks = request
+        .check
+        .iter()
+        .map(|text| check_value(&entries, text, request, progress))
+        .collect::<Result<_>>()?;
     Ok(MapReport {
         parameter: request.parameter().to_string(),
         options,
         entries,
+        checks,
         clear_below: request.clear_below,
         parallelism,
         threads: rayon::current_num_threads(),
@@ -79,4 +93,37 @@ pub fn map_with(
             .map(|(b, a)| b - a),
         wall_s: start.elapsed().as_secs_f64(),
     })
+}
+
+/// The default cascade of the value written `text` (one of `entries`, as
+/// [`MapRequest::values`] checked) over the map's speed range, against its bands and lines.
+///
+/// # Errors
+/// As [`crate::nsv::cascade`] (a diverging start);
+/// [`crate::Error::Interrupted`] when `progress` stopped it.
+fn check_value(
+    entries: &[MapEntry],
+    text: &str,
+    request: &MapRequest,
+    progress: Option<&Progress>,
+) -> Result<CascadeCheck> {
+    let wanted = crate::study::plain_text(&request::toml_value(text));
+    let entry = entries
+        .iter()
+        .find(|e| e.value.text == wanted)
+        .ok_or_else(|| {
+            crate::Error::Internal(format!("the checked value {wanted} was not mapped"))
+        })?;
+    let model = &entry.value.model;
+    let speeds = even_speeds(request.from, request.to, DEFAULT_SPEED_COUNT);
+    let options = CascadeOptions::new(model, speeds);
+    let cascade = cascade(model, &options, None, progress)?;
+    Ok(check::check(
+        &entry.value.text,
+        &cascade,
+        &entry.bands,
+        &entry.lines,
+        request.check_level(),
+        check::DEFAULT_SPEED_TOLERANCE_HZ,
+    ))
 }

@@ -5,6 +5,8 @@
 use serde::Serialize;
 
 use super::bands::{Edge, UnstableBand};
+use super::check::CascadeCheck;
+use super::lines::{Excitation, ResonanceLine};
 use super::request::MapValue;
 use super::run::{Parallelism, ValueRun};
 use crate::hbm::{Bifurcation, SweepOptions};
@@ -20,6 +22,8 @@ pub struct MapEntry {
     pub run: ValueRun,
     /// The unstable bands of its branch, in path order (empty when the sweep failed).
     pub bands: Vec<UnstableBand>,
+    /// The resonance lines of its branch, in path order.
+    pub lines: Vec<ResonanceLine>,
 }
 
 /// A map of the synchronous orbit's stability over speed and one parameter.
@@ -31,6 +35,8 @@ pub struct MapReport {
     pub options: SweepOptions,
     /// The values in the order given.
     pub entries: Vec<MapEntry>,
+    /// The map against cascades, at the values asked for.
+    pub checks: Vec<CascadeCheck>,
     /// The design query's speed, rad/s.
     pub clear_below: Option<f64>,
     /// How the sweeps were spread over the threads.
@@ -109,6 +115,20 @@ pub struct MapSummary {
     pub values: Vec<ValueSummary>,
     /// The design query, when asked.
     pub clear_below: Option<ClearBelow>,
+    /// The map against cascades, when asked.
+    pub checks: Vec<CheckSummary>,
+}
+
+/// The map against one cascade, in numbers.
+#[derive(Debug, Clone, Serialize)]
+pub struct CheckSummary {
+    /// The comparison, speed by speed where they disagree.
+    #[serde(flatten)]
+    pub check: CascadeCheck,
+    /// Share of the speeds with NSV at or above the level that the map explains.
+    pub explained_fraction: f64,
+    /// Share of the speeds predicted quiet that are below the level.
+    pub quiet_fraction: f64,
 }
 
 /// One value of a map.
@@ -124,6 +144,11 @@ pub struct ValueSummary {
     pub first_loss_kind: Option<&'static str>,
     /// The unstable bands, in path order.
     pub bands: Vec<BandSummary>,
+    /// Resonance lines, and those on a stable orbit (where NSV can appear without a loss
+    /// of stability).
+    pub lines: usize,
+    /// Of them on a stable orbit.
+    pub lines_on_stable_orbit: usize,
     /// Points of the branch: what a sweep's cost grows with (0 when it failed).
     pub points: usize,
     /// Why the branch ended, or why the sweep failed.
@@ -219,6 +244,8 @@ impl MapReport {
             first_stability_loss_hz: first.map(|b| hz(b.frequency)),
             first_loss_kind: first.map(|b| b.kind.name()),
             bands: e.bands.iter().map(band_summary).collect(),
+            lines: e.lines.len(),
+            lines_on_stable_orbit: e.lines.iter().filter(|l| l.on_stable_orbit).count(),
             points,
             end,
             jumps_hz,
@@ -263,11 +290,25 @@ impl Report for MapReport {
             wall_s: self.wall_s,
             values: self.entries.iter().map(MapReport::value_summary).collect(),
             clear_below: self.clear_below.map(|w| self.clear_below(w)),
+            checks: self
+                .checks
+                .iter()
+                .map(|c| CheckSummary {
+                    explained_fraction: c.explained_fraction(),
+                    quiet_fraction: c.quiet_fraction(),
+                    check: c.clone(),
+                })
+                .collect(),
         }
     }
 
     fn tables(&self) -> Vec<Table> {
-        vec![self.bands_table(), self.values_table()]
+        vec![
+            self.bands_table(),
+            self.lines_table(),
+            self.values_table(),
+            self.checks_table(),
+        ]
     }
 }
 
@@ -299,6 +340,60 @@ impl MapReport {
             .numbers(
                 "coexisting_stable_fraction",
                 rows.iter().map(|(_, b)| b.coexisting_fraction()),
+            );
+        t
+    }
+
+    /// `checks`: one row per value checked against its cascade.
+    fn checks_table(&self) -> Table {
+        let c = &self.checks;
+        let mut t = Table::new("checks");
+        t.text("value", c.iter().map(|x| x.value.clone()))
+            .numbers("level_m", c.iter().map(|x| x.level_m))
+            .counts("speeds", c.iter().map(|x| x.speeds))
+            .counts("nsv_speeds", c.iter().map(|x| x.nsv_speeds))
+            .counts("explained", c.iter().map(|x| x.explained))
+            .numbers(
+                "explained_fraction",
+                c.iter().map(|x| x.explained_fraction()),
+            )
+            .counts("predicted_quiet", c.iter().map(|x| x.predicted_quiet))
+            .counts("quiet_confirmed", c.iter().map(|x| x.quiet_confirmed))
+            .numbers("quiet_fraction", c.iter().map(|x| x.quiet_fraction()))
+            .optional(
+                "cascade_sustained_hz",
+                c.iter().map(|x| x.cascade_sustained_hz),
+            )
+            .optional("map_sustained_hz", c.iter().map(|x| x.map_sustained_hz))
+            .counts("disagreements", c.iter().map(|x| x.disagreements.len()));
+        t
+    }
+
+    /// `lines`: one row per resonance line of every value.
+    fn lines_table(&self) -> Table {
+        let rows: Vec<(&MapEntry, &ResonanceLine)> = self
+            .entries
+            .iter()
+            .flat_map(|e| e.lines.iter().map(move |l| (e, l)))
+            .collect();
+        let other = |l: &ResonanceLine| match l.excitation {
+            Excitation::Sum { other_hz, .. } | Excitation::Difference { other_hz } => {
+                Some(other_hz)
+            }
+            _ => None,
+        };
+        let mut t = Table::new("lines");
+        t.text("value", rows.iter().map(|(e, _)| e.value.text.clone()))
+            .optional("value_si", rows.iter().map(|(e, _)| e.value.si))
+            .numbers("speed_hz", rows.iter().map(|(_, l)| l.speed_hz))
+            .text("excitation", rows.iter().map(|(_, l)| l.excitation.name()))
+            .numbers("response_hz", rows.iter().map(|(_, l)| l.response_hz))
+            .numbers("mode_hz", rows.iter().map(|(_, l)| l.mode_hz))
+            .optional("other_mode_hz", rows.iter().map(|(_, l)| other(l)))
+            .numbers("damping_ratio", rows.iter().map(|(_, l)| l.damping_ratio))
+            .bits(
+                "on_stable_orbit",
+                rows.iter().map(|(_, l)| l.on_stable_orbit),
             );
         t
     }

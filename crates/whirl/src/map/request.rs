@@ -17,6 +17,8 @@ use crate::model::Model;
 use crate::study::path::{ParameterPath, PATH_HELP};
 use crate::study::{invalid, plain_text, si_value, to_edit_value};
 
+use super::check::DEFAULT_CHECK_LEVEL_M;
+
 /// The parameter a map varies when a request names none: the internal radial clearance of
 /// every roller bearing, the parameter that sets where non-synchronous vibration begins.
 pub const DEFAULT_PARAMETER: &str = "roller_bearing[*].clearance";
@@ -47,6 +49,11 @@ pub struct MapRequest {
     /// The design query's speed, rad/s: which values keep the orbit free of unstable bands
     /// below it ([`super::MapReport::clear_below`]); `None` for no query.
     pub clear_below: Option<f64>,
+    /// Values (among `values`, as written there) at which the default cascade is run and
+    /// compared with the map ([`super::check`]); empty for no check.
+    pub check: Vec<String>,
+    /// The check's NSV level, m; `None` for [`super::check::DEFAULT_CHECK_LEVEL_M`].
+    pub check_level_m: Option<f64>,
 }
 
 /// One value of a map: its model and how it was written.
@@ -102,11 +109,44 @@ impl MapRequest {
             .map_err(|e| InputError::field("model", format!("cannot edit the model file: {e}")))?;
         // The base model must be valid on its own; its errors point into its own file.
         Model::from_toml_str(&self.model_text, self.model_file.clone())?;
-        self.values
+        let values: Vec<MapValue> = self
+            .values
             .iter()
             .enumerate()
             .map(|(j, text)| edited(&base, &path, j, text))
-            .collect()
+            .collect::<Result<_>>()?;
+        self.check_checked(&values)?;
+        Ok(values)
+    }
+
+    /// The check's level, given or the default.
+    pub fn check_level(&self) -> f64 {
+        self.check_level_m.unwrap_or(DEFAULT_CHECK_LEVEL_M)
+    }
+
+    /// Every value to check is one of the map's, and the level is a positive amplitude.
+    fn check_checked(&self, values: &[MapValue]) -> Result<()> {
+        for (j, text) in self.check.iter().enumerate() {
+            let wanted = plain_text(&toml_value(text));
+            if !values.iter().any(|v| v.text == wanted) {
+                return Err(InputError::field(
+                    format!("check[{j}]"),
+                    format!("`{wanted}` is not one of the map's values"),
+                )
+                .help("check values the map sweeps, written as in `values`")
+                .into());
+            }
+        }
+        let level = self.check_level();
+        if !(level.is_finite() && level > 0.0) {
+            return Err(InputError::field(
+                "check_level",
+                format!("must be a positive amplitude, got {level} m"),
+            )
+            .help("e.g. 10 um, the cascade's upper onset level")
+            .into());
+        }
+        Ok(())
     }
 
     fn check_speeds(&self) -> Result<()> {
@@ -163,7 +203,7 @@ fn edited(base: &DocumentMut, path: &ParameterPath, j: usize, text: &str) -> Res
 
 /// A value as TOML: a number, a boolean or a quoted string as written, anything else as a
 /// string (`20um`, `20 um`).
-fn toml_value(text: &str) -> toml::Value {
+pub(super) fn toml_value(text: &str) -> toml::Value {
     let text = text.trim();
     toml::from_str::<toml::Table>(&format!("v = {text}"))
         .ok()

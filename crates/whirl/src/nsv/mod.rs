@@ -74,10 +74,11 @@ use serde::Serialize;
 
 pub use classify::{NamedFrequency, Nsv, NsvClass, WhirlDirection};
 pub use options::{
-    default_speeds, records_span, Averaging, CascadeOptions, Component, Refinement, Resolved,
-    DEFAULT_ABSOLUTE_ERROR_M, DEFAULT_DECIDED_ERROR, DEFAULT_MAX_ADDED, DEFAULT_MAX_RECORDS,
-    DEFAULT_MIN_RECORDS, DEFAULT_MIN_SPACING_HZ, DEFAULT_ONSET_LEVELS_M, DEFAULT_RELATIVE_ERROR,
-    DEFAULT_SETTLE, DEFAULT_SETTLE_MAX, DEFAULT_SPEED_COUNT, DEFAULT_TOLERANCE_BINS,
+    default_speeds, even_speeds, records_span, Averaging, CascadeOptions, Component, Refinement,
+    Resolved, DEFAULT_ABSOLUTE_ERROR_M, DEFAULT_DECIDED_ERROR, DEFAULT_MAX_ADDED,
+    DEFAULT_MAX_RECORDS, DEFAULT_MIN_RECORDS, DEFAULT_MIN_SPACING_HZ, DEFAULT_ONSET_LEVELS_M,
+    DEFAULT_RELATIVE_ERROR, DEFAULT_SETTLE, DEFAULT_SETTLE_MAX, DEFAULT_SPEED_COUNT,
+    DEFAULT_TOLERANCE_BINS,
 };
 pub use point::{
     dies_away, negligible, CascadePoint, NsvPeak, DECAY_PER_STRETCH, NEGLIGIBLE_FRACTION,

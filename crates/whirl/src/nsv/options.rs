@@ -211,8 +211,13 @@ pub fn default_speeds(model: &Model) -> Result<Vec<f64>> {
     };
     let n = DEFAULT_SPEED_COUNT;
     let low = if low > 0.0 { low } else { high / n as f64 };
-    let step = (high - low) / (n - 1) as f64;
-    Ok((0..n).map(|i| low + step * i as f64).collect())
+    Ok(even_speeds(low, high, n))
+}
+
+/// `n` (at least 2) speeds evenly spaced from `low` to `high`, both included.
+pub fn even_speeds(low: f64, high: f64, n: usize) -> Vec<f64> {
+    let step = (high - low) / (n.max(2) - 1) as f64;
+    (0..n.max(2)).map(|i| low + step * i as f64).collect()
 }
 
 impl CascadeOptions {
