@@ -12,6 +12,7 @@
 mod analyses;
 mod error;
 mod hbm;
+mod map;
 mod modal;
 mod model;
 mod nsv;
@@ -66,6 +67,7 @@ fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("DEFAULT_GRID", whirl::bearing::stiffness::DEFAULT_GRID)?;
     m.add_class::<report::PyReport>()?;
     m.add_function(wrap_pyfunction!(hbm::hbm, m)?)?;
+    m.add_function(wrap_pyfunction!(map::map, m)?)?;
     m.add_function(wrap_pyfunction!(analyses::reduce, m)?)?;
     m.add_function(wrap_pyfunction!(analyses::statics, m)?)?;
     m.add_function(wrap_pyfunction!(analyses::stiffness, m)?)?;

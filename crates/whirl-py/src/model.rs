@@ -35,6 +35,16 @@ impl PyModel {
         }
         Ok(PyModel { model, text, file })
     }
+
+    /// The model file's text.
+    pub fn text(&self) -> &str {
+        &self.text
+    }
+
+    /// The file it came from, when it came from one.
+    pub fn source(&self) -> Option<&PathBuf> {
+        self.file.as_ref()
+    }
 }
 
 #[pymethods]

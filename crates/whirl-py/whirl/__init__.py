@@ -17,6 +17,7 @@ as numbers in rad/s (SI, as everywhere in the model file).
 from ._whirl import BUILD_ID, InputError, NumericalError, WhirlError, __version__
 from .analyses import fit_forcing, frf, reduce, static, stiffness, ucs
 from .hbm import hbm
+from .nsv_map import map  # noqa: A004 - the command's name
 from .model import Model, WhirlWarning
 from .modal import (
     CampbellResult,
@@ -60,6 +61,7 @@ __all__ = [
     "frf",
     "from_ross",
     "hbm",
+    "map",
     "modal",
     "read_ross",
     "reduce",

@@ -156,7 +156,7 @@ fn text_summary(report: &MapReport) -> String {
         let _ = writeln!(
             text,
             "  against the cascade at {}: {} of {} speeds with NSV >= {:.1} um explained ({:.0} %), \
-             {} of {} predicted quiet speeds quiet ({:.0} %); sustained onset {} (cascade) / {} (map)",
+             {} of {} predicted quiet speeds quiet ({:.0} %); sustained onset {} (cascade) / {} (map){}",
             c.check.value,
             c.check.explained,
             c.check.nsv_speeds,
@@ -167,6 +167,10 @@ fn text_summary(report: &MapReport) -> String {
             100.0 * c.quiet_fraction,
             onset(c.check.cascade_sustained_hz),
             onset(c.check.map_sustained_hz),
+            match c.check.not_followed {
+                0 => String::new(),
+                n => format!("; {n} speeds where the branch was not followed left out"),
+            },
         );
     }
     if let Some(q) = &s.clear_below {

@@ -204,8 +204,21 @@ fn close(branch: &Branch, o: &Open, speed: f64, edge: Edge) -> UnstableBand {
 fn stable_within(branch: &Branch, lo: f64, hi: f64) -> Vec<[f64; 2]> {
     let points = &branch.points;
     let stable = |i: usize| points[i].stability.as_ref().is_some_and(|s| s.stable);
+    spans_where(branch, stable, lo, hi)
+}
+
+/// The speeds (Hz) the branch was followed over: every segment between two successive
+/// points, not across a jump; merged and ascending. Outside them the sweep says nothing.
+pub fn followed_spans(branch: &Branch) -> Vec<[f64; 2]> {
+    spans_where(branch, |_| true, f64::NEG_INFINITY, f64::INFINITY)
+}
+
+/// The speeds within [lo, hi] (Hz) covered by the segments between successive points that
+/// both satisfy `keep` (not across a jump), merged and ascending.
+fn spans_where(branch: &Branch, keep: impl Fn(usize) -> bool, lo: f64, hi: f64) -> Vec<[f64; 2]> {
+    let points = &branch.points;
     let mut covered: Vec<[f64; 2]> = (0..points.len().saturating_sub(1))
-        .filter(|&i| stable(i) && stable(i + 1) && !branch.jumped_after.contains(&i))
+        .filter(|&i| keep(i) && keep(i + 1) && !branch.jumped_after.contains(&i))
         .filter_map(|i| {
             let (a, b) = (
                 hz(points[i].solution.frequency),

@@ -56,8 +56,11 @@ pub struct CascadeCheck {
     pub value: String,
     /// The NSV level, m.
     pub level_m: f64,
-    /// Settled speeds of the cascade.
+    /// Settled speeds of the cascade that the map's branch covers (the rest are left out:
+    /// beyond where the sweep stopped, or across a jump, the map says nothing).
     pub speeds: usize,
+    /// Settled speeds the branch does not cover.
+    pub not_followed: usize,
     /// Of them with NSV at or above the level, and of those explained by the map.
     pub nsv_speeds: usize,
     /// Explained by a band or a matching line.
@@ -141,15 +144,30 @@ fn responses(line: &ResonanceLine, speed_hz: f64) -> Vec<f64> {
     }
 }
 
-/// Compares `cascade` with the map's `bands` and `lines` of the same value.
+/// What the map says of one value: where its branch was followed (Hz, ascending spans),
+/// its bands and its lines.
+pub struct Predicted<'a> {
+    /// The speeds the branch covers ([`super::bands::followed_spans`]).
+    pub followed: &'a [[f64; 2]],
+    /// The unstable bands.
+    pub bands: &'a [UnstableBand],
+    /// The resonance lines.
+    pub lines: &'a [ResonanceLine],
+}
+
+/// Compares `cascade` with what the map predicts for the same value.
 pub fn check(
     value: &str,
     cascade: &Cascade,
-    bands: &[UnstableBand],
-    lines: &[ResonanceLine],
+    map: &Predicted<'_>,
     level_m: f64,
     speed_tolerance_hz: f64,
 ) -> CascadeCheck {
+    let Predicted {
+        followed,
+        bands,
+        lines,
+    } = *map;
     let prediction = Prediction {
         bands,
         lines,
@@ -159,6 +177,7 @@ pub fn check(
         value: value.to_string(),
         level_m,
         speeds: 0,
+        not_followed: 0,
         nsv_speeds: 0,
         explained: 0,
         nsv_speeds_hz: Vec::new(),
@@ -176,8 +195,12 @@ pub fn check(
         if point.diverged.is_some() || !point.settled {
             continue;
         }
-        c.speeds += 1;
         let speed = point.speed_hz;
+        if !followed.iter().any(|s| s[0] <= speed && speed <= s[1]) {
+            c.not_followed += 1;
+            continue;
+        }
+        c.speeds += 1;
         let nsv_m = nsv.as_ref().map_or(0.0, |n| n.peak.amplitude_m);
         let frequency_hz = nsv.as_ref().map(|n| n.peak.frequency_hz);
         let loud = nsv_m >= level_m;

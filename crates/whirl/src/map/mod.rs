@@ -118,11 +118,20 @@ fn check_value(
     let speeds = even_speeds(request.from, request.to, DEFAULT_SPEED_COUNT);
     let options = CascadeOptions::new(model, speeds);
     let cascade = cascade(model, &options, None, progress)?;
+    let followed = entry
+        .run
+        .sweep
+        .as_ref()
+        .map_or(Vec::new(), |s| bands::followed_spans(&s.branch));
+    let predicted = check::Predicted {
+        followed: &followed,
+        bands: &entry.bands,
+        lines: &entry.lines,
+    };
     Ok(check::check(
         &entry.value.text,
         &cascade,
-        &entry.bands,
-        &entry.lines,
+        &predicted,
         request.check_level(),
         check::DEFAULT_SPEED_TOLERANCE_HZ,
     ))

@@ -351,6 +351,7 @@ impl MapReport {
         t.text("value", c.iter().map(|x| x.value.clone()))
             .numbers("level_m", c.iter().map(|x| x.level_m))
             .counts("speeds", c.iter().map(|x| x.speeds))
+            .counts("not_followed", c.iter().map(|x| x.not_followed))
             .counts("nsv_speeds", c.iter().map(|x| x.nsv_speeds))
             .counts("explained", c.iter().map(|x| x.explained))
             .numbers(

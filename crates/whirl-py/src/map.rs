@@ -1,0 +1,117 @@
+//! The NSV map (`whirl map`): one harmonic-balance sweep with stability per value of a model
+//! parameter, its unstable bands and resonance lines, and the check against cascades. The
+//! options arrive as the library's request takes them: `None` is the library's default.
+
+use std::ops::ControlFlow;
+use std::sync::Arc;
+
+use pyo3::prelude::*;
+use whirl::hbm::{CageModel, SweepSettings};
+use whirl::map::{map_with, MapRequest, Parallelism};
+use whirl::progress::Progress;
+
+use crate::error::{option, to_py};
+use crate::model::PyModel;
+use crate::nsv::choice;
+use crate::report::PyReport;
+use crate::watch::run_watched;
+
+/// Progress steps of a map (it tells the fraction of its values done).
+const STEPS: f64 = 1000.0;
+
+/// The map's options from the Python package: speeds in rad/s, lengths in m, every
+/// setting `None` for the library's default.
+#[derive(FromPyObject)]
+#[pyo3(from_item_all)]
+pub struct MapArgs {
+    parameter: Option<String>,
+    values: Vec<String>,
+    from: f64,
+    to: f64,
+    harmonics: Option<usize>,
+    samples: Option<usize>,
+    contact: Option<String>,
+    cage: Option<String>,
+    cage_positions: Option<usize>,
+    contact_smoothing: Option<f64>,
+    stability_modes: Option<usize>,
+    reduce: Option<usize>,
+    clear_below: Option<f64>,
+    check: Vec<String>,
+    check_level: Option<f64>,
+}
+
+/// The cage model named `cage` with `positions` cage positions (the library's default
+/// count when `None`).
+fn cage_model(cage: &str, positions: Option<usize>) -> PyResult<CageModel> {
+    match cage {
+        "passage" => {
+            Ok(
+                positions.map_or(CageModel::DEFAULT, |positions| CageModel::PassageAveraged {
+                    positions,
+                }),
+            )
+        }
+        "frozen" => Ok(CageModel::Frozen),
+        other => Err(option(
+            "cage",
+            format!("`{other}` is not one of passage, frozen"),
+        )),
+    }
+}
+
+/// The library's request for `model` with these options.
+fn request(model: &PyModel, a: MapArgs) -> PyResult<MapRequest> {
+    let cage = match (&a.cage, a.cage_positions) {
+        (Some(c), positions) => Some(cage_model(c, positions)?),
+        (None, Some(positions)) => Some(cage_model("passage", Some(positions))?),
+        (None, None) => None,
+    };
+    Ok(MapRequest {
+        model_text: model.text().to_string(),
+        model_file: model.source().cloned(),
+        parameter: a.parameter,
+        values: a.values,
+        from: a.from,
+        to: a.to,
+        settings: SweepSettings {
+            harmonics: a.harmonics,
+            samples: a.samples,
+            contact: a.contact.map(|c| choice("contact", &c)).transpose()?,
+            cage,
+            contact_smoothing: a.contact_smoothing,
+            stability: None,
+            stability_modes: a.stability_modes,
+            reduction: a.reduce,
+        },
+        clear_below: a.clear_below,
+        check: a.check,
+        check_level_m: a.check_level,
+    })
+}
+
+/// The map as `whirl map` makes it, its sweeps one per thread; `progress(done, 1000)` is
+/// told the share of the values done (a true return stops it, as Ctrl-C does).
+#[pyfunction]
+#[pyo3(signature = (model, options, progress = None))]
+pub fn map(
+    py: Python<'_>,
+    model: &PyModel,
+    options: MapArgs,
+    progress: Option<Bound<'_, PyAny>>,
+) -> PyResult<PyReport> {
+    let request = request(model, options)?;
+    let report = run_watched(py, progress.as_ref(), |watch| {
+        let told = Arc::clone(watch);
+        let progress = Progress::new(move |p| {
+            if told.tell((p.fraction() * STEPS).round() as usize, STEPS as usize) {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        });
+        map_with(&request, Parallelism::default(), Some(&progress))
+    })?
+    .map_err(to_py)?;
+    PyReport::of(&report)
+}
