@@ -1,11 +1,13 @@
 //! The cost of one central-difference step of the cascade's system (the reference rotor
 //! reduced 8 + 12, Hertz rollers at both bearings) against a plain loop that does the same
 //! arithmetic written out as tightly as we know how: the dense step with precomputed
-//! matrices by columns, the rollers' and the unbalance's directions advanced by a rotation
-//! per step, and no other work (delta^(10/9) by the C library's `pow`: two cube roots took
-//! three times as long here). Both march
-//! the same steps from the same start, and the bench checks that they end in the same
-//! place, so the plain loop is known to do the same work. Figures go to BENCHMARKS.md.
+//! matrices by columns, four added at a time down each whole column (row blocks of eight
+//! held in registers took 230 ns for the product alone, the column form about 120 ns by
+//! difference), the rollers' and the unbalance's directions advanced by a rotation per
+//! step, and no other work (delta^(10/9) by the C library's `pow`: two cube roots took
+//! three times as long here). Both march the same steps from the same start, and the bench
+//! checks that they end in the same place, so the plain loop is known to do the same work.
+//! Figures go to BENCHMARKS.md.
 //! Run with `cargo bench -p whirl --bench step`.
 
 mod common;
@@ -280,6 +282,7 @@ struct PlainStep {
 impl PlainStep {
     fn new(model: &Model, system: &System, profile: SpeedProfile, h: f64) -> PlainStep {
         let n = system.size();
+        assert_eq!(2 * n % 4, 0, "the product takes four columns at a time");
         let rows = n.next_multiple_of(8);
         let speed = profile.max_speed();
         let m = &system.matrices;
@@ -412,43 +415,33 @@ impl WithSimd for Product<'_> {
 
 impl PlainStep {
     /// q_{n+1} = [P | Q] [q_n; q_{n-1}] + S F_n into `next`, with F_n the constant force,
-    /// the unbalance (coefficients `c_re`, `c_im`) and the bearings' `force`: eight rows at a
-    /// time, each row's sum in four partial sums held in registers over all columns.
+    /// the unbalance (coefficients `c_re`, `c_im`) and the bearings' `force`: four columns
+    /// at a time added down the whole (contiguous) column, so that the row loop vectorises
+    /// and each element of `next` takes four products per pass; the bearings' force only
+    /// through the columns of S of the coordinates it acts on.
     #[inline(always)]
     fn product(&self, history: &[f64], force: &[f64], (c_re, c_im): (f64, f64), next: &mut [f64]) {
         let (n, rows) = (self.n, self.rows);
-        for r0 in (0..n).step_by(8) {
-            let mut acc = [[0.0f64; 8]; 4];
-            let block =
-                |j: usize| -> &[f64; 8] { self.pq[j * rows + r0..][..8].try_into().unwrap() };
-            for j in (0..2 * n).step_by(4) {
-                for p in 0..4.min(2 * n - j) {
-                    let (col, x) = (block(j + p), history[j + p]);
-                    for k in 0..8 {
-                        acc[p][k] += col[k] * x;
-                    }
+        let next = &mut next[..n];
+        for i in 0..n {
+            next[i] =
+                self.s_constant[i] + c_re * self.s_unbalance[0][i] + c_im * self.s_unbalance[1][i];
+        }
+        let column = |j: usize| &self.pq[j * rows..j * rows + n];
+        for j in (0..2 * n).step_by(4) {
+            let (c0, c1, c2, c3) = (column(j), column(j + 1), column(j + 2), column(j + 3));
+            let x = &history[j..j + 4];
+            for i in 0..n {
+                next[i] += (x[0] * c0[i] + x[1] * c1[i]) + (x[2] * c2[i] + x[3] * c3[i]);
+            }
+        }
+        for b in &self.bearings {
+            for d in [b.x, b.y] {
+                let col = &self.s[d * rows..d * rows + n];
+                for i in 0..n {
+                    next[i] += col[i] * force[d];
                 }
             }
-            let s_col =
-                |d: usize| -> &[f64; 8] { self.s[d * rows + r0..][..8].try_into().unwrap() };
-            let mut total = [0.0f64; 8];
-            for k in 0..8 {
-                let i = (r0 + k).min(n - 1);
-                total[k] = self.s_constant[i]
-                    + c_re * self.s_unbalance[0][i]
-                    + c_im * self.s_unbalance[1][i]
-                    + ((acc[0][k] + acc[1][k]) + (acc[2][k] + acc[3][k]));
-            }
-            for b in &self.bearings {
-                for d in [b.x, b.y] {
-                    let col = s_col(d);
-                    for k in 0..8 {
-                        total[k] += col[k] * force[d];
-                    }
-                }
-            }
-            let w = (n - r0).min(8);
-            next[r0..r0 + w].copy_from_slice(&total[..w]);
         }
     }
 }
