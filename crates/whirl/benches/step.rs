@@ -419,6 +419,8 @@ impl PlainStep {
     /// at a time added down the whole (contiguous) column, so that the row loop vectorises
     /// and each element of `next` takes four products per pass; the bearings' force only
     /// through the columns of S of the coordinates it acts on.
+    // One index over several slices, as the library's kernel writes it.
+    #[allow(clippy::needless_range_loop)]
     #[inline(always)]
     fn product(&self, history: &[f64], force: &[f64], (c_re, c_im): (f64, f64), next: &mut [f64]) {
         let (n, rows) = (self.n, self.rows);
