@@ -39,6 +39,7 @@ pub struct MapArgs {
     clear_below: Option<f64>,
     check: Vec<String>,
     check_level: Option<f64>,
+    confirm: bool,
 }
 
 /// The cage model named `cage` with `positions` cage positions (the library's default
@@ -87,6 +88,7 @@ fn request(model: &PyModel, a: MapArgs) -> PyResult<MapRequest> {
         clear_below: a.clear_below,
         check: a.check,
         check_level_m: a.check_level,
+        confirm: a.confirm,
     })
 }
 

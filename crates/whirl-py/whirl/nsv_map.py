@@ -37,6 +37,7 @@ def map(  # noqa: A001 - the command's name
     clear_below: str | float | None = None,
     check: str | Sequence[str | float] = (),
     check_level: str | float | None = None,
+    confirm: bool = False,
     progress: bool | _progress.Report = True,
 ) -> Report:
     """The NSV map (``whirl map``): one harmonic-balance sweep with Floquet stability per
@@ -59,6 +60,9 @@ def map(  # noqa: A001 - the command's name
         check: values (among ``values``) at which the default cascade is run over the
             map's range and compared with the map.
         check_level: the check's NSV level, ``"10um"`` or metres (default 10 um).
+        confirm: run the default cascade of the largest value clear below
+            ``clear_below``, up to that speed, and report whether its NSV stays below the
+            check level (the summary's ``confirmation``).
         progress: True for a tqdm bar when tqdm is installed, False, or ``progress(done,
             1000)`` told the share of the values done (a true return stops it).
 
@@ -88,6 +92,7 @@ def map(  # noqa: A001 - the command's name
         "check_level": None
         if check_level is None
         else _whirl.parse_quantity("check_level", str(check_level), "length"),
+        "confirm": bool(confirm),
     }
     with _progress.display(progress, "map", "permille") as report:
         raw = _whirl.map(model._raw, options, report)

@@ -27,6 +27,7 @@ fn request(values: &[&str]) -> MapRequest {
         clear_below: Some(TAU * 30.0),
         check: Vec::new(),
         check_level_m: None,
+        confirm: false,
     }
 }
 
@@ -132,4 +133,26 @@ fn the_varying_compliance_resonance_is_a_line_that_explains_the_cascade_below_th
     // the map calls quiet are quiet but for at most a tenth.
     assert_eq!(check.explained, check.nsv_speeds, "{check:?}");
     assert!(check.quiet_fraction() >= 0.9, "{check:?}");
+}
+
+#[test]
+fn the_design_querys_answer_is_tried_by_a_cascade() {
+    // Below 30 Hz both clearances keep the orbit stable; the larger, 60 um, is the answer,
+    // and its cascade up to 30 Hz passes through the varying-compliance resonance (about 63
+    // um at 13.6 Hz in the default 60 um cascade): stable is not quiet, and the
+    // confirmation says so at 10 um.
+    let mut request = request(&["20 um", "60um"]);
+    request.to = TAU * 30.0;
+    request.confirm = true;
+    let report = map(&request).unwrap();
+    let c = report.confirmation.as_ref().expect("a value is clear");
+    assert_eq!(c.value, "60um");
+    assert!(c.speeds >= 100, "{c:?}");
+    let at = c.largest_at_hz.unwrap();
+    assert!((11.0..16.0).contains(&at), "{c:?}");
+    assert!(c.largest_nsv_m > 1e-5 && !c.confirmed, "{c:?}");
+    // Without a query there is nothing to confirm: refused, naming the field.
+    request.clear_below = None;
+    let e = map(&request).unwrap_err().to_string();
+    assert!(e.contains("confirm"), "{e}");
 }

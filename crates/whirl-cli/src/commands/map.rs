@@ -54,9 +54,13 @@ pub struct Args {
     /// that are quiet, and the speeds where they disagree.
     #[arg(long, value_name = "LIST", value_delimiter = ',')]
     pub check: Vec<String>,
-    /// NSV level of `--check`, e.g. `10um` [default: 10 um].
+    /// NSV level of `--check` and `--confirm`, e.g. `10um` [default: 10 um].
     #[arg(long, value_name = "LENGTH", value_parser = positive_length)]
     pub check_level: Option<f64>,
+    /// Run the default cascade of the largest value `--clear-below` finds clear, up to that
+    /// speed, and report whether its NSV stays below the check level.
+    #[arg(long, requires = "clear_below")]
+    pub confirm: bool,
     /// How the sweeps share the threads (the answer is the same either way) [default:
     /// values].
     #[arg(long, value_enum)]
@@ -80,6 +84,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         clear_below: args.clear_below,
         check: args.check.clone(),
         check_level_m: args.check_level,
+        confirm: args.confirm,
     };
     let spread = args.spread.unwrap_or_default();
     // Check the request before the progress line starts.
@@ -190,6 +195,18 @@ fn text_summary(report: &MapReport) -> String {
             } else {
                 format!("; undecided: {}", q.undecided.join(", "))
             }
+        );
+    }
+    if let Some(c) = &s.confirmation {
+        let _ = writeln!(
+            text,
+            "  tried by the cascade of {} up to that speed: NSV below {:.1} um {} (largest {:.2} um{}, {} speeds)",
+            c.value,
+            c.level_m * 1e6,
+            if c.confirmed { "throughout" } else { "not everywhere" },
+            c.largest_nsv_m * 1e6,
+            c.largest_at_hz.map_or(String::new(), |f| format!(" at {f:.1} Hz")),
+            c.speeds,
         );
     }
     text

@@ -234,6 +234,50 @@ pub fn check(
     c
 }
 
+/// The design query's answer tried on the rotor: the default cascade of the largest value
+/// the map finds clear, from the map's first speed to the query's.
+#[derive(Debug, Clone, Serialize)]
+pub struct Confirmation {
+    /// The value, as given.
+    pub value: String,
+    /// The NSV level it must stay below, m.
+    pub level_m: f64,
+    /// Settled speeds of the cascade.
+    pub speeds: usize,
+    /// Its largest NSV over them, m (0 without one).
+    pub largest_nsv_m: f64,
+    /// Where, Hz.
+    pub largest_at_hz: Option<f64>,
+    /// Whether the NSV stays below the level at every settled speed.
+    pub confirmed: bool,
+}
+
+/// Whether `cascade` (of the value written `value`) keeps its NSV below `level_m`.
+pub fn confirm(value: &str, cascade: &Cascade, level_m: f64) -> Confirmation {
+    let settled = cascade
+        .points
+        .iter()
+        .zip(&cascade.nsv)
+        .filter(|(p, _)| p.diverged.is_none() && p.settled);
+    let (speeds, largest) = settled.fold((0, None::<(f64, f64)>), |(n, best), (p, nsv)| {
+        let a = nsv.as_ref().map_or(0.0, |n| n.peak.amplitude_m);
+        let best = match best {
+            Some((b, _)) if b >= a => best,
+            _ => Some((a, p.speed_hz)),
+        };
+        (n + 1, best)
+    });
+    let largest_nsv_m = largest.map_or(0.0, |l| l.0);
+    Confirmation {
+        value: value.to_string(),
+        level_m,
+        speeds,
+        largest_nsv_m,
+        largest_at_hz: largest.map(|l| l.1),
+        confirmed: speeds > 0 && largest_nsv_m < level_m,
+    }
+}
+
 /// The lowest band edge from which the bands cover at least [`SUSTAINED_FRACTION`] of the
 /// next [`SUSTAINED_WINDOW`] of the cascade's speed range: the map's counterpart of a
 /// cascade's sustained onset.

@@ -80,11 +80,12 @@ pub fn map_with(
         .iter()
         .map(|text| check_value(&entries, text, request, progress))
         .collect::<Result<_>>()?;
-    Ok(MapReport {
+    let mut report = MapReport {
         parameter: request.parameter().to_string(),
         options,
         entries,
         checks,
+        confirmation: None,
         clear_below: request.clear_below,
         parallelism,
         threads: rayon::current_num_threads(),
@@ -92,7 +93,39 @@ pub fn map_with(
             .zip(cpu_start)
             .map(|(b, a)| b - a),
         wall_s: start.elapsed().as_secs_f64(),
-    })
+    };
+    if let (true, Some(speed)) = (request.confirm, request.clear_below) {
+        report.confirmation = confirm_query(&report, speed, request, progress)?;
+    }
+    Ok(report)
+}
+
+/// The default cascade of the largest value clear below `speed` (rad/s), from the map's
+/// first speed up to it, against the check's level; `None` when no value is clear.
+///
+/// # Errors
+/// As [`crate::nsv::cascade`]; [`crate::Error::Interrupted`] when `progress` stopped it.
+fn confirm_query(
+    report: &MapReport,
+    speed: f64,
+    request: &MapRequest,
+    progress: Option<&Progress>,
+) -> Result<Option<check::Confirmation>> {
+    let query = report.clear_below(speed);
+    let Some(value) = query.largest_clear else {
+        return Ok(None);
+    };
+    let Some(entry) = report.entries.iter().find(|e| e.value.text == value) else {
+        return Ok(None);
+    };
+    let model = &entry.value.model;
+    let options = CascadeOptions::new(model, even_speeds(request.from, speed, DEFAULT_SPEED_COUNT));
+    let cascade = cascade(model, &options, None, progress)?;
+    Ok(Some(check::confirm(
+        &value,
+        &cascade,
+        request.check_level(),
+    )))
 }
 
 /// The default cascade of the value written `text` (one of `entries`, as

@@ -5,7 +5,7 @@
 use serde::Serialize;
 
 use super::bands::{Edge, UnstableBand};
-use super::check::CascadeCheck;
+use super::check::{CascadeCheck, Confirmation};
 use super::lines::{Excitation, ResonanceLine};
 use super::request::MapValue;
 use super::run::{Parallelism, ValueRun};
@@ -37,6 +37,8 @@ pub struct MapReport {
     pub entries: Vec<MapEntry>,
     /// The map against cascades, at the values asked for.
     pub checks: Vec<CascadeCheck>,
+    /// The design query's answer tried by a cascade, when asked and a value is clear.
+    pub confirmation: Option<Confirmation>,
     /// The design query's speed, rad/s.
     pub clear_below: Option<f64>,
     /// How the sweeps were spread over the threads.
@@ -117,6 +119,8 @@ pub struct MapSummary {
     pub clear_below: Option<ClearBelow>,
     /// The map against cascades, when asked.
     pub checks: Vec<CheckSummary>,
+    /// The design query's answer tried by a cascade, when asked.
+    pub confirmation: Option<Confirmation>,
 }
 
 /// The map against one cascade, in numbers.
@@ -299,6 +303,7 @@ impl Report for MapReport {
                     check: c.clone(),
                 })
                 .collect(),
+            confirmation: self.confirmation.clone(),
         }
     }
 

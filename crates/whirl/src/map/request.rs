@@ -54,6 +54,9 @@ pub struct MapRequest {
     pub check: Vec<String>,
     /// The check's NSV level, m; `None` for [`super::check::DEFAULT_CHECK_LEVEL_M`].
     pub check_level_m: Option<f64>,
+    /// Run the default cascade of the largest value clear below `clear_below`, up to that
+    /// speed, and report whether its NSV stays below the check's level.
+    pub confirm: bool,
 }
 
 /// One value of a map: its model and how it was written.
@@ -136,6 +139,14 @@ impl MapRequest {
                 .help("check values the map sweeps, written as in `values`")
                 .into());
             }
+        }
+        if self.confirm && self.clear_below.is_none() {
+            return Err(InputError::field(
+                "confirm",
+                "confirms the design query's answer, and no query was asked",
+            )
+            .help("give clear_below (e.g. 600 Hz) with confirm")
+            .into());
         }
         let level = self.check_level();
         if !(level.is_finite() && level > 0.0) {
