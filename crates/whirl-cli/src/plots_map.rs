@@ -21,8 +21,7 @@ pub fn map_plot(report: &MapReport) -> Figure2d {
         "Spin speed [Hz]",
         axis.label.clone(),
     );
-    // Low speeds at small values are where the orbit is most often stable.
-    figure.legend = LegendPosition::LowerLeft;
+    figure.legend = LegendPosition::UpperLeft;
     let (from, to) = (
         whirl::units::rad_s_to_hz(report.options.from),
         whirl::units::rad_s_to_hz(report.options.to),
@@ -34,9 +33,13 @@ pub fn map_plot(report: &MapReport) -> Figure2d {
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &y| {
             (a.min(y), b.max(y))
         });
-    // Half a bar's room above and below the outer values, and room for one value alone.
+    // Half a bar's room above and below the outer values, and room for one value alone;
+    // above the highest value, room for the legend (about a third of the plot's height),
+    // so that it covers no row (below the lowest, the axis would show negative values of
+    // a parameter that has none).
     let pad = if hi > lo { 0.08 * (hi - lo) } else { 1.0 };
-    figure.y_range = Some((lo - pad, hi + pad));
+    let legend_room = if hi > lo { 0.6 * (hi - lo) } else { 3.0 };
+    figure.y_range = Some((lo - pad, hi + pad + legend_room));
     for (j, entry) in report.entries.iter().enumerate() {
         let y = axis.y[j];
         // The range swept, thin, so that a value without bands still shows it was computed.
