@@ -470,3 +470,42 @@ fn untimed(path: &Path) -> Vec<Vec<String>> {
         })
         .collect()
 }
+
+#[test]
+fn an_absurdly_long_map_warns_before_it_starts() {
+    // Two values at H = 40: at least 400 points a sweep at about 10 s each (the H = 5 point
+    // cost grown as (2H + 1)^3): over an hour on 2 cores. The warning comes before the
+    // sweeps start; Ctrl-C stops them and nothing is written.
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("map");
+    let mut run = whirl()
+        .arg("map")
+        .arg(reference_rotor_path())
+        .args(["--values", "20um,60um", "--harmonics", "40", "--out"])
+        .arg(&out)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(1500));
+    for _ in 0..2 {
+        let _ = Command::new("kill")
+            .args(["-INT", &run.id().to_string()])
+            .status();
+        std::thread::sleep(Duration::from_millis(300));
+    }
+    let status = run.wait().unwrap();
+    let mut message = String::new();
+    use std::io::Read;
+    run.stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut message)
+        .unwrap();
+    assert!(
+        message.contains("warning: 2 values at H = 40 make 2 sweeps of at least"),
+        "{message}"
+    );
+    assert_eq!(status.code(), Some(130), "{message}");
+    assert!(!out.exists(), "{message}");
+}

@@ -180,11 +180,17 @@ const SECONDS_PER_POINT_H5: f64 = 0.025;
 /// Estimated time per point above which `hbm` warns before it starts, s.
 const SLOW_POINT_S: f64 = 1.0;
 
-/// Warns before a sweep whose harmonic count makes every point slow: the cost grows about
-/// as the cube of 2H + 1 (the dense Newton solves).
-fn warn_if_slow(harmonics: usize, stability: bool) {
+/// Estimated computing time of one branch point with `harmonics` harmonics, s: the cost
+/// grows about as the cube of 2H + 1 (the dense Newton solves), and halves without the
+/// stability.
+pub fn point_seconds(harmonics: usize, stability: bool) -> f64 {
     let growth = ((2 * harmonics + 1) as f64 / 11.0).powi(3);
-    let per_point = SECONDS_PER_POINT_H5 * growth * if stability { 1.0 } else { 0.5 };
+    SECONDS_PER_POINT_H5 * growth * if stability { 1.0 } else { 0.5 }
+}
+
+/// Warns before a sweep whose harmonic count makes every point slow.
+fn warn_if_slow(harmonics: usize, stability: bool) {
+    let per_point = point_seconds(harmonics, stability);
     if per_point > SLOW_POINT_S {
         eprintln!(
             "warning: H = {harmonics} makes each point of the branch about {} of computing, \

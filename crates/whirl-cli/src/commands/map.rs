@@ -15,14 +15,15 @@ use std::fmt::Write;
 use whirl::map::{map_with, MapReport, MapRequest, Parallelism};
 use whirl::report::Report;
 
-use super::hbm::{rising_range, speed_span, HbFlags};
+use super::cascade::{cores, LONG_RUN_S};
+use super::hbm::{point_seconds, rising_range, speed_span, HbFlags};
 use super::{
     finish, lib, load, option_error, positive_length, report_summary, speed, Common, Outcome,
     Speeds,
 };
 use crate::output::Output;
 use crate::plots_map::map_plot;
-use crate::progress::shown;
+use crate::progress::{duration_text, shown};
 use whirl_plot::SpeedAxis;
 
 /// `whirl map`
@@ -89,6 +90,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let spread = args.spread.unwrap_or_default();
     // Check the request before the progress line starts.
     request.values().map_err(option_error)?;
+    warn_if_long(&request);
     let report = shown("map", |p| map_with(&request, spread, p));
     let report = lib(report)?;
     let summary = report_summary("map", &loaded, &report)?;
@@ -105,6 +107,30 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let common = &args.common;
     out.plot("map", |p| common.speed_axis(figure, SpeedAxis::X).save(p))?;
     finish(out, summary, text, &args.common)
+}
+
+/// Fewest points of a sweep of the reference rotor over its range (10 um, 1-750 Hz: 420;
+/// the larger clearances' folded branches take up to 1,707).
+const LEAST_POINTS: f64 = 400.0;
+
+/// Warns before a map whose sweeps alone are estimated to take more than half an hour of
+/// computing on this machine's cores (many values, many harmonics).
+fn warn_if_long(request: &MapRequest) {
+    let options = request.sweep_options();
+    let per_sweep = LEAST_POINTS * point_seconds(options.harmonics, true);
+    let seconds = request.values.len() as f64 * per_sweep / cores() as f64;
+    if seconds > LONG_RUN_S {
+        eprintln!(
+            "warning: {} values at H = {} make {} sweeps of at least {} each: at least {} on {} \
+             cores; fewer values or harmonics are faster, or press Ctrl-C to stop",
+            request.values.len(),
+            options.harmonics,
+            request.values.len(),
+            duration_text(per_sweep),
+            duration_text(seconds),
+            cores()
+        );
+    }
 }
 
 /// A line per value (first loss, bands) and the design query's answer.
