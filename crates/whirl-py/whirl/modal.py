@@ -68,10 +68,12 @@ class CriticalSpeed:
     damping_ratio: float
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class CampbellResult(Reported):
     """A Campbell diagram (``whirl campbell``): whirl frequencies over speed, forward and
     backward branches, critical speeds where they cross the excitation orders."""
+
+    _figures = ("campbell",)
 
     model: Model
     #: Spin speeds, Hz.
@@ -140,9 +142,11 @@ def campbell(
     )
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class ConvergenceResult(Reported):
     """Natural frequencies versus the number of beam elements (``whirl convergence``)."""
+
+    _figures = ("convergence",)
 
     model: Model
     #: Total element counts that could be meshed, ascending.
@@ -212,9 +216,11 @@ def convergence(
     )
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class ModalResult(Reported):
     """Undamped modes and damped whirl modes at a speed (``whirl modal``)."""
+
+    _figures = ("mode_shapes",)
 
     model: Model
     #: Spin speed of the damped modes, rad/s.

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import tomllib
 import warnings
 from collections.abc import Mapping
 from typing import Any
@@ -11,6 +12,7 @@ from typing import Any
 import numpy as np
 
 from . import _whirl
+from ._quantity import plain
 
 
 class WhirlWarning(UserWarning):
@@ -54,14 +56,36 @@ class Model:
     def from_dict(cls, tables: Mapping[str, Any]) -> Model:
         """Validates a model given as a dict with the model file's tables and keys, e.g.
         ``{"name": "rotor", "shaft": [...], "disk": [...], "bearing": [...]}``; quantities
-        may be numbers (SI) or text with a unit (``"20 um"``)."""
-        return cls._checked(_whirl.Model.from_json(json.dumps(tables)))
+        may be numbers (SI), text with a unit (``"20 um"``) or pint quantities.
+        ``Model.from_dict(model.to_tables())`` is the same model."""
+        return cls._checked(_whirl.Model.from_json(json.dumps(plain(tables))))
 
     def with_values(self, values: Mapping[str, Any]) -> Model:
         """The same model with values set at the study files' parameter paths, e.g.
         ``model.with_values({"roller_bearing[*].clearance": "30 um"})``; paths are applied
         in order and the result is validated as a model file would be."""
-        return type(self)._checked(self._raw.with_values(list(values.items())))
+        return type(self)._checked(self._raw.with_values(list(plain(dict(values)).items())))
+
+    def to_tables(self) -> dict[str, Any]:
+        """The model file's tables and keys as a dict, as the file writes them (quantities
+        as text with their units): what :meth:`from_dict` reads back. :meth:`to_dict` is
+        the validated model in SI instead."""
+        return tomllib.loads(self.toml)
+
+    def extended(self, tables: Mapping[str, Any]) -> Model:
+        """The same model with more in it, validated again: each list (``unbalance``,
+        ``roller_bearing``, ``disk``, ...) is appended to the model file's list of that name,
+        each other value (``damping``, ``operating``) set. For instance an unbalance on a
+        rotor read from ROSS: ``rotor.extended({"unbalance": [{"node": 12, "mass": "1 g",
+        "eccentricity": "50 mm"}]})``. To replace a list, edit :meth:`to_tables` and give
+        it to :meth:`from_dict`."""
+        merged = self.to_tables()
+        for key, value in plain(dict(tables)).items():
+            if isinstance(value, list):
+                merged[key] = [*merged.get(key, []), *value]
+            else:
+                merged[key] = value
+        return type(self).from_dict(merged)
 
     @property
     def name(self) -> str:

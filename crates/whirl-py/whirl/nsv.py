@@ -100,7 +100,7 @@ def options(
     }
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class CascadeResult(Reported):
     """A computed cascade: per speed the spectrum of the analysed displacement and the
     largest non-synchronous peak (NSV), classified; and the library's report:
@@ -109,6 +109,8 @@ class CascadeResult(Reported):
     ``cascade``, ``full_cascade`` (with ``full=True``), ``nsv`` and ``starts`` (with
     ``compare_starts=True``). The summary's keys read as attributes too
     (``result.resumed_speeds``, ``result.checkpoint_folder``)."""
+
+    _figures = ("cascade_map", "waterfall", "nsv", "starts")
 
     model: Model
     #: Speeds, requested and added, ascending, Hz.

@@ -155,7 +155,7 @@ def _stable_runs(stable: list) -> list[tuple[int, int, bool]]:
     stability was not computed counts as stable."""
     runs: list[tuple[int, int, bool]] = []
     for i, s in enumerate(stable):
-        s = s != "false"
+        s = s not in (False, "false")
         if runs and runs[-1][2] == s:
             runs[-1] = (runs[-1][0], i + 1, s)
         else:
@@ -298,4 +298,61 @@ def force_surface(result, clearance=None, component="fr", ax=None):
     ax.figure.colorbar(drawn, ax=ax, label=f"{component} [N]")
     ax.set(xlabel="ux [um]", ylabel="uy [um]", aspect="equal",
            title=f"{component} at clearance {name.removeprefix('surfaces_')}")
+    return ax
+
+
+def rotor(result, ax=None):
+    """The rotor's layout (``whirl.check``): the nodes along the shaft, disks and bearings
+    marked with their node numbers."""
+    model = result.model
+    ax = _axes(ax)
+    z = model.node_positions()
+    ax.plot(z, np.zeros_like(z), "k.-", label="shaft nodes")
+    bearings = model.bearing_nodes()
+    ax.plot(z[bearings], np.zeros(len(bearings)), "^", markersize=12, label="bearings")
+    for node in bearings:
+        ax.annotate(str(node), (z[node], 0.0), textcoords="offset points", xytext=(0, -18), ha="center")
+    ax.set(xlabel="z (m)", yticks=[], title=f"{model.name}: {model.node_count} nodes")
+    ax.legend()
+    return ax
+
+
+def convergence(result, ax=None):
+    """Each natural frequency over the number of elements (``whirl.convergence``)."""
+    ax = _axes(ax)
+    for j in range(result.frequencies_hz.shape[1]):
+        ax.plot(result.element_counts, result.frequencies_hz[:, j], "o-", label=f"mode {j + 1}")
+    ax.set(xlabel="elements", ylabel="natural frequency (Hz)", yscale="log", title="mesh convergence")
+    ax.legend()
+    return ax
+
+
+def mode_shapes(result, ax=None):
+    """The undamped mode shapes (``whirl.modal``): the larger of ux and uy of each mode along
+    the shaft, scaled to 1, with its frequency."""
+    ax = _axes(ax)
+    z = result.model.node_positions()
+    for j, f in enumerate(result.undamped_frequencies_hz):
+        shape = result.undamped_shapes[:, j].reshape(len(z), 4)
+        lateral = shape[:, 0] if np.abs(shape[:, 0]).max() >= np.abs(shape[:, 1]).max() else shape[:, 1]
+        ax.plot(z, lateral / lateral[np.abs(lateral).argmax()], label=f"{f:.1f} Hz")
+    ax.axhline(0.0, color="k", linewidth=0.5)
+    ax.set(xlabel="z (m)", ylabel="displacement (scaled)", title="undamped mode shapes")
+    ax.legend()
+    return ax
+
+
+def fit_forcing(result, ax=None):
+    """The forcing-function fit (``whirl.fit_forcing``): the bearing's force over its
+    deflection, sampled and fitted, log-log, per speed."""
+    ax = _axes(ax)
+    fit = result.columns("fit")
+    for speed in np.unique(fit["speed_hz"]):
+        at = fit["speed_hz"] == speed
+        order = np.argsort(fit["deflection_m"][at])
+        (drawn,) = ax.loglog(fit["deflection_m"][at], fit["force_n"][at], ".", alpha=0.4)
+        ax.loglog(fit["deflection_m"][at][order], fit["fitted_force_n"][at][order], "-",
+                  color=drawn.get_color(), label=f"{speed:g} Hz")
+    ax.set(xlabel="deflection (m)", ylabel="force (N)", title="forcing function: samples and fit")
+    ax.legend()
     return ax

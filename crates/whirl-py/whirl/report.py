@@ -4,16 +4,32 @@ the same numbers under the same names."""
 
 from __future__ import annotations
 
+import copy
 from typing import Any
 
 import numpy as np
 
 from . import _whirl
+from ._display import Display
 from ._summary import head
 from .model import Model
 
+#: The figures of :mod:`whirl.plot` that draw each command's report, the default first.
+_FIGURES = {
+    "check": ("rotor",),
+    "hbm": ("hb_branch", "hb_stability"),
+    "reduce": ("reduction_error",),
+    "static": ("static_response",),
+    "ucs": ("ucs",),
+    "frf": ("frf",),
+    "stiffness": ("stiffness", "force_surface"),
+    "fit-forcing": ("fit_forcing",),
+}
+#: A text column of these values only is a column of flags.
+_FLAG_TEXT = {"true": True, "false": False}
 
-class Report:
+
+class Report(Display):
     """An analysis's result: its key numbers and its tables.
 
     ``result.to_dict()`` is the command line's summary.json (without the output folder and
@@ -42,7 +58,8 @@ class Report:
         """Table ``table`` (default the first) as its columns in order: numbers as float
         arrays (NaN where a value does not exist), counts (indices, iterations, records,
         0/1 flags) as int64 arrays, text as lists (None there)."""
-        return self._raw.table(self.tables[0] if table is None else table)
+        columns = self._raw.table(self.tables[0] if table is None else table)
+        return {name: _flags_as_bool(values) for name, values in columns.items()}
 
     def to_pandas(self, table: str | None = None):
         """Table ``table`` (default the first) as a DataFrame: the command line's
@@ -62,15 +79,63 @@ class Report:
     def __dir__(self) -> list[str]:
         return sorted({*super().__dir__(), *self._raw.summary()})
 
-    def __repr__(self) -> str:
-        return f"<whirl {self.command} result of {self.model.name!r}: tables {', '.join(self.tables)}>"
+    @property
+    def _figures(self) -> tuple[str, ...]:
+        return _FIGURES.get(self.command, ())
+
+    def _report(self) -> Report:
+        return self
+
+    def __reduce__(self):
+        # The compiled report does not pickle: its summary and tables, as read, do.
+        raw = _Read(self._raw.summary(), {t: self._raw.table(t) for t in self.tables})
+        return (_restored, (type(self), self.command, self.model, raw))
 
 
-class Reported:
+def _restored(cls: type[Report], command: str, model: Model, raw: _Read) -> Report:
+    report = cls.__new__(cls)
+    Report.__init__(report, command, model, raw)
+    return report
+
+
+class _Read:
+    """A report's summary and tables as read from the compiled one, with its interface: what
+    an unpickled :class:`Report` holds."""
+
+    __slots__ = ("_summary", "_tables")
+
+    def __init__(self, summary: dict[str, Any], tables: dict[str, dict[str, Any]]):
+        self._summary = summary
+        self._tables = tables
+
+    @property
+    def tables(self) -> list[str]:
+        return list(self._tables)
+
+    def summary(self) -> dict[str, Any]:
+        return copy.deepcopy(self._summary)
+
+    def table(self, name: str) -> dict[str, Any]:
+        if name not in self._tables:
+            raise _whirl.InputError(f"no table `{name}`: the tables are {', '.join(self._tables)}")
+        return copy.deepcopy(self._tables[name])
+
+
+def _flags_as_bool(values: Any) -> Any:
+    """A text column of only "true" and "false" (the CSV's flags) as a bool array."""
+    if not isinstance(values, list) or not values or any(v not in _FLAG_TEXT for v in values):
+        return values
+    return np.array([_FLAG_TEXT[v] for v in values], dtype=bool)
+
+
+class Reported(Display):
     """A result with attributes of its own (branches, modes, ...) whose summary and tables
     are the library's report, ``self.report``; the summary's keys read as attributes too."""
 
     report: Report
+
+    def _report(self) -> Report:
+        return self.report
 
     def __getattr__(self, name: str) -> Any:
         if name.startswith("_") or name == "report":

@@ -56,11 +56,13 @@ class NodeResponse:
     maxima_within_round_off_hz: np.ndarray
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class UnbalanceResult(Reported):
     """The steady unbalance response (``whirl unbalance``): per node the amplitude and phase
     of ux and uy and the orbit's semi-axes over speed, and the resonance peaks with their
     amplification factors and API 617 separation margins."""
+
+    _figures = ("bode", "polar")
 
     model: Model
     #: Spin speeds, Hz (uneven: speeds are added inside each peak's half-power band).

@@ -17,13 +17,15 @@ from .report import Report, Reported
 from .response import report_nodes
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class SimulationResult(Reported):
     """Recorded time histories, ``values[channel, sample]`` at ``time`` with channels named
     ``n<node>.ux`` / ``n<node>.uy`` (m), and the library's report: ``to_dict()`` is the
     command line's summary.json, ``to_pandas(name)`` its tables ``time_history``,
     ``spectrum``, ``peaks`` and per roller bearing ``contacts_<bearing>``. The summary's
     keys read as attributes too (``result.step_s``, ``result.contact``)."""
+
+    _figures = ("spectrum", "orbit")
 
     model: Model
     #: Times, s.

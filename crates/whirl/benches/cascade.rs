@@ -1,5 +1,5 @@
 //! Benchmark of the cascade on the reference rotor; figures go to BENCHMARKS.md.
-//! Run with `cargo bench -p whirl --bench cascade`.
+//! Run with `cargo bench -p whirl-rotordynamics --bench cascade`.
 
 mod common;
 // The test models; a benchmark uses only the reference rotor.

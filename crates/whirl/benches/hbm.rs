@@ -1,5 +1,5 @@
 //! Benchmarks of harmonic balance on the reference rotor; figures go to BENCHMARKS.md.
-//! Run with `cargo bench -p whirl --bench hbm`.
+//! Run with `cargo bench -p whirl-rotordynamics --bench hbm`.
 
 mod common;
 // The test models; a benchmark uses only the reference rotor.

@@ -1,5 +1,5 @@
 //! Benchmarks of the linear analyses on the reference rotor (84 DOFs).
-//! Run with `cargo bench -p whirl --bench modal`; figures go to BENCHMARKS.md.
+//! Run with `cargo bench -p whirl-rotordynamics --bench modal`; figures go to BENCHMARKS.md.
 
 mod common;
 // The test models; a benchmark uses only the reference rotor.

@@ -8,7 +8,7 @@
 //! three times as long here). Both march the same steps from the same start, and the bench
 //! checks that they end in the same place, so the plain loop is known to do the same work.
 //! Figures go to BENCHMARKS.md.
-//! Run with `cargo bench -p whirl --bench step`.
+//! Run with `cargo bench -p whirl-rotordynamics --bench step`.
 
 mod common;
 // The test models; a benchmark uses only the reference rotor.

@@ -1,5 +1,5 @@
 //! Benchmarks of time marching on the reference rotor; figures go to BENCHMARKS.md.
-//! Run with `cargo bench -p whirl --bench time`.
+//! Run with `cargo bench -p whirl-rotordynamics --bench time`.
 
 mod common;
 // The test models; a benchmark uses only the reference rotor.

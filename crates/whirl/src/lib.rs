@@ -191,3 +191,15 @@ pub use error::{Error, InputError, Result};
 /// source. Checkpoints of cascades and studies record it and are resumed only by the same
 /// build, since any change of the code may change the answers while the version stays.
 pub const BUILD_ID: &str = concat!(env!("CARGO_PKG_VERSION"), "+", env!("WHIRL_SOURCE_HASH"));
+
+/// The Rust examples of the repository's README.md, run as doc-tests so that the entry
+/// page cannot drift from the library (only under `cfg(doctest)`: the published crate does
+/// not carry the file).
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+pub struct ReadmeExamples;
+
+/// The Rust examples of the repository's docs/rust.md, run as doc-tests.
+#[cfg(doctest)]
+#[doc = include_str!("../../../docs/rust.md")]
+pub struct RustGuideExamples;

@@ -16,9 +16,20 @@
 //! nu = E / (2 G_s) - 1), rigid disks, linear bearings with constant coefficients. What it
 //! cannot represent is refused, naming the element: tapered elements, speed-dependent or
 //! mass coefficients, seals, magnetic bearings, point masses with unequal x and y mass,
-//! support links, element torque, axial loads or damping that differ from element to element.
-//! ROSS's Rayleigh damping of the shaft elements (uniform alpha, beta) becomes whirl's rotor
-//! damping, which also acts on the disks: a note says so.
+//! support links, element torque, axial loads or damping that differ from element to element,
+//! ROSS 3's modal damping (`modal_damping_ratio`).
+//!
+//! ROSS 3 writes the rotor's own parameters (`Rotor(alpha=..., beta=..., min_w=...)`) into a
+//! `[parameters]` table. Its Rayleigh damping C = alpha M + beta K of the rotor without its
+//! bearings (shaft, disks, point masses) is whirl's `[damping]` exactly; ROSS then ignores the
+//! shaft elements' own alpha, beta, and so does the reader. `min_w` and `max_w` become the
+//! `[operating]` speed range. ROSS 2's Rayleigh damping of the shaft elements (uniform alpha,
+//! beta) becomes whirl's rotor damping, which also acts on the disks: a note says so.
+//!
+//! Nothing is dropped in silence: a parameter or element field that the reader does not
+//! translate (`rated_w`, an axial coefficient, a field it does not know) is named in a note.
+//! Only what does not change the numbers passes without one: tags, colours, plot scale
+//! factors, and the frequencies and interpolation of coefficients that are constant.
 
 use std::collections::BTreeMap;
 use std::fmt::Write;
@@ -71,6 +82,7 @@ pub fn from_ross_toml(text: &str, name: &str) -> Result<RossImport> {
         InputError::field("ross", format!("not a TOML file: {}", e.message()))
     })?;
     let mut notes = Vec::new();
+    let parameters = parameters(table.get("parameters"), &mut notes)?;
     let mut shaft = Vec::new();
     let mut disks = String::new();
     let mut bearings = String::new();
@@ -83,9 +95,9 @@ pub fn from_ross_toml(text: &str, name: &str) -> Result<RossImport> {
             .ok_or_else(|| refuse(key, "is not a table of element fields"))?;
         let class = key.split('_').next().unwrap_or_default();
         match class {
-            "ShaftElement" => shaft.push(shaft_element(key, element)?),
-            "DiskElement" => disks.push_str(&disk(key, element)?),
-            "PointMass" => disks.push_str(&point_mass(key, element)?),
+            "ShaftElement" => shaft.push(shaft_element(key, element, &mut notes)?),
+            "DiskElement" => disks.push_str(&disk(key, element, &mut notes)?),
+            "PointMass" => disks.push_str(&point_mass(key, element, &mut notes)?),
             "BearingElement" | "BallBearingElement" | "RollerBearingElement" => {
                 bearings.push_str(&bearing(key, element, &mut notes)?)
             }
@@ -112,11 +124,110 @@ pub fn from_ross_toml(text: &str, name: &str) -> Result<RossImport> {
             .unwrap_or("(version not given)"),
         quoted(name)
     );
-    toml.push_str(&elements_and_damping(&shaft, &mut notes)?);
+    toml.push_str(&elements_and_damping(
+        &shaft,
+        parameters.damping,
+        &mut notes,
+    )?);
     toml.push_str(&materials_and_sections(&shaft));
     toml.push_str(&disks);
     toml.push_str(&bearings);
+    if let Some((min, max)) = parameters.operating {
+        let _ = write!(
+            toml,
+            "[operating]\nmin_speed = {}\nmax_speed = {}\n",
+            float(min),
+            float(max)
+        );
+    }
     Ok(RossImport { toml, notes })
+}
+
+/// What whirl takes from ROSS 3's `[parameters]`, the rotor's own arguments.
+#[derive(Debug, Default)]
+struct Parameters {
+    /// Rayleigh damping of the rotor without its bearings (alpha 1/s, beta s).
+    damping: (f64, f64),
+    /// Operating speed range `min_w`, `max_w`, rad/s.
+    operating: Option<(f64, f64)>,
+}
+
+/// Reads `[parameters]` (absent before ROSS 3, empty in ROSS 2.3's files).
+fn parameters(table: Option<&Value>, notes: &mut Vec<String>) -> Result<Parameters> {
+    const KEY: &str = "parameters";
+    let Some(value) = table else {
+        return Ok(Parameters::default());
+    };
+    let t = value
+        .as_table()
+        .ok_or_else(|| InputError::field("ross", "`parameters` is not a table"))?;
+    if t.contains_key("modal_damping_ratio") {
+        return Err(InputError::field(
+            "ross",
+            "the ROSS rotor has modal damping (`parameters.modal_damping_ratio`), which whirl \
+             cannot represent: give it Rayleigh damping (alpha, beta) in ROSS instead",
+        )
+        .into());
+    }
+    let speeds = ["min_w", "max_w"].map(|f| t.contains_key(f).then(|| number(KEY, t, f)));
+    let operating = match speeds {
+        [Some(min), Some(max)] => Some((min?, max?)),
+        [None, None] => None,
+        _ => {
+            notes.push(
+                "ROSS's `parameters` give only one of `min_w` and `max_w`: no operating \
+                 speed range was set"
+                    .to_string(),
+            );
+            None
+        }
+    };
+    for (field, value) in t {
+        let note = match field.as_str() {
+            "alpha" | "beta" | "min_w" | "max_w" => continue,
+            // Without modal damping ratios ROSS does not use it either.
+            "default_damping_ratio" if number(KEY, t, field)? == 0.0 => continue,
+            "default_damping_ratio" => format!(
+                "ROSS's `parameters.default_damping_ratio` = {value} was dropped: ROSS uses \
+                 it only with modal damping ratios, which this rotor has not"
+            ),
+            "rated_w" => format!(
+                "ROSS's rated speed `parameters.rated_w` = {value} rad/s was dropped: whirl's \
+                 model has an operating range, not a rated speed"
+            ),
+            _ => format!("ROSS's `parameters.{field}` = {value} is not read by whirl"),
+        };
+        notes.push(note);
+    }
+    Ok(Parameters {
+        damping: (
+            optional_number(KEY, t, "alpha")?,
+            optional_number(KEY, t, "beta")?,
+        ),
+        operating,
+    })
+}
+
+/// Names in a note each field of ROSS element `key` that the reader does not translate:
+/// none is dropped in silence. Tags, colours and plot scale factors change no number.
+fn note_unread(key: &str, t: &Table, read: &[&str], notes: &mut Vec<String>) {
+    const COSMETIC: [&str; 3] = ["tag", "color", "scale_factor"];
+    let unread: Vec<&str> = t
+        .keys()
+        .map(String::as_str)
+        .filter(|f| !read.contains(f) && !COSMETIC.contains(f))
+        .collect();
+    if !unread.is_empty() {
+        notes.push(format!(
+            "`{key}`: {} not read by whirl: `{}`",
+            if unread.len() == 1 {
+                "this field is"
+            } else {
+                "these fields are"
+            },
+            unread.join("`, `")
+        ));
+    }
 }
 
 /// A refusal naming the ROSS element (its table in the file) and why.
@@ -162,7 +273,29 @@ fn node(element: &str, table: &Table) -> Result<usize> {
     }
 }
 
-fn shaft_element(key: &str, t: &Table) -> Result<ShaftElement> {
+fn shaft_element(key: &str, t: &Table, notes: &mut Vec<String>) -> Result<ShaftElement> {
+    note_unread(
+        key,
+        t,
+        &[
+            "L",
+            "idl",
+            "odl",
+            "idr",
+            "odr",
+            "n",
+            "axial_force",
+            "torque",
+            "shear_effects",
+            "rotary_inertia",
+            "gyroscopic",
+            "shear_method_calc",
+            "alpha",
+            "beta",
+            "material",
+        ],
+        notes,
+    );
     let [idl, odl, idr, odr] = ["idl", "odl", "idr", "odr"].map(|f| number(key, t, f));
     let (idl, odl, idr, odr) = (idl?, odl?, idr?, odr?);
     if idl != idr || odl != odr {
@@ -195,6 +328,7 @@ fn shaft_element(key: &str, t: &Table) -> Result<ShaftElement> {
         .and_then(Value::as_table)
         .ok_or_else(|| refuse(key, "has no material table"))?;
     let field = format!("{key}.material");
+    note_unread(&field, m, &["name", "rho", "E", "G_s"], notes);
     let material = Material {
         name: m
             .get("name")
@@ -265,21 +399,26 @@ fn uniform<T: PartialEq + Copy + std::fmt::Debug>(
     }
 }
 
-fn elements_and_damping(shaft: &[ShaftElement], notes: &mut Vec<String>) -> Result<String> {
+/// The `[elements]` table, and `[damping]` from the rotor's Rayleigh damping (ROSS 3's
+/// `parameters`, `rotor`) or else from the shaft elements' own.
+fn elements_and_damping(
+    shaft: &[ShaftElement],
+    rotor: (f64, f64),
+    notes: &mut Vec<String>,
+) -> Result<String> {
     let rotary = uniform(shaft, "rotary_inertia", |e| e.rotary_inertia)?;
     let gyroscopic = uniform(shaft, "gyroscopic", |e| e.gyroscopic)?;
     let axial = uniform(shaft, "axial_force", |e| e.axial_force)?;
-    let (alpha, beta) = uniform(shaft, "damping (alpha, beta)", |e| e.damping)?;
+    let (alpha, beta) = if rotor != (0.0, 0.0) {
+        rotor_damping(shaft, rotor, notes)
+    } else {
+        element_damping(shaft, notes)?
+    };
     let mut s = format!(
         "[elements]\nrotary_inertia = {rotary}\ngyroscopic = {gyroscopic}\naxial_load = {}\n\n",
         float(axial)
     );
     if alpha != 0.0 || beta != 0.0 {
-        notes.push(format!(
-            "ROSS's proportional damping of the shaft elements (alpha = {alpha} 1/s, beta = \
-             {beta} s) became whirl's rotor damping C = alpha M + beta K, which also acts on \
-             the disks' mass"
-        ));
         let _ = write!(
             s,
             "[damping]\nalpha = {}\nbeta = {}\n\n",
@@ -288,6 +427,40 @@ fn elements_and_damping(shaft: &[ShaftElement], notes: &mut Vec<String>) -> Resu
         );
     }
     Ok(s)
+}
+
+/// ROSS 3's rotor damping, the same matrix as whirl's `[damping]`; ROSS then ignores the
+/// shaft elements' own (with a warning of its own), and so does whirl.
+fn rotor_damping(
+    shaft: &[ShaftElement],
+    (alpha, beta): (f64, f64),
+    notes: &mut Vec<String>,
+) -> (f64, f64) {
+    notes.push(format!(
+        "ROSS's rotor damping (`parameters`: alpha = {alpha} 1/s, beta = {beta} s; C = alpha M \
+         + beta K of the rotor without its bearings) became whirl's [damping], the same matrix"
+    ));
+    if let Some(e) = shaft.iter().find(|e| e.damping != (0.0, 0.0)) {
+        notes.push(format!(
+            "the shaft elements' own damping (`{}`: alpha = {}, beta = {}) was ignored, as ROSS \
+             ignores it when the rotor has damping",
+            e.tag, e.damping.0, e.damping.1
+        ));
+    }
+    (alpha, beta)
+}
+
+/// ROSS 2's damping of the shaft elements, uniform, as whirl's rotor damping.
+fn element_damping(shaft: &[ShaftElement], notes: &mut Vec<String>) -> Result<(f64, f64)> {
+    let (alpha, beta) = uniform(shaft, "damping (alpha, beta)", |e| e.damping)?;
+    if alpha != 0.0 || beta != 0.0 {
+        notes.push(format!(
+            "ROSS's proportional damping of the shaft elements (alpha = {alpha} 1/s, beta = \
+             {beta} s) became whirl's rotor damping C = alpha M + beta K, which also acts on \
+             the disks' mass"
+        ));
+    }
+    Ok((alpha, beta))
 }
 
 /// `[[material]]` tables (one per distinct material) and `[[shaft]]` sections, equal
@@ -354,7 +527,8 @@ fn materials_and_sections(shaft: &[ShaftElement]) -> String {
     s
 }
 
-fn disk(key: &str, t: &Table) -> Result<String> {
+fn disk(key: &str, t: &Table, notes: &mut Vec<String>) -> Result<String> {
+    note_unread(key, t, &["n", "m", "Ip", "Id"], notes);
     Ok(format!(
         "[[disk]]\nname = {}\nnode = {}\nmass = {}\npolar_inertia = {}\ndiametral_inertia = {}\n\n",
         quoted(tag(key)),
@@ -366,7 +540,8 @@ fn disk(key: &str, t: &Table) -> Result<String> {
 }
 
 /// A point mass is a disk without inertia, when its mass is the same in x and y.
-fn point_mass(key: &str, t: &Table) -> Result<String> {
+fn point_mass(key: &str, t: &Table, notes: &mut Vec<String>) -> Result<String> {
+    note_unread(key, t, &["n", "mx", "my"], notes);
     let (mx, my) = (number(key, t, "mx")?, number(key, t, "my")?);
     if mx != my {
         return Err(refuse(
@@ -412,6 +587,34 @@ fn coefficient(key: &str, t: &Table, field: &str) -> Result<f64> {
 }
 
 fn bearing(key: &str, t: &Table, notes: &mut Vec<String>) -> Result<String> {
+    // `frequency` and `interpolation` only say where the coefficients apply, and whirl
+    // takes constant ones.
+    note_unread(
+        key,
+        t,
+        &[
+            "n",
+            "n_link",
+            "kxx",
+            "kxy",
+            "kyx",
+            "kyy",
+            "cxx",
+            "cxy",
+            "cyx",
+            "cyy",
+            "kzz",
+            "czz",
+            "mxx",
+            "mxy",
+            "myx",
+            "myy",
+            "mzz",
+            "frequency",
+            "interpolation",
+        ],
+        notes,
+    );
     if t.get("n_link")
         .is_some_and(|v| !matches!(v, Value::String(_)))
     {
@@ -430,7 +633,7 @@ fn bearing(key: &str, t: &Table, notes: &mut Vec<String>) -> Result<String> {
             .into());
         }
     }
-    for field in ["kzz", "czz"] {
+    for field in ["kzz", "czz", "mzz"] {
         if coefficient(key, t, field)? != 0.0 {
             notes.push(format!(
                 "`{key}`: the axial coefficient `{field}` was dropped (whirl models bending only)"

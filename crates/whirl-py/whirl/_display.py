@@ -1,0 +1,126 @@
+"""How a result shows itself in a notebook: a one-line repr, an HTML summary with the
+heads of its tables, and ``.plot()`` drawing its figures from :mod:`whirl.plot`."""
+
+from __future__ import annotations
+
+import html
+import json
+from typing import Any
+
+#: Summary keys every result has (which command, which whirl, which model): the repr and
+#: the HTML name the command and the model already.
+_HEAD_KEYS = ("command", "whirl_version", "model_file", "model_name")
+#: How many summary values the repr shows, and how many rows of each table the HTML.
+_REPR_VALUES = 3
+_HTML_ROWS = 5
+#: Longest text of one summary value in the HTML (a list of 161 speeds would fill a page).
+_HTML_VALUE_CHARS = 120
+
+
+def _scalar(value: Any) -> bool:
+    return isinstance(value, (bool, int, float, str)) or value is None
+
+
+def _shown(value: Any, limit: int) -> str:
+    """A summary value as short text: scalars as they are, lists and tables abbreviated."""
+    if _scalar(value):
+        text = f"{value:.6g}" if isinstance(value, float) else str(value)
+    else:
+        text = json.dumps(value, default=str)
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+class Display:
+    """Notebook display of a result whose report is ``self._report()``: its command, model,
+    summary (``to_dict()``) and tables (``columns(name)``). ``_figures`` names the functions of
+    :mod:`whirl.plot` that draw this result, the default first."""
+
+    __slots__ = ()
+    _figures: tuple[str, ...] = ()
+
+    def _report(self) -> Any:
+        raise NotImplementedError
+
+    def _table_shapes(self) -> list[tuple[str, int, int]]:
+        """(name, rows, columns) of each table."""
+        report = self._report()
+        shapes = []
+        for name in report.tables:
+            columns = report.columns(name)
+            rows = len(next(iter(columns.values()))) if columns else 0
+            shapes.append((name, rows, len(columns)))
+        return shapes
+
+    def _key_values(self) -> list[tuple[str, Any]]:
+        summary = self._report().to_dict()
+        return [(k, v) for k, v in summary.items() if k not in _HEAD_KEYS]
+
+    def __repr__(self) -> str:
+        report = self._report()
+        values = [(k, v) for k, v in self._key_values() if _scalar(v)][:_REPR_VALUES]
+        shown = "".join(f", {k}={_shown(v, 40)}" for k, v in values)
+        tables = ", ".join(f"{name} [{rows}x{cols}]" for name, rows, cols in self._table_shapes())
+        return (
+            f"<whirl.{type(self).__name__} {report.command} of {report.model.name!r}{shown}; "
+            f"tables: {tables}>"
+        )
+
+    def _repr_html_(self) -> str:
+        report = self._report()
+        rows = "".join(
+            f"<tr><th style='text-align:left'>{html.escape(k)}</th>"
+            f"<td style='text-align:left'>{html.escape(_shown(v, _HTML_VALUE_CHARS))}</td></tr>"
+            for k, v in self._key_values()
+        )
+        parts = [
+            f"<div><b>whirl {html.escape(report.command)}</b> of "
+            f"<i>{html.escape(report.model.name)}</i> ({type(self).__name__})",
+            f"<table>{rows}</table>",
+        ]
+        for name, count, cols in self._table_shapes():
+            parts.append(
+                f"<details><summary>table <code>{html.escape(name)}</code>: {count} rows, "
+                f"{cols} columns (<code>to_pandas({name!r})</code>)</summary>"
+                f"{_table_head_html(report.columns(name))}</details>"
+            )
+        parts.append("</div>")
+        return "".join(parts)
+
+    def plot(self, kind: str | None = None, **options: Any) -> Any:
+        """Draws the result with :mod:`whirl.plot` (matplotlib) and returns the Axes:
+        ``kind`` is one of :attr:`figures` (default the first); ``options`` go to that
+        function (``ax=``, ...)."""
+        from . import plot
+
+        if not self._figures:
+            raise NotImplementedError(f"whirl.plot has no figure of a {type(self).__name__}")
+        name = self._figures[0] if kind is None else kind
+        if name not in self._figures:
+            raise ValueError(f"no figure `{name}` of a {type(self).__name__}: its figures are {list(self._figures)}")
+        return getattr(plot, name)(self, **options)
+
+    @property
+    def figures(self) -> tuple[str, ...]:
+        """The figures ``plot(kind)`` draws of this result, the default first."""
+        return self._figures
+
+
+def _table_head_html(columns: dict[str, Any]) -> str:
+    """The first rows of a table as HTML, from its columns."""
+    names = list(columns)
+    head = "".join(f"<th>{html.escape(n)}</th>" for n in names)
+    count = len(columns[names[0]]) if names else 0
+    body = "".join(
+        "<tr>" + "".join(f"<td>{html.escape(_cell(columns[n][i]))}</td>" for n in names) + "</tr>"
+        for i in range(min(count, _HTML_ROWS))
+    )
+    more = f"<p>... {count - _HTML_ROWS} more rows</p>" if count > _HTML_ROWS else ""
+    return f"<table><tr>{head}</tr>{body}</table>{more}"
+
+
+def _cell(value: Any) -> str:
+    if value is None:
+        return ""
+    if isinstance(value, float) or hasattr(value, "dtype") and value.dtype.kind == "f":
+        return f"{float(value):.6g}"
+    return str(value)
