@@ -335,7 +335,9 @@ impl SpectrumPlanner {
         let len = self.len();
         for (k, (a, x)) in amplitude.iter_mut().zip(&self.output).enumerate() {
             let edge = k == 0 || 2 * k == len;
-            *a = x.norm() * if edge { 0.5 * self.scale } else { self.scale };
+            // The root of the squared modulus: hypot's care for overflow and underflow costs
+            // a few per cent of a cascade, and a displacement's spectrum has neither.
+            *a = x.norm_sqr().sqrt() * if edge { 0.5 * self.scale } else { self.scale };
         }
         Ok(())
     }
@@ -440,7 +442,7 @@ impl FullSpectrumPlanner {
         // fftshift: output j holds the signed bin j - N/2.
         let half = len / 2;
         for (j, a) in amplitude.iter_mut().enumerate() {
-            *a = self.buffer[(j + len - half) % len].norm() * self.scale;
+            *a = self.buffer[(j + len - half) % len].norm_sqr().sqrt() * self.scale;
         }
         Ok(())
     }
