@@ -3,8 +3,8 @@
 
 use std::f64::consts::TAU;
 
-use whirl::hbm::{sweep, SweepSettings};
-use whirl::map::{map, map_with, Clearance, MapRequest, Parallelism};
+use whirl::hbm::{sweep, BifurcationKind, SweepSettings};
+use whirl::map::{map, map_with, Clearance, Edge, Growth, MapRequest, Parallelism, UnstableBand};
 use whirl::model::Model;
 use whirl::units::rad_s_to_hz as hz;
 
@@ -65,6 +65,7 @@ fn first_loss_of_stability_is_the_single_sweeps_at_each_value() {
             .collect();
         for band in &entry.bands {
             assert!(speeds.contains(&band.opens_hz), "{clearance}: {band:?}");
+            check_growing(band);
         }
         // Below 30 Hz the orbit is stable at both clearances (first losses near 40-45 Hz).
         assert_eq!(entry.clearance(TAU * 30.0), Clearance::Clear, "{clearance}");
@@ -155,4 +156,34 @@ fn the_design_querys_answer_is_tried_by_a_cascade() {
     request.clear_below = None;
     let e = map(&request).unwrap_err().to_string();
     assert!(e.contains("confirm"), "{e}");
+}
+
+/// What grows inside `band` lies within it; a real negative multiplier's component is at
+/// half the speed (its angle is pi), and a band opened by period doubling has one.
+fn check_growing(band: &UnstableBand) {
+    let [lo, hi] = band.span_hz;
+    let within = |x: f64, a: f64, b: f64| a - 1e-9 * b <= x && x <= b + 1e-9 * b;
+    for g in &band.growing {
+        for s in g.speeds_hz {
+            assert!(within(s, lo, hi), "{band:?}");
+        }
+        if g.growth == Growth::HalfSpeed {
+            for f in g.frequency_hz {
+                assert!(within(f, 0.5 * lo, 0.5 * hi), "{band:?}");
+            }
+        }
+    }
+    let opens_by_doubling = matches!(
+        band.opens,
+        Edge::Bifurcation {
+            bifurcation: BifurcationKind::PeriodDoubling,
+            ..
+        }
+    );
+    if opens_by_doubling {
+        assert!(
+            band.growing.iter().any(|g| g.growth == Growth::HalfSpeed),
+            "{band:?}"
+        );
+    }
 }

@@ -12,7 +12,7 @@
 
 use std::fmt::Write;
 
-use whirl::map::{map_with, MapReport, MapRequest, Parallelism};
+use whirl::map::{growing_text, map_with, MapReport, MapRequest, Parallelism};
 use whirl::report::Report;
 
 use super::cascade::{cores, LONG_RUN_S};
@@ -180,6 +180,9 @@ fn text_summary(report: &MapReport) -> String {
                 "    unstable {:.2}-{:.2} Hz: opens by {}{emerging}, closes by {}{coexists}",
                 b.span_hz[0], b.span_hz[1], b.opens, b.closes
             );
+            if b.growing.len() > 1 {
+                let _ = writeln!(text, "      growing: {}", growing_text(&b.growing));
+            }
         }
     }
     for c in &s.checks {

@@ -86,6 +86,45 @@ pub struct UnstableBand {
     /// Stretches of speed within `span_hz` where a stable stretch of the same branch
     /// (elsewhere along the path) gives a stable synchronous orbit too, Hz, ascending.
     pub coexisting_stable_hz: Vec<[f64; 2]>,
+    /// What grows inside the band, stretch by stretch in path order: the leading Floquet
+    /// multiplier at its points. A band opened by period doubling can go on unstable
+    /// through a complex pair at quite another frequency, which no edge shows.
+    pub growing: Vec<Growing>,
+}
+
+/// How the leading multiplier (the largest modulus) leaves the unit circle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Growth {
+    /// Real and negative: a component at w/2 grows (period doubling).
+    HalfSpeed,
+    /// Real and positive: the orbit drifts to another (near a fold or symmetry breaking).
+    Real,
+    /// A complex pair: a component at the exponent's frequency grows (NSV).
+    Complex,
+}
+
+impl Growth {
+    /// A short name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Growth::HalfSpeed => "w/2",
+            Growth::Real => "real",
+            Growth::Complex => "complex",
+        }
+    }
+}
+
+/// A stretch of a band's points whose leading multiplier grows the same way.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Growing {
+    /// How.
+    pub growth: Growth,
+    /// First and last speed of the stretch's points, Hz, in path order.
+    pub speeds_hz: [f64; 2],
+    /// Lowest and highest frequency of the growing component over the stretch, Hz (the
+    /// exponent's, folded into 0 to w/2).
+    pub frequency_hz: [f64; 2],
 }
 
 impl UnstableBand {
@@ -195,7 +234,57 @@ fn close(branch: &Branch, o: &Open, speed: f64, edge: Edge) -> UnstableBand {
         closes: edge,
         span_hz: [lo, hi],
         coexisting_stable_hz: stable_within(branch, lo, hi),
+        growing: growing(branch, &o.points),
     }
+}
+
+/// A multiplier counts as real when its imaginary part is below this share of its modulus:
+/// the eigen-solver returns real ones with an imaginary part of exactly zero, and a complex
+/// pair near the real axis has a frequency within a millionth of w/2 or 0 of it.
+const REAL: f64 = 1e-6;
+
+/// The leading multiplier's growth and frequency (Hz) at branch point `i`; `None` where the
+/// point is stable or has no stability.
+fn leading(branch: &Branch, i: usize) -> Option<(Growth, f64)> {
+    let p = &branch.points[i];
+    let s = p.stability.as_ref().filter(|s| !s.stable)?;
+    let k = (0..s.multipliers.len()).max_by(|&a, &b| {
+        let m = |j: usize| s.multipliers[j].0.hypot(s.multipliers[j].1);
+        m(a).total_cmp(&m(b))
+    })?;
+    let (re, im) = s.multipliers[k];
+    let growth = if im.abs() > REAL * re.hypot(im) {
+        Growth::Complex
+    } else if re < 0.0 {
+        Growth::HalfSpeed
+    } else {
+        Growth::Real
+    };
+    Some((growth, hz(s.exponents[k].1.abs())))
+}
+
+/// The stretches of `points` (a band's, in path order) whose leading multiplier grows the
+/// same way.
+fn growing(branch: &Branch, points: &[usize]) -> Vec<Growing> {
+    let mut out: Vec<Growing> = Vec::new();
+    for &i in points {
+        let Some((growth, f)) = leading(branch, i) else {
+            continue;
+        };
+        let speed = hz(branch.points[i].solution.frequency);
+        match out.last_mut() {
+            Some(g) if g.growth == growth => {
+                g.speeds_hz[1] = speed;
+                g.frequency_hz = [g.frequency_hz[0].min(f), g.frequency_hz[1].max(f)];
+            }
+            _ => out.push(Growing {
+                growth,
+                speeds_hz: [speed, speed],
+                frequency_hz: [f, f],
+            }),
+        }
+    }
+    out
 }
 
 /// The speeds within [lo, hi] (Hz) that a stable stretch of `branch` covers: each segment

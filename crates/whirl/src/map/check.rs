@@ -331,6 +331,7 @@ mod tests {
             closes: Edge::BranchEnd,
             span_hz: [lo, hi],
             coexisting_stable_hz: Vec::new(),
+            growing: Vec::new(),
         }
     }
 

@@ -28,10 +28,10 @@ mod run;
 
 use std::time::Instant;
 
-pub use bands::{unstable_bands, Edge, UnstableBand};
+pub use bands::{unstable_bands, Edge, Growing, Growth, UnstableBand};
 pub use check::{CascadeCheck, Disagreement};
 pub use lines::{resonance_lines, Excitation, ResonanceLine};
-pub use report::{ClearBelow, Clearance, MapEntry, MapReport, MapSummary};
+pub use report::{growing_text, ClearBelow, Clearance, MapEntry, MapReport, MapSummary};
 pub use request::{MapRequest, MapValue, DEFAULT_PARAMETER, MAX_VALUES};
 pub use run::{Parallelism, ValueRun};
 

@@ -4,7 +4,7 @@
 
 use serde::Serialize;
 
-use super::bands::{Edge, UnstableBand};
+use super::bands::{Edge, Growing, UnstableBand};
 use super::check::{CascadeCheck, Confirmation};
 use super::lines::{Excitation, ResonanceLine};
 use super::request::MapValue;
@@ -186,6 +186,8 @@ pub struct BandSummary {
     pub span_hz: [f64; 2],
     /// Speeds within it where a stable synchronous orbit coexists, Hz.
     pub coexisting_stable_hz: Vec<[f64; 2]>,
+    /// What grows inside it, stretch by stretch.
+    pub growing: Vec<Growing>,
 }
 
 /// The answer to "which values keep the orbit free of unstable bands below this speed".
@@ -274,7 +276,27 @@ fn band_summary(b: &UnstableBand) -> BandSummary {
         closes: b.closes.name(),
         span_hz: b.span_hz,
         coexisting_stable_hz: b.coexisting_stable_hz.clone(),
+        growing: b.growing.clone(),
     }
+}
+
+/// What grows inside a band, as one line: `w/2 528.6-541.0 Hz at 264.3-270.5 Hz; complex
+/// 541.6-627.4 Hz at 45.1-52.3 Hz`.
+pub fn growing_text(growing: &[Growing]) -> String {
+    growing
+        .iter()
+        .map(|g| {
+            format!(
+                "{} {:.1}-{:.1} Hz at {:.1}-{:.1} Hz",
+                g.growth.name(),
+                g.speeds_hz[0],
+                g.speeds_hz[1],
+                g.frequency_hz[0],
+                g.frequency_hz[1]
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
 }
 
 impl Report for MapReport {
@@ -345,6 +367,10 @@ impl MapReport {
             .numbers(
                 "coexisting_stable_fraction",
                 rows.iter().map(|(_, b)| b.coexisting_fraction()),
+            )
+            .text(
+                "growing",
+                rows.iter().map(|(_, b)| growing_text(&b.growing)),
             );
         t
     }
