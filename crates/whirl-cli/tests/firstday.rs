@@ -77,7 +77,7 @@ fn readme_tutorial_runs_top_to_bottom() {
     let commands = tutorial_commands(&readme);
     // Every analysis the tutorial teaches is there: losing one (a parse that stops early)
     // would make this test pass on nothing.
-    assert!(commands.len() >= 17, "{} commands", commands.len());
+    assert!(commands.len() >= 18, "{} commands", commands.len());
     let dir = tempfile::tempdir().unwrap();
     copy_examples(dir.path());
     for args in &commands {
@@ -91,6 +91,7 @@ fn readme_tutorial_runs_top_to_bottom() {
         "hbm",
         "cascade",
         "quick_study",
+        "map",
     ] {
         let summary = dir.path().join("out").join(name).join("summary.json");
         assert!(summary.is_file(), "{} missing", summary.display());

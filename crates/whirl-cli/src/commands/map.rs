@@ -133,6 +133,9 @@ fn warn_if_long(request: &MapRequest) {
     }
 }
 
+/// Stretches of what grows inside a band that the text shows.
+const GROWING_SHOWN: usize = 3;
+
 /// A line per value (first loss, bands) and the design query's answer.
 fn text_summary(report: &MapReport) -> String {
     let mut text = String::new();
@@ -180,8 +183,15 @@ fn text_summary(report: &MapReport) -> String {
                 "    unstable {:.2}-{:.2} Hz: opens by {}{emerging}, closes by {}{coexists}",
                 b.span_hz[0], b.span_hz[1], b.opens, b.closes
             );
+            // A band that wanders through a resonance changes its leading multiplier many
+            // times: the first few here, all of them in bands.csv.
             if b.growing.len() > 1 {
-                let _ = writeln!(text, "      growing: {}", growing_text(&b.growing));
+                let shown = &b.growing[..b.growing.len().min(GROWING_SHOWN)];
+                let more = match b.growing.len() - shown.len() {
+                    0 => String::new(),
+                    n => format!("; {n} more in bands.csv"),
+                };
+                let _ = writeln!(text, "      growing: {}{more}", growing_text(shown));
             }
         }
     }
