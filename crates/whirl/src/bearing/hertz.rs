@@ -434,12 +434,14 @@ mod tests {
         b.waviness = vec![
             crate::model::Waviness {
                 ring: crate::model::Ring::Inner,
+                form: crate::model::WavinessForm::Thesis,
                 order: 9,
                 amplitude: 1e-6,
                 phase: 0.3,
             },
             crate::model::Waviness {
                 ring: crate::model::Ring::Outer,
+                form: crate::model::WavinessForm::Thesis,
                 order: 12,
                 amplitude: 0.5e-6,
                 phase: -1.0,

@@ -130,8 +130,13 @@ pub fn spectrum_markers(bearings: &[BearingReport]) -> Vec<RefLine> {
             .iter()
             .filter(|f| f.predicted.source != "varying compliance")
             .map(|f| {
-                let order = f.predicted.cage_orders + 1.0;
-                (format!("({order}-1) w_c"), f.predicted.frequency_hz)
+                let orders = f.predicted.cage_orders;
+                let label = if f.predicted.source.starts_with("ring-fixed") {
+                    format!("{orders:.4} w_c")
+                } else {
+                    format!("({}-1) w_c", orders + 1.0)
+                };
+                (label, f.predicted.frequency_hz)
             });
         for (label, value) in characteristic.into_iter().chain(waviness) {
             let duplicate = lines
