@@ -113,6 +113,12 @@ impl RollerGeometry {
         }
     }
 
+    /// True when neither ring has waviness or a defect: no roller's approach then depends
+    /// on where it is.
+    pub fn is_round(&self) -> bool {
+        self.waviness.is_empty() && self.defects.is_empty()
+    }
+
     /// Cage speed w_c at spin speed `omega`, rad/s.
     pub fn cage_speed(&self, omega: f64) -> f64 {
         self.cage_ratio * omega

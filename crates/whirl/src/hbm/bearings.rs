@@ -86,7 +86,7 @@ impl CagedBearing {
     /// `cage` has no positions.
     pub fn new(inner: HertzBearing, cage: CageModel) -> Result<CagedBearing> {
         let geometry = inner.geometry();
-        if !geometry.waviness.is_empty() || !geometry.defects.is_empty() {
+        if !geometry.is_round() {
             return Err(Error::Unsupported(format!(
                 "{}: waviness and race defects make the bearing force quasi-periodic (they \
                  move with the cage and the inner ring), which harmonic balance in the running \
