@@ -108,3 +108,44 @@ fn an_outer_race_spall_shows_at_bpfo_and_an_inner_race_one_at_bpfi() {
     let inner = check(Ring::Inner, f.bpfi);
     assert!(outer > 2.0 && inner > 2.0);
 }
+
+#[test]
+fn a_bad_defect_or_waviness_form_is_refused_with_the_field_named() {
+    // Appended to the file, the tables belong to its last roller bearing.
+    for (table, field) in [
+        (
+            "[[roller_bearing.defect]]\nring = \"outer\"\nwidth = 0\ndepth = \"5 um\"\n",
+            "roller_bearing[1].defect[0].width",
+        ),
+        (
+            "[[roller_bearing.defect]]\nring = \"outer\"\nwidth = 360\ndepth = \"5 um\"\n",
+            "roller_bearing[1].defect[0].width",
+        ),
+        (
+            "[[roller_bearing.defect]]\nring = \"outer\"\nwidth = 4\ndepth = \"-5 um\"\n",
+            "roller_bearing[1].defect[0].depth",
+        ),
+        (
+            "[[roller_bearing.defect]]\nring = \"cage\"\nwidth = 4\ndepth = \"5 um\"\n",
+            "roller_bearing[1].defect[0].ring",
+        ),
+        (
+            "[[roller_bearing.waviness]]\nring = \"outer\"\norder = 5\namplitude = \"1 um\"\n\
+             form = \"fixed\"\n",
+            "roller_bearing[1].waviness[0].form",
+        ),
+    ] {
+        let text = format!("{}\n{table}", whirl::examples::REFERENCE_ROTOR);
+        let message = Model::from_toml_str(&text, None).unwrap_err().to_string();
+        assert!(message.contains(field), "{table}: {message}");
+    }
+    let good = "[[roller_bearing.defect]]\nring = \"inner\"\nangle = 270\nwidth = 4\n\
+                depth = \"5 um\"\n";
+    let model = Model::from_toml_str(
+        &format!("{}\n{good}", whirl::examples::REFERENCE_ROTOR),
+        None,
+    )
+    .unwrap();
+    let d = &model.roller_bearings[1].defects[0];
+    assert_eq!((d.ring, d.depth), (Ring::Inner, 5e-6));
+}
