@@ -7,6 +7,7 @@
 
 use std::f64::consts::PI;
 
+use whirl::bearing::characteristic_frequencies;
 use whirl::fe::{dof, Direction};
 use whirl::modal::{
     CampbellResult, ComplexMode, ConvergenceResult, CriticalSpeed, UndampedModes, Whirl,
@@ -339,7 +340,8 @@ pub fn damped_orbits(
     grid
 }
 
-/// Campbell diagram: branches (forward solid, backward dashed), order lines, critical speeds.
+/// Campbell diagram: branches (forward solid, backward dashed), order lines, the first roller
+/// bearing's characteristic frequencies, critical speeds.
 pub fn campbell(model: &Model, result: &CampbellResult, labels: &[String]) -> Figure2d {
     let mut fig = Figure2d::new(
         format!("{}: Campbell diagram", model.name),
@@ -385,6 +387,13 @@ pub fn campbell(model: &Model, result: &CampbellResult, labels: &[String]) -> Fi
                 .push(Annotation::new(end, order * end, order_name(order)));
         }
     }
+    fig.series.extend(bearing_lines(
+        model,
+        speeds,
+        x_lo..x_hi,
+        top,
+        &mut fig.annotations,
+    ));
     for (whirl, marker, label) in [
         (
             Whirl::Forward,
@@ -448,6 +457,34 @@ pub fn campbell(model: &Model, result: &CampbellResult, labels: &[String]) -> Fi
 
 /// The first order line (1X) solid and dark; higher orders dotted and lighter, so 1X and
 /// 2X differ in more than a shade of grey.
+/// The first roller bearing's characteristic frequencies (FTF, BPFO = N_b w_c, BPFI, BSF)
+/// as lines over `speeds`, each named where it leaves the plot (at frequency `top`).
+fn bearing_lines(
+    model: &Model,
+    speeds: &[f64],
+    span: std::ops::Range<f64>,
+    top: f64,
+    annotations: &mut Vec<Annotation>,
+) -> Vec<Series> {
+    let Some(bearing) = model.roller_bearings.first() else {
+        return Vec::new();
+    };
+    characteristic_frequencies(bearing, 1.0)
+        .lines()
+        .into_iter()
+        .enumerate()
+        .map(|(i, (name, order))| {
+            let end = span.end.min(0.97 * top / order);
+            if end > span.start {
+                annotations.push(Annotation::new(end, order * end, name));
+            }
+            Series::new(speeds.to_vec(), speeds.iter().map(|s| order * s).collect())
+                .label(name)
+                .style(Style::dashed(Colour::Palette(4 + i)).width(1))
+        })
+        .collect()
+}
+
 fn order_style(k: usize) -> Style {
     if k == 0 {
         Style::solid(Colour::Rgb(30, 30, 30))

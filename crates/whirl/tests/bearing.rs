@@ -6,7 +6,7 @@ use std::f64::consts::PI;
 use whirl::bearing::{hertz_bearings, HertzBearing, RollerGeometry};
 use whirl::fe::Bearings;
 use whirl::force::{Kinematics, NonlinearForce};
-use whirl::model::{Clearance, Model, Ring, RollerBearing, Waviness};
+use whirl::model::{Clearance, Model, Ring, RollerBearing, Waviness, WavinessForm};
 use whirl::system::build;
 use whirl::time::static_equilibrium;
 
@@ -77,12 +77,14 @@ fn everything() -> RollerBearing {
     b.waviness = vec![
         Waviness {
             ring: Ring::Outer,
+            form: WavinessForm::Thesis,
             order: 5,
             amplitude: 1e-6,
             phase: 0.3,
         },
         Waviness {
             ring: Ring::Inner,
+            form: WavinessForm::Thesis,
             order: 3,
             amplitude: 0.5e-6,
             phase: -1.0,

@@ -1,8 +1,8 @@
 //! Figures of a cascade: the waterfall (thesis figs. 5.1-5.9), the colour map seen from
 //! above, the NSV amplitude over speed, and the full-spectrum map.
 //!
-//! Order lines (1X, 2X, 0.5X) and the varying-compliance frequency N_b w_c are drawn on the
-//! waterfall and the maps, dashed. Amplitudes are drawn on a logarithmic scale over
+//! Order lines (1X, 2X, 0.5X) and the first roller bearing's characteristic frequencies
+//! (FTF, BPFO = N_b w_c, BPFI, BSF) are drawn on the waterfall and the maps, dashed. Amplitudes are drawn on a logarithmic scale over
 //! [`DECADES`] decades below the largest: on a linear one the 1X near a critical speed
 //! would flatten every non-synchronous peak into the baseline.
 
@@ -48,8 +48,8 @@ fn largest(points: &[&CascadePoint]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// The lines f = k Omega (`sign` -1 draws them at negative frequency) and f = N_b w_c,
-/// as (speed, frequency) curves over `speeds`; `swap` puts frequency on x.
+/// The lines f = k Omega (`sign` -1 draws them at negative frequency) and the first roller
+/// bearing's characteristic frequencies (FTF, BPFO = N_b w_c, BPFI, BSF), as (speed, frequency) curves over `speeds`; `swap` puts frequency on x.
 fn order_lines(c: &Cascade, speeds: &[f64], sign: f64, swap: bool) -> Vec<Series> {
     let curve = |f: Vec<f64>| {
         if swap {
@@ -67,26 +67,17 @@ fn order_lines(c: &Cascade, speeds: &[f64], sign: f64, swap: bool) -> Vec<Series
                 .style(Style::dashed(Colour::Palette(i + 1)).width(1))
         })
         .collect();
-    if let Some(vc) = varying_compliance(c, speeds) {
+    // The first roller bearing's characteristic lines: the cage speed is proportional to
+    // the spin speed, so each is an order line.
+    let bearing = c.bearing_orders.first().map(|b| b.orders.lines());
+    for (i, (name, order)) in bearing.into_iter().flatten().enumerate() {
         lines.push(
-            curve(vc.iter().map(|f| sign * f).collect())
-                .label("N_b w_c")
-                .style(Style::dashed(Colour::Palette(5)).width(1)),
+            curve(speeds.iter().map(|s| sign * order * s).collect())
+                .label(name)
+                .style(Style::dashed(Colour::Palette(4 + i)).width(1)),
         );
     }
     lines
-}
-
-/// N_b w_c of the first roller bearing at each of `speeds` (Hz), if the model has one. The
-/// cage speed is proportional to the spin speed, so the ratio at any point carries over.
-fn varying_compliance(c: &Cascade, speeds: &[f64]) -> Option<Vec<f64>> {
-    let (point, bases) = c
-        .points
-        .iter()
-        .zip(&c.contact_frequencies)
-        .find(|(_, b)| !b.is_empty())?;
-    let ratio = bases.iter().find(|b| b.name == "N_b w_c")?.frequency_hz / point.speed_hz;
-    Some(speeds.iter().map(|s| ratio * s).collect())
 }
 
 /// Spectra stacked along speed: each trace at its speed, rising by log amplitude.

@@ -5,7 +5,7 @@ use std::f64::consts::PI;
 use serde::Serialize;
 
 use crate::force::Kinematics;
-use crate::model::{Clearance, Ring, RollerBearing, Waviness};
+use crate::model::{Clearance, RaceDefect, Ring, RollerBearing, Waviness, WavinessForm};
 
 /// One contact slice of one roller at one instant.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -69,6 +69,8 @@ pub struct RollerGeometry {
     pub slice_skew: Vec<f64>,
     /// Ring waviness.
     pub waviness: Vec<Waviness>,
+    /// Local raceway defects.
+    pub defects: Vec<RaceDefect>,
 }
 
 impl RollerGeometry {
@@ -98,6 +100,7 @@ impl RollerGeometry {
             slice_z,
             slice_skew,
             waviness: bearing.waviness.clone(),
+            defects: bearing.defects.clone(),
         }
     }
 
@@ -108,6 +111,12 @@ impl RollerGeometry {
         } else {
             2
         }
+    }
+
+    /// True when neither ring has waviness or a defect: no roller's approach then depends
+    /// on where it is.
+    pub fn is_round(&self) -> bool {
+        self.waviness.is_empty() && self.defects.is_empty()
     }
 
     /// Cage speed w_c at spin speed `omega`, rad/s.
@@ -167,14 +176,9 @@ impl RollerGeometry {
         }
     }
 
-    /// P_o(j) + P_i(j) and its rate, eq. 3.18: every component is
-    /// A cos(N_w (w_c - w_ring) t + pitch_j + xi), with the cage and ring angles in place of
-    /// w t so that speed ramps are followed.
-    ///
-    /// Note: eq. 3.18 multiplies only the time term by the order, not the roller's pitch
-    /// angle. That is what makes the whole bearing force oscillate at the waviness
-    /// frequency (N_w - 1) w_c of eq. 4.5, which the spectrum must show; a ring-fixed waviness
-    /// would take N_w pitch_j instead (see docs/theory-errata.md).
+    /// P_o(j) + P_i(j) and its rate: the waviness (eq. 3.18 or fixed to the ring) and the
+    /// race defects under roller j, with the cage and ring angles in place of w t so that
+    /// speed ramps are followed.
     pub(crate) fn waviness_at(
         &self,
         pitch: f64,
@@ -185,17 +189,54 @@ impl RollerGeometry {
         let mut value = 0.0;
         let mut rate = 0.0;
         for w in &self.waviness {
-            let (ring_phase, ring_speed) = match w.ring {
-                Ring::Outer => (0.0, 0.0),
-                Ring::Inner => (at.angle, at.speed),
-            };
+            let (ring_phase, ring_speed) = ring_motion(w.ring, at);
             let n = w.order as f64;
-            let arg = n * (cage_phase - ring_phase) + pitch + w.phase;
+            let arg = n * (cage_phase - ring_phase) + pitch_multiple(w) * pitch + w.phase;
             value += w.amplitude * arg.cos();
             rate -= w.amplitude * n * (cage_speed - ring_speed) * arg.sin();
         }
+        for d in &self.defects {
+            let (ring_phase, ring_speed) = ring_motion(d.ring, at);
+            let (dip, slope) = defect_dip(d, pitch + cage_phase - ring_phase);
+            value += dip;
+            rate += slope * (cage_speed - ring_speed);
+        }
         (value, rate)
     }
+}
+
+/// The ring's angle and speed: the outer ring stands, the inner turns with the shaft.
+fn ring_motion(ring: Ring, at: &Kinematics) -> (f64, f64) {
+    match ring {
+        Ring::Outer => (0.0, 0.0),
+        Ring::Inner => (at.angle, at.speed),
+    }
+}
+
+/// What multiplies roller j's pitch angle in the waviness' argument. Eq. 3.18 as printed
+/// takes it once, which makes the whole bearing force oscillate at (N_w - 1) w_c (eq. 4.5)
+/// for any order (docs/theory-errata.md); a shape fixed to the ring is met by each roller
+/// at its own angle, so the order multiplies the pitch too.
+fn pitch_multiple(w: &Waviness) -> f64 {
+    match w.form {
+        WavinessForm::Thesis => 1.0,
+        WavinessForm::RingFixed => w.order as f64,
+    }
+}
+
+/// The depth of `defect` under a roller at `angle` (rad, in the ring's frame) and its
+/// derivative with respect to that angle, per rad.
+fn defect_dip(defect: &RaceDefect, angle: f64) -> (f64, f64) {
+    let s = (angle - defect.angle + PI).rem_euclid(2.0 * PI) - PI;
+    if s.abs() >= 0.5 * defect.width {
+        return (0.0, 0.0);
+    }
+    let k = 2.0 * PI / defect.width;
+    let (sin, cos) = (k * s).sin_cos();
+    (
+        0.5 * defect.depth * (1.0 + cos),
+        -0.5 * defect.depth * k * sin,
+    )
 }
 
 /// Approach of a slice at axial offset `z` of a roller skewed by `alpha` in a raceway of

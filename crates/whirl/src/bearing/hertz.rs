@@ -315,7 +315,7 @@ impl NonlinearForce for HertzBearing {
         let cage_speed = self.geometry.cage_speed(at.speed);
         let (z_max, skew_max) = self.rollers.reach;
         for j in 0..self.geometry.rollers {
-            let (wavy, wavy_rate) = if self.geometry.waviness.is_empty() {
+            let (wavy, wavy_rate) = if self.geometry.is_round() {
                 (0.0, 0.0)
             } else {
                 let pitch = self.geometry.pitch(j);
@@ -434,12 +434,14 @@ mod tests {
         b.waviness = vec![
             crate::model::Waviness {
                 ring: crate::model::Ring::Inner,
+                form: crate::model::WavinessForm::Thesis,
                 order: 9,
                 amplitude: 1e-6,
                 phase: 0.3,
             },
             crate::model::Waviness {
                 ring: crate::model::Ring::Outer,
+                form: crate::model::WavinessForm::Thesis,
                 order: 12,
                 amplitude: 0.5e-6,
                 phase: -1.0,

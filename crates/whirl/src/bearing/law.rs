@@ -4,6 +4,7 @@
 //! ```text
 //! w_vc = N_b w_c            (varying compliance, eq. 4.4)
 //! w_P  = (N_w - 1) w_c      (each waviness component of order N_w, eq. 4.5)
+//! w_P  = k N_b w_c          (a ring-fixed outer-ring waviness, N_w = k N_b +- 1)
 //! ```
 //!
 //! with w_c = (1 - D_b/D_p) Omega / 2 the cage speed; [`ContactFrequency`] names them.
@@ -13,7 +14,7 @@ use serde::Serialize;
 use super::{forcing_bearings, hertz_bearings, RollerGeometry};
 use crate::fe::Bearings;
 use crate::force::{no_forces, ForceBuilder};
-use crate::model::{Model, Ring, RollerBearing};
+use crate::model::{Model, Ring, RollerBearing, Waviness, WavinessForm};
 
 /// How the roller bearings act in a simulation (time marching or harmonic balance).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -77,16 +78,20 @@ impl ContactLaw {
 /// A frequency the rollers excite.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ContactFrequency {
-    /// `varying compliance` or `waviness <ring> order <N_w>`.
+    /// `varying compliance`, `waviness <ring> order <N_w>` or
+    /// `ring-fixed waviness <ring> order <N_w>`.
     pub source: String,
-    /// N_b for the varying compliance, N_w - 1 for a waviness: multiples of the cage speed.
+    /// N_b for the varying compliance, N_w - 1 for a thesis-form waviness, k N_b (less
+    /// N_w Omega / w_c on the inner ring) for a ring-fixed one: multiples of the cage speed.
     pub cage_orders: f64,
     /// The frequency, Hz.
     pub frequency_hz: f64,
 }
 
-/// The varying-compliance frequency N_b w_c and every waviness frequency (N_w - 1) w_c of
-/// `bearing` at spin speed `speed` (rad/s), in Hz.
+/// The varying-compliance frequency N_b w_c and every waviness frequency of `bearing` at
+/// spin speed `speed` (rad/s), in Hz: (N_w - 1) w_c for the thesis' form, k N_b w_c for an
+/// outer ring-fixed waviness of order N_w = k N_b +- 1, |k N_b w_c - N_w Omega| for an
+/// inner one (a ring-fixed waviness of another order exerts no force on a centred shaft).
 pub fn contact_frequencies(bearing: &RollerBearing, speed: f64) -> Vec<ContactFrequency> {
     let geometry = RollerGeometry::new(bearing);
     let hz = |w: f64| w / (2.0 * std::f64::consts::PI);
@@ -100,11 +105,41 @@ pub fn contact_frequencies(bearing: &RollerBearing, speed: f64) -> Vec<ContactFr
             Ring::Outer => "outer",
             Ring::Inner => "inner",
         };
+        let Some(orders) = waviness_cage_orders(bearing, w) else {
+            continue;
+        };
+        let form = match w.form {
+            WavinessForm::Thesis => "",
+            WavinessForm::RingFixed => "ring-fixed ",
+        };
         out.push(ContactFrequency {
-            source: format!("waviness {ring} order {}", w.order),
-            cage_orders: w.order as f64 - 1.0,
-            frequency_hz: hz(geometry.waviness_frequency(w.order, speed)),
+            source: format!("{form}waviness {ring} order {}", w.order),
+            cage_orders: orders,
+            frequency_hz: hz(orders * geometry.cage_speed(speed)),
         });
     }
     out
+}
+
+/// The frequency at which waviness `w` of `bearing` acts, in multiples of the cage speed,
+/// or `None` for a ring-fixed order the rollers cancel. For a ring-fixed shape roller j
+/// meets A cos(N_w (theta_j - phi_ring) + xi); its force sum_j (...) e^(i theta_j) keeps
+/// only the harmonics e^(i m theta_j) with m a multiple of N_b, so N_w +- 1 = k N_b, turning
+/// at k N_b w_c - N_w w_ring.
+fn waviness_cage_orders(bearing: &RollerBearing, w: &Waviness) -> Option<f64> {
+    let order = w.order;
+    match w.form {
+        WavinessForm::Thesis => Some(order as f64 - 1.0),
+        WavinessForm::RingFixed => {
+            let rollers = bearing.rollers;
+            let k_nb = [order + 1, order.saturating_sub(1)]
+                .into_iter()
+                .find(|m| *m > 0 && m % rollers == 0)?;
+            let ring_orders = match w.ring {
+                Ring::Outer => 0.0,
+                Ring::Inner => order as f64 / bearing.cage_speed_ratio,
+            };
+            Some((k_nb as f64 - ring_orders).abs())
+        }
+    }
 }

@@ -20,12 +20,14 @@
 //! one radial law (eq. 3.12) that [`crate::time::forcing_fit`] samples from the Hertz
 //! model's response and [`forcing_regression`] fits. [`law`] names the contact laws a
 //! solver can choose ([`ContactLaw`], with the forces each builds) and the frequencies the
-//! rollers excite.
+//! rollers excite; [`frequencies`] the bearing's characteristic frequencies (BPFO, BPFI,
+//! BSF, FTF).
 //!
 //! This module is below the solvers: it imports nothing from `time`, `hbm` or `nsv`.
 
 pub mod forcing;
 pub mod forcing_regression;
+pub mod frequencies;
 pub mod geometry;
 pub mod hertz;
 pub mod lagrange;
@@ -35,6 +37,9 @@ pub mod stiffness;
 
 pub use forcing::{forcing_bearings, law_speeds, valid_up_to, ForcingBearing};
 pub use forcing_regression::{fit_forcing_law, ForcingPoint};
+pub use frequencies::{
+    bearing_orders, characteristic_frequencies, BearingOrders, CharacteristicFrequencies,
+};
 pub use geometry::{RollerGeometry, RollerState};
 pub use hertz::{HertzBearing, HERTZ_BOUND_APPROACH};
 pub use lagrange::{ContactStep, LagrangeContacts};

@@ -32,9 +32,9 @@
 //! always presses more rollers harder, so there the stiffness falls with clearance
 //! (docs/theory-errata.md has the numbers).
 //!
-//! The equivalent stiffness is that of the round bearing: ring waviness (a forcing, not a
-//! stiffness) and contact damping are left out, and with roller tilt only the translational
-//! block of eq. 3.22-3.23 is computed (the thesis ignores the angular one). Roller skew,
+//! The equivalent stiffness is that of the round bearing: ring waviness and race defects (a
+//! forcing, not a stiffness) and contact damping are left out, and with roller tilt only the
+//! translational block of eq. 3.22-3.23 is computed (the thesis ignores the angular one). Roller skew,
 //! a constant part of each slice's approach, is kept.
 
 mod report;
@@ -291,6 +291,7 @@ impl FrozenBearing {
         round.cage_angle = cage_angle;
         round.contact_damping = 0.0;
         round.waviness.clear();
+        round.defects.clear();
         round.roller_tilt = false;
         Ok(FrozenBearing {
             hertz: HertzBearing::new(&round, vec![0, 1])?,

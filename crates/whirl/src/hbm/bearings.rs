@@ -14,7 +14,7 @@
 //!
 //! In both the rollers keep their orbiting speed in the approach rate, so contact damping
 //! acts as in the time simulation. Waviness moves with the cage and the inner ring and
-//! has no periodic counterpart: a bearing with waviness is refused.
+//! has no periodic counterpart: a bearing with waviness or a race defect is refused.
 
 use std::f64::consts::TAU;
 
@@ -82,15 +82,15 @@ impl CagedBearing {
     /// `inner` with its cage positions set by `cage`.
     ///
     /// # Errors
-    /// [`Error::Unsupported`] when the bearing has waviness, [`Error::InvalidOption`] when
+    /// [`Error::Unsupported`] when the bearing has waviness or a race defect, [`Error::InvalidOption`] when
     /// `cage` has no positions.
     pub fn new(inner: HertzBearing, cage: CageModel) -> Result<CagedBearing> {
         let geometry = inner.geometry();
-        if !geometry.waviness.is_empty() {
+        if !geometry.is_round() {
             return Err(Error::Unsupported(format!(
-                "{}: waviness makes the bearing force quasi-periodic (it moves with the cage \
-                 and the inner ring), which harmonic balance in the running speed cannot \
-                 hold; remove the waviness for harmonic balance or use `whirl simulate`",
+                "{}: waviness and race defects make the bearing force quasi-periodic (they \
+                 move with the cage and the inner ring), which harmonic balance in the running \
+                 speed cannot hold; remove them for harmonic balance or use `whirl simulate`",
                 inner.name()
             )));
         }
@@ -323,6 +323,7 @@ mod tests {
         let mut bearing = reference_bearing();
         bearing.waviness.push(crate::model::Waviness {
             ring: crate::model::Ring::Outer,
+            form: crate::model::WavinessForm::Thesis,
             order: 5,
             amplitude: 1e-6,
             phase: 0.0,

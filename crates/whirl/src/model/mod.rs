@@ -218,8 +218,10 @@ pub struct RollerBearing {
     pub slices: usize,
     /// Roller skew angle, rad (thesis eqs. 3.16-3.17).
     pub skew_angle: f64,
-    /// Ring waviness components (thesis eq. 3.18).
+    /// Ring waviness components (thesis eq. 3.18, or fixed to the ring).
     pub waviness: Vec<Waviness>,
+    /// Local raceway defects (spalls).
+    pub defects: Vec<RaceDefect>,
     /// Forcing-function law (thesis eq. 3.12), when given.
     pub forcing_function: Option<ForcingFunction>,
 }
@@ -234,17 +236,51 @@ pub enum Ring {
     Inner,
 }
 
+/// How a waviness component is laid on its ring.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WavinessForm {
+    /// The thesis' eq. 3.18 as printed: roller j loses A cos(N_w (w_c - w_ring) t + 2 pi j /
+    /// N_b + xi), the order multiplying the time term only. It is not a shape of the ring
+    /// but a roller-phased excitation whose net force turns at (N_w - 1) w_c for any order
+    /// (eq. 4.5).
+    Thesis,
+    /// A shape of the ring, A cos(N_w psi + xi) at the ring's own angle psi: roller j at
+    /// theta_j loses A cos(N_w (theta_j - phi_ring) + xi). Its net force on a centred shaft
+    /// is zero unless N_w = k N_b +- 1.
+    RingFixed,
+}
+
 /// One waviness component: the ring's radius varies by `amplitude cos(order ...)`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Waviness {
     /// The wavy ring.
     pub ring: Ring,
+    /// Thesis form or fixed to the ring.
+    pub form: WavinessForm,
     /// Order N_w.
     pub order: usize,
     /// Amplitude, m.
     pub amplitude: f64,
     /// Phase, rad.
     pub phase: f64,
+}
+
+/// A local defect of a raceway (a spall): the race recedes by a raised-cosine dip
+/// depth (1 + cos(2 pi s / width)) / 2 for |s| < width / 2, s the angle from the defect's
+/// centre in the ring's frame. The dip is smooth so the approach's rate stays finite; a
+/// roller is taken to follow the profile (its curvature is not rolled over the edges).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RaceDefect {
+    /// The ring it is on.
+    pub ring: Ring,
+    /// Centre, rad in the ring's frame from +x towards +y (for the inner ring at spin
+    /// angle 0).
+    pub angle: f64,
+    /// Angular width, rad, below 2 pi.
+    pub width: f64,
+    /// Largest depth, m.
+    pub depth: f64,
 }
 
 /// Forcing-function bearing law (thesis eq. 3.12):

@@ -192,9 +192,12 @@ pub struct RollerBearingFile {
     pub slices: Option<Count>,
     /// Roller skew angle, degrees.
     pub skew_angle: Option<Spanned<f64>>,
-    /// Ring waviness components (thesis eq. 3.18).
+    /// Ring waviness components (thesis eq. 3.18, or fixed to the ring).
     #[serde(default)]
     pub waviness: Vec<Spanned<WavinessFile>>,
+    /// Local raceway defects (spalls).
+    #[serde(default)]
+    pub defect: Vec<Spanned<DefectFile>>,
     /// Forcing-function law (thesis eq. 3.12) used by `--contact forcing`.
     pub forcing_function: Option<Spanned<ForcingFunctionFile>>,
 }
@@ -211,6 +214,22 @@ pub struct WavinessFile {
     pub amplitude: Q,
     /// Phase, degrees.
     pub phase: Option<Spanned<f64>>,
+    /// `"thesis"` (eq. 3.18 as printed, the default) or `"ring_fixed"`.
+    pub form: Option<Spanned<String>>,
+}
+
+/// `[[roller_bearing.defect]]`
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DefectFile {
+    /// `"outer"` or `"inner"`.
+    pub ring: Spanned<String>,
+    /// Centre, degrees in the ring's frame.
+    pub angle: Option<Spanned<f64>>,
+    /// Angular width, degrees.
+    pub width: Spanned<f64>,
+    /// Largest depth (length).
+    pub depth: Q,
 }
 
 /// `forcing_function = { a0 = ..., a1 = ..., b0 = ..., b1 = ... }`: in SI with the speed

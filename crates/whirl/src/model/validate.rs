@@ -814,6 +814,12 @@ fn roller_bearing(
             .enumerate()
             .map(|(i, w)| waviness(w, &f(&format!("waviness[{i}]"))))
             .collect::<V<Vec<_>>>()?,
+        defects: b
+            .defect
+            .iter()
+            .enumerate()
+            .map(|(i, d)| race_defect(d, &f(&format!("defect[{i}]"))))
+            .collect::<V<Vec<_>>>()?,
         forcing_function: b
             .forcing_function
             .as_ref()
@@ -840,19 +846,20 @@ fn roller_slices(b: &RollerBearingFile, skew: f64, field: &str) -> V<usize> {
 
 fn waviness(raw: &Spanned<WavinessFile>, field: &str) -> V<Waviness> {
     let w = raw.get_ref();
-    let ring = match w.ring.get_ref().as_str() {
-        "outer" => Ring::Outer,
-        "inner" => Ring::Inner,
-        other => {
+    let form = match w.form.as_ref().map(|f| (f.get_ref().as_str(), f.span())) {
+        None | Some(("thesis", _)) => WavinessForm::Thesis,
+        Some(("ring_fixed", _)) => WavinessForm::RingFixed,
+        Some((other, span)) => {
             return Err(err(
-                &format!("{field}.ring"),
-                w.ring.span(),
-                format!("expected \"outer\" or \"inner\", got \"{other}\""),
+                &format!("{field}.form"),
+                span,
+                format!("expected \"thesis\" or \"ring_fixed\", got \"{other}\""),
             ))
         }
     };
     Ok(Waviness {
-        ring,
+        ring: ring(&w.ring, field)?,
+        form,
         order: count(&w.order, &format!("{field}.order"), 1, 10_000)?,
         amplitude: non_negative_q(
             &w.amplitude,
@@ -860,6 +867,37 @@ fn waviness(raw: &Spanned<WavinessFile>, field: &str) -> V<Waviness> {
             &format!("{field}.amplitude"),
         )?,
         phase: opt_f64(&w.phase, &format!("{field}.phase"), 0.0)?.to_radians(),
+    })
+}
+
+fn ring(raw: &Spanned<String>, field: &str) -> V<Ring> {
+    match raw.get_ref().as_str() {
+        "outer" => Ok(Ring::Outer),
+        "inner" => Ok(Ring::Inner),
+        other => Err(err(
+            &format!("{field}.ring"),
+            raw.span(),
+            format!("expected \"outer\" or \"inner\", got \"{other}\""),
+        )),
+    }
+}
+
+fn race_defect(raw: &Spanned<DefectFile>, field: &str) -> V<RaceDefect> {
+    let d = raw.get_ref();
+    let width_field = format!("{field}.width");
+    let width = finite(*d.width.get_ref(), d.width.span(), &width_field)?;
+    if width <= 0.0 || width >= 360.0 {
+        return Err(err(
+            &width_field,
+            d.width.span(),
+            format!("must lie strictly between 0 and 360 degrees, got {width}"),
+        ));
+    }
+    Ok(RaceDefect {
+        ring: ring(&d.ring, field)?,
+        angle: opt_f64(&d.angle, &format!("{field}.angle"), 0.0)?.to_radians(),
+        width: width.to_radians(),
+        depth: non_negative_q(&d.depth, Dimension::Length, &format!("{field}.depth"))?,
     })
 }
 

@@ -96,7 +96,7 @@ pub use summary::{
     DEFAULT_THRESHOLD_M, SUSTAINED_FRACTION, SUSTAINED_WINDOW,
 };
 
-use crate::bearing::contact_frequencies;
+use crate::bearing::{bearing_orders, contact_frequencies, BearingOrders};
 use crate::error::{Error, Result};
 use crate::fe::{assemble_banded, Bearings};
 use crate::modal::{campbell, CampbellOptions};
@@ -133,6 +133,8 @@ pub struct Cascade {
     pub points: Vec<CascadePoint>,
     /// Contact frequencies at each speed (N_b w_c, waviness), Hz.
     pub contact_frequencies: Vec<Vec<NamedFrequency>>,
+    /// Each roller bearing's characteristic frequencies as orders of the spin speed.
+    pub bearing_orders: Vec<BearingOrders>,
     /// Natural frequencies of the rotor on linearised bearings at each speed, Hz.
     pub natural_frequencies: Vec<Vec<NamedFrequency>>,
     /// The classified NSV at each speed; `None` where there is no non-synchronous peak or
@@ -520,6 +522,7 @@ fn assemble_cascade(
         full_frequency_hz,
         points,
         contact_frequencies: contact.clone(),
+        bearing_orders: bearing_orders(&model.roller_bearings),
         natural_frequencies: natural,
         nsv,
         resumed: 0,

@@ -4,6 +4,7 @@
 use serde::Serialize;
 
 use super::{Cascade, NsvPeak, NsvSummary, StartComparison, STARTS_DIFFER_SIGMAS};
+use crate::bearing::BearingOrders;
 use crate::report::{Report, Table};
 
 /// A cascade read at an NSV threshold, and the comparison with the other start if one was
@@ -78,6 +79,9 @@ pub struct CascadeSummary {
     pub full_spectrum: bool,
     /// The NSV in a few numbers.
     pub nsv: NsvSummary,
+    /// Each roller bearing's characteristic frequencies (FTF, BPFO, BPFI, BSF, N_b w_c) as
+    /// orders of the spin speed.
+    pub bearing_orders: Vec<BearingOrders>,
     /// Speeds loaded from the checkpoint.
     pub resumed_speeds: usize,
     /// Wall-clock time, s.
@@ -147,6 +151,7 @@ impl Report for CascadeReport {
             tolerance_bins: o.tolerance_bins,
             full_spectrum: o.full,
             nsv: c.nsv_summary(self.threshold_m),
+            bearing_orders: c.bearing_orders.clone(),
             resumed_speeds: c.resumed,
             wall_time_s: c.wall_time_s,
             checkpoint_folder: self.checkpoint_folder.clone(),

@@ -115,27 +115,41 @@ pub fn clearance_circles(model: &Model, speed: f64) -> Vec<(usize, f64)> {
         .collect()
 }
 
-/// Vertical lines at the contact frequencies, one per distinct frequency.
+/// Vertical lines at the characteristic frequencies (FTF, BPFO = N_b w_c, BPFI, BSF) and the
+/// waviness frequencies, one per distinct frequency.
 pub fn spectrum_markers(bearings: &[BearingReport]) -> Vec<RefLine> {
     let mut lines: Vec<RefLine> = Vec::new();
     for b in bearings {
-        for f in &b.frequencies {
+        let characteristic = b
+            .characteristic
+            .lines()
+            .map(|(name, f)| (name.to_string(), f));
+        // The waviness lines; N_b w_c is BPFO, already among the characteristic lines.
+        let waviness = b
+            .frequencies
+            .iter()
+            .filter(|f| f.predicted.source != "varying compliance")
+            .map(|f| {
+                let orders = f.predicted.cage_orders;
+                let label = if f.predicted.source.starts_with("ring-fixed") {
+                    format!("{orders:.4} w_c")
+                } else {
+                    format!("({}-1) w_c", orders + 1.0)
+                };
+                (label, f.predicted.frequency_hz)
+            });
+        for (label, value) in characteristic.into_iter().chain(waviness) {
             let duplicate = lines
                 .iter()
-                .any(|l| (l.value - f.predicted.frequency_hz).abs() <= 1e-9 * l.value.abs());
-            if duplicate || f.predicted.frequency_hz.is_nan() || f.predicted.frequency_hz <= 0.0 {
+                .any(|l| (l.value - value).abs() <= 1e-9 * l.value.abs());
+            if duplicate || value.is_nan() || value <= 0.0 {
                 continue;
             }
             // Short labels: the lines sit among the order lines; the values are in
             // summary.json.
-            let label = if f.predicted.source == "varying compliance" {
-                "N_b w_c".to_string()
-            } else {
-                format!("({}-1) w_c", f.predicted.cage_orders + 1.0)
-            };
             lines.push(RefLine {
                 colour: Colour::Palette(1),
-                ..RefLine::new(f.predicted.frequency_hz).label(label)
+                ..RefLine::new(value).label(label)
             });
         }
     }

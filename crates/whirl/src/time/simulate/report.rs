@@ -12,7 +12,10 @@ use std::ops::Range;
 use serde::Serialize;
 
 use super::{Initial, RunStatus, SimulationOptions, SimulationResult};
-use crate::bearing::{contact_frequencies, ContactFrequency, ContactLaw};
+use crate::bearing::{
+    characteristic_frequencies, contact_frequencies, CharacteristicFrequencies, ContactFrequency,
+    ContactLaw,
+};
 use crate::error::Result;
 use crate::model::Model;
 use crate::post::{SpectralPeak, Window};
@@ -97,6 +100,8 @@ pub struct BearingReport {
     pub resolution_hz: f64,
     /// Contact frequencies and the peaks that show them.
     pub frequencies: Vec<FrequencyCheck>,
+    /// The bearing's characteristic frequencies at the final speed, Hz.
+    pub characteristic: CharacteristicFrequencies,
     /// Samples of the contact line: the first [`CONTACT_LINE_CAGE_TURNS`] cage revolutions
     /// of the settled part.
     pub line_window: Range<usize>,
@@ -277,6 +282,7 @@ fn bearing_reports(
                 cage_hz,
                 resolution_hz,
                 frequencies,
+                characteristic: characteristic_frequencies(bearing, running_hz),
                 line_window: start..line_end.min(end),
                 settled_range: start..end,
             }
@@ -392,6 +398,8 @@ pub struct BearingSummary {
     pub varying_compliance_hz: Option<f64>,
     /// Waviness frequencies, Hz.
     pub waviness_hz: Vec<f64>,
+    /// Characteristic frequencies (FTF, BPFO, BPFI, BSF, N_b w_c) at the final speed, Hz.
+    pub characteristic_hz: CharacteristicFrequencies,
     /// Bin width, Hz.
     pub spectrum_resolution_hz: f64,
     /// Contact statistics over the settled part.
@@ -482,6 +490,7 @@ impl SimulationReport {
                 .skip(1)
                 .map(|f| f.predicted.frequency_hz)
                 .collect(),
+            characteristic_hz: b.characteristic,
             spectrum_resolution_hz: b.resolution_hz,
             settled: statistics(&b.settled),
             whole_run: statistics(&b.whole),
