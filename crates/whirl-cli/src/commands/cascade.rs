@@ -181,9 +181,8 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         .checkpoint_key()
         .map_err(|e| library_error(e, &out_dir))?;
     let checkpoint = checkpoint_dir(&out_dir)?.join(key);
-    if args.restart && checkpoint.exists() {
-        std::fs::remove_dir_all(&checkpoint)
-            .map_err(|e| Diag::new(format!("cannot delete `{}`: {e}", checkpoint.display())))?;
+    if args.restart {
+        whirl::nsv::checkpoint::restart(&checkpoint).map_err(|e| from_whirl(e, ""))?;
     }
     warn_if_long(&options);
     interrupt::stoppable();
