@@ -82,3 +82,30 @@ fn a_support_without_stiffness_is_named_as_a_mechanism_not_a_0_hz_mode() {
     // A soft support is no mechanism: 1e3 N/m still holds it (above 0.1 Hz).
     assert!(first_hz(&soft_rotor_with_first_bearing("1e3")) > 0.1);
 }
+
+#[test]
+fn a_cascade_of_a_rotor_without_roller_bearings_is_refused_as_linear() {
+    // A ROSS rotor imported as it is has linear bearings only; its cascade reported
+    // round-off as "largest NSV 0.00 um ... backward-whip".
+    let ross = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/fixtures/ross/rotor_example.toml"),
+    )
+    .unwrap();
+    let import = whirl::model::ross::from_ross_toml(&ross, "rotor_example").unwrap();
+    let model = Model::from_toml_str(&import.toml, None).unwrap();
+    assert!(model.roller_bearings.is_empty());
+    let options = whirl::nsv::CascadeRequest {
+        speeds: Some(vec![100.0, 200.0]),
+        ..Default::default()
+    }
+    .options(&model)
+    .unwrap();
+    match whirl::nsv::cascade(&model, &options, None, None) {
+        Err(whirl::Error::Unsupported(why)) => assert!(why.contains("linear"), "{why}"),
+        other => panic!(
+            "expected a refusal, got {:?}",
+            other.map(|c| c.points.len())
+        ),
+    }
+}
