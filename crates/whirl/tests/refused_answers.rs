@@ -109,3 +109,34 @@ fn a_cascade_of_a_rotor_without_roller_bearings_is_refused_as_linear() {
         ),
     }
 }
+
+#[test]
+fn absurd_magnitudes_are_refused_by_check_naming_the_field() {
+    // Each passed `check` and failed later with the wrong reason: 0.00 Hz modes then an
+    // eigen-solver that "did not converge", an "invalid --step ... inf s" never given,
+    // a "singular central-difference matrix".
+    let text = common::reference::reference_rotor_text();
+    for (from, to, field) in [
+        (
+            "diametral_inertia = 0.025",
+            "diametral_inertia = 1e308",
+            "disk[0].diametral_inertia",
+        ),
+        (
+            "contact_stiffness = 4.52e8",
+            "contact_stiffness = 1e308",
+            "roller_bearing[0].contact_stiffness",
+        ),
+        ("beta = 2.1e-5", "beta = 1.7e308", "damping.beta"),
+    ] {
+        let edited = text.replacen(from, to, 1);
+        assert_ne!(edited, text, "{from}");
+        match Model::from_toml_str(&edited, None) {
+            Err(whirl::Error::Input(e)) => {
+                assert_eq!(e.field.as_deref(), Some(field), "{e}");
+                assert!(e.message.contains("beyond any physical magnitude"), "{e}");
+            }
+            other => panic!("{to}: expected a refusal, got {:?}", other.map(|_| ())),
+        }
+    }
+}
