@@ -152,3 +152,24 @@ fn static_on_a_large_model_does_not_recommend_an_option_it_lacks() {
     assert!(!e.contains("--reduce"), "{e}");
     assert!(e.contains("use fewer"), "{e}");
 }
+
+#[test]
+fn explicit_speed_lists_have_the_ranges_cap() {
+    // A range is refused above 100,000 values; an explicit array (from Python) of 10
+    // million ran on for minutes. The cap is checked before any solve.
+    let model = short_reference(20, "1.3 m");
+    let system = whirl::fe::assemble_banded(&model, whirl::fe::Bearings::Linearised);
+    let speeds: Vec<f64> = (1..=100_001).map(|i| i as f64).collect();
+    let options = whirl::modal::CampbellOptions::new(speeds.clone());
+    let campbell = whirl::modal::campbell(&system, &options, None).map(|_| ());
+    assert!(
+        matches!(campbell, Err(whirl::Error::InvalidOption(_))),
+        "{campbell:?}"
+    );
+    let unbalance = whirl::response::unbalance_response(&model, &system, &speeds, &[10]);
+    assert!(
+        matches!(unbalance, Err(whirl::Error::InvalidOption(ref m)) if m.contains("100000")),
+        "{:?}",
+        unbalance.map(|_| ())
+    );
+}
