@@ -330,7 +330,7 @@ fn wrong_answer(model: &Model, tally: &Tally) -> Result<(), String> {
     };
     tally.refined.fetch_add(1, Relaxed);
     let refined = fine.frequencies_hz.first().copied().unwrap_or(f64::NAN);
-    if !(refined <= first * (1.0 + 1e-7)) {
+    if refined.is_nan() || refined > first * (1.0 + 1e-7) {
         return Err(format!(
             "the first frequency rose from {first} Hz to {refined} Hz on twice the elements \
              (a finer mesh can only lower it)"

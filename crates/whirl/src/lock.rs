@@ -218,10 +218,11 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let target = dir.path().join("precious.txt");
         fs::write(&target, "keep me\n").unwrap();
-        let symlink = |a: &Path, b: &Path| std::os::unix::fs::symlink(a, b);
-        let hard_link = |a: &Path, b: &Path| fs::hard_link(a, b);
-        let plants: [(&str, &dyn Fn(&Path, &Path) -> std::io::Result<()>); 2] =
-            [(".symlink.lock", &symlink), (".hardlink.lock", &hard_link)];
+        type Plant = fn(&Path, &Path) -> std::io::Result<()>;
+        let plants: [(&str, Plant); 2] = [
+            (".symlink.lock", |a, b| std::os::unix::fs::symlink(a, b)),
+            (".hardlink.lock", |a, b| fs::hard_link(a, b)),
+        ];
         for (name, plant) in plants {
             let lock = dir.path().join(name);
             plant(&target, &lock).unwrap();
