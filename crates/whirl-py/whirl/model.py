@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import os
 import warnings
 from collections.abc import Mapping
@@ -55,6 +56,13 @@ class Model:
         """Validates a model given as a dict with the model file's tables and keys, e.g.
         ``{"name": "rotor", "shaft": [...], "disk": [...], "bearing": [...]}``; quantities
         may be numbers (SI) or text with a unit (``"20 um"``)."""
+        bad = _unwritable(tables, "")
+        if bad is not None:
+            path, value = bad
+            raise _whirl.InputError(
+                f"`{path}`: {value!r} has no place in a model file (TOML has no null, NaN or "
+                "infinity)\n  help: give a finite number, text with a unit, or leave the key out"
+            )
         return cls._checked(_whirl.Model.from_json(json.dumps(tables)))
 
     def with_values(self, values: Mapping[str, Any]) -> Model:
@@ -130,3 +138,22 @@ def as_model(model: Model | str | os.PathLike[str]) -> Model:
     if isinstance(model, (str, os.PathLike)):
         return Model.from_file(model)
     raise TypeError(f"expected a whirl.Model or a model file path, not {type(model).__name__}")
+
+
+def _unwritable(value: Any, path: str) -> tuple[str, Any] | None:
+    """The first value under ``value`` that a model file cannot hold (None, NaN, infinity),
+    with its key path (``disk[0].mass``): JSON would carry it to the parser, which could
+    only name a column of the JSON text."""
+    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+        return path or "model", value
+    if isinstance(value, Mapping):
+        for key, item in value.items():
+            found = _unwritable(item, f"{path}.{key}" if path else str(key))
+            if found is not None:
+                return found
+    elif isinstance(value, (list, tuple)):
+        for i, item in enumerate(value):
+            found = _unwritable(item, f"{path}[{i}]")
+            if found is not None:
+                return found
+    return None
