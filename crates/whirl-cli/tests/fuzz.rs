@@ -28,8 +28,8 @@ use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use whirl::fe::{assemble, Bearings};
-use whirl::modal::undamped_modes;
-use whirl::model::Model;
+use whirl::modal::{check_model, undamped_modes};
+use whirl::model::{BeamTheory, Model};
 
 // The shared test models (a test binary uses a part of them).
 #[allow(dead_code)]
@@ -234,6 +234,10 @@ struct Failure {
 struct Tally {
     models: AtomicU64,
     accepted: AtomicU64,
+    /// Accepted models whose `check` answer the oracles judged ([`wrong_answer`]).
+    oracles: AtomicU64,
+    /// Of them, those also solved on twice the elements (the mesh convergence oracle).
+    refined: AtomicU64,
     processes: AtomicU64,
     /// Runs stopped at the limit without a word that had too little CPU time to have owed
     /// one: a starved run (a loaded machine, `nice`) is no verdict on the program.
@@ -274,6 +278,7 @@ fn run_model(text: &str, tally: &Tally) {
             return Ok(true);
         }
         let _ = undamped_modes(&assemble(&model, Bearings::Linearised), 4);
+        wrong_answer(&model, tally)?;
         Ok(true)
     }));
     match outcome {
@@ -283,6 +288,55 @@ fn run_model(text: &str, tally: &Tally) {
         Ok(Err(what)) => tally.fail(what, text),
         Err(_) => tally.fail("panic".into(), text),
     }
+}
+
+/// The oracles for answers that are wrong though nothing failed, on a model `whirl check`
+/// would solve:
+/// - finite outputs: the frequencies `check` reports are finite, non-negative, ascending;
+/// - rigid body: an accepted first mode is no rigid-body motion (at least 0.1 Hz; a rotor
+///   its supports leave free must be refused, not answered with 0 Hz);
+/// - mesh convergence: on twice the elements (Euler-Bernoulli: the cubic shape functions of
+///   the halved elements contain the coarse ones), the first frequency is a Rayleigh-Ritz
+///   bound of the coarse one, so it may not rise; 1e-7 relative is round-off at 120 nodes
+///   (1e-9 measured), far below any discretisation change.
+fn wrong_answer(model: &Model, tally: &Tally) -> Result<(), String> {
+    let Ok(coarse) = check_model(model) else {
+        return Ok(());
+    };
+    let f = &coarse.frequencies_hz;
+    if f.iter().any(|x| !x.is_finite() || *x < 0.0) || f.windows(2).any(|w| w[1] < w[0]) {
+        return Err(format!(
+            "check's frequencies are not finite and ascending: {f:?}"
+        ));
+    }
+    tally.oracles.fetch_add(1, Relaxed);
+    let first = f.first().copied().unwrap_or(f64::NAN);
+    if first < 0.1 {
+        return Err(format!(
+            "accepted a rigid-body mode as the first frequency: {first} Hz"
+        ));
+    }
+    let euler = model
+        .sections
+        .iter()
+        .all(|s| s.beam == BeamTheory::EulerBernoulli);
+    let doubled: Vec<usize> = model.sections.iter().map(|s| 2 * s.elements).collect();
+    let Some(fine) = euler
+        .then(|| model.remeshed(&doubled).ok())
+        .flatten()
+        .and_then(|m| check_model(&m).ok())
+    else {
+        return Ok(());
+    };
+    tally.refined.fetch_add(1, Relaxed);
+    let refined = fine.frequencies_hz.first().copied().unwrap_or(f64::NAN);
+    if refined.is_nan() || refined > first * (1.0 + 1e-7) {
+        return Err(format!(
+            "the first frequency rose from {first} Hz to {refined} Hz on twice the elements \
+             (a finer mesh can only lower it)"
+        ));
+    }
+    Ok(())
 }
 
 /// Runs `whirl` with `args` (model file `model`), checking how it ends.
@@ -454,11 +508,13 @@ fn report(tally: &Tally, elapsed: Duration) {
     let s = elapsed.as_secs_f64();
     let (models, processes) = (tally.models.load(Relaxed), tally.processes.load(Relaxed));
     eprintln!(
-        "fuzz: {:.0} s: {} model files ({} accepted), {} whirl runs ({} starved), {:.0} inputs/s, \
-         {} failures",
+        "fuzz: {:.0} s: {} model files ({} accepted, {} judged by the oracles, {} on a refined \
+         mesh), {} whirl runs ({} starved), {:.0} inputs/s, {} failures",
         s,
         models,
         tally.accepted.load(Relaxed),
+        tally.oracles.load(Relaxed),
+        tally.refined.load(Relaxed),
         processes,
         tally.starved.load(Relaxed),
         (models + processes) as f64 / s.max(1e-9),

@@ -99,3 +99,11 @@ def test_modes_come_in_pairs_on_isotropic_bearings():
     np.testing.assert_allclose(f[0], f[1], rtol=1e-9)
     d = [m["damped_frequency_hz"] for m in result.damped]
     np.testing.assert_allclose(d[0], d[1], rtol=1e-6)
+
+
+def test_an_explicit_speed_array_has_the_ranges_cap():
+    # A 10-million array ran on for minutes where the range string is refused above
+    # 100,000 values; the library checks the count before any solve.
+    speeds = np.linspace(1.0, 5000.0, 100_001)
+    with pytest.raises(whirl.InputError, match="at most 100000"):
+        whirl.campbell(REFERENCE, speeds, modes=2)

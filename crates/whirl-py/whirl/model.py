@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import os
 import tomllib
 import warnings
@@ -58,7 +59,15 @@ class Model:
         ``{"name": "rotor", "shaft": [...], "disk": [...], "bearing": [...]}``; quantities
         may be numbers (SI), text with a unit (``"20 um"``) or pint quantities.
         ``Model.from_dict(model.to_tables())`` is the same model."""
-        return cls._checked(_whirl.Model.from_json(json.dumps(plain(tables))))
+        converted = plain(tables)
+        bad = _unwritable(converted, "")
+        if bad is not None:
+            path, value = bad
+            raise _whirl.InputError(
+                f"`{path}`: {value!r} has no place in a model file (TOML has no null, NaN or "
+                "infinity)\n  help: give a finite number, text with a unit, or leave the key out"
+            )
+        return cls._checked(_whirl.Model.from_json(json.dumps(converted)))
 
     def with_values(self, values: Mapping[str, Any]) -> Model:
         """The same model with values set at the study files' parameter paths, e.g.
@@ -154,3 +163,22 @@ def as_model(model: Model | str | os.PathLike[str]) -> Model:
     if isinstance(model, (str, os.PathLike)):
         return Model.from_file(model)
     raise TypeError(f"expected a whirl.Model or a model file path, not {type(model).__name__}")
+
+
+def _unwritable(value: Any, path: str) -> tuple[str, Any] | None:
+    """The first value under ``value`` that a model file cannot hold (None, NaN, infinity),
+    with its key path (``disk[0].mass``): JSON would carry it to the parser, which could
+    only name a column of the JSON text."""
+    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+        return path or "model", value
+    if isinstance(value, Mapping):
+        for key, item in value.items():
+            found = _unwritable(item, f"{path}.{key}" if path else str(key))
+            if found is not None:
+                return found
+    elif isinstance(value, (list, tuple)):
+        for i, item in enumerate(value):
+            found = _unwritable(item, f"{path}[{i}]")
+            if found is not None:
+                return found
+    return None

@@ -146,9 +146,9 @@ pub enum Error {
     /// A time integration diverged; what was computed before stays with the caller.
     #[error("{message}")]
     Diverged {
-        /// Time of divergence, s.
+        /// Time of divergence, s; NaN when several runs diverged (every speed of a cascade).
         time: f64,
-        /// The coordinate that left the bound.
+        /// The coordinate that left the bound; `usize::MAX` when several runs diverged.
         coordinate: usize,
         /// What happened and what to change.
         message: String,

@@ -39,13 +39,7 @@ impl RunLock {
     /// process id; [`Error::Io`] when the file cannot be created.
     pub fn acquire(path: &Path, what: &Path) -> Result<RunLock> {
         for _ in 0..ATTEMPTS {
-            let mut file = OpenOptions::new()
-                .read(true)
-                .write(true)
-                .create(true)
-                .truncate(false)
-                .open(path)
-                .map_err(io("create the lock file", path))?;
+            let mut file = open_own(path)?;
             match file.try_lock() {
                 Ok(()) => {}
                 Err(TryLockError::WouldBlock) => return Err(busy(&mut file, path, what)),
@@ -87,6 +81,85 @@ impl Drop for RunLock {
         let _ = fs::remove_file(&self.path);
         let _ = self.file.unlock();
     }
+}
+
+/// Opens (or creates) the lock file without following a symbolic link and refuses a file
+/// that is not this user's own plain file: in a shared folder, a link or a file planted by
+/// another user would otherwise make whirl write its process id into a file of their
+/// choosing.
+fn open_own(path: &Path) -> Result<File> {
+    let mut options = OpenOptions::new();
+    options.read(true).write(true).create(true).truncate(false);
+    no_follow(&mut options);
+    let file = options.open(path).map_err(|e| {
+        if is_link(path) {
+            planted(path, "is a symbolic link")
+        } else {
+            io("create the lock file", path)(e)
+        }
+    })?;
+    match foreign(&file) {
+        Some(why) => Err(planted(path, &why)),
+        None => Ok(file),
+    }
+}
+
+fn is_link(path: &Path) -> bool {
+    fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink())
+}
+
+#[cfg(unix)]
+fn no_follow(options: &mut OpenOptions) {
+    use std::os::unix::fs::OpenOptionsExt;
+    options.custom_flags(nix::fcntl::OFlag::O_NOFOLLOW.bits());
+}
+
+/// Windows does not follow a symbolic link to a file unless asked; nothing to add.
+#[cfg(not(unix))]
+fn no_follow(_options: &mut OpenOptions) {}
+
+/// Why an open lock file is not one whirl may write: another user's, not a plain file, or
+/// a hard link to a file elsewhere; `None` when it is fine.
+#[cfg(unix)]
+fn foreign(file: &File) -> Option<String> {
+    use std::os::unix::fs::MetadataExt;
+    let meta = match file.metadata() {
+        Ok(m) => m,
+        Err(e) => return Some(format!("cannot be inspected ({e})")),
+    };
+    if meta.uid() != nix::unistd::geteuid().as_raw() {
+        Some(format!("belongs to another user (uid {})", meta.uid()))
+    } else if !meta.file_type().is_file() {
+        Some("is not a plain file".into())
+    } else if meta.nlink() > 1 {
+        Some(format!(
+            "has {} hard links (a link to another file)",
+            meta.nlink()
+        ))
+    } else {
+        None
+    }
+}
+
+#[cfg(not(unix))]
+fn foreign(_file: &File) -> Option<String> {
+    None
+}
+
+/// The refusal of a lock file that whirl did not make.
+fn planted(path: &Path, why: &str) -> Error {
+    let mut e = refusal(format!(
+        "the lock file `{}` {why}: whirl writes its process id into it and will not write \
+         into a file it did not create",
+        path.display()
+    ));
+    if let Error::Input(input) = &mut e {
+        input.help = Some(format!(
+            "remove `{}` if no whirl run is using the folder, or write elsewhere (--out)",
+            path.display()
+        ));
+    }
+    e
 }
 
 /// True when `file` is the file now at `path` (not one removed and created anew).
@@ -138,6 +211,29 @@ fn refusal(message: String) -> Error {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[cfg(unix)]
+    #[test]
+    fn a_lock_file_planted_as_a_link_is_refused_and_its_target_untouched() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("precious.txt");
+        fs::write(&target, "keep me\n").unwrap();
+        type Plant = fn(&Path, &Path) -> std::io::Result<()>;
+        let plants: [(&str, Plant); 2] = [
+            (".symlink.lock", |a, b| std::os::unix::fs::symlink(a, b)),
+            (".hardlink.lock", |a, b| fs::hard_link(a, b)),
+        ];
+        for (name, plant) in plants {
+            let lock = dir.path().join(name);
+            plant(&target, &lock).unwrap();
+            let e = RunLock::acquire(&lock, dir.path()).unwrap_err().to_string();
+            assert!(
+                e.contains("will not write into a file it did not create"),
+                "{e}"
+            );
+            assert_eq!(fs::read_to_string(&target).unwrap(), "keep me\n");
+        }
+    }
 
     #[test]
     fn a_second_lock_is_refused_until_the_first_is_dropped() {

@@ -20,6 +20,22 @@ use std::fmt;
 /// at once instead of exhausting the memory.
 pub const MAX_RANGE_COUNT: usize = 100_000;
 
+/// Refuses a list of more than [`MAX_RANGE_COUNT`] speeds however it was given (a range,
+/// an explicit list, an array from Python): the cap is the work each value costs, not
+/// how the values were written.
+///
+/// # Errors
+/// [`Error::InvalidOption`](crate::Error::InvalidOption) naming `what` and the count.
+pub fn check_count(count: usize, what: &str) -> crate::Result<()> {
+    if count <= MAX_RANGE_COUNT {
+        return Ok(());
+    }
+    Err(crate::Error::InvalidOption(format!(
+        "{count} {what}: at most {MAX_RANGE_COUNT} (each is a whole solve; that many would \
+         take hours and no plot can show them): give fewer"
+    )))
+}
+
 /// The largest spin speed or frequency whirl accepts, rad/s (1.6 MHz): a hundred times the
 /// fastest rotors built (micro gas turbines and dental drills reach about 1e5 rad/s). Far
 /// beyond it the gyroscopic and speed-squared terms overflow the eigen-solvers.

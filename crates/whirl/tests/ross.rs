@@ -224,3 +224,16 @@ fn ross3_parameters_whirl_does_not_read_are_named() {
     );
     assert!(from_ross_toml(&modal, "rotor").is_err());
 }
+
+#[test]
+fn a_missing_kyy_is_kxx_as_in_ross_not_zero() {
+    // ROSS's BearingElement defaults kyy (cyy) to kxx (cxx); read as 0, the bearing let the
+    // rotor fall freely in y. Exact: the value is copied, not computed.
+    let text = fixture("rotor_example.toml").replace("kyy = [ 800000.0,]\n", "");
+    let import = from_ross_toml(&text, "rotor_example").unwrap();
+    let model = Model::from_toml_str(&import.toml, None).unwrap();
+    assert!(!model.bearings.is_empty());
+    for b in &model.bearings {
+        assert_eq!(b.stiffness[1][1], b.stiffness[0][0], "{}", b.name);
+    }
+}

@@ -122,3 +122,37 @@ fn a_failed_point_is_left_out_and_computed_again_by_the_next_run() {
     assert!((rollers.relative_change.unwrap() - 0.24 / 0.76).abs() < 1e-12);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_point_whose_every_speed_diverged_is_a_failed_point_with_its_reason() {
+    // A 4 mm eccentricity throws the disk into the rings; with the step just under the
+    // limit of the contacts at rest, every speed diverges (as the lone cascade does).
+    let text = format!(
+        "model = {:?}\n\
+         [cascade]\nspeeds = \"300:400Hz:2\"\nstep = \"3.6e-5 s\"\nrefine = false\n\
+         [[sweep]]\nparameter = \"unbalance[0].eccentricity\"\nvalues = [\"4 mm\", \"8 mm\"]\n",
+        reference_rotor_path().display().to_string()
+    );
+    let s = Study::from_toml_str(&text, Path::new("study.toml")).unwrap();
+    let dir = std::env::temp_dir().join(format!("whirl-study-diverged-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let store = Store::open(&dir, &s.fingerprint, Path::new("study.toml"), false).unwrap();
+    let results = run_points(
+        &s,
+        &store,
+        |p| whirl::study::point::compute(p, None, None),
+        |_, _, _, _| {},
+    )
+    .unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(results.len(), 2);
+    for outcome in &results {
+        let why = outcome.as_ref().unwrap_err();
+        assert!(
+            why.contains("diverged at every one of the 2 speeds"),
+            "{why}"
+        );
+    }
+    // Nothing is left to fit or rank: no sweep is ranked "first" on diverged points.
+    assert!(analyse(&s, &results).ranking.is_empty());
+}

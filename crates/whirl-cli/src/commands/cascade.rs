@@ -181,9 +181,8 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         .checkpoint_key()
         .map_err(|e| library_error(e, &out_dir))?;
     let checkpoint = checkpoint_dir(&out_dir)?.join(key);
-    if args.restart && checkpoint.exists() {
-        std::fs::remove_dir_all(&checkpoint)
-            .map_err(|e| Diag::new(format!("cannot delete `{}`: {e}", checkpoint.display())))?;
+    if args.restart {
+        whirl::nsv::checkpoint::restart(&checkpoint).map_err(|e| from_whirl(e, ""))?;
     }
     warn_if_long(&options);
     interrupt::stoppable();
@@ -191,7 +190,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let result = prepared.run(Some(&checkpoint), Some(&progress));
     line.clear();
     let result = result.map_err(|e| library_error(e, &checkpoint))?;
-    check_divergence(&result)?;
+    warn_of_divergence(&result);
     let nsv = result.nsv_summary(args.threshold);
     let starts = if args.compare_starts {
         Some(other_start(model, &result, args.threshold, &out_dir)?)
@@ -344,36 +343,24 @@ fn warn_if_long(options: &CascadeOptions) {
     }
 }
 
-/// A cascade in which every speed diverged is a failure (nothing was measured: exit status
-/// 1, nothing written); some diverged speeds are listed on stderr (and in summary.json).
-fn check_divergence(c: &Cascade) -> miette::Result<()> {
-    let diverged: Vec<(f64, &str)> = c
+/// Some diverged speeds are listed on stderr (and in summary.json); a cascade in which every
+/// speed diverged is the library's error.
+fn warn_of_divergence(c: &Cascade) {
+    let diverged: Vec<String> = c
         .points
         .iter()
-        .filter_map(|p| p.diverged.as_deref().map(|m| (p.speed_hz, m)))
+        .filter(|p| p.diverged.is_some())
+        .map(|p| format!("{:.1}", p.speed_hz))
         .collect();
-    let Some((speed, first)) = diverged.first() else {
-        return Ok(());
-    };
-    if diverged.len() == c.points.len() {
-        return Err(Diag::new(format!(
-            "the simulation diverged at every one of the {} speeds; at {speed:.1} Hz: {first}",
-            c.points.len()
-        ))
-        .help(
-            "check the model (clearance, stiffness, damping) or lower --step; the finished \
-             speeds stay in the checkpoint, --restart discards them",
-        )
-        .into());
+    if diverged.is_empty() {
+        return;
     }
-    let listed: Vec<String> = diverged.iter().map(|(s, _)| format!("{s:.1}")).collect();
     eprintln!(
         "warning: the simulation diverged at {} of {} speeds ({} Hz); they have no NSV",
         diverged.len(),
         c.points.len(),
-        listed.join(", ")
+        diverged.join(", ")
     );
-    Ok(())
 }
 
 /// The library's options from the command line.
@@ -421,6 +408,14 @@ fn checkpoint_dir(out: &Path) -> miette::Result<PathBuf> {
 /// The library's error as the command line knows it: an option by its flag, a checkpoint
 /// of another cascade with the way out.
 fn library_error(e: whirl::Error, dir: &Path) -> miette::Report {
+    if let whirl::Error::Diverged { message, .. } = &e {
+        return Diag::new(message.clone())
+            .help(
+                "check the model (clearance, stiffness, damping) or lower --step; the finished \
+                 speeds stay in the checkpoint, --restart discards them",
+            )
+            .into();
+    }
     let whirl::Error::Input(input) = &e else {
         return from_whirl(e, "");
     };

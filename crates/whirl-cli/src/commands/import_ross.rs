@@ -10,8 +10,7 @@ use std::fmt::Write;
 use std::path::PathBuf;
 
 use serde::Serialize;
-use whirl::fe::{assemble, Bearings};
-use whirl::modal::undamped_modes;
+use whirl::modal::trusted_modes;
 use whirl::model::ross::from_ross_toml;
 use whirl::model::Model;
 
@@ -69,11 +68,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let import = from_ross_toml(&text, name).map_err(|e| from_whirl(e, ""))?;
     let model =
         Model::from_toml_str(&import.toml, None).map_err(|e| from_whirl(e, &import.toml))?;
-    let frequencies = lib(undamped_modes(
-        &assemble(&model, Bearings::Linearised),
-        MODES,
-    ))?
-    .frequencies_hz;
+    let frequencies = lib(trusted_modes(&model, MODES))?.frequencies_hz;
     let summary = Summary {
         command: "import-ross",
         whirl_version: env!("CARGO_PKG_VERSION"),

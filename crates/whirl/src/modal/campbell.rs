@@ -114,7 +114,8 @@ pub struct CampbellResult {
 /// Computes a Campbell diagram, telling `progress` after every speed.
 ///
 /// # Errors
-/// [`Error::InvalidOption`] for no speeds or speeds that are not ascending; the errors of
+/// [`Error::InvalidOption`] for no speeds, more than
+/// [`MAX_RANGE_COUNT`](crate::units::MAX_RANGE_COUNT), or speeds that are not ascending; the errors of
 /// [`ModalBasis::truncated`] and [`ModalBasis::modes_at`]; [`Error::Interrupted`] when
 /// `progress` stopped it.
 pub fn campbell(
@@ -127,6 +128,7 @@ pub fn campbell(
             "a Campbell diagram needs at least one speed".into(),
         ));
     }
+    crate::units::check_count(options.speeds.len(), "Campbell speeds")?;
     if options.speeds.windows(2).any(|w| w[1] < w[0]) {
         return Err(Error::InvalidOption(
             "Campbell speeds must be ascending".into(),

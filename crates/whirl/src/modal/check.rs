@@ -3,9 +3,9 @@
 
 use serde::Serialize;
 
-use super::undamped_modes;
+use super::sound::trusted_modes;
 use crate::error::Result;
-use crate::fe::{assemble_banded, Bearings, DOFS_PER_NODE};
+use crate::fe::DOFS_PER_NODE;
 use crate::model::{LinearBearing, Model, RollerBearing};
 use crate::report::{Report, Table};
 use crate::units::rad_s_to_hz as hz;
@@ -26,10 +26,10 @@ pub struct ModelCheck {
 /// linearised bearings.
 ///
 /// # Errors
-/// The errors of [`undamped_modes`] (a rotor not held by its bearings).
+/// The errors of [`trusted_modes`]: a rotor unstable at rest, a rotor its supports do not
+/// hold, a mesh too fine for its sections.
 pub fn check_model(model: &Model) -> Result<ModelCheck> {
-    let system = assemble_banded(model, Bearings::Linearised);
-    let modes = undamped_modes(&system, FREQUENCIES)?;
+    let modes = trusted_modes(model, FREQUENCIES)?;
     Ok(ModelCheck {
         model: model.clone(),
         frequencies_hz: modes.frequencies_hz,

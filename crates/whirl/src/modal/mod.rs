@@ -16,6 +16,7 @@ mod check;
 mod complex;
 mod convergence;
 mod report;
+mod sound;
 mod subspace;
 mod ucs;
 mod undamped;
@@ -27,6 +28,7 @@ pub use check::{check_model, CheckSummary, ModelCheck};
 pub use complex::{branch_labels, complex_modes, ComplexMode, ModalBasis, Whirl, FULL_LIMIT};
 pub use convergence::{check_element_count, convergence, ConvergenceResult, ConvergenceSummary};
 pub use report::{modal_report, DampedSummary, ModalReport, ModalSummary};
+pub use sound::trusted_modes;
 pub(crate) use subspace::largest_eigenvalue;
 pub use ucs::{
     critical_speed_map, default_stiffnesses, log_space, BearingCut, BearingStiffness,

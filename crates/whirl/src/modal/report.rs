@@ -7,6 +7,7 @@
 
 use serde::Serialize;
 
+use super::sound::sound_modes;
 use super::undamped::undamped_modes_told;
 use super::{branch_labels, ComplexMode, ModalBasis, UndampedModes, Whirl};
 use crate::error::Result;
@@ -75,7 +76,8 @@ pub struct DampedSummary {
 /// how the eigen-solver gets on (minutes for 200 modes of a 10,000-element rotor).
 ///
 /// # Errors
-/// The errors of [`super::undamped_modes`], [`ModalBasis::truncated`] and
+/// The errors of [`super::undamped_modes`], of the checks of the module `sound` (a rotor
+/// its supports do not hold, a mesh too fine for its sections), [`ModalBasis::truncated`] and
 /// [`ModalBasis::modes_at`]; [`crate::Error::Interrupted`] when `progress` stopped it.
 pub fn modal_report(
     model: &Model,
@@ -85,10 +87,13 @@ pub fn modal_report(
 ) -> Result<ModalReport> {
     let system = assemble_banded(model, Bearings::Linearised);
     // One eigen-solve: the basis's undamped modes, whose lowest `modes` are reported.
-    let basis_modes = undamped_modes_told(
-        &system,
-        ModalBasis::size_for(system.dofs(), modes),
-        progress,
+    let basis_modes = sound_modes(
+        model,
+        undamped_modes_told(
+            &system,
+            ModalBasis::size_for(system.dofs(), modes),
+            progress,
+        ),
     )?;
     let undamped = basis_modes.lowest(modes);
     let basis = ModalBasis::of_modes(&system, basis_modes);

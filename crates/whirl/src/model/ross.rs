@@ -646,7 +646,14 @@ fn bearing(key: &str, t: &Table, notes: &mut Vec<String>) -> Result<String> {
         node(key, t)?
     );
     for field in ["kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy"] {
-        let _ = writeln!(s, "{field} = {}", float(coefficient(key, t, field)?));
+        let value = match (field, t.get(field)) {
+            // ROSS's BearingElement takes a missing kyy (cyy) as kxx (cxx): a bearing given
+            // by one stiffness is isotropic, not free vertically.
+            ("kyy", None) => coefficient(key, t, "kxx")?,
+            ("cyy", None) => coefficient(key, t, "cxx")?,
+            _ => coefficient(key, t, field)?,
+        };
+        let _ = writeln!(s, "{field} = {}", float(value));
     }
     s.push('\n');
     Ok(s)

@@ -35,16 +35,33 @@ fn quantity(q: &Q, dim: Dimension, field: &str) -> V<f64> {
     finite(value, q.span(), field)
 }
 
+/// The largest magnitude a model's number may have in SI units. The largest a rotor model
+/// needs are a steel's Young modulus (2e11 Pa) and a stiff support or contact (1e10 N/m); a
+/// number past 1e15 is a typo of unit or exponent, and one near f64's range (1e308) passed
+/// `check` only to fail later with the wrong reason (a 0 Hz mode, a non-converging
+/// eigen-solver, an infinite time step, a singular matrix).
+pub const MAX_MAGNITUDE: f64 = 1e15;
+
 fn finite(value: f64, span: Range<usize>, field: &str) -> V<f64> {
-    if value.is_finite() {
-        Ok(value)
-    } else {
-        Err(err(
+    if !value.is_finite() {
+        return Err(err(
             field,
             span,
             format!("must be a finite number, got {value}"),
-        ))
+        ));
     }
+    if value.abs() > MAX_MAGNITUDE {
+        return Err(err(
+            field,
+            span,
+            format!(
+                "{value:e} is beyond any physical magnitude of a rotor model (at most \
+                 {MAX_MAGNITUDE:e} in SI units)"
+            ),
+        )
+        .help("check the unit and the exponent"));
+    }
+    Ok(value)
 }
 
 fn positive(value: f64, span: Range<usize>, field: &str, unit: &str) -> V<f64> {

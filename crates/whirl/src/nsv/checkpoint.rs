@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 use serde_json::{json, Value};
 
 use super::options::{CascadeOptions, Resolved};
-use super::point::CascadePoint;
+use super::point::{CascadePoint, SpectrumLengths};
 use crate::error::{io, Error, InputError, Result};
 use crate::lock::RunLock;
 use crate::model::Model;
@@ -36,7 +36,36 @@ pub(crate) const LOCK: &str = ".lock";
 /// is held until it is dropped.
 pub(super) struct Checkpoint {
     dir: PathBuf,
+    /// Spectrum lengths a point of this cascade has (bins of the band, of the full band).
+    lengths: SpectrumLengths,
     _lock: RunLock,
+}
+
+/// Deletes what the checkpoint folder `dir` holds, so that the cascade starts over: under
+/// the folder's lock, so that a run still writing there is refused, not cut off (deleting
+/// first would pull the folder from under it).
+///
+/// # Errors
+/// [`Error::Input`] (without a field) when another run is using the folder; [`Error::Io`]
+/// when it cannot be emptied.
+pub fn restart(dir: &Path) -> Result<()> {
+    if !dir.exists() {
+        return Ok(());
+    }
+    let _lock = RunLock::acquire(&dir.join(LOCK), dir)?;
+    for entry in fs::read_dir(dir).map_err(io("read", dir))?.flatten() {
+        if entry.file_name() == LOCK {
+            continue;
+        }
+        let path = entry.path();
+        let removed = if path.is_dir() {
+            fs::remove_dir_all(&path)
+        } else {
+            fs::remove_file(&path)
+        };
+        removed.map_err(io("delete", &path))?;
+    }
+    Ok(())
 }
 
 /// The manifest of a cascade of `model` with these options.
@@ -117,6 +146,7 @@ impl Checkpoint {
         remove_leftovers(dir)?;
         Ok(Checkpoint {
             dir: dir.to_path_buf(),
+            lengths: SpectrumLengths::of(options, resolved),
             _lock: lock,
         })
     }
@@ -126,11 +156,13 @@ impl Checkpoint {
     }
 
     /// The finished point `index` at `speed` (rad/s), if it was saved. A file that cannot
-    /// be read, or holds another speed, counts as not saved (it is computed again).
+    /// be read, holds another speed, or holds what no run writes (a spectrum of another
+    /// length, a negative or non-finite amplitude: a damaged or edited file) counts as not
+    /// saved: it is computed again, never trusted.
     pub(super) fn load(&self, index: usize, speed: f64) -> Option<CascadePoint> {
         let text = fs::read_to_string(self.point_path(index)).ok()?;
         let point: CascadePoint = serde_json::from_str(&text).ok()?;
-        (point.speed == speed).then_some(point)
+        (point.speed == speed && point.is_whole(self.lengths)).then_some(point)
     }
 
     /// Saves point `index` atomically.
@@ -208,6 +240,55 @@ fn mismatch(dir: &Path, found: &Value, wanted: &Value) -> Error {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A checkpoint in `dir` for points with 3 band bins and no full spectrum.
+    fn checkpoint(dir: &Path) -> Checkpoint {
+        Checkpoint {
+            dir: dir.to_path_buf(),
+            lengths: SpectrumLengths::for_test(3, 0),
+            _lock: RunLock::acquire(&dir.join(LOCK), dir).unwrap(),
+        }
+    }
+
+    fn point() -> CascadePoint {
+        let mut p = CascadePoint::settled_at(100.0, 1e-5, None);
+        p.amplitude = vec![1e-6, 2e-6, 0.0];
+        p
+    }
+
+    #[test]
+    fn a_tampered_point_is_computed_again_not_trusted() {
+        let dir = tempfile::tempdir().unwrap();
+        let c = checkpoint(dir.path());
+        let p = point();
+        c.save(0, &p).unwrap();
+        assert_eq!(c.load(0, p.speed), Some(p.clone()));
+        // A negative 1X went into nsv.csv; a truncated spectrum failed in the plots.
+        let text = fs::read_to_string(c.point_path(0)).unwrap();
+        let tampered = [
+            text.replace("\"one_x_m\":0.00001", "\"one_x_m\":-5.0"),
+            text.replace("[1e-6,2e-6,0.0]", "[1e-6,2e-6]"),
+            text.replace("[1e-6,2e-6,0.0]", "[1e-6,-2e-6,0.0]"),
+        ];
+        for bad in tampered {
+            assert_ne!(bad, text, "the edit must apply");
+            fs::write(c.point_path(0), &bad).unwrap();
+            assert_eq!(c.load(0, p.speed), None, "{bad}");
+        }
+    }
+
+    #[test]
+    fn a_restart_while_another_run_holds_the_folder_is_refused_and_deletes_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let c = checkpoint(dir.path());
+        c.save(0, &point()).unwrap();
+        let e = restart(dir.path()).unwrap_err().to_string();
+        assert!(e.contains("another whirl run"), "{e}");
+        assert!(c.point_path(0).exists());
+        drop(c);
+        restart(dir.path()).unwrap();
+        assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 0);
+    }
 
     #[test]
     fn fnv1a_matches_its_published_vectors() {

@@ -176,7 +176,8 @@ impl Cascade {
 /// # Errors
 /// [`Error::Input`] for bad options (the field is named) or a checkpoint folder holding
 /// another cascade (field `checkpoint`); [`Error::Interrupted`] when `progress` stopped it;
-/// [`Error::Io`] when the checkpoint cannot be written; what the simulation reports for a
+/// [`Error::Io`] when the checkpoint cannot be written; [`Error::Diverged`] when the
+/// simulation diverged at every requested speed; what the simulation reports for a
 /// model it cannot run. A run that diverges at some speed is no error: that point says so.
 pub fn cascade(
     model: &Model,
@@ -302,6 +303,7 @@ impl<'a> PreparedCascade<'a> {
             resumed: 0,
         };
         run.compute_missing()?;
+        every_speed_diverged(&run.points)?;
         let mut cascade = assemble_cascade(model, options, resolved, run.sorted_points())?;
         if options.refine.enabled {
             let seeds = refine::resonance_speeds(
@@ -340,6 +342,30 @@ impl<'a> PreparedCascade<'a> {
         cascade.wall_time_s = start.elapsed().as_secs_f64();
         Ok(cascade)
     }
+}
+
+/// A cascade in which every requested speed diverged measured nothing: a summary of it
+/// would read "no NSV" (an answer that looks like a result), so it is an error, the same
+/// for the command line, a study's point and Python. Refinement is not tried: its speeds
+/// come from the same diverging model. Some diverged speeds are kept, listed in the
+/// summary.
+fn every_speed_diverged(points: &[Option<CascadePoint>]) -> Result<()> {
+    let diverged: Vec<&CascadePoint> = points.iter().flatten().collect();
+    let first = match diverged.as_slice() {
+        [first, ..] if diverged.iter().all(|p| p.diverged.is_some()) => first,
+        _ => return Ok(()),
+    };
+    Err(Error::Diverged {
+        time: f64::NAN,
+        coordinate: usize::MAX,
+        message: format!(
+            "the simulation diverged at every one of the {} speeds, so there is no NSV to \
+             report; at {:.1} Hz: {}",
+            diverged.len(),
+            first.speed_hz,
+            first.diverged.as_deref().unwrap_or_default()
+        ),
+    })
 }
 
 /// The speeds of a cascade as they are computed, round after round of refinement.

@@ -425,8 +425,24 @@ fn default_band(model: &Model, speeds: &[f64]) -> f64 {
     (BAND_ORDERS * rad_s_to_hz(top)).max(BAND_MARGIN * contact)
 }
 
+/// Refuses a model without roller bearings: its response is linear, every frequency in it
+/// is the running speed's or a decaying transient's, so a cascade could only report
+/// round-off as NSV ("largest NSV 0.00 um ... backward-whip").
+fn nonlinear(model: &Model) -> Result<()> {
+    if !model.roller_bearings.is_empty() {
+        return Ok(());
+    }
+    Err(Error::Unsupported(
+        "the model has no roller bearing, so it is linear: it has no non-synchronous \
+         vibration to find (a cascade would report round-off); use `unbalance` for its \
+         response over speed, or add a [[roller_bearing]] with its clearance"
+            .into(),
+    ))
+}
+
 /// Checks the options against the model, before anything is built for them.
 pub(super) fn check(model: &Model, o: &CascadeOptions) -> Result<()> {
+    nonlinear(model)?;
     if o.speeds.is_empty() {
         return Err(bad(
             "speeds",

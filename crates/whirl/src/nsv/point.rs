@@ -162,6 +162,78 @@ pub struct CascadePoint {
     pub peak: Option<NsvPeak>,
 }
 
+/// The lengths of a point's spectra in one cascade.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct SpectrumLengths {
+    /// Bins of the one-sided band.
+    band: usize,
+    /// Bins of the full spectrum; 0 when the cascade keeps none.
+    full: usize,
+}
+
+impl SpectrumLengths {
+    pub(super) fn of(options: &CascadeOptions, r: &Resolved) -> Self {
+        SpectrumLengths {
+            band: r.bins,
+            full: if options.full {
+                full_bins(r).count()
+            } else {
+                0
+            },
+        }
+    }
+}
+
+#[cfg(test)]
+impl SpectrumLengths {
+    pub(super) fn for_test(band: usize, full: usize) -> Self {
+        SpectrumLengths { band, full }
+    }
+}
+
+impl CascadePoint {
+    /// Whether the point is one a run of this cascade could have written: spectra of the
+    /// cascade's lengths (none for a diverged point), every amplitude finite and not
+    /// negative. A point read back from a file is checked so before it is used.
+    pub(super) fn is_whole(&self, lengths: SpectrumLengths) -> bool {
+        let amplitude = |x: f64| x.is_finite() && x >= 0.0;
+        let (band, full) = match self.diverged {
+            Some(_) => (0, 0),
+            None => (lengths.band, lengths.full),
+        };
+        self.amplitude.len() == band
+            && self.full_amplitude.len() == full
+            && self
+                .amplitude
+                .iter()
+                .chain(&self.full_amplitude)
+                .all(|&a| amplitude(a))
+            && amplitude(self.one_x_m)
+            && amplitude(self.settle_s)
+            && (self.speed_hz - self.speed / std::f64::consts::TAU).abs() <= 1e-9 * self.speed_hz
+            && self.peak.as_ref().is_none_or(|p| p.is_whole())
+    }
+}
+
+impl NsvPeak {
+    fn is_whole(&self) -> bool {
+        let amplitude = |x: f64| x.is_finite() && x >= 0.0;
+        [
+            self.frequency_hz,
+            self.amplitude_m,
+            self.forward_m,
+            self.backward_m,
+            self.decay_ratio,
+            self.standard_error_m,
+            self.variation,
+        ]
+        .into_iter()
+        .all(amplitude)
+            && self.order.is_finite()
+            && self.settling_ratio.is_none_or(amplitude)
+    }
+}
+
 #[cfg(test)]
 impl CascadePoint {
     /// A settled point at `speed_hz` (4 records of 0.5 s, no spectra kept) with its 1X and

@@ -113,7 +113,8 @@ const REFINE_PASSES: usize = 16;
 /// Unbalance response at `nodes` over exactly `speeds` (rad/s).
 ///
 /// # Errors
-/// [`Error::InvalidOption`] for a node that is not on the shaft, [`Error::Unsupported`] for
+/// [`Error::InvalidOption`] for a node that is not on the shaft or more than
+/// [`MAX_RANGE_COUNT`](crate::units::MAX_RANGE_COUNT) speeds, [`Error::Unsupported`] for
 /// a model without unbalance, [`Error::Singular`] as in `unbalance_phasor`.
 pub fn unbalance_response(
     model: &Model,
@@ -121,6 +122,7 @@ pub fn unbalance_response(
     speeds: &[f64],
     nodes: &[usize],
 ) -> Result<UnbalanceResult> {
+    crate::units::check_count(speeds.len(), "unbalance speeds")?;
     let force = checked_force(model, system, nodes)?;
     let mut samples = samples_at(system, &force, speeds, nodes, None, 0, speeds.len())?;
     let maxima = resolved_maxima(system, &force, speeds, &mut samples, nodes, None)?;
@@ -143,6 +145,7 @@ pub fn unbalance_response_refined(
     nodes: &[usize],
     progress: Option<&Progress>,
 ) -> Result<UnbalanceResult> {
+    crate::units::check_count(speeds.len(), "unbalance speeds")?;
     let force = checked_force(model, system, nodes)?;
     let mut speeds = speeds.to_vec();
     speeds.sort_by(f64::total_cmp);

@@ -36,7 +36,7 @@ use serde::Serialize;
 
 use crate::bearing::hertz_bearings;
 use crate::error::{Error, Result};
-use crate::fe::{dof, Bearings, Direction};
+use crate::fe::{dof, too_large_for_dense, Bearings, Direction, DOFS_PER_NODE, MAX_DENSE_DOFS};
 use crate::force::{no_forces, ForceBuilder};
 use crate::model::Model;
 use crate::system::build;
@@ -97,8 +97,18 @@ impl StaticResult {
 ///
 /// # Errors
 /// [`Error::NotConverged`] or [`Error::Singular`] when the equilibrium cannot be found (a rotor not held by its
-/// bearings).
+/// bearings); [`Error::Unsupported`] above [`MAX_DENSE_DOFS`] DOFs.
 pub fn static_response(model: &Model, rollers: RollerSupport) -> Result<StaticResult> {
+    // The equilibrium is solved on the dense matrices and a static analysis has no
+    // reduction to offer: the refusal says so here, before `build` would suggest one.
+    let dofs = DOFS_PER_NODE * model.node_count();
+    if dofs > MAX_DENSE_DOFS {
+        return Err(too_large_for_dense(
+            dofs,
+            "The static deflection converges with few elements (it is a smooth curve): \
+             use fewer, e.g. the model's mesh at 200 elements",
+        ));
+    }
     let (bearings, forces): (Bearings, ForceBuilder<'_>) = match rollers {
         RollerSupport::Hertz => (Bearings::NonlinearApart, &hertz_bearings),
         RollerSupport::Linear => (Bearings::Linearised, &no_forces),
