@@ -64,8 +64,8 @@ class Model:
         if bad is not None:
             path, value = bad
             raise _whirl.InputError(
-                f"`{path}`: {value!r} has no place in a model file (TOML has no null, NaN or "
-                "infinity)\n  help: give a finite number, text with a unit, or leave the key out"
+                f"`{path}`: {value!r} has no place in a model file (TOML has no NaN or "
+                "infinity)\n  help: give a finite number or text with a unit"
             )
         return cls._checked(_whirl.Model.from_json(json.dumps(converted)))
 
@@ -166,10 +166,10 @@ def as_model(model: Model | str | os.PathLike[str]) -> Model:
 
 
 def _unwritable(value: Any, path: str) -> tuple[str, Any] | None:
-    """The first value under ``value`` that a model file cannot hold (None, NaN, infinity),
-    with its key path (``disk[0].mass``): JSON would carry it to the parser, which could
-    only name a column of the JSON text."""
-    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+    """The first value under ``value`` that a model file cannot hold (NaN, infinity), with
+    its key path (``disk[0].mass``): JSON would carry it to the parser, which could only
+    name a column of the JSON text. None stays: it is an absent optional key."""
+    if isinstance(value, float) and not math.isfinite(value):
         return path or "model", value
     if isinstance(value, Mapping):
         for key, item in value.items():
