@@ -46,6 +46,11 @@ const RUN_LIMIT: Duration = Duration::from_secs(60);
 /// suite for a minute.
 const BRIEF_RUN_LIMIT: Duration = Duration::from_secs(15);
 
+/// Relative rise of the first frequency on twice the elements taken as the solves' own
+/// round-off and tolerance: 1e-9 was typical at 120 nodes, +2.2e-7 was seen on an accepted
+/// fuzz model, and the round-off of a too fine mesh moved it by 1e-3 to 4e-2.
+const RISE_TOLERANCE: f64 = 1e-5;
+
 /// Models larger than this many nodes are validated only: the cost of big models is the
 /// business of the scale benchmarks, not of a fuzzer that must run thousands per minute.
 const MAX_SOLVED_NODES: usize = 60;
@@ -297,8 +302,7 @@ fn run_model(text: &str, tally: &Tally) {
 ///   its supports leave free must be refused, not answered with 0 Hz);
 /// - mesh convergence: on twice the elements (Euler-Bernoulli: the cubic shape functions of
 ///   the halved elements contain the coarse ones), the first frequency is a Rayleigh-Ritz
-///   bound of the coarse one, so it may not rise; 1e-7 relative is round-off at 120 nodes
-///   (1e-9 measured), far below any discretisation change.
+///   bound of the coarse one, so it may not rise beyond [`RISE_TOLERANCE`].
 fn wrong_answer(model: &Model, tally: &Tally) -> Result<(), String> {
     let Ok(coarse) = check_model(model) else {
         return Ok(());
@@ -330,7 +334,7 @@ fn wrong_answer(model: &Model, tally: &Tally) -> Result<(), String> {
     };
     tally.refined.fetch_add(1, Relaxed);
     let refined = fine.frequencies_hz.first().copied().unwrap_or(f64::NAN);
-    if refined.is_nan() || refined > first * (1.0 + 1e-7) {
+    if refined.is_nan() || refined > first * (1.0 + RISE_TOLERANCE) {
         return Err(format!(
             "the first frequency rose from {first} Hz to {refined} Hz on twice the elements \
              (a finer mesh can only lower it)"
