@@ -64,12 +64,15 @@ def test_a_stopped_cascade_keeps_its_speeds_and_resumes(tmp_path):
         told.append((done, total))
         return done >= 2
 
+    # 24 speeds: the stop (seen within a 100 ms poll) must come while speeds are left;
+    # with four, a quiet machine finished them all first and nothing was stopped.
+    speeds = "100Hz:400Hz:24"
     with pytest.raises(KeyboardInterrupt, match="stopped after"):
-        whirl.cascade(REFERENCE, SPEEDS, checkpoint=tmp_path, progress=stop_after_two, **OPTIONS)
-    assert told and told[-1][1] >= 4
-    resumed = whirl.cascade(REFERENCE, SPEEDS, checkpoint=tmp_path, progress=False, **OPTIONS)
+        whirl.cascade(REFERENCE, speeds, checkpoint=tmp_path, progress=stop_after_two, **OPTIONS)
+    assert told and told[-1][1] >= 24
+    resumed = whirl.cascade(REFERENCE, speeds, checkpoint=tmp_path, progress=False, **OPTIONS)
     assert resumed.resumed_speeds >= 2
-    whole = whirl.cascade(REFERENCE, SPEEDS, progress=False, **OPTIONS)
+    whole = whirl.cascade(REFERENCE, speeds, progress=False, **OPTIONS)
     assert_same_cascade(resumed, whole)
 
 
