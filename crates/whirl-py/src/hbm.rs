@@ -2,7 +2,6 @@
 //! stability, the time-marching comparisons and the harmonic-count study, reported by the
 //! library as the command line writes it.
 
-use std::ops::ControlFlow;
 use std::sync::Arc;
 
 use pyo3::prelude::*;
@@ -11,16 +10,12 @@ use whirl::hbm::{
     SweepReport,
 };
 use whirl::model::Model;
-use whirl::progress::Progress;
 
 use crate::error::{option, to_py};
 use crate::model::PyModel;
 use crate::nsv::choice;
 use crate::report::PyReport;
-use crate::watch::{run_watched, Watch};
-
-/// Progress steps of a sweep (it tells the fraction of the speed range followed).
-const STEPS: f64 = 1000.0;
+use crate::watch::{fraction_progress, run_watched, Watch};
 
 /// The run's options, resolved by the Python package from its keyword arguments (the
 /// command line's options and defaults; speeds in rad/s, times in s).
@@ -73,14 +68,7 @@ fn sweep_options(a: &HbmArgs, harmonics: usize) -> PyResult<SweepOptions> {
 /// The sweep, telling `watch` the fraction of the speed range followed and stopping when
 /// it is asked to.
 fn sweep_watched(model: &Model, o: &SweepOptions, watch: &Arc<Watch>) -> whirl::Result<Sweep> {
-    let told = Arc::clone(watch);
-    let progress = Progress::new(move |p| {
-        if told.tell((p.fraction() * STEPS).round() as usize, STEPS as usize) {
-            ControlFlow::Break(())
-        } else {
-            ControlFlow::Continue(())
-        }
-    });
+    let progress = fraction_progress(watch);
     sweep_with_progress(model, o, Some(&progress))
 }
 

@@ -2,22 +2,15 @@
 //! parameter, its unstable bands and resonance lines, and the check against cascades. The
 //! options arrive as the library's request takes them: `None` is the library's default.
 
-use std::ops::ControlFlow;
-use std::sync::Arc;
-
 use pyo3::prelude::*;
 use whirl::hbm::{CageModel, SweepSettings};
 use whirl::map::{map_with, MapRequest, Parallelism};
-use whirl::progress::Progress;
 
 use crate::error::{option, to_py};
 use crate::model::PyModel;
 use crate::nsv::choice;
 use crate::report::PyReport;
-use crate::watch::run_watched;
-
-/// Progress steps of a map (it tells the fraction of its values done).
-const STEPS: f64 = 1000.0;
+use crate::watch::{fraction_progress, run_watched};
 
 /// The map's options from the Python package: speeds in rad/s, lengths in m, every
 /// setting `None` for the library's default.
@@ -104,14 +97,7 @@ pub fn map(
 ) -> PyResult<PyReport> {
     let request = request(model, options)?;
     let report = run_watched(py, progress.as_ref(), |watch| {
-        let told = Arc::clone(watch);
-        let progress = Progress::new(move |p| {
-            if told.tell((p.fraction() * STEPS).round() as usize, STEPS as usize) {
-                ControlFlow::Break(())
-            } else {
-                ControlFlow::Continue(())
-            }
-        });
+        let progress = fraction_progress(watch);
         map_with(&request, Parallelism::default(), Some(&progress))
     })?
     .map_err(to_py)?;

@@ -43,6 +43,23 @@ impl Watch {
     }
 }
 
+/// Steps a fraction of the work is told in: `progress(done, FRACTION_STEPS)`.
+pub const FRACTION_STEPS: usize = 1000;
+
+/// The library's progress for work that tells the fraction it has done: it tells `watch`
+/// in thousandths and stops the work when the watch is asked to stop.
+pub fn fraction_progress(watch: &Arc<Watch>) -> whirl::progress::Progress {
+    let told = Arc::clone(watch);
+    whirl::progress::Progress::new(move |p| {
+        let done = (p.fraction() * FRACTION_STEPS as f64).round() as usize;
+        if told.tell(done, FRACTION_STEPS) {
+            std::ops::ControlFlow::Break(())
+        } else {
+            std::ops::ControlFlow::Continue(())
+        }
+    })
+}
+
 /// Runs `work` on a thread of its own, without the GIL, and returns its result. Meanwhile
 /// Ctrl-C asks it to stop (its result then says it was interrupted) and `progress(done,
 /// total)` is called when the counts change; a true return asks the work to stop too.
