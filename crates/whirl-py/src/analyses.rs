@@ -7,7 +7,7 @@ use whirl::bearing::stiffness::{stiffness_report, GivenLoad, StiffnessRequest};
 use whirl::fe::{assemble_banded, dof, Bearings, Direction};
 use whirl::modal::{critical_speed_map, default_stiffnesses, log_space};
 use whirl::reduce::reduction_report;
-use whirl::response::{default_frequencies, frf as receptances, FrfReport};
+use whirl::response::{default_frequencies, frf_refined as receptances, FrfReport};
 use whirl::statics::static_response;
 use whirl::time::{fit_forcing as fit, ForcingFitOptions, ForcingFitReport};
 

@@ -8,14 +8,16 @@
 //! newtons), `peaks.csv` (resonance peaks of each receptance with half-power bands; a local
 //! maximum within the receptance's round-off is no peak, and the summary lists it) and the
 //! plots `receptance`, `mobility` and `accelerance` (magnitude, phase, real and imaginary
-//! parts over frequency).
+//! parts over frequency). Frequencies are added around each peak until its half-power band
+//! holds 40 steps, so a lightly damped resonance's height and Q come out of samples
+//! (`frf.csv` then holds more rows than `--frequencies` asked for).
 
 use std::fmt::Write;
 
 use whirl::fe::{assemble_banded, dof, Bearings, Direction};
 use whirl::model::Model;
 use whirl::report::Report;
-use whirl::response::{default_frequencies, frf, FrfKind, FrfReport};
+use whirl::response::{default_frequencies, frf_refined, FrfKind, FrfReport};
 use whirl::units::{parse_quantity, Dimension};
 
 use super::{
@@ -117,9 +119,12 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     }
     let system = assemble_banded(model, Bearings::Linearised);
     let result = lib(shown("frf", |p| {
-        frf(&system, args.speed, input, &outputs, &w, p)
+        frf_refined(&system, args.speed, input, &outputs, &w, p)
     }))?;
-    let (f0, f1) = (result.frequencies_hz[0], result.frequencies_hz[w.len() - 1]);
+    let (f0, f1) = (
+        result.frequencies_hz[0],
+        result.frequencies_hz[result.frequencies_hz.len() - 1],
+    );
 
     let report = FrfReport {
         result,

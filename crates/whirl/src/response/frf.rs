@@ -21,7 +21,8 @@ use faer::{c64, Mat};
 use serde::Serialize;
 
 use super::peaks::{
-    find_peaks, maxima_with_bases, samples_to_check, split_maxima, Maxima, ResponsePeak,
+    find_peaks, maxima_with_bases, merge_sorted, refinement_points, samples_to_check, split_maxima,
+    Maxima, ResponsePeak, REFINE_PASSES,
 };
 use crate::error::{Error, Result};
 use crate::fe::{assemble_banded, dof_name, BandedSystem, Bearings, Matrices, SystemMatrices};
@@ -352,8 +353,8 @@ pub fn default_frequencies(model: &Model) -> Result<Vec<f64>> {
 }
 
 /// Receptances from a unit force at DOF `input` to the DOFs `outputs`, at spin speed `speed`
-/// (rad/s) over the circular frequencies `frequencies` (rad/s), telling `progress` after
-/// every frequency.
+/// (rad/s) over exactly the circular frequencies `frequencies` (rad/s), telling `progress`
+/// after every frequency.
 ///
 /// # Errors
 /// [`Error::InvalidOption`] for a DOF outside the model, [`Error::Singular`] for a
@@ -366,32 +367,18 @@ pub fn frf(
     frequencies: &[f64],
     progress: Option<&Progress>,
 ) -> Result<FrfResult> {
-    let n = system.dofs();
-    if let Some(&bad) = std::iter::once(&input).chain(outputs).find(|&&d| d >= n) {
-        return Err(Error::InvalidOption(format!(
-            "DOF {bad} is not in the model (DOFs 0 to {})",
-            n - 1
-        )));
-    }
-    let mut force = vec![c64::new(0.0, 0.0); n];
-    force[input] = c64::new(1.0, 0.0);
-    let responses: Vec<Vec<c64>> = map_told(
+    let force = unit_force(system, input, outputs)?;
+    let count = frequencies.len();
+    let responses = responses_at(
+        system,
+        speed,
+        &force,
+        outputs,
         frequencies,
         progress,
-        (0, frequencies.len()),
-        ("the FRF", "frequencies"),
-        |&w| {
-            harmonic_response(system, speed, w, &force)
-                .map(|q| outputs.iter().map(|&o| q[o]).collect())
-        },
+        (0, count),
     )?;
-    let frequencies_hz: Vec<f64> = frequencies
-        .iter()
-        .map(|w| w / (2.0 * std::f64::consts::PI))
-        .collect();
-    let magnitudes: Vec<Vec<f64>> = (0..outputs.len())
-        .map(|o| responses.iter().map(|r| r[o].norm()).collect())
-        .collect();
+    let magnitudes = magnitudes_of(&responses, outputs.len());
     let maxima = resolved_maxima(
         system,
         speed,
@@ -401,9 +388,146 @@ pub fn frf(
         &magnitudes,
         progress,
     )?;
+    Ok(result_from(
+        speed,
+        input,
+        outputs,
+        frequencies,
+        &responses,
+        &magnitudes,
+        &maxima,
+    ))
+}
+
+/// [`frf`] over `frequencies` and, added to them, frequencies around every peak of an
+/// output's |receptance| until the peak's half-power band holds
+/// [`BAND_SAMPLES`](super::BAND_SAMPLES) steps, over at most 16 passes, as the unbalance
+/// response refines its speeds ([`super::unbalance_response_refined`]): a lightly damped
+/// resonance is narrower than an even grid samples, and its peak and amplification factor
+/// must come out of samples, not out of the interpolation between them. The result's
+/// frequencies are sorted ascending without duplicates; `progress`'s total grows with each
+/// pass.
+///
+/// # Errors
+/// As [`frf`].
+pub fn frf_refined(
+    system: &impl Matrices,
+    speed: f64,
+    input: usize,
+    outputs: &[usize],
+    frequencies: &[f64],
+    progress: Option<&Progress>,
+) -> Result<FrfResult> {
+    let force = unit_force(system, input, outputs)?;
+    let mut frequencies = frequencies.to_vec();
+    frequencies.sort_by(f64::total_cmp);
+    frequencies.dedup();
+    let count = frequencies.len();
+    let mut responses = responses_at(
+        system,
+        speed,
+        &force,
+        outputs,
+        &frequencies,
+        progress,
+        (0, count),
+    )?;
+    let mut passes = 0;
+    loop {
+        let magnitudes = magnitudes_of(&responses, outputs.len());
+        let maxima = resolved_maxima(
+            system,
+            speed,
+            &frequencies,
+            &force,
+            outputs,
+            &magnitudes,
+            progress,
+        )?;
+        let added = if passes < REFINE_PASSES {
+            refinement_points(&frequencies, &magnitudes, &maxima)
+        } else {
+            Vec::new()
+        };
+        if added.is_empty() {
+            return Ok(result_from(
+                speed,
+                input,
+                outputs,
+                &frequencies,
+                &responses,
+                &magnitudes,
+                &maxima,
+            ));
+        }
+        passes += 1;
+        let told = (frequencies.len(), frequencies.len() + added.len());
+        let more = responses_at(system, speed, &force, outputs, &added, progress, told)?;
+        (frequencies, responses) = merge_sorted(frequencies, responses, added, more);
+    }
+}
+
+/// A unit force at DOF `input`, after checking that it and `outputs` are in the model.
+fn unit_force(system: &impl Matrices, input: usize, outputs: &[usize]) -> Result<Vec<c64>> {
+    let n = system.dofs();
+    if let Some(&bad) = std::iter::once(&input).chain(outputs).find(|&&d| d >= n) {
+        return Err(Error::InvalidOption(format!(
+            "DOF {bad} is not in the model (DOFs 0 to {})",
+            n - 1
+        )));
+    }
+    let mut force = vec![c64::new(0.0, 0.0); n];
+    force[input] = c64::new(1.0, 0.0);
+    Ok(force)
+}
+
+/// The responses at `outputs` to `force` at each of `frequencies` (rad/s), in parallel;
+/// `progress` is told `(done before, total)` as [`map_told`] is.
+fn responses_at(
+    system: &impl Matrices,
+    speed: f64,
+    force: &[c64],
+    outputs: &[usize],
+    frequencies: &[f64],
+    progress: Option<&Progress>,
+    told: (usize, usize),
+) -> Result<Vec<Vec<c64>>> {
+    map_told(
+        frequencies,
+        progress,
+        told,
+        ("the FRF", "frequencies"),
+        |&w| {
+            harmonic_response(system, speed, w, force)
+                .map(|q| outputs.iter().map(|&o| q[o]).collect())
+        },
+    )
+}
+
+/// |receptance| of each output over the frequencies.
+fn magnitudes_of(responses: &[Vec<c64>], outputs: usize) -> Vec<Vec<f64>> {
+    (0..outputs)
+        .map(|o| responses.iter().map(|r| r[o].norm()).collect())
+        .collect()
+}
+
+/// The FRF from the responses at `frequencies` (rad/s), each output's peaks at its `maxima`.
+fn result_from(
+    speed: f64,
+    input: usize,
+    outputs: &[usize],
+    frequencies: &[f64],
+    responses: &[Vec<c64>],
+    magnitudes: &[Vec<f64>],
+    maxima: &[Maxima],
+) -> FrfResult {
+    let frequencies_hz: Vec<f64> = frequencies
+        .iter()
+        .map(|w| w / (2.0 * std::f64::consts::PI))
+        .collect();
     let outputs = outputs
         .iter()
-        .zip(magnitudes.iter().zip(&maxima))
+        .zip(magnitudes.iter().zip(maxima))
         .enumerate()
         .map(|(o, (&d, (magnitude, maxima)))| FrfChannel {
             dof: d,
@@ -419,12 +543,12 @@ pub fn frf(
             receptance: responses.iter().map(|r| r[o]).collect(),
         })
         .collect();
-    Ok(FrfResult {
+    FrfResult {
         speed,
         frequencies_hz,
         input: (input, dof_name(input)),
         outputs,
-    })
+    }
 }
 
 /// Per output, the local maxima of |receptance|, split by whether they stand above the

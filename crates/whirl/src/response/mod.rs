@@ -1,7 +1,8 @@
 //! Forced responses of the linear model.
 //!
 //! - [`frf`]: receptance, mobility and accelerance between any two DOFs at a spin speed,
-//!   and [`harmonic_response`] to harmonic forces of any frequency.
+//!   and [`harmonic_response`] to harmonic forces of any frequency; [`frf_refined`] adds
+//!   frequencies near the peaks so they are resolved.
 //! - [`unbalance_response`]: the steady synchronous response to unbalance over a speed
 //!   range, with peaks, amplification factors and API 617 separation margins;
 //!   [`unbalance_response_refined`] adds speeds near the peaks so they are resolved.
@@ -11,11 +12,12 @@ mod peaks;
 mod unbalance;
 
 pub use frf::{
-    default_frequencies, frf, harmonic_response, FrfChannel, FrfKind, FrfReport, FrfResult,
-    FrfSummary,
+    default_frequencies, frf, frf_refined, harmonic_response, FrfChannel, FrfKind, FrfReport,
+    FrfResult, FrfSummary,
 };
-pub use peaks::{margins_not_applicable, separation_margin, ResponsePeak, API617_MIN_SPEED_RATIO};
+pub use peaks::{
+    margins_not_applicable, separation_margin, ResponsePeak, API617_MIN_SPEED_RATIO, BAND_SAMPLES,
+};
 pub use unbalance::{
-    unbalance_response, unbalance_response_refined, NodeResponse, UnbalanceResult,
-    UnbalanceSummary, BAND_SAMPLES,
+    unbalance_response, unbalance_response_refined, NodeResponse, UnbalanceResult, UnbalanceSummary,
 };

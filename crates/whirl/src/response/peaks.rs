@@ -246,6 +246,76 @@ fn refine_peak(x: &[f64], y: &[f64], k: usize) -> (f64, f64) {
     }
 }
 
+// Refinement of a sampled response around its peaks, shared by the unbalance response
+// (over speed) and the FRF (over frequency).
+
+/// Steps a peak's half-power band is refined to: the parabola through the top three
+/// samples then misses the peak of a resonance by about (1/40)^2 of the band's curvature
+/// scale, well under 0.1 %, and the half-power crossings are interpolated over 1/40 of
+/// the band.
+pub const BAND_SAMPLES: f64 = 40.0;
+
+/// Most refinement passes. Each halves the steps inside the bands, so 16 passes resolve a
+/// half-power band 2^16 / [`BAND_SAMPLES`] = 1,638 times narrower than the requested step:
+/// with the default 800 speeds up to 900 Hz, a mode at 50 Hz with a damping ratio of 7e-6,
+/// below the material damping of a steel shaft (about 1e-4). A narrower band is that of a
+/// mode without damping, which no grid resolves; more passes would only add speeds beside
+/// its top. Peaks of round-off are not refined at all, so the passes end as soon as the
+/// resonances are resolved.
+pub(crate) const REFINE_PASSES: usize = 16;
+
+/// Fraction of a peak's height above which its steps are refined: the loop of the polar
+/// plot spans most of its sweep there (a single mode's amplitude falls to a quarter at
+/// about 2 half-power widths from the peak).
+const REFINE_LEVEL: f64 = 0.25;
+
+/// Midpoints of the steps wider than 1/[`BAND_SAMPLES`] of a peak's half-power band where
+/// the curve is above [`REFINE_LEVEL`] of the peak, over the `maxima` of every curve of
+/// `curves` sampled at `xs` (those that stand above its round-off), sorted and unique. A band whose edge
+/// lies outside the sweep is measured to the sweep's end, so a broad rise is left alone.
+pub(crate) fn refinement_points(xs: &[f64], curves: &[Vec<f64>], maxima: &[Maxima]) -> Vec<f64> {
+    let mut added = Vec::new();
+    for (major, maxima) in curves.iter().zip(maxima) {
+        for &k in &maxima.resolved {
+            let (low, high) = band(major, k, major[k] / std::f64::consts::SQRT_2);
+            let step = (xs[high] - xs[low]) / BAND_SAMPLES;
+            let (low, high) = band(major, k, REFINE_LEVEL * major[k]);
+            added.extend(
+                (low..high)
+                    .filter(|&j| xs[j + 1] - xs[j] > step)
+                    .map(|j| 0.5 * (xs[j] + xs[j + 1])),
+            );
+        }
+    }
+    added.sort_by(f64::total_cmp);
+    added.dedup();
+    added
+}
+
+/// The nearest samples on either side of the peak at `k` below `level` (the ends of the
+/// curve when it stays above).
+fn band(y: &[f64], k: usize, level: f64) -> (usize, usize) {
+    let (below, above) = samples_below(y, k, level);
+    (below.unwrap_or(0), above.unwrap_or(y.len() - 1))
+}
+
+/// Two ascending lists of points and their samples merged into one ascending list.
+pub(crate) fn merge_sorted<T>(
+    xs: Vec<f64>,
+    samples: Vec<T>,
+    added: Vec<f64>,
+    added_samples: Vec<T>,
+) -> (Vec<f64>, Vec<T>) {
+    let mut pairs: Vec<(f64, T)> = xs
+        .into_iter()
+        .zip(samples)
+        .chain(added.into_iter().zip(added_samples))
+        .collect();
+    pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
+    pairs.dedup_by(|a, b| a.0 == b.0);
+    pairs.into_iter().unzip()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -17,7 +17,7 @@
 //! zeta = 1.8 %), narrower than the 1.1 Hz step of 800 speeds up to 900 Hz allows to
 //! sample. [`unbalance_response_refined`] therefore adds speeds around each peak of the
 //! major semi-axis, halving the steps there until the half-power band holds
-//! [`BAND_SAMPLES`] steps, so the peak, its amplification factor and the polar loop
+//! [`BAND_SAMPLES`](super::BAND_SAMPLES) steps, so the peak, its amplification factor and the polar loop
 //! come out of the samples rather than out of the interpolation between them.
 //!
 //! On a fine mesh round-off makes the curves ripple: K's entries grow as the cube of the
@@ -38,8 +38,8 @@ use serde::Serialize;
 
 use super::frf::{harmonic_response, harmonic_response_and_round_off};
 use super::peaks::{
-    find_peaks, margins_not_applicable, maxima_with_bases, samples_below, samples_to_check,
-    split_maxima, Maxima, ResponsePeak,
+    find_peaks, margins_not_applicable, maxima_with_bases, merge_sorted, refinement_points,
+    samples_to_check, split_maxima, Maxima, ResponsePeak, REFINE_PASSES,
 };
 use crate::error::{Error, Result};
 use crate::fe::{dof, unbalance_force, Direction, Matrices};
@@ -95,21 +95,6 @@ fn scaled_force(force: &[c64], omega: f64) -> Vec<c64> {
     force.iter().map(|f| f * (omega * omega)).collect()
 }
 
-/// Steps a peak's half-power band is refined to: the parabola through the top three
-/// samples then misses the peak of a resonance by about (1/40)^2 of the band's curvature
-/// scale, well under 0.1 %, and the half-power crossings are interpolated over 1/40 of
-/// the band.
-pub const BAND_SAMPLES: f64 = 40.0;
-
-/// Most refinement passes. Each halves the steps inside the bands, so 16 passes resolve a
-/// half-power band 2^16 / [`BAND_SAMPLES`] = 1,638 times narrower than the requested step:
-/// with the default 800 speeds up to 900 Hz, a mode at 50 Hz with a damping ratio of 7e-6,
-/// below the material damping of a steel shaft (about 1e-4). A narrower band is that of a
-/// mode without damping, which no grid resolves; more passes would only add speeds beside
-/// its top. Peaks of round-off are not refined at all, so the passes end as soon as the
-/// resonances are resolved.
-const REFINE_PASSES: usize = 16;
-
 /// Unbalance response at `nodes` over exactly `speeds` (rad/s).
 ///
 /// # Errors
@@ -131,7 +116,7 @@ pub fn unbalance_response(
 
 /// Unbalance response at `nodes` over `speeds` (rad/s) and, added to them, speeds around
 /// every peak of a node's major semi-axis (where it exceeds a quarter of the peak) until
-/// the peak's half-power band holds [`BAND_SAMPLES`] steps, over at most
+/// the peak's half-power band holds [`BAND_SAMPLES`](super::BAND_SAMPLES) steps, over at most
 /// `REFINE_PASSES` (16) passes; a local maximum within the curve's round-off is no peak. The
 /// result's speeds are sorted ascending without duplicates.
 /// `progress` is told after every speed; its total grows with each pass of refinement.
@@ -156,7 +141,10 @@ pub fn unbalance_response_refined(
     loop {
         let maxima = resolved_maxima(system, &force, &speeds, &mut samples, nodes, progress)?;
         let added = if passes < REFINE_PASSES {
-            refinement_speeds(&speeds, &samples, &maxima)
+            let majors: Vec<Vec<f64>> = (0..nodes.len())
+                .map(|slot| major_of(&samples, slot))
+                .collect();
+            refinement_points(&speeds, &majors, &maxima)
         } else {
             Vec::new()
         };
@@ -168,59 +156,6 @@ pub fn unbalance_response_refined(
         let new_samples = samples_at(system, &force, &added, nodes, progress, before, total)?;
         (speeds, samples) = merge_sorted(speeds, samples, added, new_samples);
     }
-}
-
-/// Fraction of a peak's height above which its steps are refined: the loop of the polar
-/// plot spans most of its sweep there (a single mode's amplitude falls to a quarter at
-/// about 2 half-power widths from the peak).
-const REFINE_LEVEL: f64 = 0.25;
-
-/// Midpoints of the steps wider than 1/[`BAND_SAMPLES`] of a peak's half-power band where
-/// the curve is above [`REFINE_LEVEL`] of the peak, over the `maxima` of every node's major
-/// semi-axis (those that stand above its round-off), sorted and unique. A band whose edge
-/// lies outside the sweep is measured to the sweep's end, so a broad rise is left alone.
-fn refinement_speeds(speeds: &[f64], samples: &[SpeedSample], maxima: &[Maxima]) -> Vec<f64> {
-    let mut added = Vec::new();
-    for (slot, maxima) in maxima.iter().enumerate() {
-        let major = major_of(samples, slot);
-        for &k in &maxima.resolved {
-            let (low, high) = band(&major, k, major[k] / std::f64::consts::SQRT_2);
-            let step = (speeds[high] - speeds[low]) / BAND_SAMPLES;
-            let (low, high) = band(&major, k, REFINE_LEVEL * major[k]);
-            added.extend(
-                (low..high)
-                    .filter(|&j| speeds[j + 1] - speeds[j] > step)
-                    .map(|j| 0.5 * (speeds[j] + speeds[j + 1])),
-            );
-        }
-    }
-    added.sort_by(f64::total_cmp);
-    added.dedup();
-    added
-}
-
-/// The nearest samples on either side of the peak at `k` below `level` (the ends of the
-/// curve when it stays above).
-fn band(y: &[f64], k: usize, level: f64) -> (usize, usize) {
-    let (below, above) = samples_below(y, k, level);
-    (below.unwrap_or(0), above.unwrap_or(y.len() - 1))
-}
-
-/// Two ascending speed lists and their samples merged into one ascending list.
-fn merge_sorted(
-    speeds: Vec<f64>,
-    samples: Vec<SpeedSample>,
-    added: Vec<f64>,
-    added_samples: Vec<SpeedSample>,
-) -> (Vec<f64>, Vec<SpeedSample>) {
-    let mut pairs: Vec<(f64, SpeedSample)> = speeds
-        .into_iter()
-        .zip(samples)
-        .chain(added.into_iter().zip(added_samples))
-        .collect();
-    pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
-    pairs.dedup_by(|a, b| a.0 == b.0);
-    pairs.into_iter().unzip()
 }
 
 /// The unbalance force vector, after checking `nodes` and that the model has unbalance.
