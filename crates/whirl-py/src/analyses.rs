@@ -15,6 +15,7 @@ use crate::error::{keyword_lib, lib, option};
 use crate::model::PyModel;
 use crate::nsv::choice;
 use crate::report::PyReport;
+use crate::watch::{fraction_progress, run_watched};
 
 /// The Craig-Bampton reduction (`whirl reduce`): `modes` fixed-interface modes, every DOF
 /// of the bearing nodes and of `nodes` on the boundary; the reduced model's natural
@@ -160,8 +161,11 @@ pub fn frf(
 
 /// The forcing-function fit (`whirl fit-forcing`) of roller bearing `bearing` at `speeds`
 /// (rad/s), each simulated for `duration` s with the first `settle` s discarded, on a
-/// Craig-Bampton model with `reduce` modes.
+/// Craig-Bampton model with `reduce` modes; `progress(done, 1000)` is told the share of the
+/// simulated time done, and Ctrl-C or a true return stops it.
 #[pyfunction]
+#[pyo3(signature = (model, speeds, bearing, duration, settle, reduce, progress = None))]
+#[allow(clippy::too_many_arguments)]
 pub fn fit_forcing(
     py: Python<'_>,
     model: &PyModel,
@@ -170,6 +174,7 @@ pub fn fit_forcing(
     duration: f64,
     settle: f64,
     reduce: usize,
+    progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<PyReport> {
     let options = ForcingFitOptions {
         duration,
@@ -178,6 +183,9 @@ pub fn fit_forcing(
         ..ForcingFitOptions::default()
     };
     let model = &model.model;
-    let result = lib(py.detach(|| fit(model, bearing, &speeds, &options)))?;
-    PyReport::of(&ForcingFitReport::new(model, bearing, result))
+    let result = run_watched(py, progress.as_ref(), |watch| {
+        let progress = fraction_progress(watch);
+        fit(model, bearing, &speeds, &options, Some(&progress))
+    })?;
+    PyReport::of(&ForcingFitReport::new(model, bearing, lib(result)?))
 }

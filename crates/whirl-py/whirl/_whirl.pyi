@@ -134,5 +134,11 @@ def frf(
     force: float,
 ) -> Report: ...
 def fit_forcing(
-    model: Model, speeds: list[float], bearing: int, duration: float, settle: float, reduce: int
+    model: Model,
+    speeds: list[float],
+    bearing: int,
+    duration: float,
+    settle: float,
+    reduce: int,
+    progress: Any = None,
 ) -> Report: ...

@@ -10,7 +10,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from . import _options, _whirl
+from . import _options, _progress, _whirl
 from .model import Model, as_model
 from .nsv import _time
 from .report import Report
@@ -243,6 +243,7 @@ def fit_forcing(
     duration: str | float = "0.3s",
     settle: str | float = "0.2s",
     reduce: int = _whirl.DEFAULT_MODES,
+    progress: bool | _progress.Report = True,
 ) -> Report:
     """The forcing-function law (thesis eq. 3.12) fitted to a roller bearing's Hertz
     response over speed (``whirl fit-forcing``).
@@ -255,6 +256,8 @@ def fit_forcing(
         duration: simulated time per speed.
         settle: time discarded before sampling.
         reduce: Craig-Bampton fixed-interface modes (the bearing nodes are the boundary).
+        progress: True for a tqdm bar when tqdm is installed, False, or ``progress(done,
+            1000)`` told the share of the simulated time done (a true return stops it).
 
     Returns:
         A :class:`whirl.Report` with the fitted coefficients in its summary and the table
@@ -262,8 +265,9 @@ def fit_forcing(
     """
     model = as_model(model)
     w = [float(x) for x in _options.speeds(speeds, model, 0.0, 5)]
-    raw = _whirl.fit_forcing(
-        model._raw, w, int(bearing), _time("duration", duration), _time("settle", settle),
-        _options.mode_count(reduce, "reduce"),
-    )
+    with _progress.display(progress, "fit-forcing", "permille") as report:
+        raw = _whirl.fit_forcing(
+            model._raw, w, int(bearing), _time("duration", duration), _time("settle", settle),
+            _options.mode_count(reduce, "reduce"), report,
+        )
     return Report("fit-forcing", model, raw)

@@ -212,7 +212,7 @@ fn a_fitted_law_reproduces_the_hertz_1x_response() {
         .iter()
         .map(|hz| 2.0 * PI * hz)
         .collect();
-    let fit = fit_forcing(&model, 0, &speeds, &ForcingFitOptions::default()).unwrap();
+    let fit = fit_forcing(&model, 0, &speeds, &ForcingFitOptions::default(), None).unwrap();
     // The cage-averaged force lies on one curve of the deflection; the law follows it to a
     // percent or two (the per-speed power law cannot bend with it over a wide range).
     assert!(fit.r_squared > 0.999, "{fit:?}");
@@ -245,4 +245,38 @@ fn a_fitted_law_reproduces_the_hertz_1x_response() {
             );
         }
     }
+}
+
+#[test]
+fn a_fit_tells_its_progress_over_all_speeds_and_stops_when_told() {
+    use std::ops::ControlFlow;
+    use std::sync::{Arc, Mutex};
+    use whirl::progress::Progress;
+    use whirl::Error;
+
+    let model = reference_rotor();
+    let speeds = [2.0 * PI * 100.0, 2.0 * PI * 200.0];
+    let options = ForcingFitOptions {
+        duration: 0.06,
+        settle: 0.03,
+        ..ForcingFitOptions::default()
+    };
+    // Both speeds' runs add up to 2 x 0.06 s; the last report says all of it is done.
+    let seen = Arc::new(Mutex::new(Vec::new()));
+    let log = Arc::clone(&seen);
+    let progress = Progress::new(move |r| {
+        log.lock().unwrap().push((r.done, r.total));
+        ControlFlow::Continue(())
+    });
+    fit_forcing(&model, 0, &speeds, &options, Some(&progress)).unwrap();
+    let seen = seen.lock().unwrap();
+    assert!(seen.len() > 100, "{} reports", seen.len());
+    assert!(seen.iter().all(|&(_, total)| (total - 0.12).abs() < 1e-12));
+    let most = seen.iter().map(|&(done, _)| done).fold(0.0, f64::max);
+    // Each run's last report is within one report interval (duration / 1000) of its end.
+    assert!((most - 0.12).abs() <= 2.0 * 0.06 / 1000.0 + 1e-9, "{most}");
+    // A progress that says stop ends the fit as interrupted.
+    let stop = Progress::new(|_| ControlFlow::Break(()));
+    let e = fit_forcing(&model, 0, &speeds, &options, Some(&stop)).unwrap_err();
+    assert!(matches!(e, Error::Interrupted(_)), "{e}");
 }

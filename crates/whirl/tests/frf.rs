@@ -135,12 +135,20 @@ fn a_lightly_damped_resonance_is_resolved_by_refinement() {
         .fold(0.0, f64::max);
     let top = |r: &whirl::response::FrfResult| r.outputs[0].peaks[0].amplitude;
     // Without refinement the peak is off by more than half: the test can fail.
-    assert!(top(&coarse) < 0.5 * exact_top, "{} vs {exact_top}", top(&coarse));
+    assert!(
+        top(&coarse) < 0.5 * exact_top,
+        "{} vs {exact_top}",
+        top(&coarse)
+    );
     // Refined, the parabola through the top three of 40 steps per band reads the top to
     // (1/40)^2 of the band's curvature scale; the 40-element model's w_1 is within 1e-6 of
     // the exact one, so its own top is within about (1e-6 / zeta)^2 = 1e-4. Hence 1e-3.
     let error = top(&refined) / exact_top - 1.0;
-    assert!(error.abs() < 1e-3, "top {} vs {exact_top}: {error:e}", top(&refined));
+    assert!(
+        error.abs() < 1e-3,
+        "top {} vs {exact_top}: {error:e}",
+        top(&refined)
+    );
     // Q = f / (f_2 - f_1) = 1 / (2 zeta) for one mode; the other modes' tails shift the
     // half-power points by about 1e-4 of the band, the interpolation over 1/40 of it by
     // less than 1e-3. Hence 1 %.
@@ -154,7 +162,11 @@ fn a_lightly_damped_resonance_is_resolved_by_refinement() {
         0.5 / zeta,
         refined.frequencies_hz.len()
     );
-    assert!((q * 2.0 * zeta - 1.0).abs() < 0.01, "Q {q} vs {}", 0.5 / zeta);
+    assert!(
+        (q * 2.0 * zeta - 1.0).abs() < 0.01,
+        "Q {q} vs {}",
+        0.5 / zeta
+    );
 }
 
 #[test]

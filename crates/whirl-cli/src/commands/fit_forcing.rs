@@ -17,6 +17,8 @@ use std::path::{Path, PathBuf};
 use whirl::model::Model;
 use whirl::report::Report;
 use whirl::time::{fit_forcing, ForcingFit, ForcingFitOptions, ForcingFitReport, DEFAULT_MODES};
+
+use crate::progress::shown;
 use whirl_plot::{Colour, Figure2d, LegendPosition, Marker, PlotError, Series, Style};
 
 use super::{
@@ -63,7 +65,9 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         reduction: Some(args.reduce),
         ..ForcingFitOptions::default()
     };
-    let fit = lib(fit_forcing(model, args.bearing, &args.speeds.0, &options))?;
+    let fit = lib(shown("fit-forcing", |p| {
+        fit_forcing(model, args.bearing, &args.speeds.0, &options, p)
+    }))?;
     let report = ForcingFitReport::new(model, args.bearing, fit);
     let summary = report_summary("fit-forcing", &loaded, &report)?;
     let text = summary_text(model, &report.fit, report.warning.as_deref());

@@ -25,6 +25,8 @@ mod report;
 pub use report::{ForcingFitReport, ForcingFitSummary};
 
 use std::f64::consts::PI;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -36,6 +38,7 @@ use crate::bearing::{ContactLaw, HertzBearing};
 use crate::error::{Error, Result};
 use crate::force::NonlinearForce;
 use crate::model::{Clearance, ForcingFunction, Model, RollerBearing};
+use crate::progress::Progress;
 use crate::system::SpeedProfile;
 use crate::time::{simulate, SimulationOptions, DEFAULT_MODES};
 
@@ -134,8 +137,50 @@ impl ForcingFit {
     }
 }
 
+/// The seconds simulated over the parallel runs of several speeds, told to one progress:
+/// each run's own reports (its time so far) are summed over the speeds.
+struct SimulatedTime {
+    /// Seconds simulated at each speed, in microseconds (atomics hold integers).
+    done_us: Arc<Vec<AtomicU64>>,
+    /// Seconds to simulate over all speeds.
+    total: f64,
+    progress: Option<Progress>,
+}
+
+impl SimulatedTime {
+    fn new(speeds: usize, duration: f64, progress: Option<&Progress>) -> Self {
+        SimulatedTime {
+            done_us: Arc::new((0..speeds).map(|_| AtomicU64::new(0)).collect()),
+            total: speeds as f64 * duration,
+            progress: progress.cloned(),
+        }
+    }
+
+    /// The progress of the run at speed `k`: its time so far, told as the sum over all.
+    fn of_speed(&self, k: usize) -> Option<Progress> {
+        let outer = self.progress.clone()?;
+        let (done_us, total) = (Arc::clone(&self.done_us), self.total);
+        Some(Progress::new(move |r| {
+            done_us[k].store((r.done * 1e6) as u64, Ordering::Relaxed);
+            let done: f64 = done_us
+                .iter()
+                .map(|d| d.load(Ordering::Relaxed) as f64 * 1e-6)
+                .sum();
+            outer.tell(
+                done,
+                total,
+                &format!(
+                    "{done:.2} s of {total:.2} s simulated over {} speeds",
+                    done_us.len()
+                ),
+            )
+        }))
+    }
+}
+
 /// Fits the forcing function of roller bearing `index` of `model` to its Hertz response at
-/// `speeds` (rad/s).
+/// `speeds` (rad/s), telling `progress` the seconds simulated over all speeds (a thousand
+/// times per speed at most) and stopping when it says so.
 ///
 /// # Errors
 /// [`Error::InvalidOption`] when bearing `index` does not exist, `speeds` is empty or holds
@@ -145,12 +190,14 @@ impl ForcingFit {
 /// errors of [`simulate`] and of [`completed`](crate::time::SimulationResult::completed)
 /// ([`Error::Diverged`] when a run diverges); then those of [`fit_forcing_law`]
 /// ([`Error::InvalidOption`] when no speed has two distinct deflections in contact,
-/// [`Error::NotConverged`] when the least squares do not converge).
+/// [`Error::NotConverged`] when the least squares do not converge);
+/// [`Error::Interrupted`] when `progress` stopped it.
 pub fn fit_forcing(
     model: &Model,
     index: usize,
     speeds: &[f64],
     options: &ForcingFitOptions,
+    progress: Option<&Progress>,
 ) -> Result<ForcingFit> {
     let bearing = model.roller_bearings.get(index).ok_or_else(|| {
         Error::InvalidOption(format!(
@@ -162,12 +209,15 @@ pub fn fit_forcing(
     let settings = run_settings(options, bearing.station.node);
     // One step for every speed: the limit depends on none.
     let step = settings.time_step(model)?;
+    let simulated = SimulatedTime::new(speeds.len(), options.duration, progress);
     let runs = speeds
         .par_iter()
-        .map(|&w| {
+        .enumerate()
+        .map(|(k, &w)| {
             let run = SimulationOptions {
                 speed: SpeedProfile::Constant(w),
                 step: Some(step),
+                progress: simulated.of_speed(k),
                 ..settings.clone()
             };
             sample_speed(model, bearing, &run, options.samples_per_speed)
@@ -362,7 +412,7 @@ mod tests {
                 samples_per_speed: samples,
                 ..ForcingFitOptions::default()
             };
-            let e = fit_forcing(&model, 0, &[2.0 * PI * 100.0], &options).unwrap_err();
+            let e = fit_forcing(&model, 0, &[2.0 * PI * 100.0], &options, None).unwrap_err();
             assert!(matches!(e, Error::InvalidOption(_)), "{samples}: {e:?}");
             let text = e.to_string();
             assert!(
