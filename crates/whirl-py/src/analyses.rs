@@ -15,7 +15,7 @@ use crate::error::{keyword_lib, lib, option};
 use crate::model::PyModel;
 use crate::nsv::choice;
 use crate::report::PyReport;
-use crate::watch::{fraction_progress, run_watched};
+use crate::watch::{fraction_progress, run_watched, stoppable};
 
 /// The Craig-Bampton reduction (`whirl reduce`): `modes` fixed-interface modes, every DOF
 /// of the bearing nodes and of `nodes` on the boundary; the reduced model's natural
@@ -85,8 +85,9 @@ pub fn ucs(
     modes: usize,
     synchronous: bool,
 ) -> PyResult<PyReport> {
-    let map =
-        lib(py.detach(|| critical_speed_map(&model.model, &stiffness, modes, synchronous, None)))?;
+    let map = lib(stoppable(py, |progress| {
+        critical_speed_map(&model.model, &stiffness, modes, synchronous, Some(progress))
+    })?)?;
     PyReport::of(&map)
 }
 
@@ -142,7 +143,7 @@ pub fn frf(
         .map(|o| global_dof("output", o))
         .collect::<PyResult<Vec<_>>>()?;
     let model = &model.model;
-    let result = lib(py.detach(|| {
+    let result = lib(stoppable(py, |progress| {
         let w = match frequencies {
             Some(w) => w,
             None => default_frequencies(model)?,
@@ -153,9 +154,9 @@ pub fn frf(
             input,
             &outputs,
             &w,
-            None,
+            Some(progress),
         )
-    }))?;
+    })?)?;
     PyReport::of(&FrfReport { result, force })
 }
 

@@ -12,6 +12,7 @@ use whirl::modal::{check_model, modal_report, CampbellOptions};
 use crate::error::{keyword_lib, lib};
 use crate::model::PyModel;
 use crate::report::PyReport;
+use crate::watch::stoppable;
 
 /// The model checked (`whirl check`): its summary and tables, with its first six undamped
 /// natural frequencies.
@@ -38,10 +39,10 @@ pub fn campbell<'py>(
         basis_size: (!full).then(|| CampbellOptions::default_basis(modes)),
         ..CampbellOptions::new(Vec::new())
     };
-    let result = lib(py.detach(|| {
+    let result = lib(stoppable(py, |progress| {
         let system = assemble_banded(&model.model, Bearings::Linearised);
-        whirl::modal::campbell(&system, &options, None)
-    }))?;
+        whirl::modal::campbell(&system, &options, Some(progress))
+    })?)?;
     let report = PyReport::of(&result)?;
     let labels = result.labels();
     let branches = PyList::empty(py);
@@ -88,8 +89,9 @@ pub fn convergence<'py>(
     counts: Vec<usize>,
     modes: usize,
 ) -> PyResult<(Bound<'py, PyAny>, PyReport)> {
-    let result =
-        keyword_lib(py.detach(|| whirl::modal::convergence(&model.model, &counts, modes, None)))?;
+    let result = keyword_lib(stoppable(py, |progress| {
+        whirl::modal::convergence(&model.model, &counts, modes, Some(progress))
+    })?)?;
     Ok((pythonize(py, &result)?, PyReport::of(&result)?))
 }
 

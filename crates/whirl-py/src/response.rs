@@ -8,6 +8,7 @@ use whirl::response::unbalance_response_refined;
 use crate::error::lib;
 use crate::model::PyModel;
 use crate::report::PyReport;
+use crate::watch::stoppable;
 
 /// The unbalance response at `nodes` over `speeds` (rad/s), with speeds added in each
 /// peak's half-power band, as `whirl unbalance` computes it: the library's result as a
@@ -19,9 +20,9 @@ pub fn unbalance<'py>(
     speeds: Vec<f64>,
     nodes: Vec<usize>,
 ) -> PyResult<(Bound<'py, PyAny>, PyReport)> {
-    let result = lib(py.detach(|| {
+    let result = lib(stoppable(py, |progress| {
         let system = assemble_banded(&model.model, Bearings::Linearised);
-        unbalance_response_refined(&model.model, &system, &speeds, &nodes, None)
-    }))?;
+        unbalance_response_refined(&model.model, &system, &speeds, &nodes, Some(progress))
+    })?)?;
     Ok((pythonize(py, &result)?, PyReport::of(&result)?))
 }

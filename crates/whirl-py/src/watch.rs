@@ -108,3 +108,12 @@ pub fn run_watched<T: Send>(
         }
     })
 }
+
+/// Runs `work` as [`run_watched`] does, without a progress callable: the library's progress
+/// handed to it stops it at Ctrl-C (its error then says it was interrupted).
+pub fn stoppable<T: Send>(
+    py: Python<'_>,
+    work: impl FnOnce(&whirl::progress::Progress) -> whirl::Result<T> + Send,
+) -> PyResult<whirl::Result<T>> {
+    run_watched(py, None, |watch| work(&fraction_progress(watch)))
+}

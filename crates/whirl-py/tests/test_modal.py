@@ -107,3 +107,33 @@ def test_an_explicit_speed_array_has_the_ranges_cap():
     speeds = np.linspace(1.0, 5000.0, 100_001)
     with pytest.raises(whirl.InputError, match="at most 100000"):
         whirl.campbell(REFERENCE, speeds, modes=2)
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        "whirl.campbell(REFERENCE, '0:750Hz:100000')",
+        "whirl.unbalance(REFERENCE, '1:750Hz:100000')",
+    ],
+)
+def test_ctrl_c_stops_a_long_linear_analysis(call):
+    # 100,000 speeds take minutes (a Campbell diagram 373 s, the unbalance response 51 s
+    # before they listened); Ctrl-C must end them within a poll and a speed or two.
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    script = f"import whirl\nREFERENCE = {str(REFERENCE)!r}\nprint('started', flush=True)\n{call}\n"
+    child = subprocess.Popen(
+        [sys.executable, "-c", script], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    )
+    assert child.stdout.readline().strip() == "started"
+    time.sleep(1.5)
+    asked = time.monotonic()
+    child.send_signal(signal.SIGINT)
+    _, err = child.communicate(timeout=60)
+    took = time.monotonic() - asked
+    assert child.returncode != 0
+    assert "KeyboardInterrupt" in err, err[-2000:]
+    assert took < 20, f"stopped {took:.1f} s after Ctrl-C"
