@@ -11,7 +11,7 @@ use whirl::hbm::{
 };
 use whirl::model::Model;
 
-use crate::error::{option, to_py};
+use crate::error::to_py;
 use crate::model::PyModel;
 use crate::nsv::choice;
 use crate::report::PyReport;
@@ -44,18 +44,7 @@ pub struct HbmArgs {
 fn sweep_options(a: &HbmArgs, harmonics: usize) -> PyResult<SweepOptions> {
     let mut o = SweepOptions::new(a.from, a.to, harmonics);
     o.contact = choice("contact", &a.contact)?;
-    o.cage = match a.cage.as_str() {
-        "passage" => CageModel::PassageAveraged {
-            positions: a.cage_positions,
-        },
-        "frozen" => CageModel::Frozen,
-        other => {
-            return Err(option(
-                "cage",
-                format!("`{other}` is not one of passage, frozen"),
-            ))
-        }
-    };
+    o.cage = CageModel::new(choice("cage", &a.cage)?, Some(a.cage_positions));
     o.contact_smoothing = a.contact_smoothing;
     o.samples = a.samples;
     o.stability = a.stability;

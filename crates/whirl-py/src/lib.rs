@@ -42,6 +42,7 @@ fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("DEFAULT_TOLERANCE_BINS", whirl::nsv::DEFAULT_TOLERANCE_BINS)?;
     m.add("DEFAULT_THRESHOLD_M", whirl::nsv::DEFAULT_THRESHOLD_M)?;
     m.add("DEFAULT_MODES", whirl::time::DEFAULT_MODES)?;
+    m.add("DEFAULT_CAGE_POSITIONS", whirl::hbm::DEFAULT_CAGE_POSITIONS)?;
     m.add("MAX_HARMONICS", whirl::hbm::MAX_HARMONICS)?;
     m.add("MAX_AFT_SAMPLES", whirl::hbm::MAX_SAMPLES)?;
     m.add(

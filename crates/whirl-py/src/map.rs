@@ -3,10 +3,10 @@
 //! options arrive as the library's request takes them: `None` is the library's default.
 
 use pyo3::prelude::*;
-use whirl::hbm::{CageModel, SweepSettings};
+use whirl::hbm::{CageKind, CageModel, SweepSettings};
 use whirl::map::{map_with, MapRequest, Parallelism};
 
-use crate::error::{option, to_py};
+use crate::error::to_py;
 use crate::model::PyModel;
 use crate::nsv::choice;
 use crate::report::PyReport;
@@ -35,31 +35,15 @@ pub struct MapArgs {
     confirm: bool,
 }
 
-/// The cage model named `cage` with `positions` cage positions (the library's default
-/// count when `None`).
-fn cage_model(cage: &str, positions: Option<usize>) -> PyResult<CageModel> {
-    match cage {
-        "passage" => {
-            Ok(
-                positions.map_or(CageModel::DEFAULT, |positions| CageModel::PassageAveraged {
-                    positions,
-                }),
-            )
-        }
-        "frozen" => Ok(CageModel::Frozen),
-        other => Err(option(
-            "cage",
-            format!("`{other}` is not one of passage, frozen"),
-        )),
-    }
-}
-
 /// The library's request for `model` with these options.
 fn request(model: &PyModel, a: MapArgs) -> PyResult<MapRequest> {
     let cage = match (&a.cage, a.cage_positions) {
-        (Some(c), positions) => Some(cage_model(c, positions)?),
-        (None, Some(positions)) => Some(cage_model("passage", Some(positions))?),
         (None, None) => None,
+        (kind, positions) => Some(CageModel::new(
+            kind.as_deref()
+                .map_or(Ok(CageKind::Passage), |c| choice("cage", c))?,
+            positions,
+        )),
     };
     Ok(MapRequest {
         model_text: model.text().to_string(),

@@ -55,6 +55,7 @@ DEFAULT_RELATIVE_ERROR: float
 DEFAULT_TOLERANCE_BINS: float
 DEFAULT_THRESHOLD_M: float
 DEFAULT_MODES: int
+DEFAULT_CAGE_POSITIONS: int
 
 def parse_quantity(name: str, text: str, dimension: str) -> float: ...
 def parse_range(name: str, text: str, dimension: str) -> npt.NDArray[np.float64]: ...

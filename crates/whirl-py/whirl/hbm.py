@@ -77,7 +77,7 @@ def hbm(
     nodes: Sequence[int] | None = None,
     contact: str = "hertz",
     cage: str = "passage",
-    cage_positions: int = 8,
+    cage_positions: int = _whirl.DEFAULT_CAGE_POSITIONS,
     contact_smoothing: str | float = 0.0,
     samples: int | None = None,
     reduce: int | None = None,

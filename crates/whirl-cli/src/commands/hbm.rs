@@ -23,13 +23,12 @@
 use std::f64::consts::TAU;
 use std::fmt::Write;
 
-use clap::ValueEnum;
 use whirl::bearing::ContactLaw;
 use whirl::fe::{dof, Direction};
 use whirl::hbm::{
-    settled_response, sweep_with_progress, BifurcationKind, CageModel, MarchSettings,
-    SettledResponse, Sweep, SweepOptions, SweepReport, SweepSettings, DEFAULT_HARMONICS,
-    DEFAULT_STABILITY_MODES, MAX_HARMONICS, RESOLUTION_TOLERANCE,
+    settled_response, sweep_with_progress, BifurcationKind, CageKind, CageModel, MarchSettings,
+    SettledResponse, Sweep, SweepOptions, SweepReport, SweepSettings, DEFAULT_CAGE_POSITIONS,
+    DEFAULT_HARMONICS, DEFAULT_STABILITY_MODES, MAX_HARMONICS, RESOLUTION_TOLERANCE,
 };
 use whirl::model::Model;
 
@@ -44,15 +43,6 @@ use crate::output::Output;
 use crate::progress::{duration_text, shown};
 use whirl::report::Report;
 
-/// Periodic approximations of the roller passage.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Cage {
-    /// Force averaged over cage positions across one roller pitch.
-    Passage,
-    /// Cage held at the model's cage angle.
-    Frozen,
-}
-
 /// The discretisation and bearing model of a harmonic-balance sweep, shared by `whirl hbm`
 /// and `whirl map`; [`HbFlags::settings`] hands them to the library.
 #[derive(Debug, clap::Args)]
@@ -66,9 +56,9 @@ pub struct HbFlags {
     pub contact: ContactLaw,
     /// How the roller passage is made periodic (Hertz only).
     #[arg(long, value_enum, default_value = "passage")]
-    pub cage: Cage,
+    pub cage: CageKind,
     /// Cage positions per roller pitch of the passage average.
-    #[arg(long, value_name = "N", default_value = "8", value_parser = mode_count)]
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_CAGE_POSITIONS, value_parser = mode_count)]
     pub cage_positions: usize,
     /// Approach below which the Hertz law is blended to bounded curvature (harmonic balance
     /// only; docs/theory.md section 7), e.g. `0.01um`; 0 for the exact law.
@@ -94,12 +84,7 @@ impl HbFlags {
             harmonics: Some(self.harmonics),
             samples: self.samples,
             contact: Some(self.contact),
-            cage: Some(match self.cage {
-                Cage::Passage => CageModel::PassageAveraged {
-                    positions: self.cage_positions,
-                },
-                Cage::Frozen => CageModel::Frozen,
-            }),
+            cage: Some(CageModel::new(self.cage, Some(self.cage_positions))),
             contact_smoothing: Some(self.contact_smoothing),
             stability: None,
             stability_modes: Some(self.stability_modes),

@@ -40,11 +40,39 @@ pub enum CageModel {
     Frozen,
 }
 
+/// Cage positions per roller pitch of the default passage average. On the reference rotor
+/// (10 um, 330 Hz, H = 5) going to 32 positions changes the 1X by 7e-5 (disk) and 1.1e-4
+/// (bearing) and the bearing's 2X by 2.6e-4 relative; 4 positions would change them by 4e-4
+/// to 1.3e-3.
+pub const DEFAULT_CAGE_POSITIONS: usize = 8;
+
+/// A [`CageModel`] by name, as the command line, Python and a study choose it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+#[serde(rename_all = "lowercase")]
+pub enum CageKind {
+    /// Force averaged over cage positions across one roller pitch.
+    Passage,
+    /// Cage held at the model's cage angle.
+    Frozen,
+}
+
 impl CageModel {
-    /// The passage average over 8 positions. On the reference rotor (10 um, 330 Hz, H = 5)
-    /// going to 32 positions changes the 1X by 7e-5 (disk) and 1.1e-4 (bearing) and the
-    /// bearing's 2X by 2.6e-4 relative; 4 positions would change them by 4e-4 to 1.3e-3.
-    pub const DEFAULT: CageModel = CageModel::PassageAveraged { positions: 8 };
+    /// The passage average over [`DEFAULT_CAGE_POSITIONS`] positions.
+    pub const DEFAULT: CageModel = CageModel::PassageAveraged {
+        positions: DEFAULT_CAGE_POSITIONS,
+    };
+
+    /// The model of `kind`; a passage average over `positions` cage positions per roller
+    /// pitch ([`DEFAULT_CAGE_POSITIONS`] when `None`; a frozen cage has none to give).
+    pub fn new(kind: CageKind, positions: Option<usize>) -> CageModel {
+        match kind {
+            CageKind::Passage => CageModel::PassageAveraged {
+                positions: positions.unwrap_or(DEFAULT_CAGE_POSITIONS),
+            },
+            CageKind::Frozen => CageModel::Frozen,
+        }
+    }
 
     /// A sentence for outputs saying which approximation was used.
     pub fn describe(&self) -> String {

@@ -42,7 +42,7 @@ pub mod stability;
 pub mod sweep;
 
 pub use balance::{HarmonicBalance, HbSolution, Linearisation};
-pub use bearings::{CageModel, CagedBearing};
+pub use bearings::{CageKind, CageModel, CagedBearing, DEFAULT_CAGE_POSITIONS};
 pub use bifurcation::{Bifurcation, BifurcationKind};
 pub use compare::{settled_response, MarchSettings, SettledResponse};
 pub use condensation::{Condensed, CondensedBalance, DEFAULT_STABILITY_MODES};
