@@ -9,10 +9,16 @@
 //! node index or the axial position `z`; both are kept, so that a re-meshed model (mesh
 //! convergence study) can place the feature at the same `z`.
 
+mod ball;
+mod ball_file;
 pub mod ross;
 mod schema;
 mod validate;
 
+pub use ball::{
+    ball_stiffness, point_contact, BallContact, PointContact, BEARING_STEEL_MODULUS,
+    BEARING_STEEL_POISSON,
+};
 pub use validate::MAX_ELEMENTS;
 
 use std::path::{Path, PathBuf};
@@ -224,6 +230,11 @@ pub struct RollerBearing {
     pub defects: Vec<RaceDefect>,
     /// Forcing-function law (thesis eq. 3.12), when given.
     pub forcing_function: Option<ForcingFunction>,
+    /// The balls' point contacts when the rolling elements are balls (`[[ball_bearing]]`).
+    pub ball: Option<BallContact>,
+    /// Basic dynamic load rating C from the file (a catalogue's), N; without it the life
+    /// takes ISO 281's formula for the geometry ([`crate::bearing::life`]).
+    pub dynamic_load_rating: Option<f64>,
 }
 
 /// Which ring is wavy.

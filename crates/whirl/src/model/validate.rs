@@ -14,6 +14,8 @@ use super::schema::*;
 use super::*;
 use crate::units::{check_speed, parse_quantity, Dimension};
 
+mod ball;
+
 type V<T> = std::result::Result<T, InputError>;
 
 fn err(field: &str, span: Range<usize>, message: impl Into<String>) -> InputError {
@@ -217,12 +219,19 @@ pub(super) fn validate(raw: ModelFile) -> V<Model> {
         .enumerate()
         .map(|(i, b)| linear_bearing(b, &format!("bearing[{i}]"), &nodes))
         .collect::<V<Vec<_>>>()?;
-    let roller_bearings = raw
+    let mut roller_bearings = raw
         .roller_bearing
         .iter()
         .enumerate()
         .map(|(i, b)| roller_bearing(b, &format!("roller_bearing[{i}]"), &nodes))
         .collect::<V<Vec<_>>>()?;
+    for (i, b) in raw.ball_bearing.iter().enumerate() {
+        roller_bearings.push(ball::ball_bearing(
+            b,
+            &format!("ball_bearing[{i}]"),
+            &nodes,
+        )?);
+    }
     let damping = raw
         .damping
         .as_ref()
@@ -842,6 +851,12 @@ fn roller_bearing(
             .as_ref()
             .map(|ff| forcing_function(ff, &f("forcing_function")))
             .transpose()?,
+        ball: None,
+        dynamic_load_rating: b
+            .dynamic_load_rating
+            .as_ref()
+            .map(|c| positive_q(c, Dimension::Force, &f("dynamic_load_rating")))
+            .transpose()?,
     })
 }
 
@@ -1268,11 +1283,24 @@ fn roller_bearing_plausible(
 /// Warnings about a valid but implausible model: values no real rotor has, which usually
 /// mean a unit slipped. One sentence each, naming the field.
 pub(super) fn warnings(model: &Model) -> Vec<String> {
+    // Ball bearings follow the roller bearings in the model, each table numbered apart.
+    let rollers = model
+        .roller_bearings
+        .iter()
+        .filter(|b| !b.is_ball())
+        .count();
     let mut out: Vec<String> = model
         .roller_bearings
         .iter()
         .enumerate()
-        .filter_map(|(i, b)| clearance_warning(b, &format!("roller_bearing[{i}]"), model.operating))
+        .filter_map(|(i, b)| {
+            let field = if b.is_ball() {
+                format!("ball_bearing[{}]", i - rollers)
+            } else {
+                format!("roller_bearing[{i}]")
+            };
+            clearance_warning(b, &field, model.operating)
+        })
         .collect();
     out.extend(
         model
