@@ -293,13 +293,15 @@ mod tests {
     #[test]
     fn stribecks_integrals_are_the_published_ones() {
         // J_r(0.5) = 0.2288 for point contact (Harris's and Palmgren's tables: Q_max =
-        // 4.37 Fr / Z) and 0.2453 for line contact (4.08 Fr / Z); four digits as printed.
+        // 4.37 Fr / Z) and 0.2453 for line contact with the tables' exponent 1.1 (4.08 Fr /
+        // Z); four digits as printed. whirl's line contact has 10/9, whose 0.2448 is 0.2 %
+        // lower.
         assert!(
             (stribeck_mean(2.5) - 0.2288).abs() < 5e-5,
             "{}",
             stribeck_mean(2.5)
         );
-        assert!((stribeck_mean(19.0 / 9.0) - 0.2453).abs() < 5e-5);
+        assert!((stribeck_mean(2.1) - 0.2453).abs() < 5e-5);
     }
 
     #[test]

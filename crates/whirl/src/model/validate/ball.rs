@@ -241,7 +241,7 @@ fn running_stiffness(
             let q = k * x.max(0.0).powf(1.5);
             (q, 1.5 * k * x.max(0.0).sqrt())
         };
-        let s = law.axial_separation(std::iter::repeat(-gamma).take(balls), 0.0, &elastic);
+        let s = law.axial_separation(std::iter::repeat_n(-gamma, balls), 0.0, &elastic);
         contact.running_angle = s.atan2(law.radial_reach - gamma);
         k = ball_stiffness(ball, pitch, contact, contact.running_angle).2;
     }
