@@ -545,3 +545,23 @@ fn harmonic_balance_on_preloaded_ball_bearings_matches_time_marching() {
         assert!(difference.abs() < 0.02, "{d:?}: {difference:e}");
     }
 }
+
+#[test]
+fn the_ball_rotor_example_loads_and_its_static_summary_gives_each_bearing_a_life() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/ball_rotor.toml");
+    let model = Model::from_file(&path).unwrap();
+    assert_eq!(model.roller_bearings.len(), 2);
+    let result =
+        whirl::statics::static_response(&model, whirl::statics::RollerSupport::Hertz).unwrap();
+    for r in &result.reactions {
+        let life = r.life.as_ref().unwrap();
+        println!("{}: {:?}", r.name, life);
+        // The drive end carries the weight alone: ISO 281's L10; the preloaded free end
+        // only the reference life.
+        assert_eq!(
+            life.l10_million_revolutions.is_some(),
+            r.name == "drive end"
+        );
+    }
+}
