@@ -565,3 +565,41 @@ fn the_ball_rotor_example_loads_and_its_static_summary_gives_each_bearing_a_life
         );
     }
 }
+
+#[test]
+fn a_spot_on_a_ball_rings_at_twice_the_ball_spin_and_at_the_cage_frequency() {
+    // The deep-groove 209 without clearance under the rotor's weight (135 N per bearing): a
+    // 2 um spot over 20 degrees of ball 0 unloads it twice per spin turn while it crosses
+    // the load zone. At 30 Hz FTF = 12.07 Hz and 2 BSF = 147.7 Hz, neither within a bin of
+    // a multiple of the spin speed.
+    let text = model_text(&bearing_209("0 um", "contact_damping = 100"));
+    let healthy = Model::from_toml_str(&text, None).unwrap();
+    let spotted = Model::from_toml_str(
+        &(text
+            + "[[ball_bearing.defect]]\nring = \"element\"\nelement = 0\nwidth = 20\n\
+               depth = \"2 um\"\n"),
+        None,
+    )
+    .unwrap();
+    // Appended to the file, the table belongs to the last bearing: move it to bearing 0,
+    // whose node the run records.
+    let mut spotted = spotted;
+    let spot = spotted.roller_bearings[1].element_defects.pop().unwrap();
+    spotted.roller_bearings[0].element_defects.push(spot);
+    let f = characteristic_frequencies(&healthy.roller_bearings[0], SPIN_HZ);
+    let spectrum = run(&spotted).2;
+    let clean = run(&healthy).2;
+    for (name, frequency) in [("2 BSF", 2.0 * f.bsf), ("FTF", f.ftf)] {
+        let peak = peak_near(&spectrum, frequency, 1.0, SPIN_HZ)
+            .unwrap_or_else(|| panic!("no line within one bin of {name}"));
+        let before = peak_near(&clean, frequency, 1.0, SPIN_HZ).map_or(0.0, |p| p.amplitude);
+        println!(
+            "ball spot: {name} {frequency:.3} Hz, peak {:.3} Hz {:.3e} m against {before:.3e} m \
+             healthy (bin {:.3} Hz)",
+            peak.frequency_hz, peak.amplitude, spectrum.resolution_hz
+        );
+        assert!((peak.frequency_hz - frequency).abs() <= spectrum.resolution_hz);
+        // Twice the healthy line, far beyond a deterministic run's change.
+        assert!(peak.amplitude > 2.0 * before, "{name}");
+    }
+}

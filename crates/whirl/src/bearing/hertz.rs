@@ -247,8 +247,7 @@ impl HertzBearing {
             let (wavy, wavy_rate) = if self.geometry.is_round() {
                 (0.0, 0.0)
             } else {
-                let pitch = self.geometry.pitch(j);
-                self.geometry.waviness_at(pitch, cage_phase, cage_speed, at)
+                self.geometry.waviness_at(j, cage_phase, cage_speed, at)
             };
             let (approach, rate) = self.rollers.radial[j];
             self.approaches[j] = (approach - gamma - wavy, rate - wavy_rate);
@@ -508,8 +507,7 @@ impl NonlinearForce for HertzBearing {
             let (wavy, wavy_rate) = if self.geometry.is_round() {
                 (0.0, 0.0)
             } else {
-                let pitch = self.geometry.pitch(j);
-                self.geometry.waviness_at(pitch, cage_phase, cage_speed, at)
+                self.geometry.waviness_at(j, cage_phase, cage_speed, at)
             };
             let (approach, rate) = self.rollers.radial[j];
             let (tilt, tilt_rate) = self.rollers.tilt[j];

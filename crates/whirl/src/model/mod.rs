@@ -228,6 +228,8 @@ pub struct RollerBearing {
     pub waviness: Vec<Waviness>,
     /// Local raceway defects (spalls).
     pub defects: Vec<RaceDefect>,
+    /// Spots on rolling elements.
+    pub element_defects: Vec<ElementDefect>,
     /// Forcing-function law (thesis eq. 3.12), when given.
     pub forcing_function: Option<ForcingFunction>,
     /// The balls' point contacts when the rolling elements are balls (`[[ball_bearing]]`).
@@ -289,6 +291,22 @@ pub struct RaceDefect {
     /// angle 0).
     pub angle: f64,
     /// Angular width, rad, below 2 pi.
+    pub width: f64,
+    /// Largest depth, m.
+    pub depth: f64,
+}
+
+/// A spot on one rolling element: as it spins, the element's surface recedes by the same
+/// raised-cosine dip as a [`RaceDefect`] wherever the spot meets a race, outer (spin angle
+/// 0 from the spot's centre) or inner (pi): the approach dips twice per spin turn, at
+/// 2 BSF relative to the cage.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ElementDefect {
+    /// The element, 0-based (element 0 sits at the cage angle).
+    pub element: usize,
+    /// Spin angle of the spot's centre from the outer contact at spin angle 0, rad.
+    pub angle: f64,
+    /// Angular width on the element, rad, below pi.
     pub width: f64,
     /// Largest depth, m.
     pub depth: f64,

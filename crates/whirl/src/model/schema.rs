@@ -227,8 +227,10 @@ pub struct WavinessFile {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DefectFile {
-    /// `"outer"` or `"inner"`.
+    /// `"outer"`, `"inner"`, or `"element"` for a spot on a roller or ball.
     pub ring: Spanned<String>,
+    /// With `ring = "element"`: which roller or ball, 0-based.
+    pub element: Option<Count>,
     /// Centre, degrees in the ring's frame.
     pub angle: Option<Spanned<f64>>,
     /// Angular width, degrees.

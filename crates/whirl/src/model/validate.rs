@@ -808,6 +808,7 @@ fn roller_bearing(
             ))
         }
     };
+    let (race_defects, element_defects) = defects(&b.defect, field, rollers)?;
     Ok(RollerBearing {
         name: b
             .name
@@ -840,12 +841,8 @@ fn roller_bearing(
             .enumerate()
             .map(|(i, w)| waviness(w, &f(&format!("waviness[{i}]"))))
             .collect::<V<Vec<_>>>()?,
-        defects: b
-            .defect
-            .iter()
-            .enumerate()
-            .map(|(i, d)| race_defect(d, &f(&format!("defect[{i}]"))))
-            .collect::<V<Vec<_>>>()?,
+        defects: race_defects,
+        element_defects,
         forcing_function: b
             .forcing_function
             .as_ref()
@@ -914,6 +911,59 @@ fn ring(raw: &Spanned<String>, field: &str) -> V<Ring> {
     }
 }
 
+/// The `defect` tables of a bearing with `elements` rollers or balls: race defects, and
+/// spots on elements (`ring = "element"`).
+fn defects(
+    raw: &[Spanned<DefectFile>],
+    bearing: &str,
+    elements: usize,
+) -> V<(Vec<RaceDefect>, Vec<ElementDefect>)> {
+    let (mut races, mut spots) = (Vec::new(), Vec::new());
+    for (i, d) in raw.iter().enumerate() {
+        let field = format!("{bearing}.defect[{i}]");
+        let file = d.get_ref();
+        let on_element = file.ring.get_ref() == "element";
+        match (&file.element, on_element) {
+            (Some(e), false) => {
+                return Err(err(
+                    &format!("{field}.element"),
+                    e.span(),
+                    "`element` names a roller or ball: only with ring = \"element\"",
+                ))
+            }
+            (None, true) => {
+                return Err(err(
+                    &field,
+                    d.span(),
+                    "a defect on a rolling element needs `element`, its index from 0",
+                ))
+            }
+            _ => {}
+        }
+        let race = race_defect(d, &field)?;
+        if let Some(e) = &file.element {
+            let element = count(e, &format!("{field}.element"), 0, elements as i64 - 1)?;
+            if race.width >= PI {
+                return Err(err(
+                    &format!("{field}.width"),
+                    file.width.span(),
+                    "a spot on a rolling element must be narrower than 180 degrees (it \
+                     meets the outer race and, half a turn later, the inner)",
+                ));
+            }
+            spots.push(ElementDefect {
+                element,
+                angle: race.angle,
+                width: race.width,
+                depth: race.depth,
+            });
+        } else {
+            races.push(race);
+        }
+    }
+    Ok((races, spots))
+}
+
 fn race_defect(raw: &Spanned<DefectFile>, field: &str) -> V<RaceDefect> {
     let d = raw.get_ref();
     let width_field = format!("{field}.width");
@@ -925,8 +975,14 @@ fn race_defect(raw: &Spanned<DefectFile>, field: &str) -> V<RaceDefect> {
             format!("must lie strictly between 0 and 360 degrees, got {width}"),
         ));
     }
+    // The ring of an element's spot is irrelevant: its place is the element's.
+    let ring = if d.ring.get_ref() == "element" {
+        Ring::Outer
+    } else {
+        ring(&d.ring, field)?
+    };
     Ok(RaceDefect {
-        ring: ring(&d.ring, field)?,
+        ring,
         angle: opt_f64(&d.angle, &format!("{field}.angle"), 0.0)?.to_radians(),
         width: width.to_radians(),
         depth: non_negative_q(&d.depth, Dimension::Length, &format!("{field}.depth"))?,

@@ -103,6 +103,7 @@ pub(super) fn ball_bearing(
         .help("radial clearances are micrometres; check the unit (\"10 um\")"));
     }
     let stiffness = running_stiffness(&mut contact, balls, ball, pitch, gamma);
+    let (race_defects, element_defects) = defects(&b.defect, field, balls)?;
     Ok(RollerBearing {
         name: b
             .name
@@ -139,12 +140,8 @@ pub(super) fn ball_bearing(
             .enumerate()
             .map(|(i, w)| waviness(w, &f(&format!("waviness[{i}]"))))
             .collect::<V<Vec<_>>>()?,
-        defects: b
-            .defect
-            .iter()
-            .enumerate()
-            .map(|(i, d)| race_defect(d, &f(&format!("defect[{i}]"))))
-            .collect::<V<Vec<_>>>()?,
+        defects: race_defects,
+        element_defects,
         forcing_function: None,
         ball: Some(contact),
         dynamic_load_rating: b
