@@ -556,13 +556,6 @@ fn assemble_cascade(
     })
 }
 
-/// The speeds in ascending order (indices into `speeds`).
-fn ascending(speeds: &[f64]) -> Vec<usize> {
-    let mut order: Vec<usize> = (0..speeds.len()).collect();
-    order.sort_by(|&a, &b| speeds[a].total_cmp(&speeds[b]));
-    order
-}
-
 /// The varying-compliance and waviness frequencies of every roller bearing at `speed`
 /// (rad/s), each frequency once (the bearing is named where two share a source).
 fn contact_bases(model: &Model, speed: f64) -> Vec<NamedFrequency> {
@@ -595,25 +588,115 @@ fn contact_bases(model: &Model, speed: f64) -> Vec<NamedFrequency> {
 }
 
 /// The first [`NATURAL_BRANCHES`] whirl frequencies of the rotor on linearised bearings at
-/// each speed, named `mode 1 forward` etc.
+/// each speed, named `mode 1 forward` etc. The Campbell diagram is solved at no more than
+/// [`NATURAL_GRID`] even speeds over the cascade's range and read at each cascade speed by
+/// linear interpolation along the followed branches (whirl direction from the nearer grid
+/// speed): natural frequencies move smoothly with speed, and one eigen-solve per cascade
+/// speed was 7 % of the default cascade.
 fn natural_frequencies(model: &Model, speeds: &[f64]) -> Result<Vec<Vec<NamedFrequency>>> {
-    let order = ascending(speeds);
-    let sorted: Vec<f64> = order.iter().map(|&i| speeds[i]).collect();
     let system = assemble_banded(model, Bearings::Linearised);
-    let mut campbell_options = CampbellOptions::new(sorted);
+    let grid = natural_grid(speeds);
+    let mut campbell_options = CampbellOptions::new(grid.clone());
     campbell_options.modes = NATURAL_BRANCHES.min(system.dofs());
     let diagram = campbell(&system, &campbell_options, None)?;
-    let mut out = vec![Vec::new(); speeds.len()];
-    for (rank, &i) in order.iter().enumerate() {
-        out[i] = diagram
-            .branches
-            .iter()
-            .filter(|b| b.frequency_hz[rank].is_finite())
-            .map(|b| NamedFrequency {
-                name: format!("mode {} {}", b.index + 1, b.whirl_at[rank].name()),
-                frequency_hz: b.frequency_hz[rank],
-            })
-            .collect();
+    Ok(speeds
+        .iter()
+        .map(|&speed| {
+            diagram
+                .branches
+                .iter()
+                .filter_map(|b| {
+                    let (frequency_hz, nearest) = along(&grid, &b.frequency_hz, speed)?;
+                    Some(NamedFrequency {
+                        name: format!("mode {} {}", b.index + 1, b.whirl_at[nearest].name()),
+                        frequency_hz,
+                    })
+                })
+                .collect()
+        })
+        .collect())
+}
+
+/// Most speeds of the Campbell diagram behind a cascade's classification. At 21 even speeds
+/// over 1-750 Hz (37.5 Hz apart) the interpolated natural frequencies of the reference
+/// rotor's first six branches are within 0.0023 Hz of the direct solve at every default
+/// cascade speed (the test `the_interpolated_campbell_diagram_matches_the_direct_one`),
+/// a thousandth of the 2 Hz bin the peaks are read with.
+const NATURAL_GRID: usize = 21;
+
+/// The speeds (rad/s, ascending) the classification's Campbell diagram is solved at: the
+/// cascade's own when there are few, else [`NATURAL_GRID`] even speeds from its lowest to
+/// its highest.
+fn natural_grid(speeds: &[f64]) -> Vec<f64> {
+    let mut sorted = speeds.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    sorted.dedup();
+    if sorted.len() <= NATURAL_GRID {
+        return sorted;
     }
-    Ok(out)
+    let (low, high) = (sorted[0], sorted[sorted.len() - 1]);
+    (0..NATURAL_GRID)
+        .map(|k| low + (high - low) * k as f64 / (NATURAL_GRID - 1) as f64)
+        .collect()
+}
+
+/// A branch's frequency (Hz) at `speed`, linear between the grid speeds around it, and the
+/// index of the nearer of them; `None` where the branch was lost at either.
+fn along(grid: &[f64], frequency_hz: &[f64], speed: f64) -> Option<(f64, usize)> {
+    let upper = grid.partition_point(|&w| w < speed).min(grid.len() - 1);
+    let lower = upper.saturating_sub(1);
+    let (a, b) = (frequency_hz[lower], frequency_hz[upper]);
+    if !(a.is_finite() && b.is_finite()) {
+        return None;
+    }
+    if upper == lower || grid[upper] == grid[lower] {
+        return Some((b, upper));
+    }
+    let t = ((speed - grid[lower]) / (grid[upper] - grid[lower])).clamp(0.0, 1.0);
+    let nearest = if t < 0.5 { lower } else { upper };
+    Some((a + t * (b - a), nearest))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::modal::ModeBranch;
+
+    /// Each cascade speed's natural frequencies read off the coarse diagram against a
+    /// Campbell diagram solved at every one of them, on the reference rotor's default grid
+    /// (150 speeds, 1-750 Hz). Measured 0.0023 Hz; 0.01 Hz is a two-hundredth of the 2 Hz
+    /// bin the classification compares peaks with, so no peak can change class by the
+    /// interpolation. The same branches must be present at every speed.
+    #[test]
+    fn the_interpolated_campbell_diagram_matches_the_direct_one() {
+        let model = Model::from_toml_str(crate::examples::REFERENCE_ROTOR, None).unwrap();
+        let speeds = default_speeds(&model).unwrap();
+        let read = natural_frequencies(&model, &speeds).unwrap();
+        let system = assemble_banded(&model, Bearings::Linearised);
+        let mut options = CampbellOptions::new(speeds.clone());
+        options.modes = NATURAL_BRANCHES;
+        let direct = campbell(&system, &options, None).unwrap();
+        let mut worst: f64 = 0.0;
+        for (k, at_speed) in read.iter().enumerate() {
+            let exact: Vec<&ModeBranch> = direct
+                .branches
+                .iter()
+                .filter(|b| b.frequency_hz[k].is_finite())
+                .collect();
+            assert_eq!(at_speed.len(), exact.len(), "branches at speed {k}");
+            for (named, branch) in at_speed.iter().zip(exact) {
+                worst = worst.max((named.frequency_hz - branch.frequency_hz[k]).abs());
+            }
+        }
+        assert!(worst < 0.01, "largest interpolation error {worst} Hz");
+    }
+
+    #[test]
+    fn a_short_cascade_is_solved_at_its_own_speeds() {
+        assert_eq!(natural_grid(&[3.0, 1.0, 2.0, 2.0]), vec![1.0, 2.0, 3.0]);
+        let many: Vec<f64> = (0..100).map(f64::from).collect();
+        let grid = natural_grid(&many);
+        assert_eq!(grid.len(), NATURAL_GRID);
+        assert_eq!((grid[0], grid[NATURAL_GRID - 1]), (0.0, 99.0));
+    }
 }

@@ -262,6 +262,9 @@ impl CascadePoint {
 pub(super) struct Planners {
     one_sided: SpectrumPlanner,
     full: FullSpectrumPlanner,
+    /// The Hann window of half a record, for [`Stretches`]: computing it at every settling
+    /// check (a cosine per sample) was 4 % of a cascade.
+    stretches: Stretches,
 }
 
 impl Planners {
@@ -274,6 +277,10 @@ impl Planners {
         Ok(Planners {
             one_sided: SpectrumPlanner::new(r.samples, r.sample_rate_hz, options)?,
             full: FullSpectrumPlanner::new(r.samples, r.sample_rate_hz, options)?,
+            stretches: Stretches {
+                window: Window::Hann.samples(r.samples / 2),
+                sample_rate_hz: r.sample_rate_hz,
+            },
         })
     }
 
@@ -699,8 +706,8 @@ pub(super) fn compute(
         backward_m: full_reading(&full, r, -p.frequency_hz),
         decay_ratio: records
             .decay_at(p.frequency_hz / r.resolution_hz)
-            .unwrap_or_else(|| decay_ratio(x, p.frequency_hz, r.sample_rate_hz)),
-        settling_ratio: tail.map(|tail| ratio(&x[..half], tail, p.frequency_hz, r.sample_rate_hz)),
+            .unwrap_or_else(|| planners.stretches.decay_ratio(x, p.frequency_hz)),
+        settling_ratio: tail.map(|tail| planners.stretches.ratio(&x[..half], tail, p.frequency_hz)),
         standard_error_m: spread.relative_error * p.amplitude,
         variation: spread.variation,
     });
@@ -784,9 +791,9 @@ fn read(
                 order: p.order,
                 forward_m: 0.0,
                 backward_m: 0.0,
-                decay_ratio: decay_ratio(x, p.frequency_hz, r.sample_rate_hz),
+                decay_ratio: planners.stretches.decay_ratio(x, p.frequency_hz),
                 settling_ratio: tail
-                    .map(|tail| ratio(&x[..half], tail, p.frequency_hz, r.sample_rate_hz)),
+                    .map(|tail| planners.stretches.ratio(&x[..half], tail, p.frequency_hz)),
                 standard_error_m: 0.0,
                 variation: 0.0,
             });
@@ -852,43 +859,56 @@ fn full_band(full: &[f64], r: &Resolved) -> Vec<f64> {
         .collect()
 }
 
-/// Amplitude at `frequency_hz` in the second half of `x` over that in the first.
-fn decay_ratio(x: &[f64], frequency_hz: f64, sample_rate_hz: f64) -> f64 {
-    let half = x.len() / 2;
-    ratio(&x[half..2 * half], &x[..half], frequency_hz, sample_rate_hz)
+/// Amplitudes at one frequency in stretches of half a record: how a peak changes while a
+/// run settles.
+#[derive(Clone)]
+struct Stretches {
+    /// Hann window of half a record.
+    window: Vec<f64>,
+    sample_rate_hz: f64,
 }
 
-/// Amplitude at `frequency_hz` in `later` over that in `earlier` (each Hann-windowed, mean
-/// removed, one DFT term). 1 when `earlier` shows nothing.
-fn ratio(later: &[f64], earlier: &[f64], frequency_hz: f64, sample_rate_hz: f64) -> f64 {
-    let first = component(earlier, frequency_hz, sample_rate_hz);
-    let second = component(later, frequency_hz, sample_rate_hz);
-    if first > 0.0 {
-        second / first
-    } else {
-        1.0
+impl Stretches {
+    /// Amplitude at `frequency_hz` in the second half of the record `x` over that in the
+    /// first.
+    fn decay_ratio(&self, x: &[f64], frequency_hz: f64) -> f64 {
+        let half = x.len() / 2;
+        self.ratio(&x[half..2 * half], &x[..half], frequency_hz)
     }
-}
 
-/// Hann-windowed amplitude of `x` at `frequency_hz`, mean removed.
-fn component(x: &[f64], frequency_hz: f64, sample_rate_hz: f64) -> f64 {
-    let w = Window::Hann.samples(x.len());
-    let mean = window_mean(x, &w);
-    let x: Vec<f64> = x.iter().map(|v| v - mean).collect();
-    let step = -2.0 * PI * frequency_hz / sample_rate_hz;
-    // The phasor turned sample by sample: a sine and cosine per sample were a few per cent
-    // of a cascade.
-    let mut phase = Turning::default();
-    let sum: Complex<f64> = x
-        .iter()
-        .zip(&w)
-        .enumerate()
-        .map(|(n, (v, wn))| {
-            let (sin, cos) = phase.sin_cos(step * n as f64);
-            Complex::new(v * wn * cos, v * wn * sin)
-        })
-        .sum();
-    2.0 * sum.norm() / w.iter().sum::<f64>()
+    /// Amplitude at `frequency_hz` in `later` over that in `earlier` (each half a record,
+    /// Hann-windowed, mean removed, one DFT term). 1 when `earlier` shows nothing.
+    fn ratio(&self, later: &[f64], earlier: &[f64], frequency_hz: f64) -> f64 {
+        let first = self.component(earlier, frequency_hz);
+        let second = self.component(later, frequency_hz);
+        if first > 0.0 {
+            second / first
+        } else {
+            1.0
+        }
+    }
+
+    /// Hann-windowed amplitude of the half record `x` at `frequency_hz`, mean removed.
+    fn component(&self, x: &[f64], frequency_hz: f64) -> f64 {
+        let w = &self.window;
+        debug_assert_eq!(x.len(), w.len());
+        let mean = window_mean(x, w);
+        let step = -2.0 * PI * frequency_hz / self.sample_rate_hz;
+        // The phasor turned sample by sample: a sine and cosine per sample were a few per
+        // cent of a cascade.
+        let mut phase = Turning::default();
+        let sum: Complex<f64> = x
+            .iter()
+            .zip(w)
+            .enumerate()
+            .map(|(n, (v, wn))| {
+                let (sin, cos) = phase.sin_cos(step * n as f64);
+                let weighted = (v - mean) * wn;
+                Complex::new(weighted * cos, weighted * sin)
+            })
+            .sum();
+        2.0 * sum.norm() / w.iter().sum::<f64>()
+    }
 }
 
 #[cfg(test)]
