@@ -405,6 +405,19 @@ linear_stiffness = 2e8"#;
         ));
         assert!(e.contains("ball_bearing[0].contact_angle"), "{angle}: {e}");
     }
+    // A clearance law that turns negative within the operating speeds (10 um less 1 um per
+    // 100 rad/s: negative above 1000 rad/s, within 10-200 Hz).
+    let law = bearing_209("0 um", "").replace(
+        "clearance = \"0 um\"",
+        "clearance = { coefficients = [10.0, -0.01], clearance_unit = \"um\", \
+         speed_unit = \"rad/s\" }",
+    );
+    let text = model_text(&law) + "[operating]\nmin_speed = \"10 Hz\"\nmax_speed = \"200 Hz\"\n";
+    let e = Model::from_toml_str(&text, None).unwrap_err().to_string();
+    assert!(
+        e.contains("ball_bearing[0].clearance") && e.contains("negative"),
+        "{e}"
+    );
     // An angular-contact bearing without the axial load that holds its angle.
     let e = refusal(&bearing_209("0 um", "contact_angle = 25"));
     assert!(e.contains("ball_bearing[0].axial_load"), "{e}");

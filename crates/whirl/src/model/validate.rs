@@ -264,7 +264,31 @@ pub(super) fn validate(raw: ModelFile) -> V<Model> {
         .zip(&raw.roller_bearing)
         .enumerate()
     {
-        roller_bearing_plausible(b, file, &format!("roller_bearing[{i}]"), model.operating)?;
+        let f = file.get_ref();
+        let spans = BearingSpans {
+            clearance: f.clearance.span(),
+            waviness: f
+                .waviness
+                .iter()
+                .map(|w| w.get_ref().amplitude.span())
+                .collect(),
+            forcing: f.forcing_function.as_ref().map(|l| l.span()),
+        };
+        roller_bearing_plausible(b, &spans, &format!("roller_bearing[{i}]"), model.operating)?;
+    }
+    let balls = model.roller_bearings.iter().filter(|b| b.is_ball());
+    for (i, (b, file)) in balls.zip(&raw.ball_bearing).enumerate() {
+        let f = file.get_ref();
+        let spans = BearingSpans {
+            clearance: f.clearance.as_ref().map_or(file.span(), |c| c.span()),
+            waviness: f
+                .waviness
+                .iter()
+                .map(|w| w.get_ref().amplitude.span())
+                .collect(),
+            forcing: None,
+        };
+        roller_bearing_plausible(b, &spans, &format!("ball_bearing[{i}]"), model.operating)?;
     }
     Ok(model)
 }
@@ -1252,17 +1276,24 @@ const MAX_WAVINESS_OVER_CLEARANCE: f64 = 10.0;
 /// zero-clearance (preloaded) bearing is judged against 1e-4 of it.
 const MIN_CLEARANCE_SCALE: f64 = 1e-4;
 
+/// Where in the file a bearing's checked values are written.
+struct BearingSpans {
+    clearance: Range<usize>,
+    /// Each waviness component's amplitude.
+    waviness: Vec<Range<usize>>,
+    forcing: Option<Range<usize>>,
+}
+
 /// Refuses a roller bearing that cannot exist: a clearance that goes negative or grows past
 /// the rollers within the operating speeds, a forcing law whose coefficients turn negative
 /// there, waviness far above the clearance.
 fn roller_bearing_plausible(
     b: &RollerBearing,
-    file: &Spanned<RollerBearingFile>,
+    spans: &BearingSpans,
     field: &str,
     operating: Option<(f64, f64)>,
 ) -> V<()> {
-    let f = file.get_ref();
-    let clearance_span = f.clearance.span();
+    let clearance_span = spans.clearance.clone();
     let speeds = checked_speeds(operating);
     let mut largest = 0.0_f64;
     for &w in &speeds {
@@ -1296,11 +1327,11 @@ fn roller_bearing_plausible(
         .help("radial clearances are micrometres: about 1e-4 to 1e-3 of the pitch diameter"));
     }
     let scale = largest.max(MIN_CLEARANCE_SCALE * b.pitch_diameter);
-    for (i, (w, wf)) in b.waviness.iter().zip(&f.waviness).enumerate() {
+    for (i, (w, span)) in b.waviness.iter().zip(&spans.waviness).enumerate() {
         if w.amplitude > MAX_WAVINESS_OVER_CLEARANCE * scale {
             return Err(err(
                 &format!("{field}.waviness[{i}].amplitude"),
-                wf.get_ref().amplitude.span(),
+                span.clone(),
                 format!(
                     "a waviness of {} m is more than {MAX_WAVINESS_OVER_CLEARANCE} times the \
                      clearance scale ({} m): waviness is a form error below the clearance",
@@ -1311,7 +1342,7 @@ fn roller_bearing_plausible(
             .help("waviness amplitudes are micrometres, e.g. \"1 um\""));
         }
     }
-    if let (Some(law), Some(lf)) = (&b.forcing_function, &f.forcing_function) {
+    if let (Some(law), Some(lf)) = (&b.forcing_function, &spans.forcing) {
         // a and b are linear in the speed: their signs over the range are those at its ends.
         let ends = [speeds[0], speeds[speeds.len() - 1]];
         if let Some(&w) = ends.iter().find(|&&w| {
@@ -1321,7 +1352,7 @@ fn roller_bearing_plausible(
             let (a, e) = law.at_speed(w);
             return Err(err(
                 &format!("{field}.forcing_function"),
-                lf.span(),
+                lf.clone(),
                 format!(
                     "at {} Hz, within the operating speeds, the law's stiffness a0 + a1 W = {} \
                      and exponent b0 + b1 W = {}: both must stay positive",
