@@ -1,4 +1,5 @@
-//! Rolling bearing fatigue life from the load distribution (docs/theory.md section 5, "Bearing life").
+//! Rolling bearing fatigue life from the load distribution (docs/theory.md section 5,
+//! "Bearing life").
 //!
 //! **Basic rating life (ISO 281).** L10 = (C / P)^p million revolutions, p = 3 for balls and
 //! 10/3 for rollers, with P the dynamic equivalent radial load: the bearing's radial force,
