@@ -600,7 +600,7 @@ fn a_spot_on_a_ball_rings_at_twice_the_ball_spin_and_at_the_cage_frequency() {
     let spot = spotted.roller_bearings[1].element_defects.pop().unwrap();
     spotted.roller_bearings[0].element_defects.push(spot);
     let f = characteristic_frequencies(&healthy.roller_bearings[0], SPIN_HZ);
-    let spectrum = run(&spotted).2;
+    let (options, result, spectrum) = run(&spotted);
     let clean = run(&healthy).2;
     for (name, frequency) in [("2 BSF", 2.0 * f.bsf), ("FTF", f.ftf)] {
         let peak = peak_near(&spectrum, frequency, 1.0, SPIN_HZ)
@@ -614,5 +614,21 @@ fn a_spot_on_a_ball_rings_at_twice_the_ball_spin_and_at_the_cage_frequency() {
         assert!((peak.frequency_hz - frequency).abs() <= spectrum.resolution_hz);
         // Twice the healthy line, far beyond a deterministic run's change.
         assert!(peak.amplitude > 2.0 * before, "{name}");
+    }
+    // The run's report predicts both lines and finds them within a bin.
+    let report = SimulationReport::new(&spotted, &options, result).unwrap();
+    let bin = report.resolution_hz();
+    for source in ["element 0 spot (2 BSF)", "element 0 spot (FTF)"] {
+        let check = report.bearings[0]
+            .frequencies
+            .iter()
+            .find(|c| c.predicted.source == source)
+            .unwrap_or_else(|| panic!("{source} not predicted"));
+        let found = check
+            .measured
+            .iter()
+            .filter_map(|(_, p)| p.as_ref())
+            .any(|p| (p.frequency_hz - check.predicted.frequency_hz).abs() <= bin);
+        assert!(found, "{source}: {:?}", check.measured);
     }
 }

@@ -523,7 +523,7 @@ impl SimulationReport {
             waviness_hz: b
                 .frequencies
                 .iter()
-                .skip(1)
+                .filter(|f| f.predicted.source.contains("waviness"))
                 .map(|f| f.predicted.frequency_hz)
                 .collect(),
             characteristic_hz: b.characteristic,
