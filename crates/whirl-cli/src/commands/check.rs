@@ -59,10 +59,11 @@ fn text(check: &ModelCheck) -> String {
     );
     let _ = writeln!(
         text,
-        "  {} disk(s), {} linear bearing(s), {} roller bearing(s), {} unbalance(s)",
+        "  {} disk(s), {} linear bearing(s), {} roller bearing(s), {} ball bearing(s), {} unbalance(s)",
         model.disks.len(),
         model.bearings.len(),
-        model.roller_bearings.len(),
+        model.roller_bearings.iter().filter(|b| !b.is_ball()).count(),
+        model.roller_bearings.iter().filter(|b| b.is_ball()).count(),
         model.unbalances.len()
     );
     let list: Vec<String> = frequencies.iter().map(|x| format!("{x:.2}")).collect();

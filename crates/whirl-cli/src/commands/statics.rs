@@ -9,6 +9,7 @@
 
 use std::fmt::Write;
 
+use whirl::bearing::RatingSource;
 use whirl::report::Report;
 use whirl::statics::{static_response, RollerSupport};
 
@@ -56,6 +57,22 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
             "  {:<12} node {:3}: force on shaft ({:.4}, {:.4}) N, displacement ({:.3e}, {:.3e}) m",
             r.name, r.node, r.force[0], r.force[1], r.displacement[0], r.displacement[1]
         );
+        if let Some(life) = &r.life {
+            let l10 = life
+                .l10_million_revolutions
+                .map_or("none (axial load)".to_string(), |l| format!("{l:.4e}"));
+            let _ = writeln!(
+                text,
+                "  {:<12} life [million rev]: L10 {l10}, reference {:.4e} (C = {:.0} N, {})",
+                "",
+                life.reference_life_million_revolutions,
+                life.dynamic_load_rating_n,
+                match life.rating_source {
+                    RatingSource::Catalogue => "catalogue",
+                    RatingSource::Iso281Formula => "ISO 281 formula",
+                }
+            );
+        }
     }
     let _ = writeln!(
         text,

@@ -43,9 +43,10 @@ pub struct CharacteristicFrequencies {
 pub fn characteristic_frequencies(bearing: &RollerBearing, spin: f64) -> CharacteristicFrequencies {
     let rollers = bearing.rollers as f64;
     let cage = bearing.cage_speed_ratio;
-    // A cylindrical roller bearing's contact angle is 0: the outer raceway's diameter is
-    // D_p + d.
-    let outer_raceway = bearing.pitch_diameter + bearing.roller_diameter;
+    // The outer raceway's diameter at the contact: D_p + d cos(alpha), with a cylindrical
+    // roller bearing's alpha = 0 and a ball bearing's running contact angle.
+    let outer_raceway =
+        bearing.pitch_diameter + bearing.roller_diameter * bearing.running_contact_angle().cos();
     CharacteristicFrequencies {
         ftf: cage * spin,
         bpfo: rollers * cage * spin,

@@ -5,7 +5,9 @@ use std::f64::consts::PI;
 use serde::Serialize;
 
 use crate::force::Kinematics;
-use crate::model::{Clearance, RaceDefect, Ring, RollerBearing, Waviness, WavinessForm};
+use crate::model::{
+    Clearance, ElementDefect, RaceDefect, Ring, RollerBearing, Waviness, WavinessForm,
+};
 
 /// One contact slice of one roller at one instant.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -71,6 +73,11 @@ pub struct RollerGeometry {
     pub waviness: Vec<Waviness>,
     /// Local raceway defects.
     pub defects: Vec<RaceDefect>,
+    /// Spots on rolling elements.
+    pub element_defects: Vec<ElementDefect>,
+    /// An element's spin relative to the cage per spin angle of the shaft (BSF over the
+    /// spin speed).
+    pub spin_ratio: f64,
 }
 
 impl RollerGeometry {
@@ -101,6 +108,8 @@ impl RollerGeometry {
             slice_skew,
             waviness: bearing.waviness.clone(),
             defects: bearing.defects.clone(),
+            element_defects: bearing.element_defects.clone(),
+            spin_ratio: super::characteristic_frequencies(bearing, 1.0).bsf,
         }
     }
 
@@ -116,7 +125,7 @@ impl RollerGeometry {
     /// True when neither ring has waviness or a defect: no roller's approach then depends
     /// on where it is.
     pub fn is_round(&self) -> bool {
-        self.waviness.is_empty() && self.defects.is_empty()
+        self.waviness.is_empty() && self.defects.is_empty() && self.element_defects.is_empty()
     }
 
     /// Cage speed w_c at spin speed `omega`, rad/s.
@@ -157,7 +166,7 @@ impl RollerGeometry {
         let mut sin_cos = (self.cage_angle + cage_phase).sin_cos();
         for j in 0..self.rollers {
             let pitch = self.pitch(j);
-            let (wavy, wavy_rate) = self.waviness_at(pitch, cage_phase, cage_speed, at);
+            let (wavy, wavy_rate) = self.waviness_at(j, cage_phase, cage_speed, at);
             let angle = pitch + cage_phase;
             if j > 0 {
                 let (s, c) = sin_cos;
@@ -176,16 +185,17 @@ impl RollerGeometry {
         }
     }
 
-    /// P_o(j) + P_i(j) and its rate: the waviness (eq. 3.18 or fixed to the ring) and the
-    /// race defects under roller j, with the cage and ring angles in place of w t so that
-    /// speed ramps are followed.
+    /// P_o(j) + P_i(j) and its rate: the waviness (eq. 3.18 or fixed to the ring), the
+    /// race defects under roller j and the spots on it, with the cage and ring angles in
+    /// place of w t so that speed ramps are followed.
     pub(crate) fn waviness_at(
         &self,
-        pitch: f64,
+        j: usize,
         cage_phase: f64,
         cage_speed: f64,
         at: &Kinematics,
     ) -> (f64, f64) {
+        let pitch = self.pitch(j);
         let mut value = 0.0;
         let mut rate = 0.0;
         for w in &self.waviness {
@@ -197,9 +207,19 @@ impl RollerGeometry {
         }
         for d in &self.defects {
             let (ring_phase, ring_speed) = ring_motion(d.ring, at);
-            let (dip, slope) = defect_dip(d, pitch + cage_phase - ring_phase);
+            let (dip, slope) =
+                defect_dip(d.angle, d.width, d.depth, pitch + cage_phase - ring_phase);
             value += dip;
             rate += slope * (cage_speed - ring_speed);
+        }
+        for d in self.element_defects.iter().filter(|d| d.element == j) {
+            // The spot meets the outer race at spin angle 0 and the inner at pi.
+            let spin = self.spin_ratio * at.angle;
+            for contact in [0.0, PI] {
+                let (dip, slope) = defect_dip(d.angle + contact, d.width, d.depth, spin);
+                value += dip;
+                rate += slope * self.spin_ratio * at.speed;
+            }
         }
         (value, rate)
     }
@@ -224,19 +244,17 @@ fn pitch_multiple(w: &Waviness) -> f64 {
     }
 }
 
-/// The depth of `defect` under a roller at `angle` (rad, in the ring's frame) and its
-/// derivative with respect to that angle, per rad.
-fn defect_dip(defect: &RaceDefect, angle: f64) -> (f64, f64) {
-    let s = (angle - defect.angle + PI).rem_euclid(2.0 * PI) - PI;
-    if s.abs() >= 0.5 * defect.width {
+/// The depth of a dip `depth` deep and `width` wide centred at `centre` at `angle` (rad,
+/// in the frame of the surface that carries it) and its derivative with respect to that
+/// angle, per rad.
+fn defect_dip(centre: f64, width: f64, depth: f64, angle: f64) -> (f64, f64) {
+    let s = (angle - centre + PI).rem_euclid(2.0 * PI) - PI;
+    if s.abs() >= 0.5 * width {
         return (0.0, 0.0);
     }
-    let k = 2.0 * PI / defect.width;
+    let k = 2.0 * PI / width;
     let (sin, cos) = (k * s).sin_cos();
-    (
-        0.5 * defect.depth * (1.0 + cos),
-        -0.5 * defect.depth * k * sin,
-    )
+    (0.5 * depth * (1.0 + cos), -0.5 * depth * k * sin)
 }
 
 /// Approach of a slice at axial offset `z` of a roller skewed by `alpha` in a raceway of

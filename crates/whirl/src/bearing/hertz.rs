@@ -10,6 +10,7 @@
 //! follows from the same expression, so implicit integrators, the static solver and the
 //! harmonic balance use the law unchanged.
 
+use super::ball::{BallContactState, BallLaw};
 use super::geometry::{RollerGeometry, RollerState, Slice};
 use crate::error::{Error, Result};
 use crate::force::{Kinematics, NonlinearForce};
@@ -37,6 +38,14 @@ pub struct HertzBearing {
     smoothing: f64,
     /// The rollers' directions as [`NonlinearForce::force`] last left them.
     rollers: Rollers,
+    /// A ball bearing's contact law (contact angles, axial load); `None` for rollers.
+    ball: Option<BallLaw>,
+    /// The rings' axial separation of the last evaluation, m: the next solve's start.
+    axial: f64,
+    /// Each ball's radial approach and its rate at the last evaluation.
+    approaches: Vec<(f64, f64)>,
+    /// Each ball's contact, the Jacobian's work buffer.
+    contacts: Vec<BallContactState>,
 }
 
 /// What [`NonlinearForce::force`] keeps between calls: the cage angle followed by rotation
@@ -113,6 +122,10 @@ impl HertzBearing {
             exponent: bearing.contact_exponent,
             smoothing: 0.0,
             rollers: Rollers::new(&geometry),
+            ball: BallLaw::of(bearing),
+            axial: 0.0,
+            approaches: vec![(0.0, 0.0); geometry.rollers],
+            contacts: Vec::with_capacity(geometry.rollers),
             geometry,
         })
     }
@@ -169,25 +182,194 @@ impl HertzBearing {
         (force, k, self.damping)
     }
 
+    /// The elastic force K delta^n of a slice and its derivative, blended below the
+    /// smoothing scale as in [`Self::slice_force`].
+    fn elastic(&self, delta: f64) -> (f64, f64) {
+        if delta <= 0.0 {
+            return (0.0, 0.0);
+        }
+        if delta < self.smoothing {
+            let top = self.stiffness * self.smoothing.powf(self.exponent);
+            let (p, dp) = blend(self.exponent, delta / self.smoothing);
+            return (top * p, top * dp / self.smoothing);
+        }
+        let elastic = self.stiffness * delta.powf(self.exponent);
+        (elastic, self.exponent * elastic / delta)
+    }
+
+    /// The fade-in of the damping force and its derivative with respect to the approach:
+    /// 1 above the smoothing scale, the C2 step of [`Self::smoothed`] below it.
+    fn damping_ramp(&self, delta: f64) -> (f64, f64) {
+        if delta >= self.smoothing {
+            return (1.0, 0.0);
+        }
+        let t = delta / self.smoothing;
+        (
+            t * t * t * (10.0 + t * (-15.0 + 6.0 * t)),
+            30.0 * t * t * (1.0 - t) * (1.0 - t) / self.smoothing,
+        )
+    }
+
+    /// True for a ball bearing.
+    pub fn is_ball(&self) -> bool {
+        self.ball.is_some()
+    }
+
+    /// A ball's radial force on the shaft (elastic part plus damping on the radial approach
+    /// rate `rate`), never pulling, with its derivatives with respect to the radial
+    /// separation r, the axial separation s and `rate`.
+    fn ball_radial(&self, contact: &BallContactState, rate: f64) -> (f64, f64, f64, f64) {
+        if contact.load <= 0.0 {
+            return (0.0, 0.0, 0.0, 0.0);
+        }
+        let (elastic, dr, ds) = contact.radial();
+        let (ramp, dramp) = self.damping_ramp(contact.deformation);
+        let force = elastic + self.damping * ramp * rate;
+        if force <= 0.0 {
+            return (0.0, 0.0, 0.0, 0.0);
+        }
+        let d_damping = self.damping * dramp * rate;
+        (
+            force,
+            dr + d_damping * contact.cos,
+            ds + d_damping * contact.sin,
+            self.damping * ramp,
+        )
+    }
+
+    /// Each ball's radial approach d_j (less the clearance and the race profile) and its rate,
+    /// from the rollers' directions and motion left by [`HertzBearing::roller_motion`].
+    fn ball_approaches(&mut self, at: &Kinematics) {
+        let gamma = self.geometry.clearance.at_speed(at.speed);
+        let cage_phase = self.geometry.cage_ratio * at.angle;
+        let cage_speed = self.geometry.cage_speed(at.speed);
+        for j in 0..self.geometry.rollers {
+            let (wavy, wavy_rate) = if self.geometry.is_round() {
+                (0.0, 0.0)
+            } else {
+                self.geometry.waviness_at(j, cage_phase, cage_speed, at)
+            };
+            let (approach, rate) = self.rollers.radial[j];
+            self.approaches[j] = (approach - gamma - wavy, rate - wavy_rate);
+        }
+    }
+
+    /// Solves the rings' axial separation for the present approaches, from the last one.
+    fn solve_axial(&mut self) -> f64 {
+        let Some(law) = &self.ball else {
+            return 0.0;
+        };
+        let elastic = |x: f64| self.elastic(x);
+        let s = law.axial_separation(self.approaches.iter().map(|a| a.0), self.axial, &elastic);
+        self.axial = s;
+        s
+    }
+
+    /// [`NonlinearForce::force`] of a ball bearing.
+    fn ball_force(&mut self, at: &Kinematics, out: &mut [f64]) {
+        self.ball_approaches(at);
+        let s = self.solve_axial();
+        let Some(law) = &self.ball else {
+            return;
+        };
+        let elastic = |x: f64| self.elastic(x);
+        let (mut fx, mut fy) = (0.0, 0.0);
+        for (j, &(d, rate)) in self.approaches.iter().enumerate() {
+            let radial = self.ball_radial(&law.contact(d, s, &elastic), rate).0;
+            fx -= self.rollers.cos[j] * radial;
+            fy -= self.rollers.sin[j] * radial;
+        }
+        out.copy_from_slice(&[fx, fy][..out.len()]);
+    }
+
+    /// [`NonlinearForce::jacobian`] of a ball bearing. The axial separation s depends on the
+    /// shaft's displacement through the axial balance sum_j P_j(d_j, s) = F_a, so
+    /// ds/du = -(sum_j dP_j/dd_j g_j) / (sum_j dP_j/ds) enters every ball's radial force;
+    /// the damping is radial and leaves the balance alone.
+    fn ball_jacobian(&mut self, at: &Kinematics, dfdq: &mut [f64], dfdv: &mut [f64]) {
+        self.ball_approaches(at);
+        let s = self.solve_axial();
+        let mut contacts = std::mem::take(&mut self.contacts);
+        let Some(law) = &self.ball else {
+            return;
+        };
+        let elastic = |x: f64| self.elastic(x);
+        let w = self.geometry.cage_speed(at.speed);
+        contacts.clear();
+        contacts.extend(
+            self.approaches
+                .iter()
+                .map(|&(d, _)| law.contact(d, s, &elastic)),
+        );
+        let (mut stiff_s, mut coupling) = (0.0, [0.0; 2]);
+        for (j, c) in contacts.iter().enumerate() {
+            let (_, dr, ds) = c.axial();
+            stiff_s += ds;
+            coupling[0] += dr * self.rollers.cos[j];
+            coupling[1] += dr * self.rollers.sin[j];
+        }
+        let ds_du = if stiff_s > 0.0 {
+            [-coupling[0] / stiff_s, -coupling[1] / stiff_s]
+        } else {
+            [0.0; 2]
+        };
+        for (j, c) in contacts.iter().enumerate() {
+            let (force, dr, ds, dv) = self.ball_radial(c, self.approaches[j].1);
+            if force <= 0.0 {
+                continue;
+            }
+            let (sn, cs) = (self.rollers.sin[j], self.rollers.cos[j]);
+            let (g, gt) = ([cs, sn], [-sn, cs]);
+            for a in 0..2 {
+                for b in 0..2 {
+                    dfdq[a * 2 + b] -= g[a] * (dr * g[b] + ds * ds_du[b] + dv * w * gt[b]);
+                    dfdv[a * 2 + b] -= g[a] * dv * g[b];
+                }
+            }
+        }
+        self.contacts = contacts;
+    }
+
+    /// [`HertzBearing::rollers`] of a ball bearing: `approach` is each ball's elastic
+    /// deformation and `force` its normal load (the radial force over cos(alpha_j)).
+    fn ball_states(&self, at: &Kinematics, q: &[f64], v: &[f64]) -> Vec<RollerState> {
+        let Some(law) = &self.ball else {
+            return Vec::new();
+        };
+        let w = self.geometry.cage_speed(at.speed);
+        let mut motion = Vec::with_capacity(self.geometry.rollers);
+        self.geometry.for_each_slice(at, |slice| {
+            motion.push((slice.angle, self.approach(slice, w, q, v)));
+        });
+        let elastic = |x: f64| self.elastic(x);
+        let s = law.axial_separation(motion.iter().map(|m| m.1 .0), self.axial, &elastic);
+        motion
+            .iter()
+            .map(|&(angle, (d, rate))| {
+                let contact = law.contact(d, s, &elastic);
+                let radial = self.ball_radial(&contact, rate).0;
+                RollerState {
+                    angle,
+                    approach: contact.deformation,
+                    force: if radial > 0.0 {
+                        radial / contact.cos
+                    } else {
+                        0.0
+                    },
+                }
+            })
+            .collect()
+    }
+
     /// [`Self::slice_force`] below the smoothing scale (0 < delta < scale).
     fn blended_force(&self, delta: f64, rate: f64) -> (f64, f64, f64) {
-        let scale = self.smoothing;
-        let t = delta / scale;
-        let top = self.stiffness * scale.powf(self.exponent);
-        let (p, dp) = blend(self.exponent, t);
-        let (ramp, dramp) = (
-            t * t * t * (10.0 + t * (-15.0 + 6.0 * t)),
-            30.0 * t * t * (1.0 - t) * (1.0 - t),
-        );
-        let force = top * p + self.damping * ramp * rate;
+        let (elastic, k) = self.elastic(delta);
+        let (ramp, dramp) = self.damping_ramp(delta);
+        let force = elastic + self.damping * ramp * rate;
         if force <= 0.0 {
             return (0.0, 0.0, 0.0);
         }
-        (
-            force,
-            (top * dp + self.damping * dramp * rate) / scale,
-            self.damping * ramp,
-        )
+        (force, k + self.damping * dramp * rate, self.damping * ramp)
     }
 
     /// Adds what one slice at cage speed `cage_speed` gives: its force to `force`, and its
@@ -258,8 +440,7 @@ impl HertzBearing {
             let (wavy, wavy_rate) = if self.geometry.is_round() {
                 (0.0, 0.0)
             } else {
-                let pitch = self.geometry.pitch(j);
-                self.geometry.waviness_at(pitch, cage_phase, cage_speed, at)
+                self.geometry.waviness_at(j, cage_phase, cage_speed, at)
             };
             let (approach, rate) = self.rollers.radial[j];
             let (tilt, tilt_rate) = self.rollers.tilt[j];
@@ -325,6 +506,9 @@ impl HertzBearing {
 
     /// Angle, largest approach and force of every roller.
     pub fn rollers(&self, at: &Kinematics, q: &[f64], v: &[f64]) -> Vec<RollerState> {
+        if self.is_ball() {
+            return self.ball_states(at, q, v);
+        }
         let cage_speed = self.geometry.cage_speed(at.speed);
         let mut out = vec![
             RollerState {
@@ -385,7 +569,11 @@ impl NonlinearForce for HertzBearing {
     /// each roller once for all its slices, and a roller that cannot touch over any of its
     /// slices is passed over.
     fn force(&mut self, at: &Kinematics, q: &[f64], v: &[f64], out: &mut [f64]) {
-        if self.geometry.tilt || !self.geometry.is_round() {
+        if self.is_ball() {
+            self.rollers.turn(&self.geometry, at.angle);
+            self.roller_motion(at, q, v);
+            self.ball_force(at, out);
+        } else if self.geometry.tilt || !self.geometry.is_round() {
             self.tilted_or_wavy_force(at, q, v, out);
         } else {
             self.plain_force(at, q, v, out);
@@ -402,6 +590,12 @@ impl NonlinearForce for HertzBearing {
     ) {
         dfdq.iter_mut().for_each(|x| *x = 0.0);
         dfdv.iter_mut().for_each(|x| *x = 0.0);
+        if self.is_ball() {
+            self.rollers.turn(&self.geometry, at.angle);
+            self.roller_motion(at, q, v);
+            self.ball_jacobian(at, dfdq, dfdv);
+            return;
+        }
         let cage_speed = self.geometry.cage_speed(at.speed);
         self.geometry.for_each_slice(at, |slice| {
             self.add_slice(

@@ -197,7 +197,8 @@ impl LagrangeContacts {
     /// [`Error::Unsupported`] for more than `MAX_BEARINGS` bearings; [`Error::InvalidOption`]
     /// when `coordinates` does not hold two per bearing; [`Error::Input`] naming
     /// `roller_bearing[i].roller_tilt` or `.skew_angle` for a bearing with roller tilt or skew,
-    /// which one rigid constraint per roller cannot model.
+    /// which one rigid constraint per roller cannot model; [`Error::Unsupported`] for a ball
+    /// bearing under an axial load.
     pub fn new(bearings: &[RollerBearing], coordinates: Vec<usize>) -> Result<Self> {
         if bearings.len() > MAX_BEARINGS {
             return Err(Error::Unsupported(format!(
@@ -210,6 +211,15 @@ impl LagrangeContacts {
             ));
         }
         refuse_slice_effects(bearings)?;
+        if let Some(b) = bearings
+            .iter()
+            .find(|b| b.ball.as_ref().is_some_and(|c| c.axial_load > 0.0))
+        {
+            return Err(Error::Unsupported(format!(
+                "{}: rigid balls under an axial load have no contact angle (it follows from                  the balls' deflection); use the Hertz contact law for this bearing",
+                b.name
+            )));
+        }
         let bearings: Vec<ConstrainedBearing> = bearings
             .iter()
             .map(|b| ConstrainedBearing {

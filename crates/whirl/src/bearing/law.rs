@@ -11,7 +11,7 @@
 
 use serde::Serialize;
 
-use super::{forcing_bearings, hertz_bearings, RollerGeometry};
+use super::{characteristic_frequencies, forcing_bearings, hertz_bearings, RollerGeometry};
 use crate::fe::Bearings;
 use crate::force::{no_forces, ForceBuilder};
 use crate::model::{Model, Ring, RollerBearing, Waviness, WavinessForm};
@@ -78,8 +78,9 @@ impl ContactLaw {
 /// A frequency the rollers excite.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ContactFrequency {
-    /// `varying compliance`, `waviness <ring> order <N_w>` or
-    /// `ring-fixed waviness <ring> order <N_w>`.
+    /// `varying compliance`, `waviness <ring> order <N_w>`,
+    /// `ring-fixed waviness <ring> order <N_w>`, `outer race defect (BPFO)`,
+    /// `inner race defect (BPFI)`, `element <j> spot (2 BSF)` or `element <j> spot (FTF)`.
     pub source: String,
     /// N_b for the varying compliance, N_w - 1 for a thesis-form waviness, k N_b (less
     /// N_w Omega / w_c on the inner ring) for a ring-fixed one: multiples of the cage speed.
@@ -88,7 +89,8 @@ pub struct ContactFrequency {
     pub frequency_hz: f64,
 }
 
-/// The varying-compliance frequency N_b w_c and every waviness frequency of `bearing` at
+/// The varying-compliance frequency N_b w_c, every waviness frequency and every defect's
+/// lines ([`defect_frequencies`]) of `bearing` at
 /// spin speed `speed` (rad/s), in Hz: (N_w - 1) w_c for the thesis' form, k N_b w_c for an
 /// outer ring-fixed waviness of order N_w = k N_b +- 1, |k N_b w_c - N_w Omega| for an
 /// inner one (a ring-fixed waviness of another order exerts no force on a centred shaft).
@@ -117,6 +119,35 @@ pub fn contact_frequencies(bearing: &RollerBearing, speed: f64) -> Vec<ContactFr
             cage_orders: orders,
             frequency_hz: hz(orders * geometry.cage_speed(speed)),
         });
+    }
+    out.extend(defect_frequencies(bearing, speed));
+    out
+}
+
+/// The lines of `bearing`'s defects at spin speed `speed` (rad/s): BPFO for an outer-race
+/// defect, BPFI for an inner-race one, and for a spot on an element 2 BSF (it meets both
+/// races once per spin turn) and FTF (it is loaded once per cage turn).
+fn defect_frequencies(bearing: &RollerBearing, speed: f64) -> Vec<ContactFrequency> {
+    let f = characteristic_frequencies(bearing, speed / (2.0 * std::f64::consts::PI));
+    let line = |source: String, frequency_hz: f64| ContactFrequency {
+        source,
+        cage_orders: frequency_hz / f.ftf,
+        frequency_hz,
+    };
+    let mut out: Vec<ContactFrequency> = bearing
+        .defects
+        .iter()
+        .map(|d| match d.ring {
+            Ring::Outer => line("outer race defect (BPFO)".into(), f.bpfo),
+            Ring::Inner => line("inner race defect (BPFI)".into(), f.bpfi),
+        })
+        .collect();
+    for d in &bearing.element_defects {
+        out.push(line(
+            format!("element {} spot (2 BSF)", d.element),
+            2.0 * f.bsf,
+        ));
+        out.push(line(format!("element {} spot (FTF)", d.element), f.ftf));
     }
     out
 }

@@ -23,8 +23,12 @@
 //! rollers excite; [`frequencies`] the bearing's characteristic frequencies (BPFO, BPFI,
 //! BSF, FTF).
 //!
+//! A ball bearing is a roller bearing whose rollers are balls: [`ball`] adds the point
+//! contact's angle and the axial load to the same kinematics and solvers.
+//!
 //! This module is below the solvers: it imports nothing from `time`, `hbm` or `nsv`.
 
+pub mod ball;
 pub mod forcing;
 pub mod forcing_regression;
 pub mod frequencies;
@@ -33,6 +37,7 @@ pub mod hertz;
 pub mod lagrange;
 pub mod law;
 pub(crate) mod least_squares;
+pub mod life;
 pub mod stiffness;
 
 pub use forcing::{forcing_bearings, law_speeds, valid_up_to, ForcingBearing};
@@ -44,6 +49,7 @@ pub use geometry::{RollerGeometry, RollerState};
 pub use hertz::{HertzBearing, HERTZ_BOUND_APPROACH};
 pub use lagrange::{ContactStep, LagrangeContacts};
 pub use law::{contact_frequencies, ContactFrequency, ContactLaw};
+pub use life::{bearing_life, dynamic_load_rating, BearingLife, LifeLoads, RatingSource};
 
 use crate::error::{Error, Result};
 use crate::fe::{dof, Direction};

@@ -192,11 +192,30 @@ impl CagedBearing {
         let w = self.weight();
         let m = motion.0.len();
         let cage_speed = self.inner.geometry().cage_speed(at.speed);
-        for slices in &self.slices {
+        let ball = self.inner.is_ball();
+        for (slices, &angle) in self.slices.iter().zip(&self.angles) {
             self.force_buffer.fill(0.0);
             self.buffer.fill(0.0);
             self.buffer_v.fill(0.0);
-            for slice in slices {
+            if ball {
+                // A ball bearing's balls share the axial balance: the whole bearing at this
+                // cage position, not slice by slice.
+                let position = Kinematics {
+                    time: 0.0,
+                    speed: at.speed,
+                    angle,
+                };
+                let (q, v) = motion;
+                if force.is_some() {
+                    self.inner
+                        .force(&position, q, v, &mut self.force_buffer[..m]);
+                }
+                if tangents.is_some() {
+                    self.inner
+                        .jacobian(&position, q, v, &mut self.buffer, &mut self.buffer_v);
+                }
+            }
+            for slice in slices.iter().filter(|_| !ball) {
                 self.inner.add_slice(
                     slice,
                     cage_speed,

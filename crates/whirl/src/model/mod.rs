@@ -9,10 +9,16 @@
 //! node index or the axial position `z`; both are kept, so that a re-meshed model (mesh
 //! convergence study) can place the feature at the same `z`.
 
+mod ball;
+mod ball_file;
 pub mod ross;
 mod schema;
 mod validate;
 
+pub use ball::{
+    ball_stiffness, point_contact, BallContact, PointContact, BEARING_STEEL_MODULUS,
+    BEARING_STEEL_POISSON,
+};
 pub use validate::MAX_ELEMENTS;
 
 use std::path::{Path, PathBuf};
@@ -222,8 +228,15 @@ pub struct RollerBearing {
     pub waviness: Vec<Waviness>,
     /// Local raceway defects (spalls).
     pub defects: Vec<RaceDefect>,
+    /// Spots on rolling elements.
+    pub element_defects: Vec<ElementDefect>,
     /// Forcing-function law (thesis eq. 3.12), when given.
     pub forcing_function: Option<ForcingFunction>,
+    /// The balls' point contacts when the rolling elements are balls (`[[ball_bearing]]`).
+    pub ball: Option<BallContact>,
+    /// Basic dynamic load rating C from the file (a catalogue's), N; without it the life
+    /// takes ISO 281's formula for the geometry ([`crate::bearing::life`]).
+    pub dynamic_load_rating: Option<f64>,
 }
 
 /// Which ring is wavy.
@@ -278,6 +291,22 @@ pub struct RaceDefect {
     /// angle 0).
     pub angle: f64,
     /// Angular width, rad, below 2 pi.
+    pub width: f64,
+    /// Largest depth, m.
+    pub depth: f64,
+}
+
+/// A spot on one rolling element: as it spins, the element's surface recedes by the same
+/// raised-cosine dip as a [`RaceDefect`] wherever the spot meets a race, outer (spin angle
+/// 0 from the spot's centre) or inner (pi): the approach dips twice per spin turn, at
+/// 2 BSF relative to the cage.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ElementDefect {
+    /// The element, 0-based (element 0 sits at the cage angle).
+    pub element: usize,
+    /// Spin angle of the spot's centre from the outer contact at spin angle 0, rad.
+    pub angle: f64,
+    /// Angular width on the element, rad, below pi.
     pub width: f64,
     /// Largest depth, m.
     pub depth: f64,

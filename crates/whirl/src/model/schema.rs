@@ -49,6 +49,9 @@ pub struct ModelFile {
     /// Cylindrical roller bearings with internal radial clearance.
     #[serde(default)]
     pub roller_bearing: Vec<Spanned<RollerBearingFile>>,
+    /// Deep-groove and angular-contact ball bearings.
+    #[serde(default)]
+    pub ball_bearing: Vec<Spanned<super::ball_file::BallBearingFile>>,
     /// Rayleigh damping of the rotor (shaft and disks).
     pub damping: Option<Spanned<DampingFile>>,
     /// Unbalances.
@@ -200,6 +203,8 @@ pub struct RollerBearingFile {
     pub defect: Vec<Spanned<DefectFile>>,
     /// Forcing-function law (thesis eq. 3.12) used by `--contact forcing`.
     pub forcing_function: Option<Spanned<ForcingFunctionFile>>,
+    /// Basic dynamic load rating C (force), the catalogue's; ISO 281's formula otherwise.
+    pub dynamic_load_rating: Option<Q>,
 }
 
 /// `[[roller_bearing.waviness]]`
@@ -222,8 +227,10 @@ pub struct WavinessFile {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DefectFile {
-    /// `"outer"` or `"inner"`.
+    /// `"outer"`, `"inner"`, or `"element"` for a spot on a roller or ball.
     pub ring: Spanned<String>,
+    /// With `ring = "element"`: which roller or ball, 0-based.
+    pub element: Option<Count>,
     /// Centre, degrees in the ring's frame.
     pub angle: Option<Spanned<f64>>,
     /// Angular width, degrees.

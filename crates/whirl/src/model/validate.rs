@@ -14,6 +14,8 @@ use super::schema::*;
 use super::*;
 use crate::units::{check_speed, parse_quantity, Dimension};
 
+mod ball;
+
 type V<T> = std::result::Result<T, InputError>;
 
 fn err(field: &str, span: Range<usize>, message: impl Into<String>) -> InputError {
@@ -217,12 +219,19 @@ pub(super) fn validate(raw: ModelFile) -> V<Model> {
         .enumerate()
         .map(|(i, b)| linear_bearing(b, &format!("bearing[{i}]"), &nodes))
         .collect::<V<Vec<_>>>()?;
-    let roller_bearings = raw
+    let mut roller_bearings = raw
         .roller_bearing
         .iter()
         .enumerate()
         .map(|(i, b)| roller_bearing(b, &format!("roller_bearing[{i}]"), &nodes))
         .collect::<V<Vec<_>>>()?;
+    for (i, b) in raw.ball_bearing.iter().enumerate() {
+        roller_bearings.push(ball::ball_bearing(
+            b,
+            &format!("ball_bearing[{i}]"),
+            &nodes,
+        )?);
+    }
     let damping = raw
         .damping
         .as_ref()
@@ -255,7 +264,31 @@ pub(super) fn validate(raw: ModelFile) -> V<Model> {
         .zip(&raw.roller_bearing)
         .enumerate()
     {
-        roller_bearing_plausible(b, file, &format!("roller_bearing[{i}]"), model.operating)?;
+        let f = file.get_ref();
+        let spans = BearingSpans {
+            clearance: f.clearance.span(),
+            waviness: f
+                .waviness
+                .iter()
+                .map(|w| w.get_ref().amplitude.span())
+                .collect(),
+            forcing: f.forcing_function.as_ref().map(|l| l.span()),
+        };
+        roller_bearing_plausible(b, &spans, &format!("roller_bearing[{i}]"), model.operating)?;
+    }
+    let balls = model.roller_bearings.iter().filter(|b| b.is_ball());
+    for (i, (b, file)) in balls.zip(&raw.ball_bearing).enumerate() {
+        let f = file.get_ref();
+        let spans = BearingSpans {
+            clearance: f.clearance.as_ref().map_or(file.span(), |c| c.span()),
+            waviness: f
+                .waviness
+                .iter()
+                .map(|w| w.get_ref().amplitude.span())
+                .collect(),
+            forcing: None,
+        };
+        roller_bearing_plausible(b, &spans, &format!("ball_bearing[{i}]"), model.operating)?;
     }
     Ok(model)
 }
@@ -799,6 +832,7 @@ fn roller_bearing(
             ))
         }
     };
+    let (race_defects, element_defects) = defects(&b.defect, field, rollers)?;
     Ok(RollerBearing {
         name: b
             .name
@@ -831,16 +865,18 @@ fn roller_bearing(
             .enumerate()
             .map(|(i, w)| waviness(w, &f(&format!("waviness[{i}]"))))
             .collect::<V<Vec<_>>>()?,
-        defects: b
-            .defect
-            .iter()
-            .enumerate()
-            .map(|(i, d)| race_defect(d, &f(&format!("defect[{i}]"))))
-            .collect::<V<Vec<_>>>()?,
+        defects: race_defects,
+        element_defects,
         forcing_function: b
             .forcing_function
             .as_ref()
             .map(|ff| forcing_function(ff, &f("forcing_function")))
+            .transpose()?,
+        ball: None,
+        dynamic_load_rating: b
+            .dynamic_load_rating
+            .as_ref()
+            .map(|c| positive_q(c, Dimension::Force, &f("dynamic_load_rating")))
             .transpose()?,
     })
 }
@@ -899,6 +935,59 @@ fn ring(raw: &Spanned<String>, field: &str) -> V<Ring> {
     }
 }
 
+/// The `defect` tables of a bearing with `elements` rollers or balls: race defects, and
+/// spots on elements (`ring = "element"`).
+fn defects(
+    raw: &[Spanned<DefectFile>],
+    bearing: &str,
+    elements: usize,
+) -> V<(Vec<RaceDefect>, Vec<ElementDefect>)> {
+    let (mut races, mut spots) = (Vec::new(), Vec::new());
+    for (i, d) in raw.iter().enumerate() {
+        let field = format!("{bearing}.defect[{i}]");
+        let file = d.get_ref();
+        let on_element = file.ring.get_ref() == "element";
+        match (&file.element, on_element) {
+            (Some(e), false) => {
+                return Err(err(
+                    &format!("{field}.element"),
+                    e.span(),
+                    "`element` names a roller or ball: only with ring = \"element\"",
+                ))
+            }
+            (None, true) => {
+                return Err(err(
+                    &field,
+                    d.span(),
+                    "a defect on a rolling element needs `element`, its index from 0",
+                ))
+            }
+            _ => {}
+        }
+        let race = race_defect(d, &field)?;
+        if let Some(e) = &file.element {
+            let element = count(e, &format!("{field}.element"), 0, elements as i64 - 1)?;
+            if race.width >= PI {
+                return Err(err(
+                    &format!("{field}.width"),
+                    file.width.span(),
+                    "a spot on a rolling element must be narrower than 180 degrees (it \
+                     meets the outer race and, half a turn later, the inner)",
+                ));
+            }
+            spots.push(ElementDefect {
+                element,
+                angle: race.angle,
+                width: race.width,
+                depth: race.depth,
+            });
+        } else {
+            races.push(race);
+        }
+    }
+    Ok((races, spots))
+}
+
 fn race_defect(raw: &Spanned<DefectFile>, field: &str) -> V<RaceDefect> {
     let d = raw.get_ref();
     let width_field = format!("{field}.width");
@@ -910,8 +999,14 @@ fn race_defect(raw: &Spanned<DefectFile>, field: &str) -> V<RaceDefect> {
             format!("must lie strictly between 0 and 360 degrees, got {width}"),
         ));
     }
+    // The ring of an element's spot is irrelevant: its place is the element's.
+    let ring = if d.ring.get_ref() == "element" {
+        Ring::Outer
+    } else {
+        ring(&d.ring, field)?
+    };
     Ok(RaceDefect {
-        ring: ring(&d.ring, field)?,
+        ring,
         angle: opt_f64(&d.angle, &format!("{field}.angle"), 0.0)?.to_radians(),
         width: width.to_radians(),
         depth: non_negative_q(&d.depth, Dimension::Length, &format!("{field}.depth"))?,
@@ -1181,17 +1276,24 @@ const MAX_WAVINESS_OVER_CLEARANCE: f64 = 10.0;
 /// zero-clearance (preloaded) bearing is judged against 1e-4 of it.
 const MIN_CLEARANCE_SCALE: f64 = 1e-4;
 
+/// Where in the file a bearing's checked values are written.
+struct BearingSpans {
+    clearance: Range<usize>,
+    /// Each waviness component's amplitude.
+    waviness: Vec<Range<usize>>,
+    forcing: Option<Range<usize>>,
+}
+
 /// Refuses a roller bearing that cannot exist: a clearance that goes negative or grows past
 /// the rollers within the operating speeds, a forcing law whose coefficients turn negative
 /// there, waviness far above the clearance.
 fn roller_bearing_plausible(
     b: &RollerBearing,
-    file: &Spanned<RollerBearingFile>,
+    spans: &BearingSpans,
     field: &str,
     operating: Option<(f64, f64)>,
 ) -> V<()> {
-    let f = file.get_ref();
-    let clearance_span = f.clearance.span();
+    let clearance_span = spans.clearance.clone();
     let speeds = checked_speeds(operating);
     let mut largest = 0.0_f64;
     for &w in &speeds {
@@ -1225,11 +1327,11 @@ fn roller_bearing_plausible(
         .help("radial clearances are micrometres: about 1e-4 to 1e-3 of the pitch diameter"));
     }
     let scale = largest.max(MIN_CLEARANCE_SCALE * b.pitch_diameter);
-    for (i, (w, wf)) in b.waviness.iter().zip(&f.waviness).enumerate() {
+    for (i, (w, span)) in b.waviness.iter().zip(&spans.waviness).enumerate() {
         if w.amplitude > MAX_WAVINESS_OVER_CLEARANCE * scale {
             return Err(err(
                 &format!("{field}.waviness[{i}].amplitude"),
-                wf.get_ref().amplitude.span(),
+                span.clone(),
                 format!(
                     "a waviness of {} m is more than {MAX_WAVINESS_OVER_CLEARANCE} times the \
                      clearance scale ({} m): waviness is a form error below the clearance",
@@ -1240,7 +1342,7 @@ fn roller_bearing_plausible(
             .help("waviness amplitudes are micrometres, e.g. \"1 um\""));
         }
     }
-    if let (Some(law), Some(lf)) = (&b.forcing_function, &f.forcing_function) {
+    if let (Some(law), Some(lf)) = (&b.forcing_function, &spans.forcing) {
         // a and b are linear in the speed: their signs over the range are those at its ends.
         let ends = [speeds[0], speeds[speeds.len() - 1]];
         if let Some(&w) = ends.iter().find(|&&w| {
@@ -1250,7 +1352,7 @@ fn roller_bearing_plausible(
             let (a, e) = law.at_speed(w);
             return Err(err(
                 &format!("{field}.forcing_function"),
-                lf.span(),
+                lf.clone(),
                 format!(
                     "at {} Hz, within the operating speeds, the law's stiffness a0 + a1 W = {} \
                      and exponent b0 + b1 W = {}: both must stay positive",
@@ -1268,11 +1370,24 @@ fn roller_bearing_plausible(
 /// Warnings about a valid but implausible model: values no real rotor has, which usually
 /// mean a unit slipped. One sentence each, naming the field.
 pub(super) fn warnings(model: &Model) -> Vec<String> {
+    // Ball bearings follow the roller bearings in the model, each table numbered apart.
+    let rollers = model
+        .roller_bearings
+        .iter()
+        .filter(|b| !b.is_ball())
+        .count();
     let mut out: Vec<String> = model
         .roller_bearings
         .iter()
         .enumerate()
-        .filter_map(|(i, b)| clearance_warning(b, &format!("roller_bearing[{i}]"), model.operating))
+        .filter_map(|(i, b)| {
+            let field = if b.is_ball() {
+                format!("ball_bearing[{}]", i - rollers)
+            } else {
+                format!("roller_bearing[{i}]")
+            };
+            clearance_warning(b, &field, model.operating)
+        })
         .collect();
     out.extend(
         model

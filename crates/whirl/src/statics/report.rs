@@ -5,6 +5,7 @@
 use serde::Serialize;
 
 use super::{RollerSupport, StaticResult, Station};
+use crate::bearing::BearingLife;
 use crate::report::{Report, Table};
 
 /// The key numbers of a [`StaticResult`].
@@ -75,6 +76,8 @@ pub struct ReactionSummary {
     pub rollers_loaded: usize,
     /// The largest roller load, N (roller bearings with Hertz contacts).
     pub max_roller_load_n: Option<f64>,
+    /// Fatigue life under this load (roller and ball bearings with Hertz contacts).
+    pub life: Option<BearingLife>,
 }
 
 impl StaticResult {
@@ -142,6 +145,7 @@ impl Report for StaticResult {
                     force_n: r.force,
                     rollers_loaded: r.rollers.iter().filter(|q| q.force > 0.0).count(),
                     max_roller_load_n: r.rollers.iter().map(|q| q.force).reduce(f64::max),
+                    life: r.life.clone(),
                 })
                 .collect(),
             reaction_sum_n: total,

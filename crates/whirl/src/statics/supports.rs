@@ -3,7 +3,7 @@
 use serde::Serialize;
 
 use super::RollerSupport;
-use crate::bearing::HertzBearing;
+use crate::bearing::{bearing_life, BearingLife, HertzBearing, LifeLoads};
 use crate::error::Result;
 use crate::fe::{dof, Direction};
 use crate::force::{Kinematics, NonlinearForce};
@@ -37,6 +37,8 @@ pub struct BearingReaction {
     pub force: [f64; 2],
     /// Each roller's load (roller bearings with Hertz contacts; empty otherwise).
     pub rollers: Vec<RollerLoad>,
+    /// The fatigue life under this load (roller and ball bearings with Hertz contacts).
+    pub life: Option<BearingLife>,
 }
 
 /// Reactions of every bearing for the displacements `q`.
@@ -65,6 +67,7 @@ pub(super) fn reactions(
                 displacement: u,
                 force: linear(u, &b.stiffness),
                 rollers: Vec::new(),
+                life: None,
             }
         })
         .collect();
@@ -81,6 +84,7 @@ pub(super) fn reactions(
                     displacement: u,
                     force: linear(u, &[[k, 0.0], [0.0, k]]),
                     rollers: Vec::new(),
+                    life: None,
                 }
             }
             RollerSupport::Hertz => hertz_reaction(b, q, u)?,
@@ -107,8 +111,11 @@ fn hertz_reaction(b: &RollerBearing, q: &[f64], u: [f64; 2]) -> Result<BearingRe
     let still = vec![0.0; local.len()];
     let mut force = vec![0.0; local.len()];
     contact.force(&rest, &local, &still, &mut force);
-    let rollers = contact
-        .rollers(&rest, &local, &still)
+    let states = contact.rollers(&rest, &local, &still);
+    let mut loads = LifeLoads::default();
+    let elements: Vec<f64> = states.iter().map(|r| r.force).collect();
+    loads.add(b, force[0].hypot(force[1]), &elements);
+    let rollers = states
         .iter()
         .map(|r| RollerLoad {
             angle_deg: r.angle.to_degrees().rem_euclid(360.0),
@@ -120,9 +127,15 @@ fn hertz_reaction(b: &RollerBearing, q: &[f64], u: [f64; 2]) -> Result<BearingRe
         name: b.name.clone(),
         node,
         z: b.station.z,
-        kind: "roller (hertz)",
+        kind: if b.is_ball() {
+            "ball (hertz)"
+        } else {
+            "roller (hertz)"
+        },
         displacement: u,
         force: [force[0], force[1]],
         rollers,
+        // At rest: the life in revolutions (no speed for hours).
+        life: bearing_life(b, &loads, 0.0),
     })
 }

@@ -13,11 +13,11 @@ use serde::Serialize;
 
 use super::{Initial, RunStatus, SimulationOptions, SimulationResult};
 use crate::bearing::{
-    characteristic_frequencies, contact_frequencies, CharacteristicFrequencies, ContactFrequency,
-    ContactLaw,
+    bearing_life, characteristic_frequencies, contact_frequencies, BearingLife,
+    CharacteristicFrequencies, ContactFrequency, ContactLaw, LifeLoads,
 };
 use crate::error::Result;
-use crate::model::Model;
+use crate::model::{Model, RollerBearing};
 use crate::post::{SpectralPeak, Window};
 use crate::report::{Report, Table};
 use crate::system::SpeedProfile;
@@ -107,6 +107,9 @@ pub struct BearingReport {
     pub line_window: Range<usize>,
     /// Samples of the settled part.
     pub settled_range: Range<usize>,
+    /// Fatigue life under the settled part's roller loads (`None` without per-roller
+    /// forces or a load rating).
+    pub life: Option<BearingLife>,
 }
 
 impl RunStatus {
@@ -285,9 +288,40 @@ fn bearing_reports(
                 characteristic: characteristic_frequencies(bearing, running_hz),
                 line_window: start..line_end.min(end),
                 settled_range: start..end,
+                life: settled_life(bearing, record, start..end, speed),
             }
         })
         .collect()
+}
+
+/// The life of `bearing` under the roller loads of `record` over `samples`, at `speed`
+/// (rad/s): each sample's radial force is the vector sum of its rollers' loads, which for a
+/// ball bearing holds without an axial load (its L10 is left out with one).
+fn settled_life(
+    bearing: &RollerBearing,
+    record: &RollerRecord,
+    samples: Range<usize>,
+    speed: f64,
+) -> Option<BearingLife> {
+    let n = record.rollers;
+    let mut loads = LifeLoads::default();
+    for i in samples {
+        let (angles, forces) = (
+            &record.angle[i * n..(i + 1) * n],
+            &record.force[i * n..(i + 1) * n],
+        );
+        if forces.iter().any(|f| !f.is_finite()) {
+            return None;
+        }
+        let (fx, fy) = angles
+            .iter()
+            .zip(forces)
+            .fold((0.0, 0.0), |(x, y), (a, f)| {
+                (x + f * a.cos(), y + f * a.sin())
+            });
+        loads.add(bearing, fx.hypot(fy), forces);
+    }
+    bearing_life(bearing, &loads, speed)
 }
 
 /// The key numbers of a [`SimulationReport`].
@@ -408,6 +442,8 @@ pub struct BearingSummary {
     pub whole_run: ContactStatistics,
     /// Each predicted frequency and the peaks near it.
     pub frequencies: Vec<FrequencySummary>,
+    /// Fatigue life under the settled part's roller loads.
+    pub life: Option<BearingLife>,
 }
 
 /// Contact statistics.
@@ -487,10 +523,11 @@ impl SimulationReport {
             waviness_hz: b
                 .frequencies
                 .iter()
-                .skip(1)
+                .filter(|f| f.predicted.source.contains("waviness"))
                 .map(|f| f.predicted.frequency_hz)
                 .collect(),
             characteristic_hz: b.characteristic,
+            life: b.life.clone(),
             spectrum_resolution_hz: b.resolution_hz,
             settled: statistics(&b.settled),
             whole_run: statistics(&b.whole),
