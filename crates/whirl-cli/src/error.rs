@@ -105,17 +105,27 @@ impl Diag {
     }
 }
 
-/// True when every line the span touches is short enough to show (see [`MAX_SHOWN_LINE`]).
+/// True when every line the diagnostic prints is short enough to show (see
+/// [`MAX_SHOWN_LINE`]): the lines the span touches and, as context, one on either side
+/// (miette's default), so that a 2 MB line next to an error is not echoed whole.
 fn showable(text: &str, span: &std::ops::Range<usize>) -> bool {
     let bytes = text.as_bytes();
-    let start = bytes[..span.start]
-        .iter()
-        .rposition(|&b| b == b'\n')
-        .map_or(0, |i| i + 1);
-    let end = bytes[span.end..]
-        .iter()
-        .position(|&b| b == b'\n')
-        .map_or(text.len(), |i| span.end + i);
+    let line_start = |at: usize| {
+        bytes[..at]
+            .iter()
+            .rposition(|&b| b == b'\n')
+            .map_or(0, |i| i + 1)
+    };
+    let line_end = |at: usize| {
+        bytes[at..]
+            .iter()
+            .position(|&b| b == b'\n')
+            .map_or(text.len(), |i| at + i)
+    };
+    let first = line_start(span.start);
+    let start = line_start(first.saturating_sub(1));
+    let last = line_end(span.end);
+    let end = line_end((last + 1).min(text.len()));
     text[start..end].lines().all(|l| l.len() <= MAX_SHOWN_LINE)
 }
 

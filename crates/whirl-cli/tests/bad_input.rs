@@ -675,3 +675,44 @@ fn time_sampled_lengths_are_refused_before_any_allocation() {
         &["steps is too many"],
     );
 }
+
+#[test]
+fn a_device_or_huge_file_is_refused_not_read_to_the_end() {
+    // `/dev/zero` never ends: before the cap it was read until memory ran out.
+    fails(
+        None,
+        &["check", "/dev/zero"],
+        &["cannot read the model file", "more than 64 MiB"],
+    );
+}
+
+#[test]
+fn an_error_beside_a_2_mb_line_does_not_echo_it() {
+    // The error is on the short line 2; miette shows a line of context on either side, and
+    // line 1 is 2 MB long (2,000,285 bytes of stderr before).
+    let tmp = tempfile::tempdir().unwrap();
+    let file = tmp.path().join("long.toml");
+    std::fs::write(&file, format!("name = \"{}\"\nfoo = [\n", "x".repeat(2_000_000))).unwrap();
+    let output = Command::cargo_bin("whirl")
+        .unwrap()
+        .arg("check")
+        .arg(&file)
+        .arg("--out")
+        .arg(tmp.path().join("out"))
+        .output()
+        .unwrap();
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("long.toml:3:1"), "{stderr}");
+    assert!(stderr.len() < 2_000, "{} bytes of stderr", stderr.len());
+}
+
+#[test]
+fn a_stiffness_clearance_as_large_as_the_rollers_is_refused() {
+    // 6.1 mm is the reference rotor's roller diameter: the rings could not hold them.
+    fails(
+        Some(&reference_rotor_text()),
+        &["stiffness", "{model}", "--clearances", "6.1mm:7mm:2"],
+        &["clearance", "not smaller than the rollers"],
+    );
+}

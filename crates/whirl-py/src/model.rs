@@ -52,7 +52,7 @@ impl PyModel {
     /// Reads and validates a model file.
     #[staticmethod]
     fn from_file(path: PathBuf) -> PyResult<PyModel> {
-        let text = std::fs::read_to_string(&path).map_err(|e| {
+        let text = whirl::model::read_input(&path).map_err(|e| {
             WhirlError::new_err(format!(
                 "cannot read the model file `{}`: {e}\n  help: check the path; \
                  examples/reference_rotor.toml is a complete model to start from",

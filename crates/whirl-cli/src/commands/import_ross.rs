@@ -56,7 +56,7 @@ struct Summary {
 }
 
 pub fn run(args: &Args) -> miette::Result<Outcome> {
-    let text = std::fs::read_to_string(&args.file).map_err(|e| {
+    let text = whirl::model::read_input(&args.file).map_err(|e| {
         Diag::new(format!("cannot read `{}`: {e}", args.file.display()))
             .help("give a file written by ROSS's Rotor.save")
     })?;

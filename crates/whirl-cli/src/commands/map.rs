@@ -71,7 +71,7 @@ pub struct Args {
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     let (from, to) = rising_range(&args.speeds, &loaded.model)?;
-    let model_text = std::fs::read_to_string(&loaded.path).map_err(|e| {
+    let model_text = whirl::model::read_input(&loaded.path).map_err(|e| {
         crate::error::Diag::new(format!("cannot read `{}`: {e}", loaded.path.display()))
     })?;
     let request = MapRequest {

@@ -120,7 +120,7 @@ pub struct Loaded {
 
 /// Reads and validates a model file.
 pub fn load(path: &Path) -> miette::Result<Loaded> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
+    let text = whirl::model::read_input(path).map_err(|e| {
         Diag::new(format!(
             "cannot read the model file `{}`: {e}",
             path.display()

@@ -158,7 +158,7 @@ fn check_failures(study: &Study, results: &[PointOutcome]) -> miette::Result<()>
 
 /// Reads and validates the study file; errors show the line of the file at fault.
 fn load_study(path: &Path) -> miette::Result<Study> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
+    let text = whirl::model::read_input(path).map_err(|e| {
         Diag::new(format!(
             "cannot read the study file `{}`: {e}",
             path.display()
@@ -172,7 +172,7 @@ fn load_study(path: &Path) -> miette::Result<Study> {
             _ => None,
         };
         let source = match file {
-            Some(f) if f != path => std::fs::read_to_string(f).unwrap_or_default(),
+            Some(f) if f != path => whirl::model::read_input(&f).unwrap_or_default(),
             _ => text.clone(),
         };
         from_whirl(e, &source)

@@ -277,13 +277,26 @@ impl FrozenBearing {
     /// `bearing` with clearance `clearance` (m) and roller 0 at `cage_angle` (rad).
     ///
     /// # Errors
-    /// [`Error::Input`] naming `clearance` when `clearance` is negative or not finite.
+    /// [`Error::Input`] naming `clearance` when `clearance` is negative, not finite, or not
+    /// smaller than the rollers (as a model file's clearance must be).
     pub fn new(bearing: &RollerBearing, clearance: f64, cage_angle: f64) -> Result<Self> {
         if !(clearance.is_finite() && clearance >= 0.0) {
             return Err(InputError::field(
                 "clearance",
                 format!("a clearance must be a non-negative length, got {clearance} m"),
             )
+            .into());
+        }
+        if clearance >= bearing.roller_diameter {
+            return Err(InputError::field(
+                "clearance",
+                format!(
+                    "a clearance of {clearance} m is not smaller than the rollers ({} m in \
+                     diameter): the rings could not hold them",
+                    bearing.roller_diameter
+                ),
+            )
+            .help("radial clearances are micrometres: about 1e-4 to 1e-3 of the pitch diameter")
             .into());
         }
         let mut round = bearing.clone();

@@ -387,6 +387,34 @@ pub struct Unbalance {
     pub phase: f64,
 }
 
+/// Most bytes read from a model, study or ROSS file: far above any real one (a
+/// 10,000-element rotor saved by ROSS is about 10 MB), so that a device or a wrong file
+/// (`/dev/zero`) is refused instead of read until memory runs out.
+pub const MAX_INPUT_BYTES: u64 = 64 << 20;
+
+/// The text of an input file (model, study, ROSS rotor).
+///
+/// # Errors
+/// The file's own read errors; [`std::io::ErrorKind::InvalidData`] above
+/// [`MAX_INPUT_BYTES`] or when it is not UTF-8 text.
+pub fn read_input(path: &Path) -> std::io::Result<String> {
+    use std::io::Read;
+    let mut text = String::new();
+    std::fs::File::open(path)?
+        .take(MAX_INPUT_BYTES + 1)
+        .read_to_string(&mut text)?;
+    if text.len() as u64 > MAX_INPUT_BYTES {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!(
+                "it holds more than {} MiB, far more than any model, study or rotor file",
+                MAX_INPUT_BYTES >> 20
+            ),
+        ));
+    }
+    Ok(text)
+}
+
 /// The validated model. Build it with [`Model::from_file`] or [`Model::from_toml_str`].
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Model {
@@ -421,7 +449,7 @@ impl Model {
     /// # Errors
     /// [`Error::Io`] when the file cannot be read; the errors of [`Model::from_toml_str`].
     pub fn from_file(path: &Path) -> Result<Model> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+        let text = read_input(path).map_err(|source| Error::Io {
             action: "read the model file",
             path: path.to_path_buf(),
             source,

@@ -136,7 +136,7 @@ impl Study {
     /// # Errors
     /// [`Error::Io`] when a file cannot be read; the errors of [`Study::from_toml_str`].
     pub fn from_file(path: &Path) -> Result<Study> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+        let text = crate::model::read_input(path).map_err(|source| Error::Io {
             action: "read the study file",
             path: path.to_path_buf(),
             source,
@@ -165,7 +165,7 @@ impl Study {
             .parent()
             .unwrap_or(Path::new(""))
             .join(raw.model.get_ref());
-        let model_text = std::fs::read_to_string(&model_file).map_err(|e| {
+        let model_text = crate::model::read_input(&model_file).map_err(|e| {
             located(
                 InputError::field(
                     "model",
