@@ -692,7 +692,11 @@ fn an_error_beside_a_2_mb_line_does_not_echo_it() {
     // line 1 is 2 MB long (2,000,285 bytes of stderr before).
     let tmp = tempfile::tempdir().unwrap();
     let file = tmp.path().join("long.toml");
-    std::fs::write(&file, format!("name = \"{}\"\nfoo = [\n", "x".repeat(2_000_000))).unwrap();
+    std::fs::write(
+        &file,
+        format!("name = \"{}\"\nfoo = [\n", "x".repeat(2_000_000)),
+    )
+    .unwrap();
     let output = Command::cargo_bin("whirl")
         .unwrap()
         .arg("check")

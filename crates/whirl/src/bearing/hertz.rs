@@ -10,11 +10,11 @@
 //! follows from the same expression, so implicit integrators, the static solver and the
 //! harmonic balance use the law unchanged.
 
-use super::ball::{BallContactState, BallLaw};
 use super::geometry::{RollerGeometry, RollerState, Slice};
 use crate::error::{Error, Result};
 use crate::force::{Kinematics, NonlinearForce};
 use crate::linalg::{rotate, Turning};
+use crate::model::ball_law::{BallContactState, BallLaw};
 use crate::model::RollerBearing;
 
 /// Approach used to bound the contact's tangent stiffness for the explicit stability

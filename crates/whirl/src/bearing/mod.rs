@@ -23,12 +23,13 @@
 //! rollers excite; [`frequencies`] the bearing's characteristic frequencies (BPFO, BPFI,
 //! BSF, FTF).
 //!
-//! A ball bearing is a roller bearing whose rollers are balls: [`ball`] adds the point
-//! contact's angle and the axial load to the same kinematics and solvers.
+//! A ball bearing is a roller bearing whose rollers are balls: the ball law adds the point
+//! contact's angle and the axial load to the same kinematics and solvers
+//! ([`crate::model::ball_law`], beside the model, whose validation finds a bearing's running
+//! contact angle with it).
 //!
 //! This module is below the solvers: it imports nothing from `time`, `hbm` or `nsv`.
 
-pub mod ball;
 pub mod forcing;
 pub mod forcing_regression;
 pub mod frequencies;

@@ -11,6 +11,7 @@
 
 mod ball;
 mod ball_file;
+pub mod ball_law;
 pub mod ross;
 mod schema;
 mod validate;

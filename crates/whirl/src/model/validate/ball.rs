@@ -1,8 +1,8 @@
 //! `[[ball_bearing]]` -> a [`RollerBearing`] whose rollers are balls ([`BallContact`]).
 
 use super::*;
-use crate::bearing::ball::BallLaw;
 use crate::model::ball_file::BallBearingFile;
+use crate::model::ball_law::BallLaw;
 
 /// Bounds of a groove's conformity f = r / D: at 1/2 the groove fits the ball exactly (a
 /// contact ellipse of infinite length), at 1 the groove is a flat; bearings use 0.505-0.57.

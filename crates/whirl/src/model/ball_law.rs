@@ -12,14 +12,14 @@
 //! tan(alpha_j) = s / r_j,       sum_j Q_j sin(alpha_j) = F_a
 //! ```
 //!
-//! d_j is the roller bearing's approach ([`super::RollerGeometry`]: clearance, waviness,
+//! d_j is the roller bearing's approach (`bearing::geometry::RollerGeometry`: clearance, waviness,
 //! defects), so a deep-groove bearing without axial load (alpha_0 = 0, F_a = 0, s = 0) is
 //! the roller law with exponent 3/2. The finite-element model is lateral: the axial load is
 //! prescribed and s is solved for it at every evaluation; the rotor feels the radial
 //! components -Q_j cos(alpha_j) (cos theta_j, sin theta_j). The contact damping acts on the
 //! radial approach rate, as a roller's does.
 
-use crate::model::RollerBearing;
+use super::RollerBearing;
 
 /// One ball's elastic contact at given radial and axial separations.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
