@@ -206,9 +206,16 @@ fn thesis_rotor_against_table_2_1() {
     let f = undamped_modes(&assemble(&model, Bearings::Linearised), 8)
         .unwrap()
         .frequencies_hz;
-    let table = [(0, 50.0, 0.005), (2, 251.0, 0.005), (4, 752.0, 0.025), (5, 788.0, 0.025)];
-    let upper = [(6, 2323.0, 0.005), (7, 2344.0, 0.005)];
-    for (mode, thesis, tolerance) in table.into_iter().chain(upper) {
+    // (whirl's mode index, table 2.1's frequency in Hz, tolerance)
+    let table = [
+        (0, 50.0, 0.005),
+        (2, 251.0, 0.005),
+        (4, 752.0, 0.025),
+        (5, 788.0, 0.025),
+        (6, 2323.0, 0.005),
+        (7, 2344.0, 0.005),
+    ];
+    for (mode, thesis, tolerance) in table {
         let residual = f[mode] / thesis - 1.0;
         assert!(residual.abs() < tolerance, "mode {}: {f:?}", mode + 1);
     }
