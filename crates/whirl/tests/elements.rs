@@ -194,6 +194,34 @@ fn reference_rotor_first_two_frequencies() {
 }
 
 #[test]
+fn thesis_rotor_against_table_2_1() {
+    // examples/thesis_rotor.toml was fitted to the thesis' table 2.1 (docs/theory.md section
+    // 10). Undamped, its modes come in pairs split by the supports' coupling (eq. 2.20); the
+    // thesis lists 50 and 251 Hz once, so they are compared with the pairs' lower members.
+    // Tolerances are the fit's residuals rounded up: 0.5 % on 50, 251, 2323 and 2344 Hz, and
+    // 2.5 % on the pair 752/788 Hz, whose 4.7 % split the fitted rotor does not reproduce
+    // (it puts both at about 770 Hz).
+    let text = std::fs::read_to_string(common::example_path("thesis_rotor.toml")).unwrap();
+    let model = Model::from_toml_str(&text, None).unwrap();
+    let f = undamped_modes(&assemble(&model, Bearings::Linearised), 8)
+        .unwrap()
+        .frequencies_hz;
+    // (whirl's mode index, table 2.1's frequency in Hz, tolerance)
+    let table = [
+        (0, 50.0, 0.005),
+        (2, 251.0, 0.005),
+        (4, 752.0, 0.025),
+        (5, 788.0, 0.025),
+        (6, 2323.0, 0.005),
+        (7, 2344.0, 0.005),
+    ];
+    for (mode, thesis, tolerance) in table {
+        let residual = f[mode] / thesis - 1.0;
+        assert!(residual.abs() < tolerance, "mode {}: {f:?}", mode + 1);
+    }
+}
+
+#[test]
 fn fine_mesh_keeps_isotropic_pairs_equal() {
     // An axisymmetric rotor on isotropic bearings has every frequency twice (x and y).
     // 40 elements give 164 DOFs, past the size at which a divide-and-conquer eigen-solver
