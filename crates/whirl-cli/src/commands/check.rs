@@ -6,7 +6,6 @@
 
 use std::fmt::Write;
 
-use whirl::fe::DOFS_PER_NODE;
 use whirl::modal::{check_model, ModelCheck};
 use whirl::report::Report;
 
@@ -45,7 +44,7 @@ fn text(check: &ModelCheck) -> String {
         "{}: valid\n  mesh: {} nodes, {} DOFs, {} elements in {} section(s), shaft {:.4} m",
         model.name,
         model.node_count(),
-        DOFS_PER_NODE * model.node_count(),
+        model.dof_count(),
         check.elements(),
         model.sections.len(),
         model.length()

@@ -30,9 +30,11 @@ pub mod forcing_regression;
 pub mod frequencies;
 pub mod geometry;
 pub mod hertz;
+pub mod housed;
 pub mod lagrange;
 pub mod law;
 pub(crate) mod least_squares;
+pub mod squeeze_film;
 pub mod stiffness;
 
 pub use forcing::{forcing_bearings, law_speeds, valid_up_to, ForcingBearing};
@@ -42,8 +44,10 @@ pub use frequencies::{
 };
 pub use geometry::{RollerGeometry, RollerState};
 pub use hertz::{HertzBearing, HERTZ_BOUND_APPROACH};
+pub use housed::{mounted, Housed};
 pub use lagrange::{ContactStep, LagrangeContacts};
 pub use law::{contact_frequencies, ContactFrequency, ContactLaw};
+pub use squeeze_film::squeeze_film_forces;
 
 use crate::error::{Error, Result};
 use crate::fe::{dof, Direction};
@@ -105,7 +109,7 @@ pub fn hertz_bearings(
         .iter()
         .map(|b| {
             let force = HertzBearing::new(b, contact_coordinates(b, coordinate)?)?;
-            Ok(Box::new(force) as Box<dyn NonlinearForce>)
+            mounted(model, b.housing, Box::new(force), coordinate)
         })
         .collect()
 }

@@ -9,10 +9,12 @@
 //! node index or the axial position `z`; both are kept, so that a re-meshed model (mesh
 //! convergence study) can place the feature at the same `z`.
 
+mod housing;
 pub mod ross;
 mod schema;
 mod validate;
 
+pub use housing::{Cavitation, DofNames, Housing, SqueezeFilm};
 pub use validate::MAX_ELEMENTS;
 
 use std::path::{Path, PathBuf};
@@ -157,6 +159,8 @@ pub struct LinearBearing {
     pub stiffness: [[f64; 2]; 2],
     /// [[cxx, cxy], [cyx, cyy]], N s/m.
     pub damping: [[f64; 2]; 2],
+    /// The housing its outer side sits in (index in [`Model::housings`]); `None`: ground.
+    pub housing: Option<usize>,
 }
 
 /// Internal radial clearance of a roller bearing (thesis eq. 3.1).
@@ -224,6 +228,8 @@ pub struct RollerBearing {
     pub defects: Vec<RaceDefect>,
     /// Forcing-function law (thesis eq. 3.12), when given.
     pub forcing_function: Option<ForcingFunction>,
+    /// The housing its outer ring sits in (index in [`Model::housings`]); `None`: ground.
+    pub housing: Option<usize>,
 }
 
 /// Which ring is wavy.
@@ -378,6 +384,8 @@ pub struct Model {
     pub bearings: Vec<LinearBearing>,
     /// Roller bearings.
     pub roller_bearings: Vec<RollerBearing>,
+    /// Bearing housings, pedestals and casings.
+    pub housings: Vec<Housing>,
     /// Rotor damping.
     pub damping: RayleighDamping,
     /// Unbalances.
@@ -492,6 +500,29 @@ impl Model {
     /// Number of nodes.
     pub fn node_count(&self) -> usize {
         self.sections.iter().map(|s| s.elements).sum::<usize>() + 1
+    }
+
+    /// Number of DOFs: four per shaft node, then two per housing.
+    pub fn dof_count(&self) -> usize {
+        crate::fe::DOFS_PER_NODE * self.node_count() + 2 * self.housings.len()
+    }
+
+    /// The DOFs [ux, uy] of housing `h` (see [`Housing`] for the numbering).
+    pub fn housing_dofs(&self, h: usize) -> [usize; 2] {
+        let first = crate::fe::DOFS_PER_NODE * self.node_count() + 2 * h;
+        [first, first + 1]
+    }
+
+    /// The DOFs [ux, uy] of what a bearing's outer side sits in: housing `housing`, or
+    /// `None` for the ground.
+    pub fn outer_dofs(&self, housing: Option<usize>) -> Option<[usize; 2]> {
+        housing.map(|h| self.housing_dofs(h))
+    }
+
+    /// The name of DOF `index`: `n<node>.<dir>` on the shaft, `<housing>.ux` or `.uy` on a
+    /// housing.
+    pub fn dof_name(&self, index: usize) -> String {
+        DofNames::of(self).name(index)
     }
 
     /// Nodes that carry a bearing of either kind, sorted, without repeats.

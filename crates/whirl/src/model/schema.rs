@@ -5,6 +5,10 @@
 //! with a unit (`"20 um"`, `"3000 rpm"`). Every value keeps its byte span in the file so
 //! that validation can point at it. The reference for users is `docs/model-file.md`.
 
+mod housing;
+
+pub use housing::{HousingFile, SqueezeFilmFile};
+
 use serde::Deserialize;
 use toml::Spanned;
 
@@ -49,6 +53,9 @@ pub struct ModelFile {
     /// Cylindrical roller bearings with internal radial clearance.
     #[serde(default)]
     pub roller_bearing: Vec<Spanned<RollerBearingFile>>,
+    /// Bearing housings, pedestals and casings.
+    #[serde(default)]
+    pub housing: Vec<Spanned<HousingFile>>,
     /// Rayleigh damping of the rotor (shaft and disks).
     pub damping: Option<Spanned<DampingFile>>,
     /// Unbalances.
@@ -136,6 +143,8 @@ pub struct LinearBearingFile {
     pub springs: Option<Count>,
     /// Stiffness of each spring of the ring, N/m.
     pub spring_stiffness: Option<Spanned<f64>>,
+    /// The `[[housing]]` its outer side sits in; the ground when absent.
+    pub housing: Option<Spanned<String>>,
 }
 
 /// A clearance: constant, or a polynomial in speed (thesis eq. 3.1).
@@ -200,6 +209,8 @@ pub struct RollerBearingFile {
     pub defect: Vec<Spanned<DefectFile>>,
     /// Forcing-function law (thesis eq. 3.12) used by `--contact forcing`.
     pub forcing_function: Option<Spanned<ForcingFunctionFile>>,
+    /// The `[[housing]]` its outer ring sits in; the ground when absent.
+    pub housing: Option<Spanned<String>>,
 }
 
 /// `[[roller_bearing.waviness]]`

@@ -4,6 +4,8 @@
 // Validation runs once per file; a large error type on this cold path is fine.
 #![allow(clippy::result_large_err)]
 
+mod housing;
+
 use std::collections::HashMap;
 use std::f64::consts::PI;
 use std::ops::Range;
@@ -211,18 +213,32 @@ pub(super) fn validate(raw: ModelFile) -> V<Model> {
         .enumerate()
         .map(|(i, d)| disk(d, &format!("disk[{i}]"), &nodes, &materials))
         .collect::<V<Vec<_>>>()?;
-    let bearings = raw
+    let mut bearings = raw
         .bearing
         .iter()
         .enumerate()
         .map(|(i, b)| linear_bearing(b, &format!("bearing[{i}]"), &nodes))
         .collect::<V<Vec<_>>>()?;
-    let roller_bearings = raw
+    let mut roller_bearings = raw
         .roller_bearing
         .iter()
         .enumerate()
         .map(|(i, b)| roller_bearing(b, &format!("roller_bearing[{i}]"), &nodes))
         .collect::<V<Vec<_>>>()?;
+    let housings = housing::housings(&raw.housing)?;
+    let housing_names: Vec<String> = housings.iter().map(|h| h.name.clone()).collect();
+    for (i, (b, file)) in bearings.iter_mut().zip(&raw.bearing).enumerate() {
+        let field = format!("bearing[{i}].housing");
+        b.housing = housing::reference(&file.get_ref().housing, &housing_names, &field)?;
+    }
+    for (i, (b, file)) in roller_bearings
+        .iter_mut()
+        .zip(&raw.roller_bearing)
+        .enumerate()
+    {
+        let field = format!("roller_bearing[{i}].housing");
+        b.housing = housing::reference(&file.get_ref().housing, &housing_names, &field)?;
+    }
     let damping = raw
         .damping
         .as_ref()
@@ -245,6 +261,7 @@ pub(super) fn validate(raw: ModelFile) -> V<Model> {
         disks,
         bearings,
         roller_bearings,
+        housings,
         damping,
         unbalances,
         operating,
@@ -671,6 +688,7 @@ fn linear_bearing(
         station,
         stiffness,
         damping,
+        housing: None,
     })
 }
 
@@ -842,6 +860,7 @@ fn roller_bearing(
             .as_ref()
             .map(|ff| forcing_function(ff, &f("forcing_function")))
             .transpose()?,
+        housing: None,
     })
 }
 

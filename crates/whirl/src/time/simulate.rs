@@ -729,7 +729,7 @@ fn march_and_record(
         Some(law) => model
             .roller_bearings
             .iter()
-            .map(|b| RollerProbe::new(b, law, &coords, capacity))
+            .map(|b| RollerProbe::new(model, b, law, &coords, capacity))
             .collect::<Result<Vec<_>>>()?,
         None => Vec::new(),
     };
