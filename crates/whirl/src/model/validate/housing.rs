@@ -177,20 +177,6 @@ fn squeeze_film(raw: &Spanned<SqueezeFilmFile>, field: &str) -> V<SqueezeFilm> {
             xy[k] = quantity(o, Dimension::Length, &f(name))?;
         }
     }
-    if xy[0].hypot(xy[1]) >= clearance {
-        return Err(err(
-            field,
-            raw.span(),
-            format!(
-                "the offset ({} m, {} m) puts the damper's centre a clearance ({} m) or more \
-                 from the housing's unloaded position",
-                Si(xy[0]),
-                Si(xy[1]),
-                Si(clearance)
-            ),
-        )
-        .help("the offset must be smaller than the clearance"));
-    }
     Ok(SqueezeFilm {
         radius: positive_q(&s.radius, Dimension::Length, &f("radius"))?,
         length: positive_q(&s.length, Dimension::Length, &f("length"))?,
