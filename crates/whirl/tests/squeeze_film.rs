@@ -6,10 +6,10 @@
 use std::f64::consts::PI;
 
 use whirl::bearing::hertz_bearings;
-use whirl::bearing::squeeze_film::{circular_orbit, circular_orbit_closed_form};
 use whirl::fe::{assemble, Bearings};
 use whirl::force::Kinematics;
 use whirl::model::{Cavitation, Model};
+use whirl::squeeze_film::{circular_orbit, circular_orbit_closed_form};
 use whirl::system::build;
 use whirl::Error;
 

@@ -34,7 +34,6 @@ pub mod housed;
 pub mod lagrange;
 pub mod law;
 pub(crate) mod least_squares;
-pub mod squeeze_film;
 pub mod stiffness;
 
 pub use forcing::{forcing_bearings, law_speeds, valid_up_to, ForcingBearing};
@@ -47,7 +46,6 @@ pub use hertz::{HertzBearing, HERTZ_BOUND_APPROACH};
 pub use housed::{mounted, Housed};
 pub use lagrange::{ContactStep, LagrangeContacts};
 pub use law::{contact_frequencies, ContactFrequency, ContactLaw};
-pub use squeeze_film::squeeze_film_forces;
 
 use crate::error::{Error, Result};
 use crate::fe::{dof, Direction};

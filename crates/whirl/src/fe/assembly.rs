@@ -347,7 +347,7 @@ fn supports(model: &Model, bearings: Bearings) -> Vec<Support> {
 }
 
 /// The squeeze-film dampers linearised at the static position (see
-/// [`crate::bearing::squeeze_film`]): damping only, as supports whose `stiffness` slot
+/// [`crate::squeeze_film`]): damping only, as supports whose `stiffness` slot
 /// holds it (so that [`add_support`] adds it to the damping bands given as both).
 /// The static position is that of the linear model without the dampers (`mass` and
 /// `stiffness`), under gravity: a film carries no load at rest.
@@ -367,7 +367,7 @@ fn squeeze_films_linearised(model: &Model, mass: &Band, stiffness: &Band) -> Vec
             let at = |d: [usize; 2]| d.map(|i| statics.as_ref().map_or(0.0, |u| u[i]));
             let base = outer.map_or([0.0; 2], at);
             let here = at(inner);
-            let c = crate::bearing::squeeze_film::Film::new(damper)
+            let c = crate::squeeze_film::Film::new(damper)
                 .linearised_damping([here[0] - base[0], here[1] - base[1]]);
             let c = [[c[0], c[1]], [c[2], c[3]]];
             Some(Support {

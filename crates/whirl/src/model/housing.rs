@@ -55,31 +55,3 @@ pub struct Housing {
     /// A squeeze-film damper in parallel with the support.
     pub squeeze_film: Option<SqueezeFilm>,
 }
-
-/// The names of a model's DOFs: `n<node>.<dir>` on the shaft ([`crate::fe::dof_name`]),
-/// `<housing>.ux` and `<housing>.uy` on the housings.
-#[derive(Debug, Clone, PartialEq)]
-pub struct DofNames {
-    shaft_dofs: usize,
-    housings: Vec<String>,
-}
-
-impl DofNames {
-    /// The names of `model`'s DOFs.
-    pub fn of(model: &super::Model) -> DofNames {
-        DofNames {
-            shaft_dofs: crate::fe::DOFS_PER_NODE * model.node_count(),
-            housings: model.housings.iter().map(|h| h.name.clone()).collect(),
-        }
-    }
-
-    /// The name of DOF `index`.
-    pub fn name(&self, index: usize) -> String {
-        match index.checked_sub(self.shaft_dofs) {
-            Some(k) if k / 2 < self.housings.len() => {
-                format!("{}.{}", self.housings[k / 2], ["ux", "uy"][k % 2])
-            }
-            _ => crate::fe::dof_name(index),
-        }
-    }
-}

@@ -14,8 +14,11 @@ pub mod ross;
 mod schema;
 mod validate;
 
-pub use housing::{Cavitation, DofNames, Housing, SqueezeFilm};
+pub use housing::{Cavitation, Housing, SqueezeFilm};
 pub use validate::MAX_ELEMENTS;
+
+/// DOFs per shaft node: ux, uy, tx, ty (the numbering is [`crate::fe`]'s).
+pub const DOFS_PER_NODE: usize = 4;
 
 use std::path::{Path, PathBuf};
 
@@ -504,12 +507,12 @@ impl Model {
 
     /// Number of DOFs: four per shaft node, then two per housing.
     pub fn dof_count(&self) -> usize {
-        crate::fe::DOFS_PER_NODE * self.node_count() + 2 * self.housings.len()
+        DOFS_PER_NODE * self.node_count() + 2 * self.housings.len()
     }
 
     /// The DOFs [ux, uy] of housing `h` (see [`Housing`] for the numbering).
     pub fn housing_dofs(&self, h: usize) -> [usize; 2] {
-        let first = crate::fe::DOFS_PER_NODE * self.node_count() + 2 * h;
+        let first = DOFS_PER_NODE * self.node_count() + 2 * h;
         [first, first + 1]
     }
 
@@ -517,12 +520,6 @@ impl Model {
     /// `None` for the ground.
     pub fn outer_dofs(&self, housing: Option<usize>) -> Option<[usize; 2]> {
         housing.map(|h| self.housing_dofs(h))
-    }
-
-    /// The name of DOF `index`: `n<node>.<dir>` on the shaft, `<housing>.ux` or `.uy` on a
-    /// housing.
-    pub fn dof_name(&self, index: usize) -> String {
-        DofNames::of(self).name(index)
     }
 
     /// Nodes that carry a bearing of either kind, sorted, without repeats.

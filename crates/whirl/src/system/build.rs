@@ -3,14 +3,15 @@
 //! coordinates.
 
 use super::System;
-use crate::bearing::squeeze_film_forces;
 use crate::error::{Error, Result};
 use crate::fe::{
-    assemble_banded, gravity_force, unbalance_force, Bearings, SystemMatrices, MAX_DENSE_DOFS,
+    assemble_banded, gravity_force, unbalance_force, Bearings, DofNames, SystemMatrices,
+    MAX_DENSE_DOFS,
 };
 use crate::force::ForceBuilder;
-use crate::model::{DofNames, Model};
+use crate::model::Model;
 use crate::reduce::{boundary_dofs, CraigBampton};
+use crate::squeeze_film::squeeze_film_forces;
 
 /// A model's system and how its coordinates map to physical DOFs.
 pub struct Built {

@@ -357,10 +357,9 @@ pub fn squeeze_film_forces(
             .map(|&d| {
                 coordinate(d).ok_or_else(|| {
                     Error::Unsupported(format!(
-                        "the squeeze-film damper of housing \"{}\": {} is not kept by the \
-                         reduction; housings' DOFs must be boundary DOFs",
-                        housing.name,
-                        model.dof_name(d)
+                        "the squeeze-film damper of housing \"{}\": DOF {d} is not kept by \
+                         the reduction; housings' DOFs must be boundary DOFs",
+                        housing.name
                     ))
                 })
             })
