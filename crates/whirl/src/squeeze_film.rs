@@ -254,14 +254,15 @@ pub struct SqueezeFilmForce {
     bound: f64,
 }
 
-/// The journal speed (m/s) at which the stiffness bound is taken: 0.1 m/s is a 100 um
-/// orbit at 160 Hz, beyond what a damper within its clearance reaches on these rotors.
-const BOUND_VELOCITY: f64 = 0.1;
+/// The journal speed (m/s) at which the stiffness bound is taken: 0.05 m/s is a 100 um
+/// orbit at 80 Hz, a damper working hard on the support modes of the rotors here.
+const BOUND_VELOCITY: f64 = 0.05;
 
-/// The eccentricity ratio at which the stiffness bound is taken: past it the film's
-/// stiffness grows without limit (1/h^4), and a marched orbit that reaches it is bottoming
-/// out, which the divergence bound catches.
-const BOUND_ECCENTRICITY: f64 = 0.9;
+/// The eccentricity ratio at which the stiffness bound is taken. The film's velocity-borne
+/// stiffness grows as 1/h^4 without limit as the journal nears the wall: a bound for every
+/// orbit would allow no step at all. An orbit past this ratio at that speed may need a
+/// smaller step than the limit says; its divergence is caught by the divergence bound.
+const BOUND_ECCENTRICITY: f64 = 0.8;
 
 impl SqueezeFilmForce {
     /// The damper `damper` named `name` on coordinates `dofs` ([housing ux, uy] and, when
