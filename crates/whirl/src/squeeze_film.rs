@@ -82,6 +82,21 @@ pub struct Film {
     clearance: f64,
     cavitation: Cavitation,
     offset: [f64; 2],
+    /// The quadrature over a half circle from angle 0: (cos, sin, weight) of each point.
+    points: Vec<(f64, f64, f64)>,
+}
+
+/// Composite Gauss-Legendre points over [0, pi]: [`PANELS`] panels of [`GAUSS`].
+fn half_circle() -> Vec<(f64, f64, f64)> {
+    let width = std::f64::consts::PI / PANELS as f64;
+    (0..PANELS)
+        .flat_map(|p| {
+            GAUSS.iter().map(move |&(x, w)| {
+                let theta = (p as f64 + 0.5 + 0.5 * x) * width;
+                (theta.cos(), theta.sin(), 0.5 * width * w)
+            })
+        })
+        .collect()
 }
 
 impl Film {
@@ -92,22 +107,25 @@ impl Film {
             clearance: damper.clearance,
             cavitation: damper.cavitation,
             offset: damper.offset,
+            points: half_circle(),
         }
     }
 
-    /// The integrals over angles [start, start + span] at journal position `q` (from the
-    /// damper's centre) and velocity `v`.
-    fn integrate(&self, q: [f64; 2], v: [f64; 2], start: f64, span: f64, out: &mut FilmIntegrals) {
-        let panels = (PANELS as f64 * span / std::f64::consts::PI)
-            .round()
-            .max(1.0) as usize;
-        let width = span / panels as f64;
-        for p in 0..panels {
-            let middle = start + (p as f64 + 0.5) * width;
-            for &(x, w) in &GAUSS {
-                let theta = middle + 0.5 * width * x;
-                let weight = 0.5 * width * w;
-                let n = [theta.cos(), theta.sin()];
+    /// The integrals over `halves` half circles of angles from `start` at journal
+    /// position `q` (from the damper's centre) and velocity `v`. Each point's direction is
+    /// the half circle's first rotated by the point's offset (no trigonometry per point).
+    fn integrate(
+        &self,
+        q: [f64; 2],
+        v: [f64; 2],
+        start: f64,
+        halves: usize,
+        out: &mut FilmIntegrals,
+    ) {
+        for k in 0..halves {
+            let (sb, cb) = (start + k as f64 * std::f64::consts::PI).sin_cos();
+            for &(c, s, weight) in &self.points {
+                let n = [cb * c - sb * s, sb * c + cb * s];
                 let h = self.clearance - q[0] * n[0] - q[1] * n[1];
                 let h3 = h * h * h;
                 let squeeze = v[0] * n[0] + v[1] * n[1];
@@ -129,14 +147,14 @@ impl Film {
         let mut out = FilmIntegrals::default();
         match self.cavitation {
             Cavitation::Full => {
-                self.integrate(q, v, 0.0, 2.0 * std::f64::consts::PI, &mut out);
+                self.integrate(q, v, 0.0, 2, &mut out);
             }
             Cavitation::Pi => {
                 // Squeezed where v . n > 0: the half circle centred on v's direction.
                 if v[0] != 0.0 || v[1] != 0.0 {
                     let direction = v[1].atan2(v[0]);
                     let half = std::f64::consts::FRAC_PI_2;
-                    self.integrate(q, v, direction - half, std::f64::consts::PI, &mut out);
+                    self.integrate(q, v, direction - half, 1, &mut out);
                 }
             }
         }
@@ -172,7 +190,7 @@ impl Film {
     pub fn linearised_damping(&self, u: [f64; 2]) -> [f64; 4] {
         let mut out = FilmIntegrals::default();
         let q = self.position(u);
-        self.integrate(q, [0.0; 2], 0.0, 2.0 * std::f64::consts::PI, &mut out);
+        self.integrate(q, [0.0; 2], 0.0, 2, &mut out);
         let share = match self.cavitation {
             Cavitation::Full => 1.0,
             Cavitation::Pi => 0.5,
