@@ -64,6 +64,19 @@ fn text(check: &ModelCheck) -> String {
         model.roller_bearings.len(),
         model.unbalances.len()
     );
+    if !model.housings.is_empty() {
+        let dampers = model
+            .housings
+            .iter()
+            .filter(|h| h.squeeze_film.is_some())
+            .count();
+        let _ = writeln!(
+            text,
+            "  {} housing(s) ({} with a squeeze-film damper)",
+            model.housings.len(),
+            dampers
+        );
+    }
     let list: Vec<String> = frequencies.iter().map(|x| format!("{x:.2}")).collect();
     let _ = writeln!(text, "  undamped frequencies [Hz]: {}", list.join(", "));
     text
