@@ -8,7 +8,7 @@ use std::f64::consts::PI;
 use whirl::fe::{assemble, Bearings};
 use whirl::modal::undamped_modes;
 use whirl::model::ross::from_ross_toml;
-use whirl::model::Model;
+use whirl::model::{Housing, LinearBearing, Model};
 use whirl::reduce::{boundary_dofs, CraigBampton};
 use whirl::statics::{static_response, RollerSupport};
 use whirl::Error;
@@ -221,6 +221,69 @@ fn ross_point_masses_with_linked_bearings_become_housings() {
     // The same matrices but for the material's Poisson ratio, which Euler-Bernoulli
     // elements do not use: equal to round-off.
     assert_close(&hz(&model), &hz(&direct), 1e-12);
+}
+
+/// A flexible rotor (the reference rotor's shaft and disk) on bearings `k_b` in housings
+/// `m_h` on mountings `k_s`: at each of its natural frequencies w, a housing behind its
+/// bearing is, exactly, a bearing to the ground of dynamic stiffness
+/// k_eq(w) = k_b (k_s - m_h w^2) / (k_b + k_s - m_h w^2), so the rotor on grounded bearings
+/// of that stiffness has w among its natural frequencies. Both solves are of well-scaled
+/// symmetric problems (round-off ~1e-13); 1e-9 would show any coupling term wrong.
+#[test]
+fn a_flexible_rotor_in_housings_has_the_frequencies_of_its_equivalent_supports() {
+    const K_B: f64 = 1e8;
+    const K_S: f64 = 2e8;
+    const M_H: f64 = 3.0;
+    let base = Model::from_toml_str(whirl::examples::REFERENCE_ROTOR, None).unwrap();
+    let supported = |k: f64, in_housings: bool| {
+        let mut m = base.clone();
+        let rollers = std::mem::take(&mut m.roller_bearings);
+        m.bearings = rollers
+            .iter()
+            .enumerate()
+            .map(|(i, b)| LinearBearing {
+                name: b.name.clone(),
+                station: b.station,
+                stiffness: [[k, 0.0], [0.0, k]],
+                damping: [[0.0; 2]; 2],
+                housing: in_housings.then_some(i),
+            })
+            .collect();
+        if in_housings {
+            m.housings = (0..rollers.len())
+                .map(|i| Housing {
+                    name: format!("housing {i}"),
+                    mass: M_H,
+                    on: None,
+                    stiffness: [[K_S, 0.0], [0.0, K_S]],
+                    damping: [[0.0; 2]; 2],
+                    squeeze_film: None,
+                })
+                .collect();
+        }
+        m
+    };
+    let hz = |m: &Model, count: usize| {
+        undamped_modes(&assemble(m, Bearings::Linearised), count)
+            .unwrap()
+            .frequencies_hz
+    };
+    let housed = hz(&supported(K_B, true), 6);
+    let mut worst = 0.0f64;
+    for &f in housed.iter().step_by(2) {
+        let w = 2.0 * PI * f;
+        let behind = K_S - M_H * w * w;
+        assert!(behind > 0.0, "{f} Hz is above the housings' own resonance");
+        let k_eq = K_B * behind / (K_B + behind);
+        let grounded = hz(&supported(k_eq, false), 12);
+        let nearest = grounded
+            .iter()
+            .map(|g| (g / f - 1.0).abs())
+            .fold(f64::INFINITY, f64::min);
+        worst = worst.max(nearest);
+    }
+    eprintln!("housed {housed:?}: worst {worst:.1e}");
+    assert!(worst < 1e-9, "{worst}");
 }
 
 fn refusal(text: &str) -> (String, String) {
