@@ -7,7 +7,7 @@ use std::f64::consts::PI;
 
 use whirl::bearing::{hertz_bearings, ContactLaw};
 use whirl::fe::{assemble, Bearings};
-use whirl::force::Kinematics;
+use whirl::force::{no_forces, Kinematics};
 use whirl::model::{Cavitation, Model};
 use whirl::squeeze_film::{circular_orbit, circular_orbit_closed_form};
 use whirl::system::{build, SpeedProfile};
@@ -176,6 +176,11 @@ fn the_linearised_film_damps_the_housing_by_the_centred_closed_form() {
         // With the bearings apart the film acts by its nonlinear force instead.
         let apart = assemble(&model, Bearings::NonlinearApart).damping;
         assert_eq!(apart[(hx, hx)], 0.0);
+        // The solvers' systems (time marching, harmonic balance) take the film's own force
+        // whatever the bearings, linear ones included, and leave it out of the matrices.
+        let built = build(&model, None, Bearings::Linearised, &no_forces).unwrap();
+        assert_eq!(built.system.nonlinear.len(), 2);
+        assert_eq!(built.system.matrices.damping[(hx, hx)], 0.0);
     }
 }
 

@@ -84,8 +84,10 @@ pub fn linear(model: &Model, reduction: Option<usize>, bearings: Bearings) -> Re
     if reduction.is_none() && dofs > MAX_DENSE_DOFS {
         return Err(full_model_too_large(dofs));
     }
-    // Banded: a reduction never needs the full model's dense matrices.
-    let full = assemble_banded(model, bearings);
+    // Banded: a reduction never needs the full model's dense matrices. The solvers built
+    // here take the squeeze-film dampers' own nonlinear force (added with the forces),
+    // whatever the bearings: the matrices leave the films out.
+    let full = assemble_banded(&without_films(model), bearings);
     let gravity = gravity_force(model, &full);
     let unbalance = unbalance_force(model, full.dofs());
     let ub_re: Vec<f64> = unbalance.iter().map(|c| c.re).collect();
@@ -121,6 +123,19 @@ pub fn linear(model: &Model, reduction: Option<usize>, bearings: Bearings) -> Re
     })
 }
 
+/// `model` without its squeeze-film dampers (borrowed when it has none): the matrices of
+/// the nonlinear solvers, which take the films' force apart.
+fn without_films(model: &Model) -> std::borrow::Cow<'_, Model> {
+    if model.housings.iter().all(|h| h.squeeze_film.is_none()) {
+        return std::borrow::Cow::Borrowed(model);
+    }
+    let mut bare = model.clone();
+    for h in &mut bare.housings {
+        h.squeeze_film = None;
+    }
+    std::borrow::Cow::Owned(bare)
+}
+
 impl Linear {
     /// Whether this is the linear part [`build`] would make with `reduction` and `bearings`.
     pub fn is_built_with(&self, reduction: Option<usize>, bearings: Bearings) -> bool {
@@ -141,16 +156,11 @@ impl Linear {
             matrices,
             loads: [constant_force, unbalance_re, unbalance_im],
             coordinates,
-            bearings,
             ..
         } = self;
         let map = |physical: usize| coordinates.coordinate_of(physical);
         let mut nonlinear = forces(model, &map)?;
-        // With the bearings apart the squeeze-film dampers act by their nonlinear film
-        // forces too; linearised they are in the matrices.
-        if bearings == Bearings::NonlinearApart {
-            nonlinear.extend(squeeze_film_forces(model, &map)?);
-        }
+        nonlinear.extend(squeeze_film_forces(model, &map)?);
         let system = System {
             constant_force,
             unbalance_re,
