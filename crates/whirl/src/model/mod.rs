@@ -505,6 +505,12 @@ impl Model {
         self.sections.iter().map(|s| s.elements).sum::<usize>() + 1
     }
 
+    /// Whether some housing has a squeeze-film damper (a nonlinear force even on linear
+    /// bearings).
+    pub fn has_squeeze_films(&self) -> bool {
+        self.housings.iter().any(|h| h.squeeze_film.is_some())
+    }
+
     /// Number of DOFs: four per shaft node, then two per housing.
     pub fn dof_count(&self) -> usize {
         DOFS_PER_NODE * self.node_count() + 2 * self.housings.len()
