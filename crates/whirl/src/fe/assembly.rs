@@ -269,7 +269,8 @@ pub fn assemble_banded(model: &Model, bearings: Bearings) -> BandedSystem {
     }
     if bearings == Bearings::Linearised {
         for s in squeeze_films_linearised(model, &mass, &stiffness) {
-            add_support(&mut damping, &mut support_damping, &s);
+            add_block(&mut damping, &s, &s.damping);
+            add_block(&mut support_damping, &s, &s.damping);
         }
     }
 
@@ -347,8 +348,7 @@ fn supports(model: &Model, bearings: Bearings) -> Vec<Support> {
 }
 
 /// The squeeze-film dampers linearised at the static position (see
-/// [`crate::squeeze_film`]): damping only, as supports whose `stiffness` slot
-/// holds it (so that [`add_support`] adds it to the damping bands given as both).
+/// [`crate::squeeze_film`]): supports of damping only.
 /// The static position is that of the linear model without the dampers (`mass` and
 /// `stiffness`), under gravity: a film carries no load at rest.
 fn squeeze_films_linearised(model: &Model, mass: &Band, stiffness: &Band) -> Vec<Support> {
@@ -369,12 +369,11 @@ fn squeeze_films_linearised(model: &Model, mass: &Band, stiffness: &Band) -> Vec
             let here = at(inner);
             let c = crate::squeeze_film::Film::new(damper)
                 .linearised_damping([here[0] - base[0], here[1] - base[1]]);
-            let c = [[c[0], c[1]], [c[2], c[3]]];
             Some(Support {
                 inner,
                 outer,
-                stiffness: c,
-                damping: c,
+                stiffness: [[0.0; 2]; 2],
+                damping: [[c[0], c[1]], [c[2], c[3]]],
             })
         })
         .collect()
@@ -391,10 +390,16 @@ fn static_deflection(model: &Model, mass: &Band, stiffness: &Band) -> Option<Vec
     Some(u)
 }
 
-/// Adds a support's stiffness and damping: on the inner side's DOFs, and, against a
-/// housing, with the opposite sign between inner and outer and on the outer side's DOFs
-/// (the force depends on the relative displacement and acts on both, opposite).
+/// Adds a support's stiffness and damping (see [`add_block`]).
 fn add_support(stiffness: &mut Band, damping: &mut Band, s: &Support) {
+    add_block(stiffness, s, &s.stiffness);
+    add_block(damping, s, &s.damping);
+}
+
+/// Adds a support's 2x2 matrix `m`: on the inner side's DOFs, and, against a housing, with
+/// the opposite sign between inner and outer and on the outer side's DOFs (the force
+/// depends on the relative motion and acts on both, opposite).
+fn add_block(band: &mut Band, s: &Support, m: &[[f64; 2]; 2]) {
     let mut sides = vec![(s.inner, s.inner, 1.0)];
     if let Some(outer) = s.outer {
         sides.extend([
@@ -406,8 +411,7 @@ fn add_support(stiffness: &mut Band, damping: &mut Band, s: &Support) {
     for (rows, cols, sign) in sides {
         for a in 0..2 {
             for b in 0..2 {
-                stiffness.add(rows[a], cols[b], sign * s.stiffness[a][b]);
-                damping.add(rows[a], cols[b], sign * s.damping[a][b]);
+                band.add(rows[a], cols[b], sign * m[a][b]);
             }
         }
     }
