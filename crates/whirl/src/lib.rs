@@ -12,7 +12,8 @@
 //!
 //! Data flows one way: a model file is read and validated into a [`model::Model`]; the
 //! finite-element layer ([`fe`]) assembles its matrices; the roller bearings' contact laws
-//! ([`bearing`]) implement the nonlinear-force interface ([`force`]); [`system::build`] makes
+//! ([`bearing`]) and the squeeze-film dampers ([`squeeze_film`]) implement the
+//! nonlinear-force interface ([`force`]); [`system::build`] makes
 //! the one linear system with its loads and contact forces ([`system::System`], full or
 //! Craig-Bampton reduced by [`reduce`]) that time marching and harmonic balance both solve;
 //! the solvers ([`modal`], [`response`], [`statics`], [`time`], [`hbm`], [`map`], [`nsv`],
@@ -179,6 +180,7 @@ pub mod progress;
 pub mod reduce;
 pub mod report;
 pub mod response;
+pub mod squeeze_film;
 pub mod statics;
 pub mod study;
 pub mod system;

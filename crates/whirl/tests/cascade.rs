@@ -54,6 +54,7 @@ fn linearised(model: &Model) -> Model {
                 station: b.station,
                 stiffness: [[k.kxx, k.kxy], [k.kyx, k.kyy]],
                 damping: [[0.0; 2]; 2],
+                housing: None,
             }
         })
         .collect();

@@ -6,7 +6,6 @@
 
 use std::fmt::Write;
 
-use whirl::fe::DOFS_PER_NODE;
 use whirl::modal::{check_model, ModelCheck};
 use whirl::report::Report;
 
@@ -45,7 +44,7 @@ fn text(check: &ModelCheck) -> String {
         "{}: valid\n  mesh: {} nodes, {} DOFs, {} elements in {} section(s), shaft {:.4} m",
         model.name,
         model.node_count(),
-        DOFS_PER_NODE * model.node_count(),
+        model.dof_count(),
         check.elements(),
         model.sections.len(),
         model.length()
@@ -66,6 +65,19 @@ fn text(check: &ModelCheck) -> String {
         model.roller_bearings.iter().filter(|b| b.is_ball()).count(),
         model.unbalances.len()
     );
+    if !model.housings.is_empty() {
+        let dampers = model
+            .housings
+            .iter()
+            .filter(|h| h.squeeze_film.is_some())
+            .count();
+        let _ = writeln!(
+            text,
+            "  {} housing(s) ({} with a squeeze-film damper)",
+            model.housings.len(),
+            dampers
+        );
+    }
     let list: Vec<String> = frequencies.iter().map(|x| format!("{x:.2}")).collect();
     let _ = writeln!(text, "  undamped frequencies [Hz]: {}", list.join(", "));
     text

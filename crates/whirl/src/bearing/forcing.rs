@@ -253,7 +253,7 @@ pub fn forcing_bearings(
         .map(|(i, b)| {
             let c = contact_coordinates_of(b, &[Direction::Ux, Direction::Uy], coordinate)?;
             let force = ForcingBearing::new(b, i, [c[0], c[1]], speeds)?;
-            Ok(Box::new(force) as Box<dyn NonlinearForce>)
+            super::mounted(model, b.housing, Box::new(force), coordinate)
         })
         .collect()
 }

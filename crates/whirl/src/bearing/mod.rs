@@ -35,6 +35,7 @@ pub mod forcing_regression;
 pub mod frequencies;
 pub mod geometry;
 pub mod hertz;
+pub mod housed;
 pub mod lagrange;
 pub mod law;
 pub(crate) mod least_squares;
@@ -48,6 +49,7 @@ pub use frequencies::{
 };
 pub use geometry::{RollerGeometry, RollerState};
 pub use hertz::{HertzBearing, HERTZ_BOUND_APPROACH};
+pub use housed::{mounted, Housed};
 pub use lagrange::{ContactStep, LagrangeContacts};
 pub use law::{contact_frequencies, ContactFrequency, ContactLaw};
 pub use life::{bearing_life, dynamic_load_rating, BearingLife, LifeLoads, RatingSource};
@@ -112,7 +114,7 @@ pub fn hertz_bearings(
         .iter()
         .map(|b| {
             let force = HertzBearing::new(b, contact_coordinates(b, coordinate)?)?;
-            Ok(Box::new(force) as Box<dyn NonlinearForce>)
+            mounted(model, b.housing, Box::new(force), coordinate)
         })
         .collect()
 }

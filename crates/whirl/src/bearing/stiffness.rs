@@ -715,9 +715,13 @@ pub fn gravity_load(model: &Model, index: usize) -> Result<[f64; 2]> {
     let mut q = Mat::<f64>::from_fn(n, 1, |i, _| f[i]);
     faer::linalg::solvers::Solve::solve_in_place(&system.stiffness.partial_piv_lu(), q.as_mut());
     let node = bearing.station.node;
+    // Relative to the housing, when the bearing sits in one.
+    let outer = model
+        .outer_dofs(bearing.housing)
+        .map_or([0.0; 2], |o| o.map(|d| q[(d, 0)]));
     let u = [
-        q[(dof(node, Direction::Ux), 0)],
-        q[(dof(node, Direction::Uy), 0)],
+        q[(dof(node, Direction::Ux), 0)] - outer[0],
+        q[(dof(node, Direction::Uy), 0)] - outer[1],
     ];
     // The linearised support pushes the shaft with -k u; the shaft loads it with k u.
     let load = u.map(|x| bearing.linear_stiffness * x);

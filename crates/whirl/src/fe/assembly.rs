@@ -79,6 +79,8 @@ pub(crate) struct Parts {
     pub(crate) support_stiffness: Band,
     /// The bearings' damping.
     pub(crate) support_damping: Band,
+    /// The housings' mass (in M, not in the Rayleigh damping).
+    pub(crate) support_mass: Band,
 }
 
 /// How far from the diagonal the assembled matrices reach: an element couples the eight
@@ -149,8 +151,22 @@ impl Matrices for SystemMatrices {
     }
 }
 
-/// A bearing as assembled: its node, stiffness and damping (x, y).
-type Support = (usize, [[f64; 2]; 2], [[f64; 2]; 2]);
+/// A linear support as assembled: the [ux, uy] DOFs of its inner side, those of its outer
+/// side (`None`: the ground), its stiffness and damping (x, y).
+struct Support {
+    inner: [usize; 2],
+    outer: Option<[usize; 2]>,
+    stiffness: [[f64; 2]; 2],
+    damping: [[f64; 2]; 2],
+}
+
+impl Support {
+    /// The largest distance from the diagonal of the entries it adds.
+    fn reach(&self) -> usize {
+        self.outer
+            .map_or(1, |o| self.inner[1].max(o[1]) - self.inner[0].min(o[0]))
+    }
+}
 
 fn add_element(global: &mut Band, local: &Mat8, first_dof: usize, scale: f64) {
     for i in 0..8 {
@@ -189,17 +205,23 @@ pub fn too_large_for_dense(dofs: usize, fix: &str) -> Error {
 /// # Errors
 /// [`Error::Unsupported`] above [`MAX_DENSE_DOFS`], with `fix` in its message.
 pub fn assemble_dense(model: &Model, bearings: Bearings, fix: &str) -> Result<SystemMatrices> {
-    let dofs = DOFS_PER_NODE * model.node_count();
+    let dofs = model.dof_count();
     if dofs > MAX_DENSE_DOFS {
         return Err(too_large_for_dense(dofs, fix));
     }
     Ok(assemble(model, bearings))
 }
 
-/// Assembles M, K, G and C of a model as bands.
+/// Assembles M, K, G and C of a model as bands. A bearing between the shaft and a housing
+/// widens the band to reach the housing's DOFs, which follow the shaft's.
 pub fn assemble_banded(model: &Model, bearings: Bearings) -> BandedSystem {
-    let n = 4 * model.node_count();
-    let band = |_| Band::from_fn(n, (HALF_BANDWIDTH, HALF_BANDWIDTH), |_, _| 0.0);
+    let n = model.dof_count();
+    let supports = supports(model, bearings);
+    let width = supports
+        .iter()
+        .map(Support::reach)
+        .fold(HALF_BANDWIDTH, usize::max);
+    let band = |_| Band::from_fn(n, (width, width), |_, _| 0.0);
     let [mut mass, mut stiffness, mut gyroscopic] = [0; 3].map(band);
     let opts = model.options;
 
@@ -230,24 +252,26 @@ pub fn assemble_banded(model: &Model, bearings: Bearings) -> BandedSystem {
         gyroscopic.add(at(Direction::Ty), at(Direction::Tx), -d.polar_inertia);
     }
 
+    // Rayleigh damping is the rotor's own: the housings' mass is added after it.
     let r = model.damping;
     let mut damping = mass.map(|i, j, m| r.alpha * m + r.beta * stiffness.get(i, j));
-    let [mut support_stiffness, mut support_damping] = [0; 2].map(band);
+    let [mut support_stiffness, mut support_damping, mut support_mass] = [0; 3].map(band);
 
-    let mut supports: Vec<Support> = model
-        .bearings
-        .iter()
-        .map(|b| (b.station.node, b.stiffness, b.damping))
-        .collect();
-    if bearings == Bearings::Linearised {
-        supports.extend(model.roller_bearings.iter().map(|b| {
-            let (k, c) = (b.linear_stiffness, b.linear_damping);
-            (b.station.node, [[k, 0.0], [0.0, k]], [[c, 0.0], [0.0, c]])
-        }));
+    for (h, housing) in model.housings.iter().enumerate() {
+        for d in model.housing_dofs(h) {
+            mass.add(d, d, housing.mass);
+            support_mass.add(d, d, housing.mass);
+        }
     }
-    for (node, k, c) in &supports {
-        add_support(&mut stiffness, &mut damping, *node, k, c);
-        add_support(&mut support_stiffness, &mut support_damping, *node, k, c);
+    for s in &supports {
+        add_support(&mut stiffness, &mut damping, s);
+        add_support(&mut support_stiffness, &mut support_damping, s);
+    }
+    if bearings == Bearings::Linearised {
+        for s in squeeze_films_linearised(model, &mass, &stiffness) {
+            add_block(&mut damping, &s, &s.damping);
+            add_block(&mut support_damping, &s, &s.damping);
+        }
     }
 
     BandedSystem {
@@ -259,6 +283,7 @@ pub fn assemble_banded(model: &Model, bearings: Bearings) -> BandedSystem {
             rayleigh: (r.alpha, r.beta),
             support_stiffness,
             support_damping,
+            support_mass,
         }),
     }
 }
@@ -281,18 +306,113 @@ pub fn element_matrices(section: &ShaftSection) -> BeamMatrices {
     }
 }
 
-fn add_support(
-    stiffness: &mut Band,
-    damping: &mut Band,
-    node: usize,
-    k: &[[f64; 2]; 2],
-    c: &[[f64; 2]; 2],
-) {
-    let idx = [dof(node, Direction::Ux), dof(node, Direction::Uy)];
-    for a in 0..2 {
-        for b in 0..2 {
-            stiffness.add(idx[a], idx[b], k[a][b]);
-            damping.add(idx[a], idx[b], c[a][b]);
+/// Every linear support of `model`: the linear bearings, the roller bearings' linearised
+/// stiffness when `bearings` says so, and the housings' mountings, each between its inner
+/// side and its outer side (a housing, or the ground).
+fn supports(model: &Model, bearings: Bearings) -> Vec<Support> {
+    let shaft = |node| [dof(node, Direction::Ux), dof(node, Direction::Uy)];
+    let mut supports: Vec<Support> = model
+        .bearings
+        .iter()
+        .map(|b| Support {
+            inner: shaft(b.station.node),
+            outer: model.outer_dofs(b.housing),
+            stiffness: b.stiffness,
+            damping: b.damping,
+        })
+        .collect();
+    if bearings == Bearings::Linearised {
+        supports.extend(model.roller_bearings.iter().map(|b| {
+            let (k, c) = (b.linear_stiffness, b.linear_damping);
+            Support {
+                inner: shaft(b.station.node),
+                outer: model.outer_dofs(b.housing),
+                stiffness: [[k, 0.0], [0.0, k]],
+                damping: [[c, 0.0], [0.0, c]],
+            }
+        }));
+    }
+    supports.extend(
+        model
+            .housings
+            .iter()
+            .enumerate()
+            .map(|(h, housing)| Support {
+                inner: model.housing_dofs(h),
+                outer: model.outer_dofs(housing.on),
+                stiffness: housing.stiffness,
+                damping: housing.damping,
+            }),
+    );
+    supports
+}
+
+/// The squeeze-film dampers linearised at the static position (see
+/// [`crate::squeeze_film`]): supports of damping only.
+/// The static position is that of the linear model without the dampers (`mass` and
+/// `stiffness`), under gravity: a film carries no load at rest.
+fn squeeze_films_linearised(model: &Model, mass: &Band, stiffness: &Band) -> Vec<Support> {
+    if model.housings.iter().all(|h| h.squeeze_film.is_none()) {
+        return Vec::new();
+    }
+    let statics = static_deflection(model, mass, stiffness);
+    model
+        .housings
+        .iter()
+        .enumerate()
+        .filter_map(|(h, housing)| {
+            let damper = housing.squeeze_film.as_ref()?;
+            let inner = model.housing_dofs(h);
+            let outer = model.outer_dofs(housing.on);
+            let at = |d: [usize; 2]| d.map(|i| statics.as_ref().map_or(0.0, |u| u[i]));
+            let base = outer.map_or([0.0; 2], at);
+            let here = at(inner);
+            let c = crate::squeeze_film::Film::new(damper)
+                .linearised_damping([here[0] - base[0], here[1] - base[1]]);
+            Some(Support {
+                inner,
+                outer,
+                stiffness: [[0.0; 2]; 2],
+                damping: [[c[0], c[1]], [c[2], c[3]]],
+            })
+        })
+        .collect()
+}
+
+/// The static deflection of M, K under the model's gravity; `None` when K is singular
+/// (a model not held, which the analyses refuse on their own terms).
+fn static_deflection(model: &Model, mass: &Band, stiffness: &Band) -> Option<Vec<f64>> {
+    let n = stiffness.size();
+    let (lower, upper) = stiffness.widths();
+    let lu = crate::linalg::banded::BandedLu::new(n, lower, upper, |i, j| stiffness.get(i, j))?;
+    let mut u = vertical_load(model, mass);
+    lu.solve(&mut u);
+    Some(u)
+}
+
+/// Adds a support's stiffness and damping (see [`add_block`]).
+fn add_support(stiffness: &mut Band, damping: &mut Band, s: &Support) {
+    add_block(stiffness, s, &s.stiffness);
+    add_block(damping, s, &s.damping);
+}
+
+/// Adds a support's 2x2 matrix `m`: on the inner side's DOFs, and, against a housing, with
+/// the opposite sign between inner and outer and on the outer side's DOFs (the force
+/// depends on the relative motion and acts on both, opposite).
+fn add_block(band: &mut Band, s: &Support, m: &[[f64; 2]; 2]) {
+    let mut sides = vec![(s.inner, s.inner, 1.0)];
+    if let Some(outer) = s.outer {
+        sides.extend([
+            (s.inner, outer, -1.0),
+            (outer, s.inner, -1.0),
+            (outer, outer, 1.0),
+        ]);
+    }
+    for (rows, cols, sign) in sides {
+        for a in 0..2 {
+            for b in 0..2 {
+                band.add(rows[a], cols[b], sign * m[a][b]);
+            }
         }
     }
 }
@@ -301,13 +421,19 @@ fn add_support(
 /// translation along y. Gives -m g on each translation and the consistent end moments of
 /// the distributed shaft weight.
 pub fn gravity_force(model: &Model, matrices: &impl Matrices) -> Vec<f64> {
-    let banded = matrices.banded();
-    let mass = &banded.mass;
+    vertical_load(model, &matrices.banded().mass)
+}
+
+/// F = M r (-g) for the mass band `mass`, r the rigid translation along y of the shaft and
+/// the housings.
+fn vertical_load(model: &Model, mass: &Band) -> Vec<f64> {
     let n = mass.size();
     let (lower, upper) = mass.widths();
     let mut f = vec![0.0; n];
-    for node in 0..n / 4 {
-        let col = dof(node, Direction::Uy);
+    let vertical = (0..model.node_count())
+        .map(|node| dof(node, Direction::Uy))
+        .chain((0..model.housings.len()).map(|h| model.housing_dofs(h)[1]));
+    for col in vertical {
         for (i, fi) in f
             .iter_mut()
             .enumerate()

@@ -23,6 +23,8 @@ pub use assembly::{
 
 use serde::Serialize;
 
+use crate::model::Model;
+
 /// The four DOFs of a node.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub enum Direction {
@@ -51,8 +53,9 @@ impl Direction {
     }
 }
 
-/// DOFs per node.
-pub const DOFS_PER_NODE: usize = 4;
+/// DOFs per node (defined with the model, which numbers the housings' DOFs after the
+/// shaft's).
+pub use crate::model::DOFS_PER_NODE;
 
 /// Global index of a node's DOF.
 pub fn dof(node: usize, direction: Direction) -> usize {
@@ -66,4 +69,32 @@ pub fn dof_name(index: usize) -> String {
         index / DOFS_PER_NODE,
         Direction::ALL[index % DOFS_PER_NODE].name()
     )
+}
+
+/// The names of a model's DOFs: `n<node>.<dir>` on the shaft ([`crate::fe::dof_name`]),
+/// `<housing>.ux` and `<housing>.uy` on the housings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DofNames {
+    shaft_dofs: usize,
+    housings: Vec<String>,
+}
+
+impl DofNames {
+    /// The names of `model`'s DOFs.
+    pub fn of(model: &Model) -> DofNames {
+        DofNames {
+            shaft_dofs: DOFS_PER_NODE * model.node_count(),
+            housings: model.housings.iter().map(|h| h.name.clone()).collect(),
+        }
+    }
+
+    /// The name of DOF `index`.
+    pub fn name(&self, index: usize) -> String {
+        match index.checked_sub(self.shaft_dofs) {
+            Some(k) if k / 2 < self.housings.len() => {
+                format!("{}.{}", self.housings[k / 2], ["ux", "uy"][k % 2])
+            }
+            _ => dof_name(index),
+        }
+    }
 }

@@ -302,7 +302,8 @@ pub fn caged_bearings(
         .map(|b| {
             let hertz =
                 HertzBearing::new(b, contact_coordinates(b, coordinate)?)?.smoothed(smoothing);
-            Ok(Box::new(CagedBearing::new(hertz, cage)?) as Box<dyn NonlinearForce>)
+            let caged = Box::new(CagedBearing::new(hertz, cage)?);
+            crate::bearing::mounted(model, b.housing, caged, coordinate)
         })
         .collect()
 }

@@ -22,6 +22,7 @@ use crate::bearing::forcing_bearings;
 use crate::bearing::ContactLaw;
 use crate::error::{Error, Result};
 use crate::fe::Bearings;
+use crate::force::no_forces;
 use crate::model::Model;
 use crate::progress::{tell, Progress};
 use crate::reduce::CraigBampton;
@@ -196,10 +197,10 @@ pub fn model_problem(
     cage: CageModel,
     smoothing: f64,
 ) -> Result<(System, Vec<f64>, Option<CraigBampton>)> {
-    if model.roller_bearings.is_empty() {
+    if model.roller_bearings.is_empty() && !model.has_squeeze_films() {
         return Err(Error::Unsupported(
-            "the model has no roller bearing: its periodic response is linear; use `whirl \
-             unbalance`"
+            "the model has no roller bearing and no squeeze-film damper: its periodic \
+             response is linear; use `whirl unbalance`"
                 .into(),
         ));
     }
@@ -209,6 +210,10 @@ pub fn model_problem(
     let built = match contact {
         ContactLaw::Hertz => build(model, reduction, apart, &hertz)?,
         ContactLaw::Forcing => build(model, reduction, apart, &forcing_bearings)?,
+        // The films are the nonlinearity (the solvers' systems always take their force).
+        ContactLaw::Linear if model.has_squeeze_films() => {
+            build(model, reduction, Bearings::Linearised, &no_forces)?
+        }
         ContactLaw::Linear => {
             return Err(Error::Unsupported(
                 "linear bearings give a linear periodic response: use `whirl unbalance`".into(),

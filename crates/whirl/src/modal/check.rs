@@ -5,7 +5,6 @@ use serde::Serialize;
 
 use super::sound::trusted_modes;
 use crate::error::Result;
-use crate::fe::DOFS_PER_NODE;
 use crate::model::{LinearBearing, Model, RollerBearing};
 use crate::report::{Report, Table};
 use crate::units::rad_s_to_hz as hz;
@@ -204,7 +203,7 @@ impl Report for ModelCheck {
         let (shaft, disks) = (model.shaft_mass(), self.disk_mass());
         CheckSummary {
             nodes: model.node_count(),
-            dofs: DOFS_PER_NODE * model.node_count(),
+            dofs: model.dof_count(),
             elements: self.elements(),
             shaft_sections: model.sections.len(),
             shaft_length_m: model.length(),

@@ -312,10 +312,11 @@ impl ModalBasis {
 ///
 /// ```text
 /// Phi^T K Phi = Lambda + Phi^T skew(K_s) Phi
-/// Phi^T C Phi = alpha I + beta (Lambda - Phi^T sym(K_s) Phi) + Phi^T C_s Phi
+/// Phi^T C Phi = alpha (I - Phi^T M_s Phi) + beta (Lambda - Phi^T sym(K_s) Phi) + Phi^T C_s Phi
 /// ```
 ///
-/// with K_s and C_s the bearings'. Without the parts the bands are projected as they are.
+/// with K_s and C_s the bearings' and M_s the housings' mass (in M but not in the rotor's
+/// Rayleigh damping). Without the parts the bands are projected as they are.
 fn project_banded(system: &BandedSystem, phi: &Mat<f64>, lambda: &[f64]) -> [Mat<f64>; 3] {
     let g = system.gyroscopic.project(phi);
     let Some(parts) = &system.parts else {
@@ -328,6 +329,7 @@ fn project_banded(system: &BandedSystem, phi: &Mat<f64>, lambda: &[f64]) -> [Mat
     let p = lambda.len();
     let supports = parts.support_stiffness.project(phi);
     let support_damping = parts.support_damping.project(phi);
+    let housings = parts.support_mass.project(phi);
     let (alpha, beta) = parts.rayleigh;
     let diagonal = |i: usize, j: usize| if i == j { lambda[i] } else { 0.0 };
     let k = Mat::from_fn(p, p, |i, j| {
@@ -336,7 +338,7 @@ fn project_banded(system: &BandedSystem, phi: &Mat<f64>, lambda: &[f64]) -> [Mat
     let c = Mat::from_fn(p, p, |i, j| {
         let identity = if i == j { 1.0 } else { 0.0 };
         let rotor = diagonal(i, j) - 0.5 * (supports[(i, j)] + supports[(j, i)]);
-        alpha * identity + beta * rotor + support_damping[(i, j)]
+        alpha * (identity - housings[(i, j)]) + beta * rotor + support_damping[(i, j)]
     });
     [k, c, g]
 }

@@ -116,6 +116,13 @@ pub fn critical_speed_map(
             "the critical-speed map needs bearings: the model has none".into(),
         ));
     }
+    if let Some(h) = model.housings.first() {
+        return Err(Error::Unsupported(format!(
+            "the critical-speed map sweeps the stiffness of bearings on the ground; the model              has housings (\"{}\"), whose mass and mounting the map would leave out: use \
+             the Campbell diagram instead",
+            h.name
+        )));
+    }
     if let Some(k) = stiffness.iter().find(|k| !(k.is_finite() && **k > 0.0)) {
         return Err(Error::InvalidOption(format!(
             "bearing stiffness {k} N/m: the map needs positive stiffnesses"
@@ -175,7 +182,7 @@ fn critical_speeds(model: &Model, k: f64, modes: usize, synchronous: bool) -> Re
         )
     };
     let mu = if solves_dense(pencil.stiffness.size(), modes) {
-        let dofs = DOFS_PER_NODE * model.node_count();
+        let dofs = model.dof_count();
         if dofs > MAX_DENSE_DOFS {
             return Err(too_large_for_dense(
                 dofs,

@@ -57,4 +57,6 @@ pub struct BallBearingFile {
     pub defect: Vec<Spanned<DefectFile>>,
     /// Basic dynamic load rating C (force), the catalogue's; ISO 281's formula otherwise.
     pub dynamic_load_rating: Option<Q>,
+    /// The `[[housing]]` its outer ring sits in; the ground when absent.
+    pub housing: Option<Spanned<String>>,
 }

@@ -12,6 +12,7 @@
 mod ball;
 mod ball_file;
 pub mod ball_law;
+mod housing;
 pub mod ross;
 mod schema;
 mod validate;
@@ -20,7 +21,11 @@ pub use ball::{
     ball_stiffness, point_contact, BallContact, PointContact, BEARING_STEEL_MODULUS,
     BEARING_STEEL_POISSON,
 };
+pub use housing::{Cavitation, Housing, SqueezeFilm};
 pub use validate::MAX_ELEMENTS;
+
+/// DOFs per shaft node: ux, uy, tx, ty (the numbering is [`crate::fe`]'s).
+pub const DOFS_PER_NODE: usize = 4;
 
 use std::path::{Path, PathBuf};
 
@@ -164,6 +169,8 @@ pub struct LinearBearing {
     pub stiffness: [[f64; 2]; 2],
     /// [[cxx, cxy], [cyx, cyy]], N s/m.
     pub damping: [[f64; 2]; 2],
+    /// The housing its outer side sits in (index in [`Model::housings`]); `None`: ground.
+    pub housing: Option<usize>,
 }
 
 /// Internal radial clearance of a roller bearing (thesis eq. 3.1).
@@ -238,6 +245,8 @@ pub struct RollerBearing {
     /// Basic dynamic load rating C from the file (a catalogue's), N; without it the life
     /// takes ISO 281's formula for the geometry ([`crate::bearing::life`]).
     pub dynamic_load_rating: Option<f64>,
+    /// The housing its outer ring sits in (index in [`Model::housings`]); `None`: ground.
+    pub housing: Option<usize>,
 }
 
 /// Which ring is wavy.
@@ -436,6 +445,8 @@ pub struct Model {
     pub bearings: Vec<LinearBearing>,
     /// Roller bearings.
     pub roller_bearings: Vec<RollerBearing>,
+    /// Bearing housings, pedestals and casings.
+    pub housings: Vec<Housing>,
     /// Rotor damping.
     pub damping: RayleighDamping,
     /// Unbalances.
@@ -550,6 +561,29 @@ impl Model {
     /// Number of nodes.
     pub fn node_count(&self) -> usize {
         self.sections.iter().map(|s| s.elements).sum::<usize>() + 1
+    }
+
+    /// Whether some housing has a squeeze-film damper (a nonlinear force even on linear
+    /// bearings).
+    pub fn has_squeeze_films(&self) -> bool {
+        self.housings.iter().any(|h| h.squeeze_film.is_some())
+    }
+
+    /// Number of DOFs: four per shaft node, then two per housing.
+    pub fn dof_count(&self) -> usize {
+        DOFS_PER_NODE * self.node_count() + 2 * self.housings.len()
+    }
+
+    /// The DOFs [ux, uy] of housing `h` (see [`Housing`] for the numbering).
+    pub fn housing_dofs(&self, h: usize) -> [usize; 2] {
+        let first = DOFS_PER_NODE * self.node_count() + 2 * h;
+        [first, first + 1]
+    }
+
+    /// The DOFs [ux, uy] of what a bearing's outer side sits in: housing `housing`, or
+    /// `None` for the ground.
+    pub fn outer_dofs(&self, housing: Option<usize>) -> Option<[usize; 2]> {
+        housing.map(|h| self.housing_dofs(h))
     }
 
     /// Nodes that carry a bearing of either kind, sorted, without repeats.

@@ -13,10 +13,12 @@
 //! Everything that whirl represents exactly is translated: uniform shaft elements (equal
 //! neighbours merged into one section), Euler-Bernoulli or Timoshenko with Cowper's shear
 //! coefficient (whirl's default for a circular tube, from the Poisson ratio
-//! nu = E / (2 G_s) - 1), rigid disks, linear bearings with constant coefficients. What it
-//! cannot represent is refused, naming the element: tapered elements, speed-dependent or
-//! mass coefficients, seals, magnetic bearings, point masses with unequal x and y mass,
-//! support links, element torque, axial loads or damping that differ from element to element,
+//! nu = E / (2 G_s) - 1), rigid disks, linear bearings with constant coefficients, point
+//! masses on support nodes with the bearings linked to them (`n_link`) as housings
+//! ([`supports`]). What it cannot represent is refused, naming the element: tapered
+//! elements, speed-dependent or mass coefficients, seals, magnetic bearings, point masses
+//! with unequal x and y mass, bearings between two shaft nodes, a support node mounted in
+//! two places, element torque, axial loads or damping that differ from element to element,
 //! ROSS 3's modal damping (`modal_damping_ratio`).
 //!
 //! ROSS 3 writes the rotor's own parameters (`Rotor(alpha=..., beta=..., min_w=...)`) into a
@@ -37,6 +39,8 @@ use std::fmt::Write;
 use toml::{Table, Value};
 
 use crate::error::{InputError, Result};
+
+mod supports;
 
 /// A ROSS model translated to whirl's model file.
 #[derive(Debug, Clone, PartialEq)]
@@ -85,7 +89,8 @@ pub fn from_ross_toml(text: &str, name: &str) -> Result<RossImport> {
     let parameters = parameters(table.get("parameters"), &mut notes)?;
     let mut shaft = Vec::new();
     let mut disks = String::new();
-    let mut bearings = String::new();
+    let mut point_masses = Vec::new();
+    let mut bearings = Vec::new();
     for (key, value) in &table {
         if matches!(key.as_str(), "ross_version" | "parameters") {
             continue;
@@ -97,9 +102,9 @@ pub fn from_ross_toml(text: &str, name: &str) -> Result<RossImport> {
         match class {
             "ShaftElement" => shaft.push(shaft_element(key, element, &mut notes)?),
             "DiskElement" => disks.push_str(&disk(key, element, &mut notes)?),
-            "PointMass" => disks.push_str(&point_mass(key, element, &mut notes)?),
+            "PointMass" => point_masses.push((key.as_str(), element)),
             "BearingElement" | "BallBearingElement" | "RollerBearingElement" => {
-                bearings.push_str(&bearing(key, element, &mut notes)?)
+                bearings.push((key.as_str(), element))
             }
             _ => {
                 return Err(refuse(
@@ -116,6 +121,9 @@ pub fn from_ross_toml(text: &str, name: &str) -> Result<RossImport> {
     }
     shaft.sort_by_key(|e| e.index);
     check_consecutive(&shaft)?;
+    let (point_disks, supports) =
+        supports::translate(&point_masses, &bearings, shaft.len(), &mut notes)?;
+    disks.push_str(&point_disks);
     let mut toml = format!(
         "# Translated by whirl from a model file written by ROSS {} (Rotor.save).\nname = {}\n\n",
         table
@@ -131,7 +139,7 @@ pub fn from_ross_toml(text: &str, name: &str) -> Result<RossImport> {
     )?);
     toml.push_str(&materials_and_sections(&shaft));
     toml.push_str(&disks);
-    toml.push_str(&bearings);
+    toml.push_str(&supports);
     if let Some((min, max)) = parameters.operating {
         let _ = write!(
             toml,
@@ -539,8 +547,9 @@ fn disk(key: &str, t: &Table, notes: &mut Vec<String>) -> Result<String> {
     ))
 }
 
-/// A point mass is a disk without inertia, when its mass is the same in x and y.
-fn point_mass(key: &str, t: &Table, notes: &mut Vec<String>) -> Result<String> {
+/// A point mass's mass, when it is the same in x and y (whirl's disks and housings have
+/// one mass).
+fn point_mass(key: &str, t: &Table, notes: &mut Vec<String>) -> Result<f64> {
     note_unread(key, t, &["n", "mx", "my"], notes);
     let (mx, my) = (number(key, t, "mx")?, number(key, t, "my")?);
     if mx != my {
@@ -550,12 +559,7 @@ fn point_mass(key: &str, t: &Table, notes: &mut Vec<String>) -> Result<String> {
         )
         .into());
     }
-    Ok(format!(
-        "[[disk]]\nname = {}\nnode = {}\nmass = {}\npolar_inertia = 0\ndiametral_inertia = 0\n\n",
-        quoted(tag(key)),
-        node(key, t)?,
-        float(mx)
-    ))
+    Ok(mx)
 }
 
 /// One constant coefficient from ROSS's list over frequencies.
@@ -586,7 +590,9 @@ fn coefficient(key: &str, t: &Table, field: &str) -> Result<f64> {
     }
 }
 
-fn bearing(key: &str, t: &Table, notes: &mut Vec<String>) -> Result<String> {
+/// A ROSS bearing's constant lateral coefficients, in the order of [`COEFFICIENTS`]; its
+/// nodes (`n`, `n_link`) are read by [`supports`].
+fn bearing_coefficients(key: &str, t: &Table, notes: &mut Vec<String>) -> Result<[f64; 8]> {
     // `frequency` and `interpolation` only say where the coefficients apply, and whirl
     // takes constant ones.
     note_unread(
@@ -615,15 +621,6 @@ fn bearing(key: &str, t: &Table, notes: &mut Vec<String>) -> Result<String> {
         ],
         notes,
     );
-    if t.get("n_link")
-        .is_some_and(|v| !matches!(v, Value::String(_)))
-    {
-        return Err(refuse(
-            key,
-            "is linked to a support node (n_link): whirl's bearings connect the shaft to the ground",
-        )
-        .into());
-    }
     for field in ["mxx", "mxy", "myx", "myy"] {
         if coefficient(key, t, field)? != 0.0 {
             return Err(refuse(
@@ -640,23 +637,29 @@ fn bearing(key: &str, t: &Table, notes: &mut Vec<String>) -> Result<String> {
             ));
         }
     }
-    let mut s = format!(
-        "[[bearing]]\nname = {}\nnode = {}\n",
-        quoted(tag(key)),
-        node(key, t)?
-    );
-    for field in ["kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy"] {
-        let value = match (field, t.get(field)) {
+    let mut values = [0.0; 8];
+    for (value, field) in values.iter_mut().zip(COEFFICIENTS) {
+        *value = match (field, t.get(field)) {
             // ROSS's BearingElement takes a missing kyy (cyy) as kxx (cxx): a bearing given
             // by one stiffness is isotropic, not free vertically.
             ("kyy", None) => coefficient(key, t, "kxx")?,
             ("cyy", None) => coefficient(key, t, "cxx")?,
             _ => coefficient(key, t, field)?,
         };
-        let _ = writeln!(s, "{field} = {}", float(value));
     }
-    s.push('\n');
-    Ok(s)
+    Ok(values)
+}
+
+/// The lateral coefficients of a bearing, in the order whirl's tables list them.
+const COEFFICIENTS: [&str; 8] = ["kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy"];
+
+/// The coefficient lines of a whirl table.
+fn coefficient_lines(values: &[f64; 8]) -> String {
+    let mut s = String::new();
+    for (field, value) in COEFFICIENTS.iter().zip(values) {
+        let _ = writeln!(s, "{field} = {}", float(*value));
+    }
+    s
 }
 
 /// The element's tag: what follows the class name.

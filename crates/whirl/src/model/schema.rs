@@ -5,6 +5,10 @@
 //! with a unit (`"20 um"`, `"3000 rpm"`). Every value keeps its byte span in the file so
 //! that validation can point at it. The reference for users is `docs/model-file.md`.
 
+mod housing;
+
+pub use housing::{HousingFile, SqueezeFilmFile};
+
 use serde::Deserialize;
 use toml::Spanned;
 
@@ -52,6 +56,9 @@ pub struct ModelFile {
     /// Deep-groove and angular-contact ball bearings.
     #[serde(default)]
     pub ball_bearing: Vec<Spanned<super::ball_file::BallBearingFile>>,
+    /// Bearing housings, pedestals and casings.
+    #[serde(default)]
+    pub housing: Vec<Spanned<HousingFile>>,
     /// Rayleigh damping of the rotor (shaft and disks).
     pub damping: Option<Spanned<DampingFile>>,
     /// Unbalances.
@@ -139,6 +146,8 @@ pub struct LinearBearingFile {
     pub springs: Option<Count>,
     /// Stiffness of each spring of the ring, N/m.
     pub spring_stiffness: Option<Spanned<f64>>,
+    /// The `[[housing]]` its outer side sits in; the ground when absent.
+    pub housing: Option<Spanned<String>>,
 }
 
 /// A clearance: constant, or a polynomial in speed (thesis eq. 3.1).
@@ -205,6 +214,8 @@ pub struct RollerBearingFile {
     pub forcing_function: Option<Spanned<ForcingFunctionFile>>,
     /// Basic dynamic load rating C (force), the catalogue's; ISO 281's formula otherwise.
     pub dynamic_load_rating: Option<Q>,
+    /// The `[[housing]]` its outer ring sits in; the ground when absent.
+    pub housing: Option<Spanned<String>>,
 }
 
 /// `[[roller_bearing.waviness]]`

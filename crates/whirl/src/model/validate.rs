@@ -4,6 +4,8 @@
 // Validation runs once per file; a large error type on this cold path is fine.
 #![allow(clippy::result_large_err)]
 
+mod housing;
+
 use std::collections::HashMap;
 use std::f64::consts::PI;
 use std::ops::Range;
@@ -213,7 +215,7 @@ pub(super) fn validate(raw: ModelFile) -> V<Model> {
         .enumerate()
         .map(|(i, d)| disk(d, &format!("disk[{i}]"), &nodes, &materials))
         .collect::<V<Vec<_>>>()?;
-    let bearings = raw
+    let mut bearings = raw
         .bearing
         .iter()
         .enumerate()
@@ -231,6 +233,26 @@ pub(super) fn validate(raw: ModelFile) -> V<Model> {
             &format!("ball_bearing[{i}]"),
             &nodes,
         )?);
+    }
+    let housings = housing::housings(&raw.housing)?;
+    let housing_names: Vec<String> = housings.iter().map(|h| h.name.clone()).collect();
+    for (i, (b, file)) in bearings.iter_mut().zip(&raw.bearing).enumerate() {
+        let field = format!("bearing[{i}].housing");
+        b.housing = housing::reference(&file.get_ref().housing, &housing_names, &field)?;
+    }
+    for (i, (b, file)) in roller_bearings
+        .iter_mut()
+        .zip(&raw.roller_bearing)
+        .enumerate()
+    {
+        let field = format!("roller_bearing[{i}].housing");
+        b.housing = housing::reference(&file.get_ref().housing, &housing_names, &field)?;
+    }
+    // Ball bearings follow the roller bearings in `roller_bearings`.
+    let balls = roller_bearings.iter_mut().skip(raw.roller_bearing.len());
+    for (i, (b, file)) in balls.zip(&raw.ball_bearing).enumerate() {
+        let field = format!("ball_bearing[{i}].housing");
+        b.housing = housing::reference(&file.get_ref().housing, &housing_names, &field)?;
     }
     let damping = raw
         .damping
@@ -254,6 +276,7 @@ pub(super) fn validate(raw: ModelFile) -> V<Model> {
         disks,
         bearings,
         roller_bearings,
+        housings,
         damping,
         unbalances,
         operating,
@@ -704,6 +727,7 @@ fn linear_bearing(
         station,
         stiffness,
         damping,
+        housing: None,
     })
 }
 
@@ -878,6 +902,7 @@ fn roller_bearing(
             .as_ref()
             .map(|c| positive_q(c, Dimension::Force, &f("dynamic_load_rating")))
             .transpose()?,
+        housing: None,
     })
 }
 

@@ -429,7 +429,7 @@ fn default_band(model: &Model, speeds: &[f64]) -> f64 {
 /// is the running speed's or a decaying transient's, so a cascade could only report
 /// round-off as NSV ("largest NSV 0.00 um ... backward-whip").
 fn nonlinear(model: &Model) -> Result<()> {
-    if !model.roller_bearings.is_empty() {
+    if !model.roller_bearings.is_empty() || model.has_squeeze_films() {
         return Ok(());
     }
     Err(Error::Unsupported(

@@ -48,7 +48,9 @@ pub struct CraigBampton {
     pub fixed_interface_hz: Vec<f64>,
 }
 
-/// All DOFs of the bearing nodes plus those of `extra_nodes`, ascending.
+/// All DOFs of the bearing nodes plus those of `extra_nodes`, then every housing's DOFs
+/// (a housing is joined to the shaft only through bearings, whose forces act there),
+/// ascending.
 pub fn boundary_dofs(model: &Model, extra_nodes: &[usize]) -> Vec<usize> {
     let mut nodes = model.bearing_nodes();
     nodes.extend_from_slice(extra_nodes);
@@ -57,6 +59,7 @@ pub fn boundary_dofs(model: &Model, extra_nodes: &[usize]) -> Vec<usize> {
     nodes
         .iter()
         .flat_map(|&n| Direction::ALL.map(|d| dof(n, d)))
+        .chain((0..model.housings.len()).flat_map(|h| model.housing_dofs(h)))
         .collect()
 }
 
@@ -268,9 +271,15 @@ impl CraigBampton {
         self.boundary.binary_search(&dof).ok()
     }
 
-    /// Nodes on the boundary.
-    pub fn boundary_nodes(&self) -> Vec<usize> {
-        let mut nodes: Vec<usize> = self.boundary.iter().map(|d| d / DOFS_PER_NODE).collect();
+    /// Shaft nodes on the boundary (of a model with `shaft_nodes` nodes: the housings'
+    /// DOFs follow theirs).
+    pub fn boundary_nodes(&self, shaft_nodes: usize) -> Vec<usize> {
+        let mut nodes: Vec<usize> = self
+            .boundary
+            .iter()
+            .map(|d| d / DOFS_PER_NODE)
+            .filter(|&n| n < shaft_nodes)
+            .collect();
         nodes.dedup();
         nodes
     }

@@ -6,7 +6,7 @@ use serde::Serialize;
 
 use super::{boundary_dofs, reduction_study, ReductionRow, ReductionStudy};
 use crate::error::{Error, Result};
-use crate::fe::{assemble_banded, dof_name, Bearings};
+use crate::fe::{assemble_banded, Bearings, DofNames};
 use crate::model::Model;
 use crate::progress::Progress;
 use crate::report::{Report, Table};
@@ -107,7 +107,10 @@ pub fn reduction_report(
         .ok_or_else(|| Error::InvalidOption(format!("the study has no row with {modes} modes")))?;
     Ok(ReductionReport {
         study,
-        boundary: boundary.iter().map(|&d| dof_name(d)).collect(),
+        boundary: {
+            let names = DofNames::of(model);
+            boundary.iter().map(|&d| names.name(d)).collect()
+        },
         chosen,
     })
 }

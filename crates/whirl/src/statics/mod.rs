@@ -36,7 +36,7 @@ use serde::Serialize;
 
 use crate::bearing::hertz_bearings;
 use crate::error::{Error, Result};
-use crate::fe::{dof, too_large_for_dense, Bearings, Direction, DOFS_PER_NODE, MAX_DENSE_DOFS};
+use crate::fe::{dof, too_large_for_dense, Bearings, Direction, MAX_DENSE_DOFS};
 use crate::force::{no_forces, ForceBuilder};
 use crate::model::Model;
 use crate::system::build;
@@ -101,7 +101,7 @@ impl StaticResult {
 pub fn static_response(model: &Model, rollers: RollerSupport) -> Result<StaticResult> {
     // The equilibrium is solved on the dense matrices and a static analysis has no
     // reduction to offer: the refusal says so here, before `build` would suggest one.
-    let dofs = DOFS_PER_NODE * model.node_count();
+    let dofs = model.dof_count();
     if dofs > MAX_DENSE_DOFS {
         return Err(too_large_for_dense(
             dofs,

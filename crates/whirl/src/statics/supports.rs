@@ -31,7 +31,8 @@ pub struct BearingReaction {
     pub z: f64,
     /// `linear`, `roller (linear)` or `roller (hertz)`.
     pub kind: &'static str,
-    /// The shaft's displacement there [ux, uy], m.
+    /// The shaft's displacement there [ux, uy] (relative to its housing's, for a bearing
+    /// in a housing), m.
     pub displacement: [f64; 2],
     /// The bearing's force on the shaft [Fx, Fy], N (Fy > 0 holds the rotor up).
     pub force: [f64; 2],
@@ -47,7 +48,17 @@ pub(super) fn reactions(
     q: &[f64],
     rollers: RollerSupport,
 ) -> Result<Vec<BearingReaction>> {
-    let at_node = |node: usize| [q[dof(node, Direction::Ux)], q[dof(node, Direction::Uy)]];
+    // The shaft's translations relative to the bearing's outer side (a housing, or the
+    // ground), which is what its force depends on.
+    let at_node = |node: usize, housing: Option<usize>| {
+        let outer = model
+            .outer_dofs(housing)
+            .map_or([0.0; 2], |o| o.map(|d| q[d]));
+        [
+            q[dof(node, Direction::Ux)] - outer[0],
+            q[dof(node, Direction::Uy)] - outer[1],
+        ]
+    };
     let linear = |u: [f64; 2], k: &[[f64; 2]; 2]| {
         [
             -(k[0][0] * u[0] + k[0][1] * u[1]),
@@ -58,7 +69,7 @@ pub(super) fn reactions(
         .bearings
         .iter()
         .map(|b| {
-            let u = at_node(b.station.node);
+            let u = at_node(b.station.node, b.housing);
             BearingReaction {
                 name: b.name.clone(),
                 node: b.station.node,
@@ -72,7 +83,7 @@ pub(super) fn reactions(
         })
         .collect();
     for b in &model.roller_bearings {
-        let u = at_node(b.station.node);
+        let u = at_node(b.station.node, b.housing);
         let reaction = match rollers {
             RollerSupport::Linear => {
                 let k = b.linear_stiffness;
@@ -101,7 +112,9 @@ fn hertz_reaction(b: &RollerBearing, q: &[f64], u: [f64; 2]) -> Result<BearingRe
     if b.roller_tilt {
         directions.extend([Direction::Tx, Direction::Ty]);
     }
-    let local: Vec<f64> = directions.iter().map(|&d| q[dof(node, d)]).collect();
+    let mut local: Vec<f64> = directions.iter().map(|&d| q[dof(node, d)]).collect();
+    // The rollers see the relative translations `u`.
+    local[..2].copy_from_slice(&u);
     let mut contact = HertzBearing::new(b, (0..local.len()).collect())?;
     let rest = Kinematics {
         time: 0.0,

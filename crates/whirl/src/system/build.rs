@@ -5,12 +5,13 @@
 use super::System;
 use crate::error::{Error, Result};
 use crate::fe::{
-    assemble_banded, dof_name, gravity_force, unbalance_force, Bearings, SystemMatrices,
-    DOFS_PER_NODE, MAX_DENSE_DOFS,
+    assemble_banded, gravity_force, unbalance_force, Bearings, DofNames, SystemMatrices,
+    MAX_DENSE_DOFS,
 };
 use crate::force::ForceBuilder;
 use crate::model::Model;
 use crate::reduce::{boundary_dofs, CraigBampton};
+use crate::squeeze_film::squeeze_film_forces;
 
 /// A model's system and how its coordinates map to physical DOFs.
 pub struct Built {
@@ -25,6 +26,8 @@ pub struct Built {
 pub struct Coordinates {
     /// The reduction, `None` for the full model.
     pub reduction: Option<CraigBampton>,
+    /// The physical DOFs' names (`n10.uy`, `<housing>.ux`).
+    names: DofNames,
 }
 
 /// The error for a full model above [`MAX_DENSE_DOFS`]: its solvers (the static start, the
@@ -77,18 +80,26 @@ pub struct Linear {
 /// [`Error::Unsupported`] for a full model above [`MAX_DENSE_DOFS`]; those of
 /// [`CraigBampton::new`] with `reduction`.
 pub fn linear(model: &Model, reduction: Option<usize>, bearings: Bearings) -> Result<Linear> {
-    let dofs = DOFS_PER_NODE * model.node_count();
+    let dofs = model.dof_count();
     if reduction.is_none() && dofs > MAX_DENSE_DOFS {
         return Err(full_model_too_large(dofs));
     }
-    // Banded: a reduction never needs the full model's dense matrices.
-    let full = assemble_banded(model, bearings);
+    // Banded: a reduction never needs the full model's dense matrices. The solvers built
+    // here take the squeeze-film dampers' own nonlinear force (added with the forces),
+    // whatever the bearings: the matrices leave the films out.
+    let full = assemble_banded(&without_films(model), bearings);
     let gravity = gravity_force(model, &full);
     let unbalance = unbalance_force(model, full.dofs());
     let ub_re: Vec<f64> = unbalance.iter().map(|c| c.re).collect();
     let ub_im: Vec<f64> = unbalance.iter().map(|c| c.im).collect();
     let (matrices, coordinates) = match reduction {
-        None => (full.to_dense(), Coordinates { reduction: None }),
+        None => (
+            full.to_dense(),
+            Coordinates {
+                reduction: None,
+                names: DofNames::of(model),
+            },
+        ),
         Some(modes) => {
             let cb = CraigBampton::new(&full, &boundary_dofs(model, &[]), modes)?;
             // The reduction keeps its own copy (its size is the few reduced coordinates)
@@ -98,6 +109,7 @@ pub fn linear(model: &Model, reduction: Option<usize>, bearings: Bearings) -> Re
                 reduced,
                 Coordinates {
                     reduction: Some(cb),
+                    names: DofNames::of(model),
                 },
             )
         }
@@ -109,6 +121,19 @@ pub fn linear(model: &Model, reduction: Option<usize>, bearings: Bearings) -> Re
         loads: [&gravity, &ub_re, &ub_im].map(|f| coordinates.vector(f)),
         coordinates,
     })
+}
+
+/// `model` without its squeeze-film dampers (borrowed when it has none): the matrices of
+/// the nonlinear solvers, which take the films' force apart.
+fn without_films(model: &Model) -> std::borrow::Cow<'_, Model> {
+    if model.housings.iter().all(|h| h.squeeze_film.is_none()) {
+        return std::borrow::Cow::Borrowed(model);
+    }
+    let mut bare = model.clone();
+    for h in &mut bare.housings {
+        h.squeeze_film = None;
+    }
+    std::borrow::Cow::Owned(bare)
 }
 
 impl Linear {
@@ -134,11 +159,13 @@ impl Linear {
             ..
         } = self;
         let map = |physical: usize| coordinates.coordinate_of(physical);
+        let mut nonlinear = forces(model, &map)?;
+        nonlinear.extend(squeeze_film_forces(model, &map)?);
         let system = System {
             constant_force,
             unbalance_re,
             unbalance_im,
-            nonlinear: forces(model, &map)?,
+            nonlinear,
             ..System::unloaded(matrices)
         };
         system.check()?;
@@ -184,8 +211,8 @@ impl Coordinates {
     /// What coordinate `c` is: a DOF (`n7.tx`) or a fixed-interface mode.
     pub fn coordinate_name(&self, c: usize) -> String {
         match &self.reduction {
-            None => dof_name(c),
-            Some(cb) if c < cb.boundary.len() => dof_name(cb.boundary[c]),
+            None => self.names.name(c),
+            Some(cb) if c < cb.boundary.len() => self.names.name(cb.boundary[c]),
             Some(cb) => format!(
                 "the amplitude of fixed-interface mode {} of the reduction",
                 c - cb.boundary.len() + 1
@@ -201,6 +228,12 @@ impl SparseRow {
     /// The physical DOF's value at coordinates `q`.
     pub(crate) fn dot(&self, q: &[f64]) -> f64 {
         self.0.iter().map(|&(j, a)| a * q[j]).sum()
+    }
+
+    /// The row of this DOF minus `other`'s (a relative displacement).
+    pub(crate) fn minus(mut self, other: &SparseRow) -> SparseRow {
+        self.0.extend(other.0.iter().map(|&(j, a)| (j, -a)));
+        self
     }
 }
 

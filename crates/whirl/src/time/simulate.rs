@@ -62,7 +62,7 @@ use super::statics::static_equilibrium;
 use super::{MarchOptions, STABLE_FRACTION};
 use crate::bearing::ContactLaw;
 use crate::error::{Error, InputError, Result};
-use crate::fe::{dof, dof_name, Bearings, Direction};
+use crate::fe::{dof, Bearings, Direction, DofNames};
 use crate::force::ForceBuilder;
 use crate::model::Model;
 use crate::progress::{tell, Progress};
@@ -317,9 +317,9 @@ pub struct Hooks<'a> {
 /// One recorded signal.
 #[derive(Debug, Clone, Serialize)]
 pub struct Channel {
-    /// `n<node>.<dir>`.
+    /// `n<node>.<dir>`, or `<housing>.<dir>` for a housing.
     pub name: String,
-    /// Node.
+    /// Node; housing h counts as node N + h after the N shaft nodes.
     pub node: usize,
     /// Values at each recorded time, m.
     pub values: Vec<f64>,
@@ -707,10 +707,17 @@ fn march_and_record(
 
     let bound = options.divergence_bound;
     let rollers_law = law.filter(|_| options.record_rollers);
+    // The nodes' translations, then every housing's (where the dampers act).
+    let shaft_nodes = model.node_count();
+    let names = DofNames::of(model);
     let channels: Vec<(String, usize, SparseRow)> = recorded_nodes(model, nodes, rollers_law)
         .into_iter()
         .flat_map(|node| [Direction::Ux, Direction::Uy].map(|d| (node, dof(node, d))))
-        .map(|(node, d)| (dof_name(d), node, coords.recovery_row(d)))
+        .chain(
+            (0..model.housings.len())
+                .flat_map(|h| model.housing_dofs(h).map(|d| (shaft_nodes + h, d))),
+        )
+        .map(|(node, d)| (names.name(d), node, coords.recovery_row(d)))
         .collect();
     let steps = (options.duration / step).round() as usize;
     let capacity = steps / record_every + 1;
@@ -729,7 +736,7 @@ fn march_and_record(
         Some(law) => model
             .roller_bearings
             .iter()
-            .map(|b| RollerProbe::new(b, law, &coords, capacity))
+            .map(|b| RollerProbe::new(model, b, law, &coords, capacity))
             .collect::<Result<Vec<_>>>()?,
         None => Vec::new(),
     };

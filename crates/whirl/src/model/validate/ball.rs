@@ -105,6 +105,7 @@ pub(super) fn ball_bearing(
     let stiffness = running_stiffness(&mut contact, balls, ball, pitch, gamma);
     let (race_defects, element_defects) = defects(&b.defect, field, balls)?;
     Ok(RollerBearing {
+        housing: None,
         name: b
             .name
             .clone()

@@ -39,6 +39,12 @@ pub(super) fn rigid_static_equilibrium(
 pub(super) fn lagrange_contacts(model: &Model, coords: &Coordinates) -> Result<LagrangeContacts> {
     let map = |physical: usize| coords.coordinate_of(physical);
     let mut coordinates = Vec::new();
+    if let Some(b) = model.roller_bearings.iter().find(|b| b.housing.is_some()) {
+        return Err(crate::error::Error::Unsupported(format!(
+            "{} sits in a housing: the Lagrange contacts constrain the shaft against a fixed              outer ring; use the Hertz or forcing-function law for bearings in housings",
+            b.name
+        )));
+    }
     for b in &model.roller_bearings {
         coordinates.extend(contact_coordinates_of(
             b,
@@ -85,6 +91,7 @@ pub(super) struct RollerProbe {
 
 impl RollerProbe {
     pub(super) fn new(
+        model: &Model,
         bearing: &RollerBearing,
         law: ContactLaw,
         coords: &Coordinates,
@@ -104,9 +111,18 @@ impl RollerProbe {
             directions.extend([Direction::Tx, Direction::Ty]);
         }
         let node = bearing.station.node;
+        // In a housing the rollers see the shaft's translations relative to the housing's.
+        let outer = model.outer_dofs(bearing.housing);
         let rows: Vec<SparseRow> = directions
             .iter()
-            .map(|&d| coords.recovery_row(dof(node, d)))
+            .enumerate()
+            .map(|(k, &d)| {
+                let row = coords.recovery_row(dof(node, d));
+                match outer {
+                    Some(o) if k < 2 => row.minus(&coords.recovery_row(o[k])),
+                    _ => row,
+                }
+            })
             .collect();
         let m = rows.len();
         Ok(RollerProbe {
