@@ -11,6 +11,7 @@
 //! harmonic balance use the law unchanged.
 
 use super::geometry::{RollerGeometry, RollerState, Slice};
+use super::power::Power;
 use crate::error::{Error, Result};
 use crate::force::{Kinematics, NonlinearForce};
 use crate::linalg::{rotate, Turning};
@@ -32,7 +33,8 @@ pub struct HertzBearing {
     stiffness: f64,
     /// Contact damping of one slice, N s/m.
     damping: f64,
-    exponent: f64,
+    /// The contact exponent n and its power delta^n.
+    power: Power,
     /// Approach below which the law is blended ([`HertzBearing::smoothed`]), m; 0 for the
     /// exact law.
     smoothing: f64,
@@ -119,7 +121,7 @@ impl HertzBearing {
             dofs,
             stiffness: bearing.contact_stiffness / slices,
             damping: bearing.contact_damping / slices,
-            exponent: bearing.contact_exponent,
+            power: Power::new(bearing.contact_exponent),
             smoothing: 0.0,
             rollers: Rollers::new(&geometry),
             ball: BallLaw::of(bearing),
@@ -172,13 +174,13 @@ impl HertzBearing {
         if delta < self.smoothing {
             return self.blended_force(delta, rate);
         }
-        let elastic = self.stiffness * delta.powf(self.exponent);
+        let elastic = self.stiffness * self.power.of(delta);
         let force = elastic + self.damping * rate;
         if force <= 0.0 {
             // A roller never pulls: damping cannot make the contact tensile.
             return (0.0, 0.0, 0.0);
         }
-        let k = self.exponent * elastic / delta;
+        let k = self.power.exponent() * elastic / delta;
         (force, k, self.damping)
     }
 
@@ -189,12 +191,12 @@ impl HertzBearing {
             return (0.0, 0.0);
         }
         if delta < self.smoothing {
-            let top = self.stiffness * self.smoothing.powf(self.exponent);
-            let (p, dp) = blend(self.exponent, delta / self.smoothing);
+            let top = self.stiffness * self.power.of(self.smoothing);
+            let (p, dp) = blend(self.power.exponent(), delta / self.smoothing);
             return (top * p, top * dp / self.smoothing);
         }
-        let elastic = self.stiffness * delta.powf(self.exponent);
-        (elastic, self.exponent * elastic / delta)
+        let elastic = self.stiffness * self.power.of(delta);
+        (elastic, self.power.exponent() * elastic / delta)
     }
 
     /// The fade-in of the damping force and its derivative with respect to the approach:
@@ -610,7 +612,9 @@ impl NonlinearForce for HertzBearing {
 
     fn stiffness_bound(&self) -> Vec<f64> {
         let m = self.dofs.len();
-        let k = self.exponent * self.stiffness * HERTZ_BOUND_APPROACH.powf(self.exponent - 1.0);
+        let k = self.power.exponent()
+            * self.stiffness
+            * HERTZ_BOUND_APPROACH.powf(self.power.exponent() - 1.0);
         let mut bound = vec![0.0; m * m];
         let rest = Kinematics {
             time: 0.0,
@@ -753,14 +757,16 @@ mod tests {
                     worst = worst.max((a - b).abs() / magnitude.max(1e-300));
                 }
             }
-            // The rollers' directions differ by a few 1e-15 (the turned cage angle,
-            // `linalg::turning`, and the reference's chain of pitch rotations). The
-            // approach takes that error times |u| = 3e-5 m, and the force the tangent
-            // stiffness (1.4e8 N/m) times it: 2e-11 N, which against the few tens of N of
-            // a light contact is 1e-12 of the slices' total (measured: 9e-13 and 1e-12).
-            // A misplaced term or sign shows at 1e-3 or more.
+            // The rollers' directions differ by the turned cage angle's error
+            // (`linalg::turning`: each step's rotation reused within 8 ulps of the angle,
+            // at most 64 x 8 ulps of 113 rad = 7e-12 rad between reseeds, typically a few
+            // ulps as the reuse errors take both signs) and the reference's chain of pitch
+            // rotations (a few 1e-15). The approach takes that error times |u| = 3e-5 m,
+            // and the force the tangent stiffness (1.4e8 N/m) times it: at most 3e-8 N,
+            // 1.5e-9 of a light contact's few tens of N (measured: 6e-12). A misplaced term
+            // or sign shows at 1e-3 or more.
             assert!(touched > 1_000, "{touched} instants in contact");
-            assert!(worst <= 5e-12, "{} coordinates: {worst:e}", law.dofs.len());
+            assert!(worst <= 1.5e-9, "{} coordinates: {worst:e}", law.dofs.len());
         }
     }
 
@@ -795,7 +801,7 @@ mod tests {
     fn the_smoothed_law_departs_from_hertz_only_below_the_scale_and_within_the_bound() {
         let scale = 1e-8;
         let (exact, smooth) = laws(scale);
-        let top = exact.stiffness * scale.powf(exact.exponent);
+        let top = exact.stiffness * scale.powf(exact.power.exponent());
         let mut largest: f64 = 0.0;
         for i in 1..400 {
             let delta = 2.0 * scale * i as f64 / 400.0;

@@ -40,6 +40,7 @@ pub mod lagrange;
 pub mod law;
 pub(crate) mod least_squares;
 pub mod life;
+pub(crate) mod power;
 pub mod stiffness;
 
 pub use forcing::{forcing_bearings, law_speeds, valid_up_to, ForcingBearing};

@@ -9,6 +9,7 @@ use crate::fe::{
     MAX_DENSE_DOFS,
 };
 use crate::force::ForceBuilder;
+use crate::linalg::dot;
 use crate::model::Model;
 use crate::reduce::{boundary_dofs, CraigBampton};
 use crate::squeeze_film::squeeze_film_forces;
@@ -194,17 +195,13 @@ impl Coordinates {
         }
     }
 
-    /// The nonzero entries of the row that recovers physical DOF `physical`.
+    /// The row that recovers physical DOF `physical`: one entry unreduced, every coordinate
+    /// of a reduction (whose rows are nearly full: the boundary's few and every
+    /// fixed-interface mode).
     pub(crate) fn recovery_row(&self, physical: usize) -> SparseRow {
         match &self.reduction {
-            None => SparseRow(vec![(physical, 1.0)]),
-            Some(cb) => SparseRow(
-                cb.recovery_row(physical)
-                    .into_iter()
-                    .enumerate()
-                    .filter(|(_, a)| *a != 0.0)
-                    .collect(),
-            ),
+            None => SparseRow::Entries(vec![(physical, 1.0)]),
+            Some(cb) => SparseRow::Full(cb.recovery_row(physical)),
         }
     }
 
@@ -221,19 +218,48 @@ impl Coordinates {
     }
 }
 
-/// A physical DOF as a combination of coordinates (one entry unreduced).
-pub(crate) struct SparseRow(Vec<(usize, f64)>);
+/// A physical DOF as a combination of coordinates: its nonzero entries, or a full row.
+pub(crate) enum SparseRow {
+    Entries(Vec<(usize, f64)>),
+    Full(Vec<f64>),
+}
 
 impl SparseRow {
-    /// The physical DOF's value at coordinates `q`.
+    /// The physical DOF's value at coordinates `q`. A full row in the eight partial sums of
+    /// [`dot`]: one running sum was a chain of dependent additions (4 % of a cascade, which
+    /// recovers its channels at every sample).
     pub(crate) fn dot(&self, q: &[f64]) -> f64 {
-        self.0.iter().map(|&(j, a)| a * q[j]).sum()
+        match self {
+            SparseRow::Entries(entries) => entries.iter().map(|&(j, a)| a * q[j]).sum(),
+            SparseRow::Full(row) => dot(row, q),
+        }
     }
 
     /// The row of this DOF minus `other`'s (a relative displacement).
-    pub(crate) fn minus(mut self, other: &SparseRow) -> SparseRow {
-        self.0.extend(other.0.iter().map(|&(j, a)| (j, -a)));
-        self
+    pub(crate) fn minus(self, other: &SparseRow) -> SparseRow {
+        match (self, other) {
+            (SparseRow::Entries(mut entries), SparseRow::Entries(o)) => {
+                entries.extend(o.iter().map(|&(j, a)| (j, -a)));
+                SparseRow::Entries(entries)
+            }
+            (SparseRow::Full(mut row), other) => {
+                other.add_to(-1.0, &mut row);
+                SparseRow::Full(row)
+            }
+            (SparseRow::Entries(entries), SparseRow::Full(o)) => {
+                let mut row: Vec<f64> = o.iter().map(|a| -a).collect();
+                SparseRow::Entries(entries).add_to(1.0, &mut row);
+                SparseRow::Full(row)
+            }
+        }
+    }
+
+    /// row += factor * self.
+    fn add_to(&self, factor: f64, row: &mut [f64]) {
+        match self {
+            SparseRow::Entries(entries) => entries.iter().for_each(|&(j, a)| row[j] += factor * a),
+            SparseRow::Full(full) => row.iter_mut().zip(full).for_each(|(r, a)| *r += factor * a),
+        }
     }
 }
 
