@@ -13,7 +13,7 @@ use super::beam::{beam_matrices, BeamMatrices, BeamProperties, Mat8};
 use super::timoshenko::{shear_rigidity, timoshenko_matrices};
 use super::{dof, Direction, DOFS_PER_NODE};
 use crate::error::{Error, Result};
-use crate::linalg::Band;
+use crate::linalg::{bandwidths, Band};
 use crate::model::{BeamTheory, Model, ShaftSection};
 
 /// How roller bearings enter the assembled matrices.
@@ -119,6 +119,8 @@ pub trait Matrices: Sync {
     fn banded(&self) -> Cow<'_, BandedSystem>;
     /// The dense form (n^2 memory each).
     fn dense(&self) -> Cow<'_, SystemMatrices>;
+    /// How far from the diagonal the entries reach (the largest half bandwidth of the four).
+    fn reach(&self) -> usize;
 }
 
 impl Matrices for BandedSystem {
@@ -130,6 +132,13 @@ impl Matrices for BandedSystem {
     }
     fn dense(&self) -> Cow<'_, SystemMatrices> {
         Cow::Owned(self.to_dense())
+    }
+    fn reach(&self) -> usize {
+        self.bands()
+            .iter()
+            .map(|b| b.widths().0.max(b.widths().1))
+            .max()
+            .unwrap_or(0)
     }
 }
 
@@ -148,6 +157,16 @@ impl Matrices for SystemMatrices {
     }
     fn dense(&self) -> Cow<'_, SystemMatrices> {
         Cow::Borrowed(self)
+    }
+    fn reach(&self) -> usize {
+        [&self.stiffness, &self.mass, &self.damping, &self.gyroscopic]
+            .iter()
+            .map(|m| {
+                let (lower, upper) = bandwidths(m);
+                lower.max(upper)
+            })
+            .max()
+            .unwrap_or(0)
     }
 }
 
