@@ -30,6 +30,22 @@ from .modal import (
     modal,
 )
 from .nsv import CascadeResult, cascade
+from .parts import (
+    BallBearing,
+    Bearing,
+    Damping,
+    Defect,
+    Disk,
+    Elements,
+    Housing,
+    Material,
+    Operating,
+    RollerBearing,
+    Shaft,
+    SqueezeFilm,
+    Unbalance,
+    Waviness,
+)
 from .report import Report
 from .response import UnbalanceResult, unbalance
 from .ross import from_ross, read_ross
@@ -38,18 +54,32 @@ from .time import SimulationResult, simulate
 
 __all__ = [
     "BUILD_ID",
+    "BallBearing",
+    "Bearing",
     "CampbellResult",
     "CascadeResult",
     "CheckResult",
     "ConvergenceResult",
+    "Damping",
+    "Defect",
+    "Disk",
+    "Elements",
+    "Housing",
     "InputError",
-    "Model",
+    "Material",
     "ModalResult",
+    "Model",
     "NumericalError",
+    "Operating",
     "Report",
+    "RollerBearing",
+    "Shaft",
     "SimulationResult",
+    "SqueezeFilm",
     "StudyResult",
+    "Unbalance",
     "UnbalanceResult",
+    "Waviness",
     "WhirlError",
     "WhirlWarning",
     "__version__",

@@ -7,13 +7,14 @@ import math
 import os
 import tomllib
 import warnings
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 import numpy as np
 
 from . import _whirl
 from ._quantity import plain
+from .parts import Part, parts_of, tables_of
 
 
 class WhirlWarning(UserWarning):
@@ -69,6 +70,25 @@ class Model:
             )
         return cls._checked(_whirl.Model.from_json(json.dumps(converted)))
 
+    @classmethod
+    def build(
+        cls, name: str, parts: Iterable[Part | Iterable[Part]], gravity: Any = None
+    ) -> Model:
+        """Validates a model built from parts (:mod:`whirl.parts`: :class:`~whirl.Shaft`,
+        :class:`~whirl.Disk`, :class:`~whirl.Bearing`, :class:`~whirl.RollerBearing`,
+        :class:`~whirl.Unbalance`, ...), given in any order and as lists or single parts;
+        ``gravity`` along -y in m/s^2 (the model file's default when None).
+        ``Model.build(model.name, model.parts())`` is the same model."""
+        tables: dict[str, Any] = {"name": name}
+        if gravity is not None:
+            tables["gravity"] = gravity
+        return cls.from_dict({**tables, **tables_of(parts)})
+
+    def parts(self) -> list[Part]:
+        """The model's parts (:mod:`whirl.parts`), in the model file's order of tables,
+        each holding its table's keys as the file writes them."""
+        return parts_of(self.to_tables())
+
     def with_values(self, values: Mapping[str, Any]) -> Model:
         """The same model with values set at the study files' parameter paths, e.g.
         ``model.with_values({"roller_bearing[*].clearance": "30 um"})``; paths are applied
@@ -81,15 +101,17 @@ class Model:
         the validated model in SI instead."""
         return tomllib.loads(self.toml)
 
-    def extended(self, tables: Mapping[str, Any]) -> Model:
-        """The same model with more in it, validated again: each list (``unbalance``,
+    def extended(self, tables: Mapping[str, Any] | Iterable[Part]) -> Model:
+        """The same model with more in it, validated again: ``tables`` are the model
+        file's tables or parts (:mod:`whirl.parts`); each list (``unbalance``,
         ``roller_bearing``, ``disk``, ...) is appended to the model file's list of that name,
         each other value (``damping``, ``operating``) set. For instance an unbalance on a
-        rotor read from ROSS: ``rotor.extended({"unbalance": [{"node": 12, "mass": "1 g",
-        "eccentricity": "50 mm"}]})``. To replace a list, edit :meth:`to_tables` and give
-        it to :meth:`from_dict`."""
+        rotor read from ROSS: ``rotor.extended([whirl.Unbalance(node=12, mass="1 g",
+        eccentricity="50 mm")])``. To replace a list, edit :meth:`parts` or
+        :meth:`to_tables` and give them to :meth:`build` or :meth:`from_dict`."""
+        added = tables if isinstance(tables, Mapping) else tables_of(tables)
         merged = self.to_tables()
-        for key, value in plain(dict(tables)).items():
+        for key, value in plain(dict(added)).items():
             if isinstance(value, list):
                 merged[key] = [*merged.get(key, []), *value]
             else:
