@@ -103,6 +103,21 @@ def test_every_example_is_the_same_model_built_from_its_parts(path):
     assert whirl.Model.from_toml(rebuilt.toml).parts() == model.parts()
 
 
+def test_a_built_model_writes_its_tables_in_the_order_given():
+    model = whirl.Model.build(
+        "order",
+        [
+            whirl.Material(name="steel", young_modulus=2.11e11, density=7810),
+            whirl.Shaft(length="1 m", outer_diameter="50 mm", material="steel", elements=4),
+            whirl.Disk(node=2, mass="10 kg", polar_inertia=0.05, diametral_inertia=0.025),
+            [whirl.Bearing(node=n, kxx=1e8, kyy=1e8) for n in (0, 4)],
+        ],
+    )
+    headers = [line for line in model.toml.splitlines() if line.startswith("[")]
+    assert headers == ["[[material]]", "[[shaft]]", "[[disk]]", "[[bearing]]", "[[bearing]]"]
+    assert list(model.to_tables()["disk"][0]) == ["node", "mass", "polar_inertia", "diametral_inertia"]
+
+
 def test_parts_hold_their_tables_nested_parts_and_pickle():
     model = whirl.Model.from_file(EXAMPLES / "reference_rotor_waviness.toml")
     bearing = next(p for p in model.parts() if isinstance(p, whirl.RollerBearing))
@@ -116,7 +131,8 @@ def test_a_wrong_part_is_named():
     parts = whirl.Model.from_file(REFERENCE).parts()
     shaft = next(i for i, p in enumerate(parts) if isinstance(p, whirl.Shaft))
     parts[shaft] = whirl.Shaft(**{**parts[shaft].fields, "lenght": "1 m"})
-    with pytest.raises(whirl.InputError, match="lenght"):
+    # Named by its key, not by a line of text the caller never saw.
+    with pytest.raises(whirl.InputError, match=r"^`shaft\[0\]\.lenght`: unknown field"):
         whirl.Model.build("typo", parts)
     with pytest.raises(TypeError, match="waviness"):
         whirl.Model.build("loose", [*parts, whirl.Waviness(ring="outer", order=5, amplitude="1 um")])

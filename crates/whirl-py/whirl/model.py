@@ -14,6 +14,7 @@ import numpy as np
 
 from . import _whirl
 from ._quantity import plain
+from ._toml import located, model_text
 from .parts import Part, parts_of, tables_of
 
 
@@ -68,7 +69,13 @@ class Model:
                 f"`{path}`: {value!r} has no place in a model file (TOML has no NaN or "
                 "infinity)\n  help: give a finite number or text with a unit"
             )
-        return cls._checked(_whirl.Model.from_json(json.dumps(converted)))
+        text, paths = model_text(converted)
+        try:
+            raw = _whirl.Model.from_toml(text, None)
+        except _whirl.InputError as e:
+            # Located in text the caller never saw: named by the key instead.
+            raise _whirl.InputError(located(str(e), paths)) from None
+        return cls._checked(raw)
 
     @classmethod
     def build(
