@@ -21,6 +21,7 @@ def test_every_figure_draws(tmp_path):
     cascade = whirl.cascade(
         model, "100Hz:300Hz:4", no_refine=True, max_records=1, compare_starts=True, progress=False
     )
+    assert cascade.figures[-1] == "starts", "a cascade of two starts offers their figure"
     branch = whirl.hbm(model, "1:60Hz", harmonics=2, progress=False)
     reduced = whirl.reduce(model)
     axes = [
