@@ -53,3 +53,8 @@ def test_every_figure_draws(tmp_path):
     # (the branch loses stability in the first resonance).
     styles = {line.get_linestyle() for line in axes[9].lines}
     assert {"-", "--"} <= styles, styles
+    # Its bifurcations where stability is lost, labelled by initials as the command line
+    # does (whole names of close speeds ran into each other).
+    labels = [t.get_text().rstrip("?") for t in axes[9].texts]
+    assert len(labels) == sum(b["loses_stability"] for b in branch.bifurcations) > 0
+    assert set(labels) <= {"SB", "NS", "PD", "F"}, labels

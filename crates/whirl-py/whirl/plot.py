@@ -164,30 +164,42 @@ def _stable_runs(stable: list) -> list[tuple[int, int, bool]]:
     return runs
 
 
+def _initials(kind: str) -> str:
+    """A bifurcation's kind by its initials, as the command line labels it: SB, NS, PD, F."""
+    return "".join(word[0].upper() for word in kind.replace("-", " ").split())
+
+
 def hb_branch(result, node=None, direction="uy", ax=None):
     """Harmonic balance (``whirl.hbm``): the amplitude of each harmonic of ``direction`` at
-    ``node`` (default the first reported) along the branch over speed, stable solid and
-    unstable dashed, the bifurcations marked (`?` where not resolved at twice the
-    samples)."""
+    ``node`` (default the first reported) along the branch over speed, in um over the four
+    decades below the largest, stable solid and unstable dashed; a line where stability is
+    lost, labelled by the bifurcation's initials (SB symmetry breaking, NS Neimark-Sacker,
+    PD period doubling, F fold; `?` where not resolved at twice the samples)."""
     ax = _axes(ax)
     node = result.nodes[0] if node is None else node
     branch = result.columns("branch")
     speed, runs = branch["speed_hz"], _stable_runs(branch["stable"])
+    top = 0.0
     for r in range(1, result.harmonics + 1):
-        y = branch[f"n{node}_{direction}_{r}x_m"]
+        y = 1e6 * branch[f"n{node}_{direction}_{r}x_m"]
+        top = max(top, float(np.nanmax(y)))
         line = None
         for a, b, stable in runs:
             kwargs = {"color": line.get_color()} if line is not None else {"label": f"{r}X"}
             (drawn,) = ax.semilogy(speed[a:b], y[a:b], "-" if stable else "--", **kwargs)
             line = line or drawn
-    for b in result.bifurcations:
-        ax.axvline(b["speed_hz"], color="grey", lw=0.8, ls=":")
-        label = b["kind"] + (" ?" if b.get("resolved") is False else "")
-        ax.annotate(label, (b["speed_hz"], 1), xycoords=("data", "axes fraction"),
-                    rotation=90, va="top", ha="right", fontsize="small")
-    ax.set(xlabel="speed [Hz]", ylabel=f"{direction} amplitude [m]",
+    lost = [b for b in result.bifurcations if b["loses_stability"]]
+    for i, b in enumerate(lost):
+        ax.axvline(b["speed_hz"], color="grey", lw=0.8, ls="--")
+        label = _initials(b["kind"]) + ("?" if b.get("resolved") is False else "")
+        # Staggered down the top edge, so that labels of close speeds do not overlap.
+        ax.annotate(label, (b["speed_hz"], 0.97 - 0.06 * (i % 4)), xycoords=("data", "axes fraction"),
+                    ha="left", va="top", fontsize="small", color="dimgrey")
+    if top > 0:
+        ax.set_ylim(1e-4 * top, 3 * top)
+    ax.set(xlabel="speed [Hz]", ylabel=f"{direction} amplitude [um]",
            title=f"harmonic balance, node {node} (dashed: unstable)")
-    ax.legend(fontsize="small")
+    ax.legend(fontsize="small", loc="lower right")
     return ax
 
 
