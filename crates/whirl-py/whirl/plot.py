@@ -38,14 +38,46 @@ def campbell(diagram, ax=None):
 
 
 def bode(response, ax=None):
+    """Unbalance response as the command line's Bode plot: the amplitude of ux (solid) and
+    uy (dashed) at each reported node over speed, um on a log scale, above their phase,
+    unwrapped, degrees. ``ax`` is the pair of Axes (amplitude, phase) to draw on, or one
+    Axes for the amplitude alone; returns the amplitude's Axes."""
+    if ax is None:
+        import matplotlib.pyplot as plt
+
+        _, (amplitude, phase) = plt.subplots(2, 1, sharex=True, figsize=(6.4, 6.4))
+    elif isinstance(ax, (tuple, list)):
+        amplitude, phase = ax
+    else:
+        amplitude, phase = ax, None
+    for r in response.nodes:
+        (line,) = amplitude.semilogy(response.speeds_hz, 1e6 * r.ux_amplitude, label=f"node {r.node} ux")
+        amplitude.semilogy(response.speeds_hz, 1e6 * r.uy_amplitude, "--", color=line.get_color(),
+                           label=f"node {r.node} uy")
+        if phase is not None:
+            for values, style in ((r.ux_phase_deg, "-"), (r.uy_phase_deg, "--")):
+                unwrapped = np.degrees(np.unwrap(np.radians(values)))
+                phase.plot(response.speeds_hz, unwrapped, style, color=line.get_color())
+    amplitude.set(ylabel="amplitude [um]", title="unbalance response")
+    amplitude.legend(fontsize="small")
+    if phase is not None:
+        phase.set(xlabel="speed [Hz]", ylabel="phase [deg]")
+    else:
+        amplitude.set(xlabel="speed [Hz]")
+    return amplitude
+
+
+def orbit_major(response, ax=None):
     """Unbalance response: the orbit's major semi-axis over speed at each reported node
-    (log scale), peaks marked."""
+    (um, log scale), each peak marked and labelled with its speed."""
     ax = _axes(ax)
     for r in response.nodes:
-        ax.semilogy(response.speeds_hz, r.major, label=f"node {r.node}")
+        ax.semilogy(response.speeds_hz, 1e6 * r.major, label=f"node {r.node}")
         for p in r.peaks:
-            ax.plot(p.speed_hz, p.amplitude, "v", color="black")
-    ax.set(xlabel="speed [Hz]", ylabel="major semi-axis [m]", title="unbalance response")
+            ax.plot(p.speed_hz, 1e6 * p.amplitude, "v", color="black")
+            ax.annotate(f"{p.speed_hz:.1f} Hz", (p.speed_hz, 1e6 * p.amplitude), fontsize="small",
+                        textcoords="offset points", xytext=(3, 3))
+    ax.set(xlabel="speed [Hz]", ylabel="major semi-axis [um]", title="unbalance response: orbit size")
     ax.legend(fontsize="small")
     return ax
 
@@ -73,17 +105,37 @@ def orbit(run, node=None, ax=None):
     return ax
 
 
+#: A peak within this fraction of its channel's largest widens the spectrum to show it,
+#: and at most this many orders are marked, as on the command line.
+_SHOWN_PEAK_RELATIVE = 0.1
+_MAX_ORDER_LINES = 12
+
+
 def spectrum(run, channel=None, ax=None):
-    """Amplitude spectrum (Hann window, mean removed) of the settled part of a channel."""
+    """The library's amplitude spectrum of the settled part of a channel (default the second,
+    the first node's uy), the command line's ``spectrum.csv``, over ten orders of the running
+    speed or past the highest peak within a decade of its channel's largest; the orders
+    (at most 12) marked."""
     ax = _axes(ax)
     name = run.names[1] if channel is None else channel
-    x = run.channel(name)[run.time >= run.settle]
-    window = np.hanning(len(x))
-    x = (x - np.average(x, weights=window)) * window
-    amplitude = 2 * np.abs(np.fft.rfft(x)) / window.sum()
-    dt = run.step * run.record_every
-    ax.semilogy(np.fft.rfftfreq(len(x), dt), amplitude)
-    ax.set(xlabel="frequency [Hz]", ylabel="amplitude [m]", title=f"spectrum of {name}")
+    table = run.columns("spectrum")
+    frequency, amplitude = table["frequency_hz"], table[name]
+    running = run.running_speed_hz
+    peaks = run.columns("peaks")
+    channels = np.asarray(peaks["channel"])
+    peak_amplitude = peaks["amplitude_m"]
+    largest = {c: peak_amplitude[channels == c].max() for c in set(channels)}
+    shown = [f for c, f, a in zip(channels, peaks["frequency_hz"], peak_amplitude)
+             if a >= _SHOWN_PEAK_RELATIVE * largest[c]]
+    top = max(10.5 * running, 1.2 * max(shown, default=0.0))
+    top = min(top, frequency[-1]) if top > 0 else frequency[-1]
+    keep = frequency <= top
+    ax.semilogy(frequency[keep], 1e6 * amplitude[keep])
+    orders = min(int(top // running), _MAX_ORDER_LINES) if running > 0 else 0
+    for k in range(1, orders + 1):
+        ax.axvline(k * running, color="grey", lw=0.6, ls=":")
+    ax.set(xlabel="frequency [Hz]", ylabel="amplitude, zero-to-peak [um]", xlim=(0, top),
+           title=f"spectrum of {name} ({run.spectrum_window} window)")
     return ax
 
 
@@ -98,16 +150,41 @@ def waterfall(cascade, ax=None):
     return ax
 
 
+#: The roller bearings' characteristic frequencies, as the summary's ``bearing_orders``
+#: name them, and as the figures label them.
+_BEARING_LINES = (("ftf", "FTF"), ("bpfo", "BPFO = N_b w_c"), ("bpfi", "BPFI"), ("bsf", "BSF"))
+
+
 def cascade_map(cascade, ax=None, max_frequency_hz=None):
-    """Frequency over speed, colour the log amplitude, with the 0.5X, 1X and 2X lines."""
+    """Frequency over speed, colour the log amplitude, as the command line's map: the 0.5X,
+    1X and 2X lines, the first roller bearing's characteristic frequencies (FTF, BPFO =
+    N_b w_c, BPFI, BSF; dashed) and the steady NSV peaks at or above the threshold
+    (circled)."""
     ax = _axes(ax)
-    top = max_frequency_hz or 2 * cascade.speeds_hz.max()
+    speeds = cascade.speeds_hz
+    top = max_frequency_hz or 2 * speeds.max()
     keep = cascade.frequency_hz <= top
-    level = np.log10(np.maximum(cascade.amplitude[:, keep].T, 1e-12))
-    ax.pcolormesh(cascade.speeds_hz, cascade.frequency_hz[keep], level, shading="nearest")
+    level = np.log10(np.maximum(cascade.amplitude[:, keep].T, 1e-300))
+    # Four decades below the largest amplitude, as the command line's map.
+    ax.pcolormesh(speeds, cascade.frequency_hz[keep], level, shading="nearest",
+                  vmin=level.max() - 4, vmax=level.max())
     for k in (0.5, 1, 2):
-        ax.plot(cascade.speeds_hz, k * cascade.speeds_hz, "w--", lw=0.8)
+        ax.plot(speeds, k * speeds, "w--", lw=0.8)
+    summary = cascade.to_dict()
+    for bearing in summary["bearing_orders"][:1]:
+        for key, name in _BEARING_LINES:
+            ax.plot(speeds, bearing["orders"][key] * speeds, "--", lw=0.8, label=f"{name}, {bearing['bearing']}")
+    threshold = summary["nsv"]["threshold_m"]
+    peaks = [
+        (n["speed_hz"], n["peak"]["frequency_hz"])
+        for n in cascade.nsv
+        if n is not None and n["class"] != "unsettled" and n["peak"]["amplitude_m"] >= threshold
+    ]
+    if peaks:
+        ax.plot(*zip(*peaks), "o", mfc="none", mec="white", ms=5, label="NSV >= threshold")
     ax.set(xlabel="speed [Hz]", ylabel="frequency [Hz]", ylim=(0, top), title="cascade map (log amplitude)")
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize="small", loc="upper left")
     return ax
 
 
