@@ -65,6 +65,8 @@ def test_every_figure_draws(tmp_path):
     labels = [line.get_label() for line in axes[6].lines]
     assert any(label.startswith("BPFO = N_b w_c") for label in labels), labels
     assert "NSV >= threshold" in labels
+    # The waterfall the same lines, frequency over speed.
+    assert [line.get_label() for line in axes[5].lines if not line.get_label().startswith("_")] == labels[:-1]
     # The Bode plot has the amplitude above the phase, ux and uy of each node in both.
     amplitude, phase = axes[1].figure.axes
     assert len(amplitude.lines) == len(phase.lines) == 2 * len(response.nodes)

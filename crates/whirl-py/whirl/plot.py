@@ -139,27 +139,44 @@ def spectrum(run, channel=None, ax=None):
     return ax
 
 
-def waterfall(cascade, ax=None):
-    """Every speed's spectrum, offset by its speed (the cascade's waterfall)."""
-    ax = _axes(ax)
-    scale = np.nanmax(cascade.amplitude) or 1.0
-    step = np.median(np.diff(cascade.speeds_hz)) if len(cascade.speeds_hz) > 1 else 1.0
-    for speed, a in zip(cascade.speeds_hz, cascade.amplitude):
-        ax.plot(cascade.frequency_hz, speed + 3 * step * a / scale, color="black", lw=0.5)
-    ax.set(xlabel="frequency [Hz]", ylabel="speed [Hz]", title="cascade")
-    return ax
-
-
 #: The roller bearings' characteristic frequencies, as the summary's ``bearing_orders``
 #: name them, and as the figures label them.
 _BEARING_LINES = (("ftf", "FTF"), ("bpfo", "BPFO = N_b w_c"), ("bpfi", "BPFI"), ("bsf", "BSF"))
 
 
+def _order_lines(cascade) -> list[tuple[str, float]]:
+    """The orders drawn over a cascade, as the command line draws them: 0.5X, 1X and 2X, and
+    the first roller bearing's characteristic frequencies."""
+    lines = [(f"{k:g}X", k) for k in (0.5, 1.0, 2.0)]
+    for bearing in cascade.to_dict()["bearing_orders"][:1]:
+        lines += [(f"{name}, {bearing['bearing']}", bearing["orders"][key]) for key, name in _BEARING_LINES]
+    return lines
+
+
+def waterfall(cascade, ax=None):
+    """Every speed's spectrum, offset by its speed and rising by its log amplitude over the
+    four decades below the largest (the cascade's waterfall), with the order lines and the
+    first roller bearing's characteristic frequencies dashed."""
+    ax = _axes(ax)
+    speeds = cascade.speeds_hz
+    floor = (np.nanmax(cascade.amplitude) or 1.0) * 1e-4
+    step = np.median(np.diff(speeds)) if len(speeds) > 1 else 1.0
+    for speed, a in zip(speeds, cascade.amplitude):
+        rise = np.log10(np.maximum(a, floor) / floor) / 4
+        ax.plot(cascade.frequency_hz, speed + 3 * step * rise, color="black", lw=0.5)
+    for name, order in _order_lines(cascade):
+        ax.plot(order * speeds, speeds, "--", lw=0.8, label=name)
+    ax.set(xlabel="frequency [Hz]", ylabel="speed [Hz] (trace: log amplitude)", title="cascade",
+           xlim=(0, cascade.frequency_hz[-1]))
+    ax.legend(fontsize="small", loc="lower right")
+    return ax
+
+
 def cascade_map(cascade, ax=None, max_frequency_hz=None):
-    """Frequency over speed, colour the log amplitude, as the command line's map: the 0.5X,
-    1X and 2X lines, the first roller bearing's characteristic frequencies (FTF, BPFO =
-    N_b w_c, BPFI, BSF; dashed) and the steady NSV peaks at or above the threshold
-    (circled)."""
+    """Frequency over speed, colour the log amplitude over four decades, as the command
+    line's map: the 0.5X, 1X and 2X lines and the first roller bearing's characteristic
+    frequencies (FTF, BPFO = N_b w_c, BPFI, BSF) dashed, and the steady NSV peaks at or
+    above the threshold circled."""
     ax = _axes(ax)
     speeds = cascade.speeds_hz
     top = max_frequency_hz or 2 * speeds.max()
@@ -168,13 +185,9 @@ def cascade_map(cascade, ax=None, max_frequency_hz=None):
     # Four decades below the largest amplitude, as the command line's map.
     ax.pcolormesh(speeds, cascade.frequency_hz[keep], level, shading="nearest",
                   vmin=level.max() - 4, vmax=level.max())
-    for k in (0.5, 1, 2):
-        ax.plot(speeds, k * speeds, "w--", lw=0.8)
-    summary = cascade.to_dict()
-    for bearing in summary["bearing_orders"][:1]:
-        for key, name in _BEARING_LINES:
-            ax.plot(speeds, bearing["orders"][key] * speeds, "--", lw=0.8, label=f"{name}, {bearing['bearing']}")
-    threshold = summary["nsv"]["threshold_m"]
+    for name, order in _order_lines(cascade):
+        ax.plot(speeds, order * speeds, "--", lw=0.8, label=name)
+    threshold = cascade.to_dict()["nsv"]["threshold_m"]
     peaks = [
         (n["speed_hz"], n["peak"]["frequency_hz"])
         for n in cascade.nsv
@@ -183,8 +196,7 @@ def cascade_map(cascade, ax=None, max_frequency_hz=None):
     if peaks:
         ax.plot(*zip(*peaks), "o", mfc="none", mec="white", ms=5, label="NSV >= threshold")
     ax.set(xlabel="speed [Hz]", ylabel="frequency [Hz]", ylim=(0, top), title="cascade map (log amplitude)")
-    if ax.get_legend_handles_labels()[0]:
-        ax.legend(fontsize="small", loc="upper left")
+    ax.legend(fontsize="small", loc="upper left")
     return ax
 
 
