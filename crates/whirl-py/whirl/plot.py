@@ -37,6 +37,22 @@ def campbell(diagram, ax=None):
     return ax
 
 
+#: API 617's least logarithmic decrement of a mode.
+_API_617_LOG_DECREMENT = 0.1
+
+
+def log_decrement(diagram, ax=None):
+    """The logarithmic decrement of each whirl branch of a Campbell diagram over speed
+    (forward solid, backward dashed), with API 617's minimum of 0.1."""
+    ax = _axes(ax)
+    for b in diagram.branches:
+        ax.plot(diagram.speeds_hz, b.log_decrement, "--" if b.whirl == "backward" else "-", label=b.label)
+    ax.axhline(_API_617_LOG_DECREMENT, color="grey", lw=0.8, label="API 617 minimum")
+    ax.set(xlabel="speed [Hz]", ylabel="log decrement [-]", title="logarithmic decrement of the whirl branches")
+    ax.legend(fontsize="small", ncol=2)
+    return ax
+
+
 def bode(response, ax=None):
     """Unbalance response as the command line's Bode plot: the amplitude of ux (solid) and
     uy (dashed) at each reported node over speed, um on a log scale, above their phase,
