@@ -85,7 +85,7 @@ class Model:
         :class:`~whirl.Disk`, :class:`~whirl.Bearing`, :class:`~whirl.RollerBearing`,
         :class:`~whirl.Unbalance`, ...), given in any order and as lists or single parts;
         ``gravity`` along -y in m/s^2 (the model file's default when None).
-        ``Model.build(model.name, model.parts())`` is the same model."""
+        ``Model.build(model.name, model.parts(), model.gravity)`` is the same model."""
         tables: dict[str, Any] = {"name": name}
         if gravity is not None:
             tables["gravity"] = gravity
@@ -129,6 +129,11 @@ class Model:
     def name(self) -> str:
         """The model's name."""
         return self._raw.name
+
+    @property
+    def gravity(self) -> float:
+        """Gravity along -y, m/s^2 (0 when switched off)."""
+        return self.to_dict()["gravity"]
 
     @property
     def file(self) -> str | None:

@@ -14,8 +14,8 @@ A part's keywords are the keys of its table in the model file (docs/model-file.m
 values what the file takes: numbers in SI, text with a unit (``"20 um"``) or pint
 quantities. The library checks them when the model is built, as it checks a model file,
 and an unknown or wrong key is named (``shaft[0].lenght``). ``model.parts()`` gives a
-model's parts back, so ``Model.build(model.name, model.parts())`` is the same model, and
-``part.to_dict()`` is the part's table.
+model's parts back, so ``Model.build(model.name, model.parts(), model.gravity)`` is the
+same model, and ``part.to_dict()`` is the part's table.
 """
 
 from __future__ import annotations
