@@ -418,7 +418,7 @@ pub fn campbell(model: &Model, result: &CampbellResult, labels: &[String]) -> Fi
         }
     }
     for cluster in crossing_clusters(&result.critical_speeds, x_hi - x_lo, top) {
-        // One entry per printed speed, its whirl letters joined: "24.9 B/F".
+        // One entry per printed speed, its whirl letters joined: "24.9 Hz B/F".
         let mut texts: Vec<(String, String)> = Vec::new();
         for c in &cluster {
             let (speed, letter) = (format!("{:.1}", c.speed_hz), whirl_letter(c.whirl));
@@ -431,14 +431,12 @@ pub fn campbell(model: &Model, result: &CampbellResult, labels: &[String]) -> Fi
                 None => texts.push((speed, letter.to_string())),
             }
         }
-        let texts: Vec<String> = texts.iter().map(|(s, l)| format!("{s} {l}")).collect();
+        // Each speed with its unit, so that --rpm can write it in rpm.
+        let texts: Vec<String> = texts.iter().map(|(s, l)| format!("{s} Hz {l}")).collect();
         let last = cluster[cluster.len() - 1];
         let y = cluster.iter().map(|c| c.frequency_hz).fold(0.0, f64::max);
-        fig.annotations.push(Annotation::new(
-            last.speed_hz,
-            y,
-            format!("{} Hz", texts.join(" / ")),
-        ));
+        fig.annotations
+            .push(Annotation::new(last.speed_hz, y, texts.join(" / ")));
     }
     if let Some((_, hi)) = model.operating {
         let hi = hi / (2.0 * PI);

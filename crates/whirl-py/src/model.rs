@@ -69,17 +69,6 @@ impl PyModel {
         PyModel::read(text, file)
     }
 
-    /// Validates a model given as JSON text with the model file's tables and keys.
-    #[staticmethod]
-    fn from_json(json: &str) -> PyResult<PyModel> {
-        let value: toml::Value = serde_json::from_str(json)
-            .map_err(|e| InputError::new_err(format!("the model is not a table of tables: {e}")))?;
-        let text = toml::to_string(&value).map_err(|e| {
-            InputError::new_err(format!("the model cannot be written as a model file: {e}"))
-        })?;
-        PyModel::read(text, None)
-    }
-
     /// The same model with values set at parameter paths (`roller_bearing[*].clearance`),
     /// given as `(path, value)` pairs in order; a value is a number (SI), a bool, or text
     /// with a unit (`"20 um"`).

@@ -81,11 +81,13 @@ def test_every_figure_of_a_result_draws(results, name):
     result = results[name]
     assert result.figures
     for kind in result.figures:
-        if kind == "starts":  # only a cascade run with compare_starts=True has two starts
-            continue
         ax = result.plot(kind)
         assert ax.has_data(), kind
         plt.close("all")
+
+
+def test_a_cascade_of_one_start_has_no_figure_of_two(results):
+    assert "starts" not in results["cascade"].figures
 
 
 def test_an_unknown_figure_is_refused_naming_the_figures(results):

@@ -7,6 +7,7 @@ import matplotlib
 matplotlib.use("Agg")
 
 import numpy as np  # noqa: E402
+import pytest  # noqa: E402
 
 import whirl  # noqa: E402
 import whirl.plot  # noqa: E402
@@ -21,6 +22,7 @@ def test_every_figure_draws(tmp_path):
     cascade = whirl.cascade(
         model, "100Hz:300Hz:4", no_refine=True, max_records=1, compare_starts=True, progress=False
     )
+    assert cascade.figures[-1] == "starts", "a cascade of two starts offers their figure"
     branch = whirl.hbm(model, "1:60Hz", harmonics=2, progress=False)
     reduced = whirl.reduce(model)
     axes = [
@@ -39,6 +41,7 @@ def test_every_figure_draws(tmp_path):
         whirl.plot.static_response(whirl.static(model)),
         whirl.plot.ucs(whirl.ucs(model)),
         whirl.plot.frf(whirl.frf(model, "10:uy", frequencies="0:400Hz:101")),
+        whirl.plot.orbit_major(response),
     ]
     bearing = whirl.stiffness(model, clearances="10um:60um:3", cage_steps=2, grid=5)
     axes += [whirl.plot.stiffness(bearing), whirl.plot.force_surface(bearing, "60um")]
@@ -52,3 +55,24 @@ def test_every_figure_draws(tmp_path):
     # (the branch loses stability in the first resonance).
     styles = {line.get_linestyle() for line in axes[9].lines}
     assert {"-", "--"} <= styles, styles
+    # The spectrum is the library's (spectrum.csv), over ten orders of the 50 Hz running
+    # speed rather than up to the sampling's Nyquist frequency (15.4 kHz).
+    assert axes[4].get_xlim()[1] == pytest.approx(525.0)
+    np.testing.assert_array_equal(
+        axes[4].lines[0].get_xdata(), run.columns("spectrum")["frequency_hz"][: len(axes[4].lines[0].get_xdata())]
+    )
+    # The cascade map has the bearing's lines (BPFO = N_b w_c among them) and the NSV peaks.
+    labels = [line.get_label() for line in axes[6].lines]
+    assert any(label.startswith("BPFO = N_b w_c") for label in labels), labels
+    assert "NSV >= threshold" in labels
+    # The waterfall the same lines, frequency over speed.
+    assert [line.get_label() for line in axes[5].lines if not line.get_label().startswith("_")] == labels[:-1]
+    # The Bode plot has the amplitude above the phase, ux and uy of each node in both.
+    amplitude, phase = axes[1].figure.axes
+    assert len(amplitude.lines) == len(phase.lines) == 2 * len(response.nodes)
+    assert phase.get_ylabel() == "phase [deg]"
+    # Its bifurcations where stability is lost, labelled by initials as the command line
+    # does (whole names of close speeds ran into each other).
+    labels = [t.get_text().rstrip("?") for t in axes[9].texts]
+    assert len(labels) == sum(b["loses_stability"] for b in branch.bifurcations) > 0
+    assert set(labels) <= {"SB", "NS", "PD", "F"}, labels

@@ -10,6 +10,10 @@ numpy arrays, ``to_pandas()`` for the tables the command line writes as CSV and
     >>> diagram = whirl.campbell(model, speeds="0:800Hz:161")
     >>> diagram.to_pandas().head()
 
+A model is read from a model file, TOML text or a dict of its tables, or built in code from
+parts, one per table of the model file: ``whirl.Model.build("rotor", [whirl.Shaft(...),
+whirl.Disk(...), whirl.Bearing(...)])`` (:mod:`whirl.parts`).
+
 Speeds are given with their unit as text (``"50Hz"``, ``"0:800Hz:161"``, ``"3000rpm"``) or
 as numbers in rad/s (SI, as everywhere in the model file).
 """
@@ -30,6 +34,22 @@ from .modal import (
     modal,
 )
 from .nsv import CascadeResult, cascade
+from .parts import (
+    BallBearing,
+    Bearing,
+    Damping,
+    Defect,
+    Disk,
+    Elements,
+    Housing,
+    Material,
+    Operating,
+    RollerBearing,
+    Shaft,
+    SqueezeFilm,
+    Unbalance,
+    Waviness,
+)
 from .report import Report
 from .response import UnbalanceResult, unbalance
 from .ross import from_ross, read_ross
@@ -38,18 +58,32 @@ from .time import SimulationResult, simulate
 
 __all__ = [
     "BUILD_ID",
+    "BallBearing",
+    "Bearing",
     "CampbellResult",
     "CascadeResult",
     "CheckResult",
     "ConvergenceResult",
+    "Damping",
+    "Defect",
+    "Disk",
+    "Elements",
+    "Housing",
     "InputError",
-    "Model",
+    "Material",
     "ModalResult",
+    "Model",
     "NumericalError",
+    "Operating",
     "Report",
+    "RollerBearing",
+    "Shaft",
     "SimulationResult",
+    "SqueezeFilm",
     "StudyResult",
+    "Unbalance",
     "UnbalanceResult",
+    "Waviness",
     "WhirlError",
     "WhirlWarning",
     "__version__",

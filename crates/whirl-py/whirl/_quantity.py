@@ -1,6 +1,6 @@
 """pint quantities (or any object with ``magnitude``, ``units`` and ``to``) as the model
 file writes quantities: text with one of whirl's units where the field takes one, SI
-numbers otherwise."""
+numbers otherwise; and the parts of a model built in code as their tables."""
 
 from __future__ import annotations
 
@@ -44,9 +44,12 @@ def _text(q: Any) -> str | float:
 
 def plain(value: Any) -> Any:
     """``value`` with every quantity in it (at any depth of dicts and lists) as the model
-    file writes it."""
+    file writes it, and every part of a model (:class:`whirl.parts.Part`) as its table."""
     if _is_quantity(value):
         return _text(value)
+    if hasattr(value, "table") and isinstance(getattr(value, "fields", None), dict):
+        # A part (whirl.parts, which builds on this module): its table.
+        return plain(value.fields)
     if isinstance(value, Mapping):
         return {k: plain(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):

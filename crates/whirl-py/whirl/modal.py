@@ -73,7 +73,7 @@ class CampbellResult(Reported):
     """A Campbell diagram (``whirl campbell``): whirl frequencies over speed, forward and
     backward branches, critical speeds where they cross the excitation orders."""
 
-    _figures = ("campbell",)
+    _figures = ("campbell", "log_decrement")
 
     model: Model
     #: Spin speeds, Hz.

@@ -7,13 +7,15 @@ import math
 import os
 import tomllib
 import warnings
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 import numpy as np
 
 from . import _whirl
 from ._quantity import plain
+from ._toml import located, model_text
+from .parts import Part, parts_of, tables_of
 
 
 class WhirlWarning(UserWarning):
@@ -67,7 +69,32 @@ class Model:
                 f"`{path}`: {value!r} has no place in a model file (TOML has no NaN or "
                 "infinity)\n  help: give a finite number or text with a unit"
             )
-        return cls._checked(_whirl.Model.from_json(json.dumps(converted)))
+        text, paths = model_text(converted)
+        try:
+            raw = _whirl.Model.from_toml(text, None)
+        except _whirl.InputError as e:
+            # Located in text the caller never saw: named by the key instead.
+            raise _whirl.InputError(located(str(e), paths)) from None
+        return cls._checked(raw)
+
+    @classmethod
+    def build(
+        cls, name: str, parts: Iterable[Part | Iterable[Part]], gravity: Any = None
+    ) -> Model:
+        """Validates a model built from parts (:mod:`whirl.parts`: :class:`~whirl.Shaft`,
+        :class:`~whirl.Disk`, :class:`~whirl.Bearing`, :class:`~whirl.RollerBearing`,
+        :class:`~whirl.Unbalance`, ...), given in any order and as lists or single parts;
+        ``gravity`` along -y in m/s^2 (the model file's default when None).
+        ``Model.build(model.name, model.parts(), model.gravity)`` is the same model."""
+        tables: dict[str, Any] = {"name": name}
+        if gravity is not None:
+            tables["gravity"] = gravity
+        return cls.from_dict({**tables, **tables_of(parts)})
+
+    def parts(self) -> list[Part]:
+        """The model's parts (:mod:`whirl.parts`), in the model file's order of tables,
+        each holding its table's keys as the file writes them."""
+        return parts_of(self.to_tables())
 
     def with_values(self, values: Mapping[str, Any]) -> Model:
         """The same model with values set at the study files' parameter paths, e.g.
@@ -81,15 +108,17 @@ class Model:
         the validated model in SI instead."""
         return tomllib.loads(self.toml)
 
-    def extended(self, tables: Mapping[str, Any]) -> Model:
-        """The same model with more in it, validated again: each list (``unbalance``,
+    def extended(self, tables: Mapping[str, Any] | Iterable[Part]) -> Model:
+        """The same model with more in it, validated again: ``tables`` are the model
+        file's tables or parts (:mod:`whirl.parts`); each list (``unbalance``,
         ``roller_bearing``, ``disk``, ...) is appended to the model file's list of that name,
         each other value (``damping``, ``operating``) set. For instance an unbalance on a
-        rotor read from ROSS: ``rotor.extended({"unbalance": [{"node": 12, "mass": "1 g",
-        "eccentricity": "50 mm"}]})``. To replace a list, edit :meth:`to_tables` and give
-        it to :meth:`from_dict`."""
+        rotor read from ROSS: ``rotor.extended([whirl.Unbalance(node=12, mass="1 g",
+        eccentricity="50 mm")])``. To replace a list, edit :meth:`parts` or
+        :meth:`to_tables` and give them to :meth:`build` or :meth:`from_dict`."""
+        added = tables if isinstance(tables, Mapping) else tables_of(tables)
         merged = self.to_tables()
-        for key, value in plain(dict(tables)).items():
+        for key, value in plain(dict(added)).items():
             if isinstance(value, list):
                 merged[key] = [*merged.get(key, []), *value]
             else:
@@ -100,6 +129,11 @@ class Model:
     def name(self) -> str:
         """The model's name."""
         return self._raw.name
+
+    @property
+    def gravity(self) -> float:
+        """Gravity along -y, m/s^2 (0 when switched off)."""
+        return self.to_dict()["gravity"]
 
     @property
     def file(self) -> str | None:

@@ -110,8 +110,6 @@ class CascadeResult(Reported):
     ``compare_starts=True``). The summary's keys read as attributes too
     (``result.resumed_speeds``, ``result.checkpoint_folder``)."""
 
-    _figures = ("cascade_map", "waterfall", "nsv", "starts")
-
     model: Model
     #: Speeds, requested and added, ascending, Hz.
     speeds_hz: np.ndarray
@@ -130,6 +128,12 @@ class CascadeResult(Reported):
     #: speed or None, peak) or None.
     nsv: list[dict[str, Any] | None]
     report: Report
+
+    @property
+    def _figures(self) -> tuple[str, ...]:
+        # The two starts' figure only of a cascade run with compare_starts=True.
+        both = ("starts",) if "starts" in self.tables else ()
+        return ("cascade_map", "waterfall", "nsv", *both)
 
 
 def _result(model: Model, raw: dict[str, Any], report: Report) -> CascadeResult:

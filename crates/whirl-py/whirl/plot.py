@@ -37,15 +37,63 @@ def campbell(diagram, ax=None):
     return ax
 
 
+#: API 617's least logarithmic decrement of a mode.
+_API_617_LOG_DECREMENT = 0.1
+
+
+def log_decrement(diagram, ax=None):
+    """The logarithmic decrement of each whirl branch of a Campbell diagram over speed
+    (forward solid, backward dashed), with API 617's minimum of 0.1."""
+    ax = _axes(ax)
+    for b in diagram.branches:
+        ax.plot(diagram.speeds_hz, b.log_decrement, "--" if b.whirl == "backward" else "-", label=b.label)
+    ax.axhline(_API_617_LOG_DECREMENT, color="grey", lw=0.8, label="API 617 minimum")
+    ax.set(xlabel="speed [Hz]", ylabel="log decrement [-]", title="logarithmic decrement of the whirl branches")
+    ax.legend(fontsize="small", ncol=2)
+    return ax
+
+
 def bode(response, ax=None):
+    """Unbalance response as the command line's Bode plot: the amplitude of ux (solid) and
+    uy (dashed) at each reported node over speed, um on a log scale, above their phase,
+    unwrapped, degrees. ``ax`` is the pair of Axes (amplitude, phase) to draw on, or one
+    Axes for the amplitude alone; returns the amplitude's Axes."""
+    if ax is None:
+        import matplotlib.pyplot as plt
+
+        _, (amplitude, phase) = plt.subplots(2, 1, sharex=True, figsize=(6.4, 6.4))
+    elif isinstance(ax, (tuple, list)):
+        amplitude, phase = ax
+    else:
+        amplitude, phase = ax, None
+    for r in response.nodes:
+        (line,) = amplitude.semilogy(response.speeds_hz, 1e6 * r.ux_amplitude, label=f"node {r.node} ux")
+        amplitude.semilogy(response.speeds_hz, 1e6 * r.uy_amplitude, "--", color=line.get_color(),
+                           label=f"node {r.node} uy")
+        if phase is not None:
+            for values, style in ((r.ux_phase_deg, "-"), (r.uy_phase_deg, "--")):
+                unwrapped = np.degrees(np.unwrap(np.radians(values)))
+                phase.plot(response.speeds_hz, unwrapped, style, color=line.get_color())
+    amplitude.set(ylabel="amplitude [um]", title="unbalance response")
+    amplitude.legend(fontsize="small")
+    if phase is not None:
+        phase.set(xlabel="speed [Hz]", ylabel="phase [deg]")
+    else:
+        amplitude.set(xlabel="speed [Hz]")
+    return amplitude
+
+
+def orbit_major(response, ax=None):
     """Unbalance response: the orbit's major semi-axis over speed at each reported node
-    (log scale), peaks marked."""
+    (um, log scale), each peak marked and labelled with its speed."""
     ax = _axes(ax)
     for r in response.nodes:
-        ax.semilogy(response.speeds_hz, r.major, label=f"node {r.node}")
+        ax.semilogy(response.speeds_hz, 1e6 * r.major, label=f"node {r.node}")
         for p in r.peaks:
-            ax.plot(p.speed_hz, p.amplitude, "v", color="black")
-    ax.set(xlabel="speed [Hz]", ylabel="major semi-axis [m]", title="unbalance response")
+            ax.plot(p.speed_hz, 1e6 * p.amplitude, "v", color="black")
+            ax.annotate(f"{p.speed_hz:.1f} Hz", (p.speed_hz, 1e6 * p.amplitude), fontsize="small",
+                        textcoords="offset points", xytext=(3, 3))
+    ax.set(xlabel="speed [Hz]", ylabel="major semi-axis [um]", title="unbalance response: orbit size")
     ax.legend(fontsize="small")
     return ax
 
@@ -73,41 +121,98 @@ def orbit(run, node=None, ax=None):
     return ax
 
 
+#: A peak within this fraction of its channel's largest widens the spectrum to show it,
+#: and at most this many orders are marked, as on the command line.
+_SHOWN_PEAK_RELATIVE = 0.1
+_MAX_ORDER_LINES = 12
+
+
 def spectrum(run, channel=None, ax=None):
-    """Amplitude spectrum (Hann window, mean removed) of the settled part of a channel."""
+    """The library's amplitude spectrum of the settled part of a channel (default the second,
+    the first node's uy), the command line's ``spectrum.csv``, over ten orders of the running
+    speed or past the highest peak within a decade of its channel's largest; the orders
+    (at most 12) marked."""
     ax = _axes(ax)
     name = run.names[1] if channel is None else channel
-    x = run.channel(name)[run.time >= run.settle]
-    window = np.hanning(len(x))
-    x = (x - np.average(x, weights=window)) * window
-    amplitude = 2 * np.abs(np.fft.rfft(x)) / window.sum()
-    dt = run.step * run.record_every
-    ax.semilogy(np.fft.rfftfreq(len(x), dt), amplitude)
-    ax.set(xlabel="frequency [Hz]", ylabel="amplitude [m]", title=f"spectrum of {name}")
+    table = run.columns("spectrum")
+    frequency, amplitude = table["frequency_hz"], table[name]
+    running = run.running_speed_hz
+    peaks = run.columns("peaks")
+    channels = np.asarray(peaks["channel"])
+    peak_amplitude = peaks["amplitude_m"]
+    largest = {c: peak_amplitude[channels == c].max() for c in set(channels)}
+    shown = [f for c, f, a in zip(channels, peaks["frequency_hz"], peak_amplitude)
+             if a >= _SHOWN_PEAK_RELATIVE * largest[c]]
+    top = max(10.5 * running, 1.2 * max(shown, default=0.0))
+    top = min(top, frequency[-1]) if top > 0 else frequency[-1]
+    keep = frequency <= top
+    ax.semilogy(frequency[keep], 1e6 * amplitude[keep])
+    orders = min(int(top // running), _MAX_ORDER_LINES) if running > 0 else 0
+    for k in range(1, orders + 1):
+        ax.axvline(k * running, color="grey", lw=0.6, ls=":")
+    ax.set(xlabel="frequency [Hz]", ylabel="amplitude, zero-to-peak [um]", xlim=(0, top),
+           title=f"spectrum of {name} ({run.spectrum_window} window)")
     return ax
 
 
+#: The roller bearings' characteristic frequencies, as the summary's ``bearing_orders``
+#: name them, and as the figures label them.
+_BEARING_LINES = (("ftf", "FTF"), ("bpfo", "BPFO = N_b w_c"), ("bpfi", "BPFI"), ("bsf", "BSF"))
+
+
+def _order_lines(cascade) -> list[tuple[str, float]]:
+    """The orders drawn over a cascade, as the command line draws them: 0.5X, 1X and 2X, and
+    the first roller bearing's characteristic frequencies."""
+    lines = [(f"{k:g}X", k) for k in (0.5, 1.0, 2.0)]
+    for bearing in cascade.to_dict()["bearing_orders"][:1]:
+        lines += [(f"{name}, {bearing['bearing']}", bearing["orders"][key]) for key, name in _BEARING_LINES]
+    return lines
+
+
 def waterfall(cascade, ax=None):
-    """Every speed's spectrum, offset by its speed (the cascade's waterfall)."""
+    """Every speed's spectrum, offset by its speed and rising by its log amplitude over the
+    four decades below the largest (the cascade's waterfall), with the order lines and the
+    first roller bearing's characteristic frequencies dashed."""
     ax = _axes(ax)
-    scale = np.nanmax(cascade.amplitude) or 1.0
-    step = np.median(np.diff(cascade.speeds_hz)) if len(cascade.speeds_hz) > 1 else 1.0
-    for speed, a in zip(cascade.speeds_hz, cascade.amplitude):
-        ax.plot(cascade.frequency_hz, speed + 3 * step * a / scale, color="black", lw=0.5)
-    ax.set(xlabel="frequency [Hz]", ylabel="speed [Hz]", title="cascade")
+    speeds = cascade.speeds_hz
+    floor = (np.nanmax(cascade.amplitude) or 1.0) * 1e-4
+    step = np.median(np.diff(speeds)) if len(speeds) > 1 else 1.0
+    for speed, a in zip(speeds, cascade.amplitude):
+        rise = np.log10(np.maximum(a, floor) / floor) / 4
+        ax.plot(cascade.frequency_hz, speed + 3 * step * rise, color="black", lw=0.5)
+    for name, order in _order_lines(cascade):
+        ax.plot(order * speeds, speeds, "--", lw=0.8, label=name)
+    ax.set(xlabel="frequency [Hz]", ylabel="speed [Hz] (trace: log amplitude)", title="cascade",
+           xlim=(0, cascade.frequency_hz[-1]))
+    ax.legend(fontsize="small", loc="lower right")
     return ax
 
 
 def cascade_map(cascade, ax=None, max_frequency_hz=None):
-    """Frequency over speed, colour the log amplitude, with the 0.5X, 1X and 2X lines."""
+    """Frequency over speed, colour the log amplitude over four decades, as the command
+    line's map: the 0.5X, 1X and 2X lines and the first roller bearing's characteristic
+    frequencies (FTF, BPFO = N_b w_c, BPFI, BSF) dashed, and the steady NSV peaks at or
+    above the threshold circled."""
     ax = _axes(ax)
-    top = max_frequency_hz or 2 * cascade.speeds_hz.max()
+    speeds = cascade.speeds_hz
+    top = max_frequency_hz or 2 * speeds.max()
     keep = cascade.frequency_hz <= top
-    level = np.log10(np.maximum(cascade.amplitude[:, keep].T, 1e-12))
-    ax.pcolormesh(cascade.speeds_hz, cascade.frequency_hz[keep], level, shading="nearest")
-    for k in (0.5, 1, 2):
-        ax.plot(cascade.speeds_hz, k * cascade.speeds_hz, "w--", lw=0.8)
+    level = np.log10(np.maximum(cascade.amplitude[:, keep].T, 1e-300))
+    # Four decades below the largest amplitude, as the command line's map.
+    ax.pcolormesh(speeds, cascade.frequency_hz[keep], level, shading="nearest",
+                  vmin=level.max() - 4, vmax=level.max())
+    for name, order in _order_lines(cascade):
+        ax.plot(speeds, order * speeds, "--", lw=0.8, label=name)
+    threshold = cascade.to_dict()["nsv"]["threshold_m"]
+    peaks = [
+        (n["speed_hz"], n["peak"]["frequency_hz"])
+        for n in cascade.nsv
+        if n is not None and n["class"] != "unsettled" and n["peak"]["amplitude_m"] >= threshold
+    ]
+    if peaks:
+        ax.plot(*zip(*peaks), "o", mfc="none", mec="white", ms=5, label="NSV >= threshold")
     ax.set(xlabel="speed [Hz]", ylabel="frequency [Hz]", ylim=(0, top), title="cascade map (log amplitude)")
+    ax.legend(fontsize="small", loc="upper left")
     return ax
 
 
@@ -164,30 +269,42 @@ def _stable_runs(stable: list) -> list[tuple[int, int, bool]]:
     return runs
 
 
+def _initials(kind: str) -> str:
+    """A bifurcation's kind by its initials, as the command line labels it: SB, NS, PD, F."""
+    return "".join(word[0].upper() for word in kind.replace("-", " ").split())
+
+
 def hb_branch(result, node=None, direction="uy", ax=None):
     """Harmonic balance (``whirl.hbm``): the amplitude of each harmonic of ``direction`` at
-    ``node`` (default the first reported) along the branch over speed, stable solid and
-    unstable dashed, the bifurcations marked (`?` where not resolved at twice the
-    samples)."""
+    ``node`` (default the first reported) along the branch over speed, in um over the four
+    decades below the largest, stable solid and unstable dashed; a line where stability is
+    lost, labelled by the bifurcation's initials (SB symmetry breaking, NS Neimark-Sacker,
+    PD period doubling, F fold; `?` where not resolved at twice the samples)."""
     ax = _axes(ax)
     node = result.nodes[0] if node is None else node
     branch = result.columns("branch")
     speed, runs = branch["speed_hz"], _stable_runs(branch["stable"])
+    top = 0.0
     for r in range(1, result.harmonics + 1):
-        y = branch[f"n{node}_{direction}_{r}x_m"]
+        y = 1e6 * branch[f"n{node}_{direction}_{r}x_m"]
+        top = max(top, float(np.nanmax(y)))
         line = None
         for a, b, stable in runs:
             kwargs = {"color": line.get_color()} if line is not None else {"label": f"{r}X"}
             (drawn,) = ax.semilogy(speed[a:b], y[a:b], "-" if stable else "--", **kwargs)
             line = line or drawn
-    for b in result.bifurcations:
-        ax.axvline(b["speed_hz"], color="grey", lw=0.8, ls=":")
-        label = b["kind"] + (" ?" if b.get("resolved") is False else "")
-        ax.annotate(label, (b["speed_hz"], 1), xycoords=("data", "axes fraction"),
-                    rotation=90, va="top", ha="right", fontsize="small")
-    ax.set(xlabel="speed [Hz]", ylabel=f"{direction} amplitude [m]",
+    lost = [b for b in result.bifurcations if b["loses_stability"]]
+    for i, b in enumerate(lost):
+        ax.axvline(b["speed_hz"], color="grey", lw=0.8, ls="--")
+        label = _initials(b["kind"]) + ("?" if b.get("resolved") is False else "")
+        # Staggered down the top edge, so that labels of close speeds do not overlap.
+        ax.annotate(label, (b["speed_hz"], 0.97 - 0.06 * (i % 4)), xycoords=("data", "axes fraction"),
+                    ha="left", va="top", fontsize="small", color="dimgrey")
+    if top > 0:
+        ax.set_ylim(1e-4 * top, 3 * top)
+    ax.set(xlabel="speed [Hz]", ylabel=f"{direction} amplitude [um]",
            title=f"harmonic balance, node {node} (dashed: unstable)")
-    ax.legend(fontsize="small")
+    ax.legend(fontsize="small", loc="lower right")
     return ax
 
 

@@ -62,7 +62,7 @@ class UnbalanceResult(Reported):
     of ux and uy and the orbit's semi-axes over speed, and the resonance peaks with their
     amplification factors and API 617 separation margins."""
 
-    _figures = ("bode", "polar")
+    _figures = ("bode", "polar", "orbit_major")
 
     model: Model
     #: Spin speeds, Hz (uneven: speeds are added inside each peak's half-power band).

@@ -44,7 +44,8 @@ pub struct Common {
     /// Print summary.json to stdout instead of the text summary (the folder is still written).
     #[arg(long)]
     pub json: bool,
-    /// Speed axes of the plots in rpm instead of Hz (the tables keep Hz).
+    /// Speed axes of the plots, and the speeds their marks name, in rpm instead of Hz (the
+    /// tables keep Hz).
     #[arg(long)]
     pub rpm: bool,
 }
@@ -59,6 +60,16 @@ impl Common {
     pub fn speed_axis<F: SpeedInRpm>(&self, figure: F, axis: SpeedAxis) -> F {
         if self.rpm {
             figure.speed_in_rpm(axis)
+        } else {
+            figure
+        }
+    }
+
+    /// `figure` with the speeds its marks name in rpm when `--rpm` was given (a figure
+    /// without a speed axis, such as the polar plot).
+    pub fn speed_texts<F: SpeedInRpm>(&self, figure: F) -> F {
+        if self.rpm {
+            figure.speed_texts_in_rpm()
         } else {
             figure
         }

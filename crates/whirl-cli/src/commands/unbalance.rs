@@ -58,7 +58,9 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
             .speed_axis(plots::bode(&result), SpeedAxis::X)
             .save(stem)
     })?;
-    out.plot("polar", |stem| plots::polar(&result).save(stem))?;
+    out.plot("polar", |stem| {
+        common.speed_texts(plots::polar(&result)).save(stem)
+    })?;
     out.plot("orbit_major", |stem| {
         common
             .speed_axis(plots::orbit_major(&result), SpeedAxis::X)
