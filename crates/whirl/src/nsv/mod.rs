@@ -73,6 +73,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 pub use classify::{NamedFrequency, Nsv, NsvClass, WhirlDirection};
+pub(crate) use options::next_five_smooth;
 pub use options::{
     default_speeds, even_speeds, records_span, Averaging, CascadeOptions, Component, Refinement,
     Resolved, DEFAULT_ABSOLUTE_ERROR_M, DEFAULT_DECIDED_ERROR, DEFAULT_MAX_ADDED,
@@ -81,7 +82,7 @@ pub use options::{
     DEFAULT_TOLERANCE_BINS,
 };
 pub use point::{
-    dies_away, negligible, CascadePoint, NsvPeak, DECAY_PER_STRETCH, NEGLIGIBLE_FRACTION,
+    dies_away, measure, negligible, CascadePoint, Measured, NsvPeak, DECAY_PER_STRETCH, NEGLIGIBLE_FRACTION,
     NEGLIGIBLE_M, TRANSIENT_DECAY,
 };
 pub use refine::SHARP_RATIO;
@@ -258,6 +259,12 @@ impl<'a> PreparedCascade<'a> {
     /// Step, sampling and band shared by every speed.
     pub fn resolved(&self) -> &Resolved {
         &self.resolved
+    }
+
+    /// The model's linear system every speed marches (reduced as the options say): a
+    /// run-up of the same model marches it too ([`crate::runup`]).
+    pub(crate) fn linear(&self) -> &Linear {
+        &self.linear
     }
 
     /// The name of this cascade's checkpoint folder ([`checkpoint::key`]).

@@ -255,7 +255,7 @@ impl CascadeOptions {
     /// The settings of every run of the cascade, at rest: each point sets its speed, its
     /// duration and the resolved step and sampling. Channels only, no roller records: one
     /// response per speed is all a point reads.
-    pub(super) fn run_settings(&self) -> SimulationOptions {
+    pub(crate) fn run_settings(&self) -> SimulationOptions {
         SimulationOptions {
             step: self.step,
             method: Method::CentralDifference,
@@ -371,7 +371,7 @@ fn fft_friendly_step(step: f64, record_every: usize, record: f64) -> f64 {
 }
 
 /// The least number at or above `n` (at least 1) with no prime factor above 5.
-fn next_five_smooth(n: usize) -> usize {
+pub(crate) fn next_five_smooth(n: usize) -> usize {
     let is_smooth = |mut m: usize| {
         for p in [2, 3, 5] {
             while m.is_multiple_of(p) {
