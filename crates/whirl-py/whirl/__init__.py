@@ -33,6 +33,7 @@ from .nsv import CascadeResult, cascade
 from .report import Report
 from .response import UnbalanceResult, unbalance
 from .ross import from_ross, read_ross
+from .runup import runup
 from .study import StudyResult, study
 from .time import SimulationResult, simulate
 
@@ -65,6 +66,7 @@ __all__ = [
     "modal",
     "read_ross",
     "reduce",
+    "runup",
     "simulate",
     "static",
     "stiffness",

@@ -1,6 +1,6 @@
 //! `whirl runup model.toml [--speeds 1:750Hz] [--rate 20Hz/s] [--direction up|down|both]
 //! [--hold 1s] [--window-length TIME] [--overlap 0.75] [--steady none|cascade|starts]
-//! [--steady-speeds 60] [--hysteresis-ratio 2] [--threshold 1um] [--smoothing 10Hz]` and the
+//! [--steady-speeds 60] [--hysteresis-ratio 2] [--threshold 1um] [--smoothing 2Hz]` and the
 //! cascade's run settings (`--contact`, `--reduce`/`--full-model`, `--step`, `--start`,
 //! `--node`, `--component`, `--window`, `--max-frequency`, `--tolerance`): run-up and
 //! coast-down through a speed range at a constant acceleration (see [`whirl::runup`]).
@@ -16,12 +16,12 @@
 use std::fmt::Write;
 
 use whirl::bearing::ContactLaw;
-use whirl::nsv::Component;
+use whirl::nsv::{CascadeRequest, Component};
 use whirl::post::Window;
 use whirl::report::Report;
 use whirl::runup::{runup, Direction, Quantity, Runup, RunupReport, RunupRequest, Steady};
 use whirl::time::Initial;
-use whirl::units::{parse_quantity, parse_range, Dimension};
+use whirl::units::{parse_angular_acceleration, parse_speed_range};
 
 use whirl_plot::SpeedAxis;
 
@@ -73,7 +73,7 @@ pub struct Args {
     #[arg(long, value_name = "LENGTH", value_parser = positive_length, allow_hyphen_values = true)]
     pub threshold: Option<f64>,
     /// Span of speed each direction is smoothed over before they are compared: `10Hz`, or a
-    /// plain number in rad/s [default: 10Hz].
+    /// plain number in rad/s [default: 2Hz].
     #[arg(long, value_name = "FREQ", value_parser = frequency, allow_hyphen_values = true)]
     pub smoothing: Option<f64>,
     /// Initial state of the sweeps and the steady cascade [default: static].
@@ -115,21 +115,15 @@ pub struct Args {
     pub map_max_frequency: Option<f64>,
 }
 
-/// Clap parser of a speed range `low:high` (`1:750Hz`, the unit shared as in
-/// `start:stop:count`); returned in rad/s.
+/// Clap parser of a speed range `low:high` (`1:750Hz`); returned in rad/s.
 fn speed_range(text: &str) -> Result<(f64, f64), String> {
-    let w = parse_range(&format!("{text}:2"), Dimension::AngularSpeed).map_err(|e| {
-        format!("`{text}` is not a speed range low:high such as 1:750Hz ({e})")
-    })?;
-    Ok((w[0], w[1]))
+    parse_speed_range(text).map_err(|e| e.to_string())
 }
 
-/// Clap parser of an angular acceleration: a speed per second (`20Hz/s`, `1200rpm/s`), or
-/// a plain number in rad/s^2; returned in rad/s^2. Its sign is checked by the library.
+/// Clap parser of an angular acceleration (`20Hz/s`); returned in rad/s^2. Its sign is
+/// checked by the library.
 fn rate(text: &str) -> Result<f64, String> {
-    let speed = text.trim().strip_suffix("/s").unwrap_or(text.trim());
-    parse_quantity(speed, Dimension::AngularSpeed)
-        .map_err(|e| format!("`{text}` is not an acceleration such as 20Hz/s ({e})"))
+    parse_angular_acceleration(text).map_err(|e| e.to_string())
 }
 
 /// The flag of a field of the run-up's options.
@@ -166,19 +160,22 @@ fn request(args: &Args) -> RunupRequest {
         hysteresis_ratio: args.hysteresis_ratio,
         threshold_m: args.threshold,
         smoothing_hz: args.smoothing,
-        start: args.start,
-        contact: args.contact,
-        reduce: if args.full_model {
-            Some(None)
-        } else {
-            args.reduce.map(Some)
+        cascade: CascadeRequest {
+            start: args.start,
+            contact: args.contact,
+            reduce: if args.full_model {
+                Some(None)
+            } else {
+                args.reduce.map(Some)
+            },
+            step: args.step,
+            node: args.node,
+            component: args.component,
+            window: args.window,
+            max_frequency_hz: args.max_frequency,
+            tolerance_bins: args.tolerance,
+            ..CascadeRequest::default()
         },
-        step: args.step,
-        node: args.node,
-        component: args.component,
-        window: args.window,
-        max_frequency_hz: args.max_frequency,
-        tolerance_bins: args.tolerance,
     }
 }
 
@@ -265,10 +262,10 @@ fn text(r: &Runup) -> String {
     for d in r.against_steady() {
         let _ = writeln!(
             t,
-            "{} against steady ({} windows): RMS difference 1X {:.3} um (steady RMS {:.3}), NSV \
-             {:.3} um (steady RMS {:.3})",
+            "{} against steady ({} steady speeds): RMS difference 1X {:.3} um (steady RMS {:.3}), \
+             NSV {:.3} um (steady RMS {:.3})",
             d.sweep.name(),
-            d.windows,
+            d.speeds,
             1e6 * d.one_x_rms_m,
             1e6 * d.one_x_steady_rms_m,
             1e6 * d.nsv_rms_m,
@@ -309,7 +306,8 @@ fn text(r: &Runup) -> String {
                 1e6 * f.steady_first_m,
                 1e6 * f.steady_other_m,
                 f.nsv_up_m.map_or("-".into(), |v| format!("{:.2}", 1e6 * v)),
-                f.nsv_down_m.map_or("-".into(), |v| format!("{:.2}", 1e6 * v)),
+                f.nsv_down_m
+                    .map_or("-".into(), |v| format!("{:.2}", 1e6 * v)),
                 if f.in_nsv_band {
                     ", in a hysteresis band"
                 } else {

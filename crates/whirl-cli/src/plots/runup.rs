@@ -3,7 +3,9 @@
 //! bands and the speeds of coexisting steady motions marked.
 
 use whirl::runup::{Quantity, Runup, SweepResult};
-use whirl_plot::{Colour, Figure2d, HeatMap, HeatMapGrid, LegendPosition, Marker, RefLine, Series, Style};
+use whirl_plot::{
+    Colour, Figure2d, HeatMap, HeatMapGrid, LegendPosition, Marker, RefLine, Series, Style,
+};
 
 use super::cascade::cascade_map;
 
@@ -115,9 +117,12 @@ pub fn runup_amplitudes(r: &Runup) -> Figure2d {
         let x: Vec<f64> = s.windows.iter().map(|w| w.speed_hz).collect();
         let name = s.sweep.name();
         fig.series.push(
-            Series::new(x.clone(), s.windows.iter().map(|w| 1e6 * w.one_x_m).collect())
-                .label(format!("1X {name}"))
-                .style(Style::solid(Colour::Palette(2 * i))),
+            Series::new(
+                x.clone(),
+                s.windows.iter().map(|w| 1e6 * w.one_x_m).collect(),
+            )
+            .label(format!("1X {name}"))
+            .style(Style::solid(Colour::Palette(2 * i))),
         );
         fig.series.push(
             Series::new(x, s.windows.iter().map(|w| 1e6 * w.nsv_m()).collect())

@@ -82,8 +82,8 @@ pub use options::{
     DEFAULT_TOLERANCE_BINS,
 };
 pub use point::{
-    dies_away, measure, negligible, CascadePoint, Measured, NsvPeak, DECAY_PER_STRETCH, NEGLIGIBLE_FRACTION,
-    NEGLIGIBLE_M, TRANSIENT_DECAY,
+    dies_away, measure, negligible, CascadePoint, Measured, NsvPeak, DECAY_PER_STRETCH,
+    NEGLIGIBLE_FRACTION, NEGLIGIBLE_M, TRANSIENT_DECAY,
 };
 pub use refine::SHARP_RATIO;
 pub use report::{CascadeReport, CascadeSummary, StartsSummary};
@@ -246,6 +246,17 @@ impl<'a> PreparedCascade<'a> {
     /// handle.
     pub fn new(model: &'a Model, options: &'a CascadeOptions) -> Result<Self> {
         options::check(model, options)?;
+        Self::build(model, options)
+    }
+
+    /// As [`PreparedCascade::new`], for transients marched with the cascade's settings (a
+    /// run-up): a linear model is not refused, its speeds are never computed as a cascade.
+    pub(crate) fn for_transient(model: &'a Model, options: &'a CascadeOptions) -> Result<Self> {
+        options::check_settings(model, options)?;
+        Self::build(model, options)
+    }
+
+    fn build(model: &'a Model, options: &'a CascadeOptions) -> Result<Self> {
         let linear = point::linear_system(model, options)?;
         let resolved = options::resolve(model, options, &linear)?;
         Ok(PreparedCascade {

@@ -443,6 +443,12 @@ fn nonlinear(model: &Model) -> Result<()> {
 /// Checks the options against the model, before anything is built for them.
 pub(super) fn check(model: &Model, o: &CascadeOptions) -> Result<()> {
     nonlinear(model)?;
+    check_settings(model, o)
+}
+
+/// [`check`] without refusing a linear model: the run settings of a transient (a run-up),
+/// whose 1X is worth reading on any model.
+pub(super) fn check_settings(model: &Model, o: &CascadeOptions) -> Result<()> {
     if o.speeds.is_empty() {
         return Err(bad(
             "speeds",

@@ -779,17 +779,16 @@ fn read(
     let tail = start.checked_sub(half).map(|from| &values[from..start]);
     let measured = measure(&spectrum, speed_hz, o.tolerance_bins, r.max_frequency_hz);
     let peak = measured.nsv.map(|p| NsvPeak {
-                frequency_hz: p.frequency_hz,
-                amplitude_m: p.amplitude,
-                order: p.order,
-                forward_m: 0.0,
-                backward_m: 0.0,
-                decay_ratio: planners.stretches.decay_ratio(x, p.frequency_hz),
-                settling_ratio: tail
-                    .map(|tail| planners.stretches.ratio(&x[..half], tail, p.frequency_hz)),
-                standard_error_m: 0.0,
-                variation: 0.0,
-            });
+        frequency_hz: p.frequency_hz,
+        amplitude_m: p.amplitude,
+        order: p.order,
+        forward_m: 0.0,
+        backward_m: 0.0,
+        decay_ratio: planners.stretches.decay_ratio(x, p.frequency_hz),
+        settling_ratio: tail.map(|tail| planners.stretches.ratio(&x[..half], tail, p.frequency_hz)),
+        standard_error_m: 0.0,
+        variation: 0.0,
+    });
     Ok(Reading {
         peak,
         one_x_m: measured.one_x_m,

@@ -4,6 +4,7 @@ use serde::Serialize;
 
 use super::{RunupOptions, Sweep, SweepResult, SweepWindow};
 use crate::nsv::{Cascade, StartComparison};
+use crate::post::interpolate;
 
 /// Which amplitude.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -33,15 +34,19 @@ impl Quantity {
     }
 }
 
-/// One sweep against the steady cascade, over the windows whose speed lies within the
-/// cascade's range.
+/// One sweep against the steady cascade, at the cascade's speeds within the sweep. The
+/// sweep is read at each steady speed (its windows lie far closer together than the steady
+/// speeds, so interpolating it there is accurate where interpolating the steady cascade
+/// between its speeds would cut off every resonance peak): its 1X as it is, its NSV
+/// power-averaged over the smoothing span first, as the steady cascade averages records
+/// (one short window's NSV of an irregular whip is one draw).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct SteadyDifference {
     /// The sweep.
     pub sweep: Sweep,
-    /// Windows compared.
-    pub windows: usize,
-    /// RMS over those windows of the sweep's 1X minus the steady 1X at the same speed, m.
+    /// Steady speeds compared.
+    pub speeds: usize,
+    /// RMS over those speeds of the sweep's 1X minus the steady 1X, m.
     pub one_x_rms_m: f64,
     /// RMS of the steady 1X over the same speeds, m (the scale of the difference).
     pub one_x_steady_rms_m: f64,
@@ -67,21 +72,6 @@ fn steady_curve(c: &Cascade) -> Vec<(f64, f64, f64)> {
     curve
 }
 
-/// `(x, y)` pairs ascending in x read at `x` by linear interpolation; `None` outside them.
-fn interpolate(points: &[(f64, f64)], x: f64) -> Option<f64> {
-    let (first, last) = (points.first()?, points.last()?);
-    if x < first.0 || x > last.0 {
-        return None;
-    }
-    let upper = points.partition_point(|p| p.0 < x).min(points.len() - 1);
-    let lower = upper.saturating_sub(1);
-    let ((x0, y0), (x1, y1)) = (points[lower], points[upper]);
-    if x1 == x0 {
-        return Some(y1);
-    }
-    Some(y0 + (y1 - y0) * (x - x0) / (x1 - x0))
-}
-
 fn rms(values: &[f64]) -> f64 {
     if values.is_empty() {
         return 0.0;
@@ -89,30 +79,32 @@ fn rms(values: &[f64]) -> f64 {
     (values.iter().map(|v| v * v).sum::<f64>() / values.len() as f64).sqrt()
 }
 
-/// `sweep` against `steady`; `None` when no window lies within the cascade's speeds.
-pub(super) fn against_steady(sweep: &SweepResult, steady: &Cascade) -> Option<SteadyDifference> {
-    let curve = steady_curve(steady);
-    let one_x: Vec<(f64, f64)> = curve.iter().map(|p| (p.0, p.1)).collect();
-    let nsv: Vec<(f64, f64)> = curve.iter().map(|p| (p.0, p.2)).collect();
+/// `sweep` against `steady`, its NSV smoothed over `smoothing_hz`; `None` when no steady
+/// speed lies within the sweep.
+pub(super) fn against_steady(
+    sweep: &SweepResult,
+    steady: &Cascade,
+    smoothing_hz: f64,
+) -> Option<SteadyDifference> {
+    let one_x = smoothed(sweep, Quantity::OneX, 0.0);
+    let nsv = smoothed(sweep, Quantity::Nsv, smoothing_hz);
     let mut d1 = Vec::new();
     let mut s1 = Vec::new();
     let mut dn = Vec::new();
     let mut sn = Vec::new();
-    for w in &sweep.windows {
-        let (Some(a), Some(b)) = (
-            interpolate(&one_x, w.speed_hz),
-            interpolate(&nsv, w.speed_hz),
-        ) else {
+    for (speed_hz, steady_1x, steady_nsv) in steady_curve(steady) {
+        let (Some(a), Some(b)) = (interpolate(&one_x, speed_hz), interpolate(&nsv, speed_hz))
+        else {
             continue;
         };
-        d1.push(w.one_x_m - a);
-        s1.push(a);
-        dn.push(w.nsv_m() - b);
-        sn.push(b);
+        d1.push(a - steady_1x);
+        s1.push(steady_1x);
+        dn.push(b - steady_nsv);
+        sn.push(steady_nsv);
     }
     (!d1.is_empty()).then(|| SteadyDifference {
         sweep: sweep.sweep,
-        windows: d1.len(),
+        speeds: d1.len(),
         one_x_rms_m: rms(&d1),
         one_x_steady_rms_m: rms(&s1),
         nsv_rms_m: rms(&dn),
@@ -120,8 +112,8 @@ pub(super) fn against_steady(sweep: &SweepResult, steady: &Cascade) -> Option<St
     })
 }
 
-/// Run-up and coast-down at one of the run-up's speeds, each power-averaged over the
-/// smoothing span.
+/// Run-up and coast-down at one of the run-up's speeds, the NSV of each power-averaged over
+/// the smoothing span.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct HysteresisPoint {
     /// Speed, Hz.
@@ -227,10 +219,11 @@ pub(super) fn hysteresis(
     o: &RunupOptions,
     starts: Option<&StartComparison>,
 ) -> Hysteresis {
+    // The 1X is deterministic and narrow near a critical speed: compared as it is.
     let span = o.smoothing_hz;
-    let up_1x = smoothed(up, Quantity::OneX, span);
+    let up_1x = smoothed(up, Quantity::OneX, 0.0);
     let up_nsv = smoothed(up, Quantity::Nsv, span);
-    let down_1x = smoothed(down, Quantity::OneX, span);
+    let down_1x = smoothed(down, Quantity::OneX, 0.0);
     let down_nsv = smoothed(down, Quantity::Nsv, span);
     let points: Vec<HysteresisPoint> = up_1x
         .iter()
@@ -354,7 +347,16 @@ mod tests {
         let speeds: Vec<f64> = (0..10).map(|k| 10.0 * k as f64).collect();
         let up: Vec<(f64, f64)> = speeds
             .iter()
-            .map(|&s| (s, if (30.0..=50.0).contains(&s) { 4e-6 } else { 1e-6 }))
+            .map(|&s| {
+                (
+                    s,
+                    if (30.0..=50.0).contains(&s) {
+                        4e-6
+                    } else {
+                        1e-6
+                    },
+                )
+            })
             .collect();
         let down: Vec<(f64, f64)> = speeds.iter().rev().map(|&s| (s, 1e-6)).collect();
         let model =

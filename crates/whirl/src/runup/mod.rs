@@ -31,15 +31,15 @@
 //! # Against the steady cascade, and between the directions
 //!
 //! The steady cascade at the same settings (optionally from both starts, which marks the
-//! speeds where two steady motions coexist: [`crate::nsv::compare_starts`]) is read at each
-//! window's speed by linear interpolation, and the RMS difference of 1X and NSV over the
-//! sweep is reported for each direction ([`SteadyDifference`]). As the acceleration falls
+//! speeds where two steady motions coexist: [`crate::nsv::compare_starts`]) is compared with
+//! each sweep read at the cascade's speeds, and the RMS difference of 1X and NSV over the
+//! range is reported for each direction ([`SteadyDifference`]). As the acceleration falls
 //! the transient approaches the sequence of steady states, and these differences shrink,
 //! except where the steady state is not unique.
 //!
-//! Run-up and coast-down are compared at the run-up's window speeds after each is
-//! power-averaged over `smoothing_hz` of speed ([`Hysteresis`]): a speed differs when the
-//! larger amplitude exceeds the smaller by `hysteresis_ratio` and reaches `threshold_m`;
+//! Run-up and coast-down are compared at the run-up's window speeds, the NSV of each
+//! power-averaged over `smoothing_hz` of speed first ([`Hysteresis`]): a speed differs when
+//! the larger amplitude exceeds the smaller by `hysteresis_ratio` and reaches `threshold_m`;
 //! neighbouring differing speeds form a band. A linear rotor swept slowly shows none; a
 //! rotor with coexisting motions keeps, in each direction, the motion it arrived on.
 
@@ -178,7 +178,7 @@ impl Runup {
         };
         self.sweeps
             .iter()
-            .filter_map(|s| compare::against_steady(s, steady))
+            .filter_map(|s| compare::against_steady(s, steady, self.options.smoothing_hz))
             .collect()
     }
 
@@ -186,7 +186,12 @@ impl Runup {
     pub fn hysteresis(&self) -> Option<Hysteresis> {
         let up = self.sweep(Sweep::Up)?;
         let down = self.sweep(Sweep::Down)?;
-        Some(compare::hysteresis(up, down, &self.options, self.starts.as_ref()))
+        Some(compare::hysteresis(
+            up,
+            down,
+            &self.options,
+            self.starts.as_ref(),
+        ))
     }
 }
 
@@ -202,7 +207,11 @@ impl Runup {
 pub fn runup(model: &Model, options: &RunupOptions, progress: Option<&Progress>) -> Result<Runup> {
     let start = Instant::now();
     options::check(options)?;
-    let prepared = PreparedCascade::new(model, &options.cascade)?;
+    // A linear model's sweep is worth reading (its 1X); its steady cascade is refused.
+    let prepared = match options.steady {
+        Steady::None => PreparedCascade::for_transient(model, &options.cascade)?,
+        _ => PreparedCascade::new(model, &options.cascade)?,
+    };
     let resolved = resolve(options, &prepared)?;
     let sweep = |s: Sweep| run_sweep(model, options, &prepared, &resolved, s);
     let sweeps: Vec<SweepResult> = match options.direction.sweeps().as_slice() {
@@ -255,7 +264,8 @@ fn resolve(o: &RunupOptions, prepared: &PreparedCascade<'_>) -> Result<RunupReso
     let sample_rate_hz = 1.0 / interval;
     let resolution_hz = sample_rate_hz / window_samples as f64;
     let max_frequency_hz = r.max_frequency_hz;
-    let bins = ((max_frequency_hz / resolution_hz).floor() as usize + 1).min(window_samples / 2 + 1);
+    let bins =
+        ((max_frequency_hz / resolution_hz).floor() as usize + 1).min(window_samples / 2 + 1);
     Ok(RunupResolved {
         step: r.step,
         record_every: r.record_every,
@@ -370,7 +380,12 @@ fn read_windows(
         }
         let spectrum = planner.spectrum(&values[at..at + n])?;
         let speed_hz = rad_s_to_hz(speed.at(middle).0.speed);
-        let m = measure(&spectrum, speed_hz, o.cascade.tolerance_bins, r.max_frequency_hz);
+        let m = measure(
+            &spectrum,
+            speed_hz,
+            o.cascade.tolerance_bins,
+            r.max_frequency_hz,
+        );
         let mut amplitude = spectrum.amplitude;
         amplitude.truncate(r.bins);
         windows.push(SweepWindow {

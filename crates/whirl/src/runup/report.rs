@@ -23,8 +23,8 @@ pub struct RunupReport {
 const NOTES: [&str; 6] = [
     "amplitudes are zero-to-peak, m, of the analysed component with the window-weighted mean removed, read off each short-time spectrum exactly as the steady cascade reads a record (whirl::nsv::measure)",
     "each window's running speed is the speed at its middle; by default the window is 1 / sqrt(rate in Hz/s) long, so the speed moves by one bin within it",
-    "against_steady: over the windows within the steady cascade's speeds, the RMS of the sweep's 1X (NSV) minus the steady cascade's at the same speed (linear between its speeds), and the RMS of the steady values for scale",
-    "hysteresis: run-up and coast-down each power-averaged over smoothing_hz of speed, compared at the run-up's window speeds; they differ where the larger exceeds hysteresis_ratio times the smaller and reaches threshold_m; neighbouring differing speeds form a band",
+    "against_steady: at the steady cascade's speeds within the sweep, the RMS of the sweep's 1X (its NSV power-averaged over smoothing_hz) minus the steady cascade's, the sweep read between its windows linearly; and the RMS of the steady values for scale",
+    "hysteresis: run-up and coast-down (their NSV power-averaged over smoothing_hz of speed) compared at the run-up's window speeds; they differ where the larger exceeds hysteresis_ratio times the smaller and reaches threshold_m; neighbouring differing speeds form a band",
     "flagged: the steady cascade's speeds whose two starts (static equilibrium and rest) settle on NSV differing beyond 3 standard errors (coexisting motions), with the sweeps' NSV there",
     "a run-up's transient differs from the steady states near resonances (the peak is delayed and lowered by the acceleration) and wherever the steady state is not unique",
 ];
@@ -139,9 +139,7 @@ fn sweep_summary(s: &SweepResult) -> SweepSummary {
         largest_one_x_speed_hz: one_x.map_or(f64::NAN, |w| w.speed_hz),
         largest_nsv_m: nsv.map_or(0.0, SweepWindow::nsv_m),
         largest_nsv_speed_hz: nsv.map_or(f64::NAN, |w| w.speed_hz),
-        largest_nsv_frequency_hz: nsv
-            .and_then(|w| w.nsv)
-            .map_or(f64::NAN, |n| n.frequency_hz),
+        largest_nsv_frequency_hz: nsv.and_then(|w| w.nsv).map_or(f64::NAN, |n| n.frequency_hz),
         march_s: s.march_s,
         diverged: s.diverged.clone(),
         start_fallback: s.start_fallback.clone(),
@@ -194,7 +192,11 @@ impl Report for RunupReport {
     /// directions `hysteresis` (the smoothed curves compared) and `bands`.
     fn tables(&self) -> Vec<Table> {
         let r = &self.runup;
-        let rows = || r.sweeps.iter().flat_map(|s| s.windows.iter().map(move |w| (s.sweep, w)));
+        let rows = || {
+            r.sweeps
+                .iter()
+                .flat_map(|s| s.windows.iter().map(move |w| (s.sweep, w)))
+        };
         let mut windows = Table::new("runup");
         windows
             .text("sweep", rows().map(|(s, _)| s.name()))
@@ -202,7 +204,10 @@ impl Report for RunupReport {
             .numbers("speed_hz", rows().map(|(_, w)| w.speed_hz))
             .numbers("one_x_m", rows().map(|(_, w)| w.one_x_m))
             .numbers("nsv_m", rows().map(|(_, w)| w.nsv_m()))
-            .optional("nsv_frequency_hz", rows().map(|(_, w)| w.nsv.map(|n| n.frequency_hz)))
+            .optional(
+                "nsv_frequency_hz",
+                rows().map(|(_, w)| w.nsv.map(|n| n.frequency_hz)),
+            )
             .optional("nsv_order", rows().map(|(_, w)| w.nsv.map(|n| n.order)));
         let bins = || {
             rows().flat_map(|(s, w)| {
@@ -227,7 +232,9 @@ impl Report for RunupReport {
                 .numbers("one_x_m", c.points.iter().map(|p| p.one_x_m))
                 .numbers(
                     "nsv_m",
-                    c.points.iter().map(|p| p.peak.map_or(0.0, |n| n.amplitude_m)),
+                    c.points
+                        .iter()
+                        .map(|p| p.peak.map_or(0.0, |n| n.amplitude_m)),
                 )
                 .bits("settled", c.points.iter().map(|p| p.settled))
                 .optional(

@@ -4,12 +4,9 @@
 
 use super::options::steady_speeds;
 use super::{Direction, RunupOptions, Steady, DEFAULT_STEADY_SPEEDS};
-use crate::bearing::ContactLaw;
 use crate::error::{InputError, Result};
 use crate::model::Model;
-use crate::nsv::{CascadeRequest, Component};
-use crate::post::Window;
-use crate::time::Initial;
+use crate::nsv::CascadeRequest;
 use crate::units::hz_to_rad_s;
 
 /// Default acceleration, Hz/s: the reference rotor's range (1-750 Hz) in 37 s.
@@ -41,25 +38,10 @@ pub struct RunupRequest {
     pub threshold_m: Option<f64>,
     /// Span of speed each direction is smoothed over before the comparison, Hz.
     pub smoothing_hz: Option<f64>,
-    /// Initial state of the sweeps and the steady cascade.
-    pub start: Option<Initial>,
-    /// Contact law of the roller bearings.
-    pub contact: Option<ContactLaw>,
-    /// Fixed-interface modes of the Craig-Bampton reduction; `Some(None)` for the full
-    /// model.
-    pub reduce: Option<Option<usize>>,
-    /// Time step, s.
-    pub step: Option<f64>,
-    /// The node whose response is analysed.
-    pub node: Option<usize>,
-    /// The displacement analysed.
-    pub component: Option<Component>,
-    /// Data window of the spectra.
-    pub window: Option<Window>,
-    /// Top of the frequency band, Hz.
-    pub max_frequency_hz: Option<f64>,
-    /// Bins within which a peak counts as synchronous.
-    pub tolerance_bins: Option<f64>,
+    /// The cascade's settings, for the sweeps (start, contact law, reduction, step, node,
+    /// component, data window, band, synchronous tolerance) and the steady cascade (all of
+    /// them); its speeds are not read: the steady speeds come from the sweep's range.
+    pub cascade: CascadeRequest,
 }
 
 impl RunupRequest {
@@ -91,16 +73,7 @@ impl RunupRequest {
         }
         let cascade = CascadeRequest {
             speeds: Some(steady_speeds(low, high, count)),
-            start: self.start,
-            contact: self.contact,
-            reduce: self.reduce,
-            step: self.step,
-            node: self.node,
-            component: self.component,
-            window: self.window,
-            max_frequency_hz: self.max_frequency_hz,
-            tolerance_bins: self.tolerance_bins,
-            ..CascadeRequest::default()
+            ..self.cascade.clone()
         };
         let mut o = RunupOptions::new(model, low, high, rate);
         o.cascade = cascade.options(model)?;
