@@ -27,6 +27,7 @@ pub struct RunupArgs {
     hysteresis_ratio: Option<f64>,
     threshold: Option<f64>,
     smoothing: Option<f64>,
+    steady_smoothing: Option<f64>,
     start: Option<String>,
     contact: Option<String>,
     reduce: Option<usize>,
@@ -58,6 +59,7 @@ fn request(a: &RunupArgs) -> PyResult<RunupRequest> {
         hysteresis_ratio: a.hysteresis_ratio,
         threshold_m: a.threshold,
         smoothing_hz: a.smoothing,
+        steady_smoothing_hz: a.steady_smoothing,
         cascade: CascadeRequest {
             start: maybe("start", &a.start)?,
             contact: maybe("contact", &a.contact)?,

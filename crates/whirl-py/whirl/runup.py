@@ -31,6 +31,7 @@ def runup(
     hysteresis_ratio: float | None = None,
     threshold: str | float | None = None,
     smoothing: str | float | None = None,
+    steady_smoothing: str | float | None = None,
     start: str | None = None,
     contact: str | None = None,
     reduce: int | None = None,
@@ -58,7 +59,9 @@ def runup(
         steady_speeds: speeds of the steady cascade (60).
         hysteresis_ratio: run-up and coast-down differ beyond this ratio (2) ...
         threshold: ... at this amplitude or more (``"1um"``).
-        smoothing: span of speed each sweep's NSV is averaged over (``"2Hz"``).
+        smoothing: span of speed each sweep's NSV is averaged over before run-up and
+            coast-down are compared (``"10Hz"``).
+        steady_smoothing: the same before the comparison with the steady cascade (``"2Hz"``).
         start, contact, reduce, full_model, step, node, component, window, max_frequency,
             tolerance: the cascade's run settings and measurement, as for :func:`cascade`.
 
@@ -81,6 +84,9 @@ def runup(
         "hysteresis_ratio": hysteresis_ratio,
         "threshold": None if threshold is None else _length("threshold", threshold),
         "smoothing": None if smoothing is None else _frequency_hz("smoothing", smoothing),
+        "steady_smoothing": None
+        if steady_smoothing is None
+        else _frequency_hz("steady_smoothing", steady_smoothing),
         "start": start,
         "contact": contact,
         "reduce": reduce,

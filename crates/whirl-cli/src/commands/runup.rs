@@ -1,14 +1,15 @@
 //! `whirl runup model.toml [--speeds 1:750Hz] [--rate 20Hz/s] [--direction up|down|both]
 //! [--hold 1s] [--window-length TIME] [--overlap 0.75] [--steady none|cascade|starts]
-//! [--steady-speeds 60] [--hysteresis-ratio 2] [--threshold 1um] [--smoothing 2Hz]` and the
+//! [--steady-speeds 60] [--hysteresis-ratio 2] [--threshold 1um] [--smoothing 10Hz]
+//! [--steady-smoothing 2Hz]` and the
 //! cascade's run settings (`--contact`, `--reduce`/`--full-model`, `--step`, `--start`,
 //! `--node`, `--component`, `--window`, `--max-frequency`, `--tolerance`): run-up and
 //! coast-down through a speed range at a constant acceleration (see [`whirl::runup`]).
 //!
 //! Writes `runup.csv` (per window of each sweep: time, speed, 1X, NSV, its frequency and
-//! order), `runup_spectra.csv` (long format: every bin of every window), with the steady
-//! cascade `steady.csv` (per speed: 1X, NSV, and from the other start), with both directions
-//! `hysteresis.csv` and `bands.csv`; the plots `runup_map` (each sweep's time-frequency
+//! order), `runup_spectra.csv` (long format: every bin of at most 200 windows a sweep),
+//! with the steady cascade `steady.csv` (per speed: 1X, NSV, and from the other start),
+//! with both directions `hysteresis.csv` and `bands.csv`; the plots `runup_map` (each sweep's time-frequency
 //! cascade beside the steady cascade) and `runup_nsv` (1X and NSV over speed, both
 //! directions and steady, hysteresis bands and coexisting steady motions marked).
 //! Every option left out takes the library's default ([`whirl::runup::RunupOptions::new`]).
@@ -73,9 +74,13 @@ pub struct Args {
     #[arg(long, value_name = "LENGTH", value_parser = positive_length, allow_hyphen_values = true)]
     pub threshold: Option<f64>,
     /// Span of speed each direction is smoothed over before they are compared: `10Hz`, or a
-    /// plain number in rad/s [default: 2Hz].
+    /// plain number in rad/s [default: 10Hz].
     #[arg(long, value_name = "FREQ", value_parser = frequency, allow_hyphen_values = true)]
     pub smoothing: Option<f64>,
+    /// Span of speed each sweep's NSV is smoothed over before it is compared with the
+    /// steady cascade [default: 2Hz].
+    #[arg(long, value_name = "FREQ", value_parser = frequency, allow_hyphen_values = true)]
+    pub steady_smoothing: Option<f64>,
     /// Initial state of the sweeps and the steady cascade [default: static].
     #[arg(long, value_enum)]
     pub start: Option<Initial>,
@@ -138,6 +143,7 @@ fn flag(field: &str) -> Option<&'static str> {
         "hysteresis_ratio" => "--hysteresis-ratio",
         "threshold" => "--threshold",
         "smoothing" => "--smoothing",
+        "steady_smoothing" => "--steady-smoothing",
         "step" => "--step",
         "node" => "--node",
         "max_frequency" => "--max-frequency",
@@ -160,6 +166,7 @@ fn request(args: &Args) -> RunupRequest {
         hysteresis_ratio: args.hysteresis_ratio,
         threshold_m: args.threshold,
         smoothing_hz: args.smoothing,
+        steady_smoothing_hz: args.steady_smoothing,
         cascade: CascadeRequest {
             start: args.start,
             contact: args.contact,
@@ -252,7 +259,7 @@ fn text(r: &Runup) -> String {
                 1e6 * b.nsv_m(),
                 b.speed_hz,
                 s.windows.len(),
-                s.march_s,
+                s.wall_s,
                 s.diverged
                     .as_ref()
                     .map_or(String::new(), |m| format!("; diverged: {m}"))

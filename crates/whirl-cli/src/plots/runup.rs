@@ -18,7 +18,11 @@ const ORDERS: [f64; 3] = [0.5, 1.0, 2.0];
 /// One sweep's short-time spectra: frequency up to `top_hz` over speed (ascending),
 /// colour = log amplitude over [`DECADES`] below `top_m`; the order lines drawn.
 fn sweep_map(r: &Runup, s: &SweepResult, top_hz: f64, top_m: f64) -> HeatMap {
-    let mut windows: Vec<_> = s.windows.iter().collect();
+    let mut windows: Vec<_> = s
+        .windows
+        .iter()
+        .filter(|w| !w.amplitude.is_empty())
+        .collect();
     windows.sort_by(|a, b| a.speed_hz.total_cmp(&b.speed_hz));
     let speeds: Vec<f64> = windows.iter().map(|w| w.speed_hz).collect();
     let rows: Vec<usize> = (0..r.frequency_hz.len())

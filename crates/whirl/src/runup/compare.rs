@@ -327,7 +327,7 @@ mod tests {
             windows: points.iter().map(|&(s, a)| window(s, a)).collect(),
             diverged: None,
             start_fallback: None,
-            march_s: 0.0,
+            wall_s: 0.0,
         }
     }
 

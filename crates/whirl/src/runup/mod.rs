@@ -32,7 +32,8 @@
 //!
 //! The steady cascade at the same settings (optionally from both starts, which marks the
 //! speeds where two steady motions coexist: [`crate::nsv::compare_starts`]) is compared with
-//! each sweep read at the cascade's speeds, and the RMS difference of 1X and NSV over the
+//! each sweep read at the cascade's speeds (its NSV power-averaged over
+//! `steady_smoothing_hz`), and the RMS difference of 1X and NSV over the
 //! range is reported for each direction ([`SteadyDifference`]). As the acceleration falls
 //! the transient approaches the sequence of steady states, and these differences shrink,
 //! except where the steady state is not unique.
@@ -55,7 +56,7 @@ use serde::Serialize;
 pub use compare::{Band, FlaggedSpeed, Hysteresis, HysteresisPoint, Quantity, SteadyDifference};
 pub use options::{
     steady_speeds, Direction, RunupOptions, Steady, Sweep, DEFAULT_HOLD, DEFAULT_HYSTERESIS_RATIO,
-    DEFAULT_OVERLAP, DEFAULT_SMOOTHING_HZ, DEFAULT_STEADY_SPEEDS,
+    DEFAULT_OVERLAP, DEFAULT_SMOOTHING_HZ, DEFAULT_STEADY_SMOOTHING_HZ, DEFAULT_STEADY_SPEEDS,
 };
 pub use report::{RunupReport, RunupSummary, SweepSummary};
 pub use request::RunupRequest;
@@ -71,6 +72,11 @@ use crate::progress::Progress;
 use crate::system::SpeedProfile;
 use crate::time::{simulate_with, Hooks, RunStatus, SimulationOptions, SimulationResult};
 use crate::units::rad_s_to_hz;
+
+/// At most this many windows of a sweep keep their spectrum (evenly spread; every window
+/// keeps its readings): about as many as a cascade's speeds, more than a map can show, and
+/// the spectra of 2,000 windows of 1,400 bins were 700 MB of CSV.
+pub const MAX_KEPT_SPECTRA: usize = 200;
 
 /// Sampling and spectra shared by the sweeps.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -118,7 +124,8 @@ pub struct SweepWindow {
     pub one_x_m: f64,
     /// Largest non-synchronous peak; `None` when every peak is synchronous.
     pub nsv: Option<NsvReading>,
-    /// One-sided amplitude spectrum over the band, m, bin `k` at `k` times the resolution.
+    /// One-sided amplitude spectrum over the band, m, bin `k` at `k` times the resolution;
+    /// empty for the windows whose spectrum is not kept ([`MAX_KEPT_SPECTRA`]).
     pub amplitude: Vec<f64>,
 }
 
@@ -142,7 +149,7 @@ pub struct SweepResult {
     /// Why it started from rest although the static equilibrium was asked for.
     pub start_fallback: Option<String>,
     /// Wall-clock time of the march, s.
-    pub march_s: f64,
+    pub wall_s: f64,
 }
 
 /// A computed run-up (coast-down, or both).
@@ -178,7 +185,7 @@ impl Runup {
         };
         self.sweeps
             .iter()
-            .filter_map(|s| compare::against_steady(s, steady, self.options.smoothing_hz))
+            .filter_map(|s| compare::against_steady(s, steady, self.options.steady_smoothing_hz))
             .collect()
     }
 
@@ -321,7 +328,7 @@ fn run_sweep(
     };
     let started = Instant::now();
     let result = simulate_with(model, &simulation, hooks)?;
-    let march_s = started.elapsed().as_secs_f64();
+    let wall_s = started.elapsed().as_secs_f64();
     let diverged = match &result.status {
         RunStatus::Diverged { message, .. } => Some(message.clone()),
         _ => None,
@@ -341,7 +348,7 @@ fn run_sweep(
         windows,
         diverged,
         start_fallback: result.start_fallback.clone(),
-        march_s,
+        wall_s,
     })
 }
 
@@ -400,6 +407,12 @@ fn read_windows(
             amplitude,
         });
         at += r.hop_samples;
+    }
+    let every = windows.len().div_ceil(MAX_KEPT_SPECTRA).max(1);
+    for (k, w) in windows.iter_mut().enumerate() {
+        if k % every != 0 {
+            w.amplitude = Vec::new();
+        }
     }
     Ok(windows)
 }

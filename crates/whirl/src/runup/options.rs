@@ -29,13 +29,20 @@ pub const DEFAULT_STEADY_SPEEDS: usize = 60;
 /// whip (+-35 % in one record) and the speed-resolution blur of a short window.
 pub const DEFAULT_HYSTERESIS_RATIO: f64 = 2.0;
 
+/// Default span of speed over which each sweep's NSV is power-averaged before run-up and
+/// coast-down are compared, Hz: an irregular whip scatters by a factor of two and more from
+/// one short window to the next (on the reference rotor at 5 Hz/s, 2 Hz of smoothing left
+/// 40 "bands" of such scatter between 100 and 340 Hz), and a hysteresis worth the name
+/// spans more than a few hertz.
+pub const DEFAULT_SMOOTHING_HZ: f64 = 10.0;
+
 /// Default span of speed over which each sweep's NSV is power-averaged before it is
-/// compared, Hz: an irregular whip scatters from one short window to the next, but the
+/// compared with the steady cascade, Hz: narrower than [`DEFAULT_SMOOTHING_HZ`], as the
 /// steady NSV has resonances only a few hertz wide (on the reference rotor 150 um at
-/// 594 Hz, 48 um at 598 Hz), which a wider span flattens. Against the reference rotor's
-/// steady cascade the NSV's RMS difference at 2 Hz/s was 5.4 um with 2 Hz, 9.9 um with
+/// 594 Hz, 48 um at 598 Hz) that a wider span flattens: against the reference rotor's
+/// steady cascade the NSV's RMS difference at 2 Hz/s was 5.3 um with 2 Hz, 9.9 um with
 /// 10 Hz.
-pub const DEFAULT_SMOOTHING_HZ: f64 = 2.0;
+pub const DEFAULT_STEADY_SMOOTHING_HZ: f64 = 2.0;
 
 /// Which way the speed is swept.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -125,9 +132,12 @@ pub struct RunupOptions {
     pub hysteresis_ratio: f64,
     /// ... and reaches this amplitude, m (zero-to-peak).
     pub threshold_m: f64,
-    /// Span of speed each sweep's NSV is power-averaged over before it is compared (with
-    /// the other direction and the steady cascade), Hz (0 for none).
+    /// Span of speed each sweep's NSV is power-averaged over before run-up and coast-down
+    /// are compared, Hz (0 for none).
     pub smoothing_hz: f64,
+    /// Span of speed each sweep's NSV is power-averaged over before it is compared with the
+    /// steady cascade, Hz (0 for none).
+    pub steady_smoothing_hz: f64,
 }
 
 impl RunupOptions {
@@ -136,7 +146,8 @@ impl RunupOptions {
     /// and overlap, compared with the steady cascade from both starts at
     /// [`DEFAULT_STEADY_SPEEDS`] speeds (the cascade's defaults otherwise, see
     /// [`CascadeOptions::new`]), hysteresis beyond [`DEFAULT_HYSTERESIS_RATIO`] and
-    /// [`DEFAULT_THRESHOLD_M`] after [`DEFAULT_SMOOTHING_HZ`] of smoothing.
+    /// [`DEFAULT_THRESHOLD_M`] after [`DEFAULT_SMOOTHING_HZ`] of smoothing, against the
+    /// steady cascade after [`DEFAULT_STEADY_SMOOTHING_HZ`].
     pub fn new(model: &Model, low: f64, high: f64, rate: f64) -> Self {
         let speeds = steady_speeds(low, high, DEFAULT_STEADY_SPEEDS);
         RunupOptions {
@@ -152,6 +163,7 @@ impl RunupOptions {
             hysteresis_ratio: DEFAULT_HYSTERESIS_RATIO,
             threshold_m: DEFAULT_THRESHOLD_M,
             smoothing_hz: DEFAULT_SMOOTHING_HZ,
+            steady_smoothing_hz: DEFAULT_STEADY_SMOOTHING_HZ,
         }
     }
 
@@ -194,7 +206,8 @@ fn bad(field: &str, message: String, help: &str) -> Error {
 /// # Errors
 /// [`Error::Input`] naming the field: `speeds` for a range that is empty, reversed,
 /// negative or not finite; `rate` for an acceleration that is not positive and finite;
-/// `hold`, `window`, `overlap`, `hysteresis_ratio`, `threshold`, `smoothing` for values
+/// `hold`, `window`, `overlap`, `hysteresis_ratio`, `threshold`, `smoothing`,
+/// `steady_smoothing` for values
 /// outside their ranges; `window` also for a window of fewer samples than a spectrum
 /// needs or longer than the sweep.
 pub(super) fn check(o: &RunupOptions) -> Result<()> {
@@ -280,15 +293,17 @@ pub(super) fn check(o: &RunupOptions) -> Result<()> {
             "e.g. 1um",
         ));
     }
-    if !(finite(o.smoothing_hz) && o.smoothing_hz >= 0.0) {
-        return Err(bad(
-            "smoothing",
-            format!(
-                "the smoothing must be 0 Hz or more, got {} Hz",
-                o.smoothing_hz
-            ),
-            "e.g. 10Hz",
-        ));
+    for (field, span) in [
+        ("smoothing", o.smoothing_hz),
+        ("steady_smoothing", o.steady_smoothing_hz),
+    ] {
+        if !(finite(span) && span >= 0.0) {
+            return Err(bad(
+                field,
+                format!("the smoothing must be 0 Hz or more, got {span} Hz"),
+                "e.g. 10Hz, or 0Hz for none",
+            ));
+        }
     }
     Ok(())
 }

@@ -23,7 +23,7 @@ pub struct RunupReport {
 const NOTES: [&str; 6] = [
     "amplitudes are zero-to-peak, m, of the analysed component with the window-weighted mean removed, read off each short-time spectrum exactly as the steady cascade reads a record (whirl::nsv::measure)",
     "each window's running speed is the speed at its middle; by default the window is 1 / sqrt(rate in Hz/s) long, so the speed moves by one bin within it",
-    "against_steady: at the steady cascade's speeds within the sweep, the RMS of the sweep's 1X (its NSV power-averaged over smoothing_hz) minus the steady cascade's, the sweep read between its windows linearly; and the RMS of the steady values for scale",
+    "against_steady: at the steady cascade's speeds within the sweep, the RMS of the sweep's 1X (its NSV power-averaged over steady_smoothing_hz) minus the steady cascade's, the sweep read between its windows linearly; and the RMS of the steady values for scale",
     "hysteresis: run-up and coast-down (their NSV power-averaged over smoothing_hz of speed) compared at the run-up's window speeds; they differ where the larger exceeds hysteresis_ratio times the smaller and reaches threshold_m; neighbouring differing speeds form a band",
     "flagged: the steady cascade's speeds whose two starts (static equilibrium and rest) settle on NSV differing beyond 3 standard errors (coexisting motions), with the sweeps' NSV there",
     "a run-up's transient differs from the steady states near resonances (the peak is delayed and lowered by the acceleration) and wherever the steady state is not unique",
@@ -47,7 +47,7 @@ pub struct SweepSummary {
     /// Its frequency, Hz.
     pub largest_nsv_frequency_hz: f64,
     /// Wall-clock time of the march, s.
-    pub march_s: f64,
+    pub wall_s: f64,
     /// Why the march stopped early, if it did.
     pub diverged: Option<String>,
     /// Why it started from rest, if it did.
@@ -108,8 +108,10 @@ pub struct RunupSummary {
     pub hysteresis_ratio: f64,
     /// Amplitude from which a difference counts, m.
     pub threshold_m: f64,
-    /// Smoothing span, Hz.
+    /// Smoothing span of the hysteresis, Hz.
     pub smoothing_hz: f64,
+    /// Smoothing span of the steady comparison, Hz.
+    pub steady_smoothing_hz: f64,
     /// Each sweep.
     pub sweeps: Vec<SweepSummary>,
     /// The steady cascade, if computed.
@@ -140,7 +142,7 @@ fn sweep_summary(s: &SweepResult) -> SweepSummary {
         largest_nsv_m: nsv.map_or(0.0, SweepWindow::nsv_m),
         largest_nsv_speed_hz: nsv.map_or(f64::NAN, |w| w.speed_hz),
         largest_nsv_frequency_hz: nsv.and_then(|w| w.nsv).map_or(f64::NAN, |n| n.frequency_hz),
-        march_s: s.march_s,
+        wall_s: s.wall_s,
         diverged: s.diverged.clone(),
         start_fallback: s.start_fallback.clone(),
     }
@@ -178,6 +180,7 @@ impl Report for RunupReport {
             hysteresis_ratio: o.hysteresis_ratio,
             threshold_m: o.threshold_m,
             smoothing_hz: o.smoothing_hz,
+            steady_smoothing_hz: o.steady_smoothing_hz,
             sweeps: r.sweeps.iter().map(sweep_summary).collect(),
             steady,
             against_steady: r.against_steady(),
@@ -188,7 +191,7 @@ impl Report for RunupReport {
     }
 
     /// `runup` (one row per window of each sweep), `runup_spectra` (long format: every bin
-    /// of every window), with a steady cascade `steady` (one row per speed), with both
+    /// of every window whose spectrum is kept), with a steady cascade `steady` (one row per speed), with both
     /// directions `hysteresis` (the smoothed curves compared) and `bands`.
     fn tables(&self) -> Vec<Table> {
         let r = &self.runup;

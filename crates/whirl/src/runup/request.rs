@@ -38,6 +38,8 @@ pub struct RunupRequest {
     pub threshold_m: Option<f64>,
     /// Span of speed each direction is smoothed over before the comparison, Hz.
     pub smoothing_hz: Option<f64>,
+    /// Span of speed each sweep's NSV is smoothed over before the steady comparison, Hz.
+    pub steady_smoothing_hz: Option<f64>,
     /// The cascade's settings, for the sweeps (start, contact law, reduction, step, node,
     /// component, data window, band, synchronous tolerance) and the steady cascade (all of
     /// them); its speeds are not read: the steady speeds come from the sweep's range.
@@ -85,6 +87,7 @@ impl RunupRequest {
         o.hysteresis_ratio = self.hysteresis_ratio.unwrap_or(o.hysteresis_ratio);
         o.threshold_m = self.threshold_m.unwrap_or(o.threshold_m);
         o.smoothing_hz = self.smoothing_hz.unwrap_or(o.smoothing_hz);
+        o.steady_smoothing_hz = self.steady_smoothing_hz.unwrap_or(o.steady_smoothing_hz);
         Ok(o)
     }
 }
