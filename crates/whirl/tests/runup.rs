@@ -25,8 +25,7 @@ const ONE_MASS: Jeffcott = Jeffcott {
 const LOW_HZ: f64 = 30.0;
 const HIGH_HZ: f64 = 70.0;
 
-/// Time step, s: omega h = 0.03 at the critical speed, so the central difference's forced
-/// response is within (omega h)^2 / 12 = 1e-4 of the exact one.
+/// Time step, s: omega h = 0.03 at the critical speed.
 const STEP: f64 = 1e-4;
 
 fn one_mass() -> Model {
@@ -167,14 +166,15 @@ fn a_linear_rotor_swept_through_its_critical_speed_follows_lewis() {
         let r = sweep(&model, rate);
         let up = r.sweep(Sweep::Up).unwrap();
         let down = r.sweep(Sweep::Down).unwrap();
-        // whirl's transient against the independent integration, window by window: the
-        // central difference's error is 1e-4 of the forced response, and the free vibration
-        // from the start has decayed by exp(-7.5) in the hold; 1e-3 of the peak bounds both.
+        // whirl's transient against the independent integration, window by window. The
+        // central difference's natural frequency is low by (omega h)^2 / 24 = 4e-5, which
+        // near the resonance (half-power width 2 zeta = 0.047) moves the response by up to
+        // 4e-5 / zeta = 2e-3 of the peak (measured: 8.9e-4 at 1 Hz/s, 4.8e-4 at 40 Hz/s).
         for s in [up, down] {
             let reference = independent_one_x(&r, s);
             for (w, expected) in s.windows.iter().zip(&reference) {
                 assert!(
-                    (w.one_x_m - expected).abs() < 1e-3 * steady_peak_m,
+                    (w.one_x_m - expected).abs() < 2e-3 * steady_peak_m,
                     "{rate} Hz/s {}: {} Hz: {} vs {expected}",
                     s.sweep.name(),
                     w.speed_hz,
