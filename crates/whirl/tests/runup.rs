@@ -9,17 +9,7 @@ use whirl::units::{hz_to_rad_s, parse_angular_acceleration, parse_speed_range, r
 use whirl::Error;
 
 mod common;
-use common::{reference_rotor, Jeffcott};
-
-/// The one-mass rotor of the unbalance tests: 10 kg on an isotropic 1e6 N/m, 150 N s/m
-/// support (critical speed 50.33 Hz, damping ratio 0.0237, half-power band 2.4 Hz), its
-/// unbalance 4e-4 kg m, so its steady 1X peaks at 0.84 mm.
-const ONE_MASS: Jeffcott = Jeffcott {
-    mass: 10.0,
-    stiffness: 1e6,
-    damping: 150.0,
-    unbalance: 4e-4,
-};
+use common::{reference_rotor, ONE_MASS};
 
 /// Sweep of the one-mass rotor.
 const LOW_HZ: f64 = 30.0;
