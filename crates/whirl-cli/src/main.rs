@@ -76,6 +76,8 @@ enum Command {
     Map(commands::map::Args),
     /// Cascade (waterfall) of non-synchronous vibration over a speed range, classified.
     Cascade(commands::cascade::Args),
+    /// Run-up and coast-down through a speed range: time-frequency cascade and hysteresis.
+    Runup(commands::runup::Args),
     /// Sensitivity study: sweeps of model parameters, each point a cascade (thesis ch. 5).
     Study(commands::study::Args),
     /// A rotor saved by ROSS (Rotor.save) as a whirl model file, with its first frequencies.
@@ -101,6 +103,7 @@ impl Command {
             Command::Hbm(a) => a.common.out_dir("hbm"),
             Command::Map(a) => a.common.out_dir("map"),
             Command::Cascade(a) => a.common.out_dir("cascade"),
+            Command::Runup(a) => a.common.out_dir("runup"),
             Command::Study(a) => a.out_dir(),
             Command::ImportRoss(a) => a.out_dir(),
         }
@@ -123,6 +126,7 @@ impl Command {
             Command::Hbm(a) => commands::hbm::run(a),
             Command::Map(a) => commands::map::run(a),
             Command::Cascade(a) => commands::cascade::run(a),
+            Command::Runup(a) => commands::runup::run(a),
             Command::Study(a) => commands::study::run(a),
             Command::ImportRoss(a) => commands::import_ross::run(a),
         }

@@ -23,6 +23,7 @@ use crate::commands::campbell::order_name;
 mod cascade;
 mod frf;
 mod reduce;
+mod runup;
 mod statics;
 mod time;
 
@@ -31,6 +32,7 @@ pub use cascade::{
 };
 pub use frf::{critical_speed_map, frf};
 pub use reduce::{reduction_error, stable_steps};
+pub use runup::{runup_amplitudes, runup_maps};
 pub use statics::{roller_loads, static_response};
 pub use time::{contact_line, contact_zone, load_zone};
 pub use time::{orbits, spectrum, time_history};

@@ -468,6 +468,7 @@ fn every_default_is_stated_once_in_the_help() {
         "hbm",
         "map",
         "cascade",
+        "runup",
         "study",
         "static",
         "frf",

@@ -19,6 +19,7 @@ mod nsv;
 mod report;
 mod response;
 mod ross;
+mod runup;
 mod study;
 mod time;
 mod units;
@@ -86,6 +87,9 @@ fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(modal::modal, m)?)?;
     m.add_function(wrap_pyfunction!(response::unbalance, m)?)?;
     m.add_function(wrap_pyfunction!(ross::ross_to_toml, m)?)?;
+    m.add_function(wrap_pyfunction!(runup::runup, m)?)?;
+    m.add_function(wrap_pyfunction!(runup::parse_speed_range_text, m)?)?;
+    m.add_function(wrap_pyfunction!(runup::parse_rate, m)?)?;
     m.add_function(wrap_pyfunction!(nsv::cascade, m)?)?;
     m.add_function(wrap_pyfunction!(nsv::cascade_point, m)?)?;
     m.add_function(wrap_pyfunction!(nsv::cascade_checkpoint, m)?)?;

@@ -53,6 +53,7 @@ from .parts import (
 from .report import Report
 from .response import UnbalanceResult, unbalance
 from .ross import from_ross, read_ross
+from .runup import runup
 from .study import StudyResult, study
 from .time import SimulationResult, simulate
 
@@ -99,6 +100,7 @@ __all__ = [
     "modal",
     "read_ross",
     "reduce",
+    "runup",
     "simulate",
     "static",
     "stiffness",

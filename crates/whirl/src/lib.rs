@@ -180,6 +180,7 @@ pub mod progress;
 pub mod reduce;
 pub mod report;
 pub mod response;
+pub mod runup;
 pub mod squeeze_film;
 pub mod statics;
 pub mod study;

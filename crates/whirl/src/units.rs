@@ -324,6 +324,44 @@ pub fn parse_range(text: &str, dimension: Dimension) -> Result<Vec<f64>, UnitErr
     Ok((0..count).map(|i| start + step * i as f64).collect())
 }
 
+/// Reads a speed range `low:high` (`1:750Hz`, the unit shared by both bounds as in
+/// [`parse_range`]; plain numbers are rad/s) into its bounds in rad/s. A reversed or empty
+/// range is read as given: whoever sweeps it says what is wrong with it.
+///
+/// # Errors
+/// [`UnitError::BadRange`] for text that is not two bounds, and the errors of
+/// [`parse_quantity`] for a bound.
+pub fn parse_speed_range(text: &str) -> Result<(f64, f64), UnitError> {
+    if text.split(':').count() != 2 {
+        return Err(UnitError::BadRange {
+            text: text.to_string(),
+            why: "expected two speeds `low:high`, e.g. `1:750Hz`".into(),
+        });
+    }
+    let (low, high) = text.split_once(':').unwrap_or((text, ""));
+    let unit = split_number_unit(high.trim()).1.to_string();
+    let shared = if unit.is_empty() {
+        split_number_unit(low.trim()).1.to_string()
+    } else {
+        unit
+    };
+    let read = |s: &str| parse_with_default_unit(s.trim(), Dimension::AngularSpeed, Some(&shared));
+    Ok((read(low)?, read(high)?))
+}
+
+/// Reads an angular acceleration: a speed per second (`20Hz/s`, `1200rpm/s`, `5 rad/s/s`),
+/// or a plain number in rad/s^2; returned in rad/s^2. Its sign is the caller's to check.
+///
+/// # Errors
+/// The errors of [`parse_quantity`] for the speed before `/s`.
+pub fn parse_angular_acceleration(text: &str) -> Result<f64, UnitError> {
+    let trimmed = text.trim();
+    parse_quantity(
+        trimmed.strip_suffix("/s").unwrap_or(trimmed),
+        Dimension::AngularSpeed,
+    )
+}
+
 /// Converts rad/s to Hz (revolutions or cycles per second).
 pub fn rad_s_to_hz(w: f64) -> f64 {
     w / (2.0 * PI)

@@ -8,18 +8,9 @@ use whirl::model::Model;
 use whirl::response::{unbalance_response, unbalance_response_refined, UnbalanceResult};
 
 mod common;
-use common::{assert_same_resonance, reference_rotor, Jeffcott};
+use common::{assert_same_resonance, reference_rotor, ONE_MASS};
 
-/// A one-mass rotor: a 10 kg disk on an isotropic spring-damper at node 0, its unbalance
-/// at 30 degrees. The single 1 cm shaft element hangs free from it and weighs 1e-9 kg, so
-/// the disk's translation obeys m x'' + c x' + k x = m_u e Omega^2 cos(Omega t + phi) to
-/// about 1e-10.
-const ONE_MASS: Jeffcott = Jeffcott {
-    mass: 10.0,
-    stiffness: 1e6,
-    damping: 150.0,
-    unbalance: 4e-4,
-};
+/// The one-mass rotor's unbalance angle here, degrees.
 const PHASE_DEG: f64 = 30.0;
 
 #[test]

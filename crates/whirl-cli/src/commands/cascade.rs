@@ -151,7 +151,7 @@ pub struct Args {
 
 /// Clap parser of a frequency: `3000Hz`, `180000rpm`, or a plain number in rad/s (the
 /// one rule for plain numbers on the command line); returned in Hz.
-fn frequency(text: &str) -> Result<f64, String> {
+pub(super) fn frequency(text: &str) -> Result<f64, String> {
     let f = hz(parse_quantity(text, Dimension::AngularSpeed).map_err(|e| e.to_string())?);
     if f.is_finite() && f > 0.0 {
         Ok(f)
@@ -161,7 +161,7 @@ fn frequency(text: &str) -> Result<f64, String> {
 }
 
 /// Clap parser of a tolerance in bins: a number, 0 or more.
-fn bins(text: &str) -> Result<f64, String> {
+pub(super) fn bins(text: &str) -> Result<f64, String> {
     match text.trim().parse::<f64>() {
         Ok(b) if b.is_finite() && b >= 0.0 => Ok(b),
         _ => Err(format!(
@@ -434,6 +434,14 @@ fn library_error(e: whirl::Error, dir: &Path) -> miette::Report {
 
 /// The library's error about an option, by the option's flag when it has one.
 fn option_error(e: whirl::Error) -> miette::Report {
+    flagged_error(e, flag)
+}
+
+/// The library's error about an option, by the flag `flag` gives its field when it has one.
+pub(super) fn flagged_error(
+    e: whirl::Error,
+    flag: fn(&str) -> Option<&'static str>,
+) -> miette::Report {
     let whirl::Error::Input(input) = &e else {
         return from_whirl(e, "");
     };

@@ -12,6 +12,7 @@ pub mod import_ross;
 pub mod map;
 pub mod modal;
 pub mod reduce;
+pub mod runup;
 pub mod simulate;
 pub mod statics;
 pub mod stiffness;

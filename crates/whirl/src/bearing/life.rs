@@ -43,6 +43,7 @@ use std::f64::consts::PI;
 use serde::Serialize;
 
 use crate::model::RollerBearing;
+use crate::post::interpolate;
 
 /// ISO 281's f_c of single-row radial ball bearings (deep-groove and angular-contact
 /// column) against D cos(a) / d_m, for grooves of radius at most 0.52 D (inner) and 0.53 D
@@ -105,14 +106,6 @@ pub fn dynamic_load_rating(bearing: &RollerBearing) -> Option<(f64, RatingSource
             * d_mm.powf(29.0 / 27.0)
     };
     Some((c, RatingSource::Iso281Formula))
-}
-
-/// `table`'s value at `x` by linear interpolation, `None` outside it.
-fn interpolate(table: &[(f64, f64)], x: f64) -> Option<f64> {
-    table.windows(2).find_map(|w| {
-        let ((x0, y0), (x1, y1)) = (w[0], w[1]);
-        (x >= x0 && x <= x1).then(|| y0 + (y1 - y0) * (x - x0) / (x1 - x0))
-    })
 }
 
 /// ISO 281's f_c of radial roller bearings at g = D cos(a) / d_m (its table is this

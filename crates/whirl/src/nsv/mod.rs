@@ -73,6 +73,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 pub use classify::{NamedFrequency, Nsv, NsvClass, WhirlDirection};
+pub(crate) use options::next_five_smooth;
 pub use options::{
     default_speeds, even_speeds, records_span, Averaging, CascadeOptions, Component, Refinement,
     Resolved, DEFAULT_ABSOLUTE_ERROR_M, DEFAULT_DECIDED_ERROR, DEFAULT_MAX_ADDED,
@@ -81,8 +82,8 @@ pub use options::{
     DEFAULT_TOLERANCE_BINS,
 };
 pub use point::{
-    dies_away, negligible, CascadePoint, NsvPeak, DECAY_PER_STRETCH, NEGLIGIBLE_FRACTION,
-    NEGLIGIBLE_M, TRANSIENT_DECAY,
+    dies_away, measure, negligible, CascadePoint, Measured, NsvPeak, DECAY_PER_STRETCH,
+    NEGLIGIBLE_FRACTION, NEGLIGIBLE_M, TRANSIENT_DECAY,
 };
 pub use refine::SHARP_RATIO;
 pub use report::{CascadeReport, CascadeSummary, StartsSummary};
@@ -245,6 +246,17 @@ impl<'a> PreparedCascade<'a> {
     /// handle.
     pub fn new(model: &'a Model, options: &'a CascadeOptions) -> Result<Self> {
         options::check(model, options)?;
+        Self::build(model, options)
+    }
+
+    /// As [`PreparedCascade::new`], for transients marched with the cascade's settings (a
+    /// run-up): a linear model is not refused, its speeds are never computed as a cascade.
+    pub(crate) fn for_transient(model: &'a Model, options: &'a CascadeOptions) -> Result<Self> {
+        options::check_settings(model, options)?;
+        Self::build(model, options)
+    }
+
+    fn build(model: &'a Model, options: &'a CascadeOptions) -> Result<Self> {
         let linear = point::linear_system(model, options)?;
         let resolved = options::resolve(model, options, &linear)?;
         Ok(PreparedCascade {
@@ -258,6 +270,12 @@ impl<'a> PreparedCascade<'a> {
     /// Step, sampling and band shared by every speed.
     pub fn resolved(&self) -> &Resolved {
         &self.resolved
+    }
+
+    /// The model's linear system every speed marches (reduced as the options say): a
+    /// run-up of the same model marches it too ([`crate::runup`]).
+    pub(crate) fn linear(&self) -> &Linear {
+        &self.linear
     }
 
     /// The name of this cascade's checkpoint folder ([`checkpoint::key`]).

@@ -255,7 +255,7 @@ impl CascadeOptions {
     /// The settings of every run of the cascade, at rest: each point sets its speed, its
     /// duration and the resolved step and sampling. Channels only, no roller records: one
     /// response per speed is all a point reads.
-    pub(super) fn run_settings(&self) -> SimulationOptions {
+    pub(crate) fn run_settings(&self) -> SimulationOptions {
         SimulationOptions {
             step: self.step,
             method: Method::CentralDifference,
@@ -371,7 +371,7 @@ fn fft_friendly_step(step: f64, record_every: usize, record: f64) -> f64 {
 }
 
 /// The least number at or above `n` (at least 1) with no prime factor above 5.
-fn next_five_smooth(n: usize) -> usize {
+pub(crate) fn next_five_smooth(n: usize) -> usize {
     let is_smooth = |mut m: usize| {
         for p in [2, 3, 5] {
             while m.is_multiple_of(p) {
@@ -443,6 +443,12 @@ fn nonlinear(model: &Model) -> Result<()> {
 /// Checks the options against the model, before anything is built for them.
 pub(super) fn check(model: &Model, o: &CascadeOptions) -> Result<()> {
     nonlinear(model)?;
+    check_settings(model, o)
+}
+
+/// [`check`] without refusing a linear model: the run settings of a transient (a run-up),
+/// whose 1X is worth reading on any model.
+pub(super) fn check_settings(model: &Model, o: &CascadeOptions) -> Result<()> {
     if o.speeds.is_empty() {
         return Err(bad(
             "speeds",

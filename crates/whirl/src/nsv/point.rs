@@ -57,8 +57,8 @@ use crate::error::{Error, Result};
 use crate::linalg::rotate;
 use crate::model::Model;
 use crate::post::{
-    amplitude_at, largest_non_synchronous_below, window_mean, FullSpectrumPlanner, Spectrum,
-    SpectrumOptions, SpectrumPlanner, Window,
+    amplitude_at, largest_non_synchronous_below, window_mean, FullSpectrumPlanner, SpectralPeak,
+    Spectrum, SpectrumOptions, SpectrumPlanner, Window,
 };
 use crate::system::{linear, Linear, SpeedProfile};
 use crate::time::{simulate_with, Hooks, RunStatus, SimulationOptions, Until};
@@ -438,17 +438,14 @@ impl Records {
             resolution_hz: r.resolution_hz,
             window: o.window,
         };
-        let peak = largest_non_synchronous_below(
-            &spectrum,
-            speed_hz,
-            o.tolerance_bins,
-            r.max_frequency_hz,
-        );
-        let spread = peak.map(|p| self.spread_at(p.frequency_hz / r.resolution_hz));
+        let measured = measure(&spectrum, speed_hz, o.tolerance_bins, r.max_frequency_hz);
+        let spread = measured
+            .nsv
+            .map(|p| self.spread_at(p.frequency_hz / r.resolution_hz));
         Estimate {
-            one_x_m: amplitude_at(&spectrum, speed_hz),
+            one_x_m: measured.one_x_m,
             spectrum,
-            peak: peak.zip(spread),
+            peak: measured.nsv.zip(spread),
         }
     }
 
@@ -567,7 +564,7 @@ struct Spread {
 struct Estimate {
     spectrum: Spectrum,
     one_x_m: f64,
-    peak: Option<(crate::post::SpectralPeak, Spread)>,
+    peak: Option<(SpectralPeak, Spread)>,
 }
 
 impl Estimate {
@@ -780,22 +777,49 @@ fn read(
     let spectrum = planners.one_sided(x)?;
     let half = r.samples / 2;
     let tail = start.checked_sub(half).map(|from| &values[from..start]);
-    let peak =
-        largest_non_synchronous_below(&spectrum, speed_hz, o.tolerance_bins, r.max_frequency_hz)
-            .map(|p| NsvPeak {
-                frequency_hz: p.frequency_hz,
-                amplitude_m: p.amplitude,
-                order: p.order,
-                forward_m: 0.0,
-                backward_m: 0.0,
-                decay_ratio: planners.stretches.decay_ratio(x, p.frequency_hz),
-                settling_ratio: tail
-                    .map(|tail| planners.stretches.ratio(&x[..half], tail, p.frequency_hz)),
-                standard_error_m: 0.0,
-                variation: 0.0,
-            });
-    let one_x_m = amplitude_at(&spectrum, speed_hz);
-    Ok(Reading { peak, one_x_m })
+    let measured = measure(&spectrum, speed_hz, o.tolerance_bins, r.max_frequency_hz);
+    let peak = measured.nsv.map(|p| NsvPeak {
+        frequency_hz: p.frequency_hz,
+        amplitude_m: p.amplitude,
+        order: p.order,
+        forward_m: 0.0,
+        backward_m: 0.0,
+        decay_ratio: planners.stretches.decay_ratio(x, p.frequency_hz),
+        settling_ratio: tail.map(|tail| planners.stretches.ratio(&x[..half], tail, p.frequency_hz)),
+        standard_error_m: 0.0,
+        variation: 0.0,
+    });
+    Ok(Reading {
+        peak,
+        one_x_m: measured.one_x_m,
+    })
+}
+
+/// What the cascade reads off one amplitude spectrum at one running speed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Measured {
+    /// The 1X amplitude, refined between bins ([`amplitude_at`]), m.
+    pub one_x_m: f64,
+    /// The largest non-synchronous peak at or below the band's top
+    /// ([`largest_non_synchronous_below`]); `None` when every peak is synchronous.
+    pub nsv: Option<SpectralPeak>,
+}
+
+/// The cascade's one measurement of a spectrum taken at running speed `speed_hz`: its 1X
+/// and its NSV, a peak counting as synchronous within `tolerance_bins` of a multiple of the
+/// running speed, searched up to `max_frequency_hz`. Every reading of a cascade (a record
+/// while settling, the averaged records) and each short-time spectrum of a run-up
+/// ([`crate::runup`]) is this one, so the two compare like with like.
+pub fn measure(
+    spectrum: &Spectrum,
+    speed_hz: f64,
+    tolerance_bins: f64,
+    max_frequency_hz: f64,
+) -> Measured {
+    Measured {
+        one_x_m: amplitude_at(spectrum, speed_hz),
+        nsv: largest_non_synchronous_below(spectrum, speed_hz, tolerance_bins, max_frequency_hz),
+    }
 }
 
 /// Whether `peak` is free vibration dying away: it falls over the three stretches (the

@@ -40,3 +40,19 @@ pub use spectrum::{
     FullSpectrumPlanner, Spectrum, SpectrumOptions, SpectrumPlanner, Window,
 };
 pub use tracking::{order_component, OrderComponent};
+
+/// The table `(x, y)`, ascending in x, read at `x` by linear interpolation; `None` outside
+/// it.
+pub(crate) fn interpolate(points: &[(f64, f64)], x: f64) -> Option<f64> {
+    let (first, last) = (points.first()?, points.last()?);
+    if x < first.0 || x > last.0 {
+        return None;
+    }
+    let upper = points.partition_point(|p| p.0 < x).min(points.len() - 1);
+    let lower = upper.saturating_sub(1);
+    let ((x0, y0), (x1, y1)) = (points[lower], points[upper]);
+    if x1 == x0 {
+        return Some(y1);
+    }
+    Some(y0 + (y1 - y0) * (x - x0) / (x1 - x0))
+}

@@ -277,6 +277,7 @@ mod tests {
         let speed = SpeedProfile::Ramp {
             from: 10.0,
             to: 300.0,
+            start: 0.0,
             duration: 2.0,
         };
         let mut out = [0.0; 2];

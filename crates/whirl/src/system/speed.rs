@@ -7,13 +7,16 @@ use crate::force::Kinematics;
 pub enum SpeedProfile {
     /// Constant speed, rad/s.
     Constant(f64),
-    /// Linear ramp from `from` to `to` (rad/s) over `duration` (s), then constant.
+    /// Constant `from` (rad/s) until `start` (s), then a linear ramp to `to` (rad/s) over
+    /// `duration` (s), then constant `to`.
     Ramp {
         /// Starting speed, rad/s.
         from: f64,
         /// Final speed, rad/s.
         to: f64,
-        /// Time to reach it, s.
+        /// When the ramp begins, s (0 to ramp from the first step).
+        start: f64,
+        /// Time to reach `to` from the ramp's beginning, s.
         duration: f64,
     },
 }
@@ -30,26 +33,28 @@ impl SpeedProfile {
                 },
                 0.0,
             ),
-            SpeedProfile::Ramp { from, to, duration } => {
+            SpeedProfile::Ramp {
+                from,
+                to,
+                start,
+                duration,
+            } => {
                 let rate = (to - from) / duration;
-                if t <= duration {
-                    let k = Kinematics {
-                        time: t,
-                        speed: from + rate * t,
-                        angle: from * t + 0.5 * rate * t * t,
-                    };
-                    (k, rate)
+                // Time into the ramp, within it.
+                let ramping = (t - start).clamp(0.0, duration);
+                let after = (t - start - duration).max(0.0);
+                let before = t.min(start);
+                let k = Kinematics {
+                    time: t,
+                    speed: from + rate * ramping,
+                    angle: from * (before + ramping) + 0.5 * rate * ramping * ramping + to * after,
+                };
+                let accel = if t >= start && t <= start + duration {
+                    rate
                 } else {
-                    let end = from * duration + 0.5 * rate * duration * duration;
-                    (
-                        Kinematics {
-                            time: t,
-                            speed: to,
-                            angle: end + to * (t - duration),
-                        },
-                        0.0,
-                    )
-                }
+                    0.0
+                };
+                (k, accel)
             }
         }
     }

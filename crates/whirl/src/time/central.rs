@@ -602,6 +602,7 @@ mod tests {
         let ramp = SpeedProfile::Ramp {
             from: 2.0 * PI * 10.0,
             to: 2.0 * PI * 200.0,
+            start: 0.0,
             duration: 2e-3,
         };
         let h = 3.8e-6;

@@ -102,6 +102,19 @@ phase = {phase_deg:e}
     }
 }
 
+/// A one-mass rotor: a 10 kg disk on an isotropic 1e6 N/m, 150 N s/m support at node 0
+/// (critical speed 50.33 Hz, damping ratio 0.0237, half-power band 2.4 Hz), its unbalance
+/// 4e-4 kg m (the steady 1X peaks at 0.84 mm). As a model file
+/// ([`Jeffcott::model_file`]) the single 1 cm shaft element hangs free from the disk and
+/// weighs 1e-9 kg, so the disk's translation obeys m x'' + c x' + k x = m_u e Omega^2
+/// cos(Omega t + phi) to about 1e-10.
+pub const ONE_MASS: Jeffcott = Jeffcott {
+    mass: 10.0,
+    stiffness: 1e6,
+    damping: 150.0,
+    unbalance: 4e-4,
+};
+
 /// A rigid ring of clearance gamma around an isotropic rotor, contact linear in the
 /// penetration: F = -k_c (r - gamma)_+ e_r on (x, y).
 pub struct ClearanceRing {

@@ -17,7 +17,7 @@ pub mod jeffcott;
 pub mod oscillator;
 pub mod reference;
 
-pub use jeffcott::{ClearanceRing, Jeffcott, RingRotor};
+pub use jeffcott::{ClearanceRing, Jeffcott, RingRotor, ONE_MASS};
 pub use oscillator::{Duffing, Oscillator};
 pub use reference::{
     assert_same_resonance, example_path, reference_bearing, reference_rotor, reference_rotor_path,

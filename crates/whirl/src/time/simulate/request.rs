@@ -114,6 +114,7 @@ impl SimulationRequest {
             Some(to) => Ok(SpeedProfile::Ramp {
                 from: self.speed,
                 to,
+                start: 0.0,
                 duration: settle,
             }),
         }
