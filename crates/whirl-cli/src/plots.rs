@@ -10,7 +10,8 @@ use std::f64::consts::PI;
 use whirl::bearing::characteristic_frequencies;
 use whirl::fe::{dof, Direction};
 use whirl::modal::{
-    CampbellResult, ComplexMode, ConvergenceResult, CriticalSpeed, UndampedModes, Whirl,
+    CampbellResult, ClearanceCurve, ComplexMode, ConvergenceResult, CriticalSpeed, UndampedModes,
+    Whirl,
 };
 use whirl::model::Model;
 use whirl::response::UnbalanceResult;
@@ -602,6 +603,19 @@ pub fn convergence_change(result: &ConvergenceResult) -> Figure2d {
             Series::new(x.clone(), y)
                 .label(format!("mode {}", j + 1))
                 .style(Style::line_markers(Colour::Palette(j), Marker::Circle)),
+        );
+    }
+    fig
+}
+
+/// Each roller bearing's clearance over speed (thesis fig. 3.3).
+pub fn clearance_over_speed(curve: &ClearanceCurve) -> Figure2d {
+    let mut fig = Figure2d::new("Internal radial clearance", "Speed [Hz]", "Clearance [um]");
+    for (j, (name, values)) in curve.bearings.iter().enumerate() {
+        fig.series.push(
+            Series::new(curve.speeds_hz.clone(), um(values))
+                .label(name.clone())
+                .style(Style::solid(Colour::Palette(j))),
         );
     }
     fig

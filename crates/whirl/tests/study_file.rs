@@ -192,3 +192,33 @@ fn default_speeds_start_above_rest_and_need_an_operating_range() {
         .to_string();
     assert!(e.contains("`cascade.speeds`"), "{e}");
 }
+
+#[test]
+fn the_studys_own_set_reaches_every_point_and_a_sweeps_set_overrides_it() {
+    // The whole study at 2.5 times the reference rotor's damping; the second sweep also
+    // scales it itself, and its own value wins (it is applied after the study's).
+    let s = study(
+        "set = { \"damping.scale\" = 2.5 }\n\
+         [[sweep]]\nparameter = \"roller_bearing[*].clearance\"\nvalues = [\"20 um\", \"60 um\"]\n\
+         [[sweep]]\nparameter = \"unbalance[0].eccentricity\"\nvalues = [\"10 um\"]\n\
+         set = { \"damping.scale\" = 5 }\n",
+    )
+    .unwrap();
+    let d = base().damping;
+    for (k, scale) in [(0, 2.5), (1, 2.5), (2, 5.0)] {
+        let got = s.points[k].model.damping;
+        assert_eq!(
+            (got.alpha, got.beta),
+            (scale * d.alpha, scale * d.beta),
+            "{k}"
+        );
+    }
+    let e = error(
+        "set = { \"damping.scael\" = 2 }\n[[sweep]]\nparameter = \"gravity\"\nvalues = [9]\n",
+    );
+    // The model's validation refuses the misspelt key and lists the right one.
+    assert!(
+        e.contains("unknown field `scael`") && e.contains("`scale`"),
+        "{e}"
+    );
+}

@@ -2,7 +2,8 @@
 //!
 //! Writes `summary.json` (mesh, masses, supports, the first six undamped frequencies),
 //! `nodes.csv` (each node's position and what sits there), `frequencies.csv` and the rotor
-//! layout plot `rotor.png`/`.svg`.
+//! layout plot `rotor.png`/`.svg`; with a speed-dependent clearance also `clearance.csv` and
+//! its plot over speed (thesis fig. 3.3).
 
 use std::fmt::Write;
 
@@ -29,6 +30,11 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         out.table(&table)?;
     }
     out.plot("rotor", |stem| plots::rotor_layout(model).save(stem))?;
+    if let Some(curve) = check.clearance_over_speed() {
+        out.plot("clearance", |stem| {
+            plots::clearance_over_speed(&curve).save(stem)
+        })?;
+    }
     let text = text(&check);
     let summary = report_summary("check", &loaded, &check)?;
     finish(out, summary, text, &args.common)

@@ -5,12 +5,15 @@ use serde::Serialize;
 
 use super::sound::trusted_modes;
 use crate::error::Result;
-use crate::model::{LinearBearing, Model, RollerBearing};
+use crate::model::{Clearance, LinearBearing, Model, RollerBearing};
 use crate::report::{Report, Table};
 use crate::units::rad_s_to_hz as hz;
 
 /// Undamped frequencies listed.
 const FREQUENCIES: usize = 6;
+
+/// Speeds at which a speed-dependent clearance is tabulated.
+const CLEARANCE_SPEEDS: usize = 101;
 
 /// A validated model with its first undamped natural frequencies.
 #[derive(Debug, Clone)]
@@ -244,7 +247,8 @@ impl Report for ModelCheck {
         }
     }
 
-    /// `nodes` (each node's position and what sits there) and `frequencies`.
+    /// `nodes` (each node's position and what sits there), `frequencies`, and `clearance`
+    /// when a clearance depends on speed.
     fn tables(&self) -> Vec<Table> {
         let model = &self.model;
         let mut nodes = Table::new("nodes");
@@ -257,7 +261,57 @@ impl Report for ModelCheck {
         frequencies
             .counts("mode", (0..f.len()).map(|i| i + 1))
             .numbers("frequency_hz", f.iter().copied());
-        vec![nodes, frequencies]
+        let mut tables = vec![nodes, frequencies];
+        if let Some(curve) = self.clearance_over_speed() {
+            let mut clearance = Table::new("clearance");
+            clearance.numbers("speed_hz", curve.speeds_hz.iter().copied());
+            for (name, values) in &curve.bearings {
+                clearance.numbers(format!("{name}_m"), values.iter().copied());
+            }
+            tables.push(clearance);
+        }
+        tables
+    }
+}
+
+/// Each roller bearing's clearance over speed (thesis eq. 3.1, fig. 3.3).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ClearanceCurve {
+    /// Speeds from rest to the top of the operating range (800 Hz without one), Hz.
+    pub speeds_hz: Vec<f64>,
+    /// Per roller bearing, its name and clearance at each speed, m.
+    pub bearings: Vec<(String, Vec<f64>)>,
+}
+
+impl ModelCheck {
+    /// The clearances over speed when any roller bearing's clearance depends on speed
+    /// (a polynomial); `None` when every clearance is constant.
+    pub fn clearance_over_speed(&self) -> Option<ClearanceCurve> {
+        let bearings = &self.model.roller_bearings;
+        if !bearings
+            .iter()
+            .any(|b| matches!(b.clearance, Clearance::Polynomial(_)))
+        {
+            return None;
+        }
+        // Up to the top of the operating range, where validation has checked the clearance
+        // (a polynomial fitted to measurements need not hold beyond it), else 800 Hz.
+        let top = self
+            .model
+            .operating
+            .map_or(2.0 * std::f64::consts::PI * 800.0, |(_, max)| max);
+        let step = top / (CLEARANCE_SPEEDS - 1) as f64;
+        let speeds: Vec<f64> = (0..CLEARANCE_SPEEDS).map(|i| i as f64 * step).collect();
+        Some(ClearanceCurve {
+            speeds_hz: speeds.iter().map(|&w| hz(w)).collect(),
+            bearings: bearings
+                .iter()
+                .map(|b| {
+                    let c = speeds.iter().map(|&w| b.clearance.at_speed(w)).collect();
+                    (b.name.clone(), c)
+                })
+                .collect(),
+        })
     }
 }
 

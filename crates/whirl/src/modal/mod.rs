@@ -24,7 +24,7 @@ mod undamped;
 pub use campbell::{
     campbell, CampbellOptions, CampbellResult, CampbellSummary, CriticalSpeed, ModeBranch,
 };
-pub use check::{check_model, CheckSummary, ModelCheck};
+pub use check::{check_model, CheckSummary, ClearanceCurve, ModelCheck};
 pub use complex::{branch_labels, complex_modes, ComplexMode, ModalBasis, Whirl, FULL_LIMIT};
 pub use convergence::{check_element_count, convergence, ConvergenceResult, ConvergenceSummary};
 pub use report::{modal_report, DampedSummary, ModalReport, ModalSummary};

@@ -273,6 +273,8 @@ pub struct DampingFile {
     pub beta: Option<f64>,
     pub ratios: Option<Vec<f64>>,
     pub frequencies: Option<Vec<NumOrText>>,
+    /// Multiplies alpha and beta however they were given (a study's damping dimension).
+    pub scale: Option<f64>,
 }
 
 /// `[[unbalance]]`

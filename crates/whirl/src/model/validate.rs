@@ -1104,7 +1104,29 @@ fn clearance(raw: &Spanned<ClearanceFile>, field: &str) -> V<Clearance> {
     }
 }
 
+/// `[damping]`: the coefficients as given (alpha/beta or ratios), times `scale`. Scaling both
+/// coefficients scales the damping ratio at every frequency alike (zeta = alpha / (2 w) +
+/// beta w / 2), which is what a study of damping varies.
 fn damping(raw: &Spanned<DampingFile>) -> V<RayleighDamping> {
+    let given = given_damping(raw)?;
+    let Some(scale) = raw.get_ref().scale else {
+        return Ok(given);
+    };
+    if !(scale.is_finite() && scale > 0.0) {
+        return Err(err(
+            "damping.scale",
+            raw.span(),
+            format!("the scale must be a positive number, got {scale}"),
+        )
+        .help("1 keeps the damping as given, 2.5 turns 2 % into 5 %"));
+    }
+    Ok(RayleighDamping {
+        alpha: scale * given.alpha,
+        beta: scale * given.beta,
+    })
+}
+
+fn given_damping(raw: &Spanned<DampingFile>) -> V<RayleighDamping> {
     let d = raw.get_ref();
     let span = raw.span();
     let coefficients = d.alpha.is_some() || d.beta.is_some();

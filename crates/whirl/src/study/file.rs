@@ -14,6 +14,9 @@ pub struct StudyFile {
     pub title: Option<String>,
     /// Cascade settings shared by every point (see `docs/study-file.md`).
     pub cascade: Option<Spanned<toml::Table>>,
+    /// Values set at every point of every sweep, path = value, before each sweep's own
+    /// `set` (e.g. the damping of a whole study: `set = { "damping.scale" = 2.5 }`).
+    pub set: Option<Spanned<toml::Table>>,
     /// The NSV statistic the fits and the ranking use: `"mean"` (default), `"median"`,
     /// `"p90"` or `"largest"`.
     pub metric: Option<Spanned<String>>,

@@ -235,6 +235,8 @@ struct Base {
     cascade: DocumentMut,
     /// Where `[cascade]` is in the study file, for its errors.
     cascade_span: std::ops::Range<usize>,
+    /// The study's own `set`, applied to every point before the sweep's.
+    set: Vec<Edit>,
 }
 
 impl Base {
@@ -257,6 +259,7 @@ impl Base {
             model,
             cascade,
             cascade_span,
+            set: set_edits("set", raw.set.as_ref(), 0..0)?,
         })
     }
 }
@@ -300,7 +303,7 @@ impl Expander {
             .at(s.values.span())
             .help("e.g. values = [\"20 um\", \"60 um\", \"120 um\"]"));
         }
-        let fixed = set_edits(i, s, sweep.span())?;
+        let fixed = set_edits(&field("set"), s.set.as_ref(), sweep.span())?;
         let fit_degree = fit_degree(i, s)?;
         let mut swept = Vec::new();
         let mut points = Vec::new();
@@ -316,7 +319,12 @@ impl Expander {
                 text: plain_text(v.get_ref()),
                 si: si_value(v.get_ref()),
             });
-            let edits: Vec<&Edit> = fixed.iter().chain(std::iter::once(&edit)).collect();
+            let edits: Vec<&Edit> = base
+                .set
+                .iter()
+                .chain(&fixed)
+                .chain(std::iter::once(&edit))
+                .collect();
             points.push(self.point(&edits, base)?);
         }
         if fit_degree.is_some() {
@@ -436,30 +444,27 @@ pub(crate) fn invalid(field: &str, edits: &str, what: &str, e: Error) -> InputEr
     err
 }
 
-/// The `set = { path = value }` edits of a sweep.
+/// The `set = { path = value }` edits of a sweep or of the whole study; `field` names it in
+/// errors, `outer` is where to point when the table's own place is unknown.
 fn set_edits(
-    i: usize,
-    s: &SweepFile,
-    sweep_span: std::ops::Range<usize>,
+    field: &str,
+    set: Option<&Spanned<toml::Table>>,
+    outer: std::ops::Range<usize>,
 ) -> std::result::Result<Vec<Edit>, InputError> {
-    let Some(set) = &s.set else {
+    let Some(set) = set else {
         return Ok(Vec::new());
     };
     let mut edits = Vec::new();
     for (key, value) in set.get_ref() {
-        let field = format!("sweep[{i}].set");
-        let path = ParameterPath::parse(key).map_err(|why| {
-            InputError::field(&field, why)
-                .at(set.span())
-                .help(PATH_HELP)
-        })?;
+        let path = ParameterPath::parse(key)
+            .map_err(|why| InputError::field(field, why).at(set.span()).help(PATH_HELP))?;
         edits.push(Edit {
             path,
             value: to_edit_value(value),
             text: value.to_string(),
-            field,
+            field: field.to_string(),
             span: if set.span().is_empty() {
-                sweep_span.clone()
+                outer.clone()
             } else {
                 set.span()
             },
