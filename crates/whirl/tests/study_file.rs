@@ -216,9 +216,11 @@ fn the_studys_own_set_reaches_every_point_and_a_sweeps_set_overrides_it() {
     let e = error(
         "set = { \"damping.scael\" = 2 }\n[[sweep]]\nparameter = \"gravity\"\nvalues = [9]\n",
     );
-    // The model's validation refuses the misspelt key and lists the right one.
+    // The model's validation refuses the misspelt key and lists the right one, at `set`
+    // (not at the sweep's first value, which it would otherwise meet first).
     assert!(
         e.contains("unknown field `scael`") && e.contains("`scale`"),
         "{e}"
     );
+    assert!(e.contains(": `set`: ") && !e.contains("values[0]"), "{e}");
 }

@@ -255,11 +255,13 @@ impl Base {
             .to_string()
             .parse::<DocumentMut>()
             .map_err(|e| InputError::field("cascade", e.to_string()))?;
+        let set = set_edits("set", raw.set.as_ref(), 0..0)?;
+        check_study_set(&set, &model)?;
         Ok(Base {
             model,
             cascade,
             cascade_span,
-            set: set_edits("set", raw.set.as_ref(), 0..0)?,
+            set,
         })
     }
 }
@@ -351,28 +353,7 @@ impl Expander {
 
     /// The point made by `edits` on the base: validated, and shared when seen before.
     fn point(&mut self, edits: &[&Edit], base: &Base) -> std::result::Result<usize, InputError> {
-        let mut model = base.model.clone();
-        let mut cascade = base.cascade.clone();
-        for e in edits {
-            let fail = |why: String| {
-                InputError::field(&e.field, format!("`{}`: {why}", e.path))
-                    .at(e.span.clone())
-                    .help(PATH_HELP)
-            };
-            let (doc, path) = if e.path.root() == "cascade" {
-                let mut inner = e.path.clone();
-                inner.segments.remove(0);
-                if inner.segments.is_empty() {
-                    return Err(fail(
-                        "name a cascade setting, e.g. `cascade.contact`".into(),
-                    ));
-                }
-                (&mut cascade, inner)
-            } else {
-                (&mut model, e.path.clone())
-            };
-            path.set(doc.as_table_mut(), &e.value).map_err(fail)?;
-        }
+        let (model, cascade) = edited(edits, &base.model, &base.cascade)?;
         let last = edits.last().map(|e| (e.field.clone(), e.span.clone()));
         let (field, span) = last.unwrap_or_else(|| ("cascade".into(), base.cascade_span.clone()));
         let describe = || {
@@ -471,6 +452,54 @@ fn set_edits(
         });
     }
     Ok(edits)
+}
+
+/// The model and cascade documents with `edits` applied in order.
+fn edited(
+    edits: &[&Edit],
+    model: &DocumentMut,
+    cascade: &DocumentMut,
+) -> std::result::Result<(DocumentMut, DocumentMut), InputError> {
+    let (mut model, mut cascade) = (model.clone(), cascade.clone());
+    for e in edits {
+        let fail = |why: String| {
+            InputError::field(&e.field, format!("`{}`: {why}", e.path))
+                .at(e.span.clone())
+                .help(PATH_HELP)
+        };
+        let (doc, path) = if e.path.root() == "cascade" {
+            let mut inner = e.path.clone();
+            inner.segments.remove(0);
+            if inner.segments.is_empty() {
+                return Err(fail(
+                    "name a cascade setting, e.g. `cascade.contact`".into(),
+                ));
+            }
+            (&mut cascade, inner)
+        } else {
+            (&mut model, e.path.clone())
+        };
+        path.set(doc.as_table_mut(), &e.value).map_err(fail)?;
+    }
+    Ok((model, cascade))
+}
+
+/// The study-wide `set` on the model alone: a misspelt path there is reported at `set`, not
+/// at the first sweep value it would otherwise meet.
+fn check_study_set(set: &[Edit], model: &DocumentMut) -> std::result::Result<(), InputError> {
+    let model_edits: Vec<&Edit> = set.iter().filter(|e| e.path.root() != "cascade").collect();
+    let Some(first) = model_edits.first() else {
+        return Ok(());
+    };
+    let (edited_model, _) = edited(&model_edits, model, &DocumentMut::new())?;
+    let describe = model_edits
+        .iter()
+        .map(|e| format!("`{}` = {}", e.path, e.text))
+        .collect::<Vec<_>>()
+        .join(", ");
+    Model::from_toml_str(&edited_model.to_string(), None)
+        .map(|_| ())
+        .map_err(|e| invalid("set", &describe, "model", e).at(first.span.clone()))
 }
 
 /// `fit = "cubic"` as a polynomial degree.
