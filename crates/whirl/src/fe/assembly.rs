@@ -136,7 +136,10 @@ impl Matrices for BandedSystem {
     fn reach(&self) -> usize {
         self.bands()
             .iter()
-            .map(|b| b.widths().0.max(b.widths().1))
+            .map(|b| {
+                let (lower, upper) = b.widths();
+                lower.max(upper)
+            })
             .max()
             .unwrap_or(0)
     }

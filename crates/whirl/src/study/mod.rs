@@ -356,20 +356,13 @@ impl Expander {
         let (model, cascade) = edited(edits, &base.model, &base.cascade)?;
         let last = edits.last().map(|e| (e.field.clone(), e.span.clone()));
         let (field, span) = last.unwrap_or_else(|| ("cascade".into(), base.cascade_span.clone()));
-        let describe = || {
-            edits
-                .iter()
-                .map(|e| format!("`{}` = {}", e.path, e.text))
-                .collect::<Vec<_>>()
-                .join(", ")
-        };
         let model_text = model.to_string();
         let valid = Model::from_toml_str(&model_text, None)
-            .map_err(|e| invalid(&field, &describe(), "model", e).at(span.clone()))?;
+            .map_err(|e| invalid(&field, &describe(edits), "model", e).at(span.clone()))?;
         let table: toml::Table = toml::from_str(&cascade.to_string())
             .map_err(|e| InputError::field(&field, e.message().to_string()).at(span.clone()))?;
         let settings = cascade_settings(&table).map_err(|e| {
-            invalid(&field, &describe(), "cascade", Error::from(e)).at(span.clone())
+            invalid(&field, &describe(edits), "cascade", Error::from(e)).at(span.clone())
         })?;
         // The key is that of the validated model and settings, so that "60 um" and 6e-5 are
         // one point.
@@ -492,14 +485,18 @@ fn check_study_set(set: &[Edit], model: &DocumentMut) -> std::result::Result<(),
         return Ok(());
     };
     let (edited_model, _) = edited(&model_edits, model, &DocumentMut::new())?;
-    let describe = model_edits
+    Model::from_toml_str(&edited_model.to_string(), None)
+        .map(|_| ())
+        .map_err(|e| invalid("set", &describe(&model_edits), "model", e).at(first.span.clone()))
+}
+
+/// The edits as an error names them: `path` = value, ...
+fn describe(edits: &[&Edit]) -> String {
+    edits
         .iter()
         .map(|e| format!("`{}` = {}", e.path, e.text))
         .collect::<Vec<_>>()
-        .join(", ");
-    Model::from_toml_str(&edited_model.to_string(), None)
-        .map(|_| ())
-        .map_err(|e| invalid("set", &describe, "model", e).at(first.span.clone()))
+        .join(", ")
 }
 
 /// `fit = "cubic"` as a polynomial degree.

@@ -198,10 +198,10 @@ impl Coordinates {
     /// The row that recovers physical DOF `physical`: one entry unreduced, every coordinate
     /// of a reduction (whose rows are nearly full: the boundary's few and every
     /// fixed-interface mode).
-    pub(crate) fn recovery_row(&self, physical: usize) -> SparseRow {
+    pub(crate) fn recovery_row(&self, physical: usize) -> RecoveryRow {
         match &self.reduction {
-            None => SparseRow::Entries(vec![(physical, 1.0)]),
-            Some(cb) => SparseRow::Full(cb.recovery_row(physical)),
+            None => RecoveryRow::Entries(vec![(physical, 1.0)]),
+            Some(cb) => RecoveryRow::Full(cb.recovery_row(physical)),
         }
     }
 
@@ -218,38 +218,39 @@ impl Coordinates {
     }
 }
 
-/// A physical DOF as a combination of coordinates: its nonzero entries, or a full row.
-pub(crate) enum SparseRow {
+/// A physical DOF as a combination of coordinates: its nonzero entries (unreduced: one), or
+/// the full row of a reduction.
+pub(crate) enum RecoveryRow {
     Entries(Vec<(usize, f64)>),
     Full(Vec<f64>),
 }
 
-impl SparseRow {
+impl RecoveryRow {
     /// The physical DOF's value at coordinates `q`. A full row in the eight partial sums of
     /// [`dot`]: one running sum was a chain of dependent additions (4 % of a cascade, which
     /// recovers its channels at every sample).
     pub(crate) fn dot(&self, q: &[f64]) -> f64 {
         match self {
-            SparseRow::Entries(entries) => entries.iter().map(|&(j, a)| a * q[j]).sum(),
-            SparseRow::Full(row) => dot(row, q),
+            RecoveryRow::Entries(entries) => entries.iter().map(|&(j, a)| a * q[j]).sum(),
+            RecoveryRow::Full(row) => dot(row, q),
         }
     }
 
     /// The row of this DOF minus `other`'s (a relative displacement).
-    pub(crate) fn minus(self, other: &SparseRow) -> SparseRow {
+    pub(crate) fn minus(self, other: &RecoveryRow) -> RecoveryRow {
         match (self, other) {
-            (SparseRow::Entries(mut entries), SparseRow::Entries(o)) => {
+            (RecoveryRow::Entries(mut entries), RecoveryRow::Entries(o)) => {
                 entries.extend(o.iter().map(|&(j, a)| (j, -a)));
-                SparseRow::Entries(entries)
+                RecoveryRow::Entries(entries)
             }
-            (SparseRow::Full(mut row), other) => {
+            (RecoveryRow::Full(mut row), other) => {
                 other.add_to(-1.0, &mut row);
-                SparseRow::Full(row)
+                RecoveryRow::Full(row)
             }
-            (SparseRow::Entries(entries), SparseRow::Full(o)) => {
+            (RecoveryRow::Entries(entries), RecoveryRow::Full(o)) => {
                 let mut row: Vec<f64> = o.iter().map(|a| -a).collect();
-                SparseRow::Entries(entries).add_to(1.0, &mut row);
-                SparseRow::Full(row)
+                RecoveryRow::Entries(entries).add_to(1.0, &mut row);
+                RecoveryRow::Full(row)
             }
         }
     }
@@ -257,8 +258,10 @@ impl SparseRow {
     /// row += factor * self.
     fn add_to(&self, factor: f64, row: &mut [f64]) {
         match self {
-            SparseRow::Entries(entries) => entries.iter().for_each(|&(j, a)| row[j] += factor * a),
-            SparseRow::Full(full) => row.iter_mut().zip(full).for_each(|(r, a)| *r += factor * a),
+            RecoveryRow::Entries(entries) => {
+                entries.iter().for_each(|&(j, a)| row[j] += factor * a)
+            }
+            RecoveryRow::Full(full) => row.iter_mut().zip(full).for_each(|(r, a)| *r += factor * a),
         }
     }
 }

@@ -19,7 +19,7 @@
 mod build;
 mod speed;
 
-pub(crate) use build::SparseRow;
+pub(crate) use build::RecoveryRow;
 pub use build::{build, linear, Built, Coordinates, Linear};
 pub use speed::SpeedProfile;
 

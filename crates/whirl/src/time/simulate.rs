@@ -66,7 +66,7 @@ use crate::fe::{dof, Bearings, Direction, DofNames};
 use crate::force::ForceBuilder;
 use crate::model::Model;
 use crate::progress::{tell, Progress};
-use crate::system::{build, linear, Built, Linear, SparseRow, SpeedProfile, System};
+use crate::system::{build, linear, Built, Linear, RecoveryRow, SpeedProfile, System};
 use contacts::{
     fill_multipliers, lagrange_contacts, recorded_nodes, rigid_static_equilibrium, RollerProbe,
 };
@@ -640,7 +640,7 @@ impl ProgressTicker<'_> {
 
 /// The first recorded translation beyond the bound: (channel, value).
 fn beyond<'a>(
-    channels: &'a [(String, usize, SparseRow)],
+    channels: &'a [(String, usize, RecoveryRow)],
     q: &[f64],
     bound: f64,
 ) -> Option<(&'a str, f64)> {
@@ -710,7 +710,7 @@ fn march_and_record(
     // The nodes' translations, then every housing's (where the dampers act).
     let shaft_nodes = model.node_count();
     let names = DofNames::of(model);
-    let channels: Vec<(String, usize, SparseRow)> = recorded_nodes(model, nodes, rollers_law)
+    let channels: Vec<(String, usize, RecoveryRow)> = recorded_nodes(model, nodes, rollers_law)
         .into_iter()
         .flat_map(|node| [Direction::Ux, Direction::Uy].map(|d| (node, dof(node, d))))
         .chain(

@@ -9,7 +9,7 @@ use crate::error::Result;
 use crate::fe::{dof, Bearings, Direction};
 use crate::force::Kinematics;
 use crate::model::{Model, RollerBearing};
-use crate::system::{build, Coordinates, SparseRow, SpeedProfile};
+use crate::system::{build, Coordinates, RecoveryRow, SpeedProfile};
 use crate::time::statics::static_equilibrium;
 use crate::time::RollerRecord;
 
@@ -80,7 +80,7 @@ pub(super) fn recorded_nodes(
 pub(super) struct RollerProbe {
     contact: HertzBearing,
     /// Rows of the node's [ux, uy] (and [tx, ty] with tilt).
-    rows: Vec<SparseRow>,
+    rows: Vec<RecoveryRow>,
     /// Per-roller forces are NaN here: a law without rollers, or Lagrange multipliers,
     /// filled in after the march.
     no_forces: bool,
@@ -113,7 +113,7 @@ impl RollerProbe {
         let node = bearing.station.node;
         // In a housing the rollers see the shaft's translations relative to the housing's.
         let outer = model.outer_dofs(bearing.housing);
-        let rows: Vec<SparseRow> = directions
+        let rows: Vec<RecoveryRow> = directions
             .iter()
             .enumerate()
             .map(|(k, &d)| {
