@@ -51,8 +51,12 @@ pub struct LagrangeContacts {
     coordinates: Vec<usize>,
     /// Multipliers of the last step, N, roller after roller.
     lambda: Vec<f64>,
-    /// Multipliers at every observed instant, one block of `rollers()` per instant.
+    /// Multipliers at every observed instant, one block of `rollers()` per instant, when
+    /// kept (`keep_history`).
     history: Vec<f64>,
+    /// Whether `record` keeps the multipliers: only a run that reports per-roller forces
+    /// reads them, and a cascade's runs would hold 0.5 kB a step for nothing.
+    keeping: bool,
     /// Largest penetration left after any correction, m.
     worst_penetration: f64,
     /// Most active-set iterations any step needed.
@@ -265,6 +269,7 @@ impl LagrangeContacts {
             coordinates,
             lambda: vec![0.0; m],
             history: Vec::new(),
+            keeping: false,
             worst_penetration: f64::NEG_INFINITY,
             most_iterations: 0,
             work,
@@ -291,20 +296,33 @@ impl LagrangeContacts {
         &self.lambda
     }
 
-    /// Clears the record and reserves room for `steps` instants.
+    /// Makes `record` keep the multipliers, for `history`.
+    pub fn keep_history(&mut self) {
+        self.keeping = true;
+    }
+
+    /// Clears the record and, when the history is kept, reserves room for `steps` instants.
     pub fn start_recording(&mut self, steps: usize) {
-        self.history = Vec::with_capacity(steps * self.rollers());
+        self.history = Vec::with_capacity(if self.keeping {
+            steps * self.rollers()
+        } else {
+            0
+        });
         self.lambda.iter_mut().for_each(|l| *l = 0.0);
         self.worst_penetration = f64::NEG_INFINITY;
         self.most_iterations = 0;
     }
 
-    /// Appends the current multipliers (those acting at the instant being observed).
+    /// Appends the current multipliers (those acting at the instant being observed) when
+    /// the history is kept.
     pub fn record(&mut self) {
-        self.history.extend_from_slice(&self.lambda);
+        if self.keeping {
+            self.history.extend_from_slice(&self.lambda);
+        }
     }
 
-    /// Recorded multipliers, N: instant after instant, roller after roller.
+    /// Recorded multipliers, N: instant after instant, roller after roller (empty unless
+    /// `keep_history` was called).
     pub fn history(&self) -> &[f64] {
         &self.history
     }
