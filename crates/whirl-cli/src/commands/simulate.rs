@@ -51,8 +51,8 @@ use super::{
 };
 use crate::error::Diag;
 use crate::output::Output;
-use crate::plots;
 use crate::progress::progress_line;
+use whirl_figures::plots;
 
 /// `whirl simulate`
 #[derive(Debug, clap::Args)]

@@ -30,7 +30,7 @@ use whirl::time::{BearingReport, FrequencyCheck, SimulationReport};
 use whirl_plot::{Colour, RefLine};
 
 use crate::output::Output;
-use crate::plots;
+use whirl_figures::plots;
 
 /// The peak of a check with the largest amplitude over the node's channels.
 fn best(check: &FrequencyCheck) -> Option<(&str, SpectralPeak)> {

@@ -19,13 +19,16 @@ use whirl_plot::{
     Annotation, Colour, Figure2d, Grid, LegendPosition, Line, Marker, RefLine, Series, Style,
 };
 
-use crate::commands::campbell::order_name;
+use crate::order_name;
 
 mod cascade;
 mod frf;
+pub mod map;
 mod reduce;
 mod runup;
 mod statics;
+pub mod stiffness;
+pub mod study;
 mod time;
 
 pub use cascade::{

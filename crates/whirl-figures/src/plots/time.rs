@@ -10,7 +10,7 @@ use whirl_plot::{
 };
 
 use super::{grid_shape, um};
-use crate::commands::campbell::order_name;
+use crate::order_name;
 use whirl::time::SettledChannel;
 
 /// A time history longer than this many pairs of points is drawn as its envelope: the
