@@ -36,6 +36,18 @@ RUNS = {
         ),
     ),
     "hbm": (["hbm", "--speeds", "1:60Hz", "--harmonics", "2"], lambda: whirl.hbm(REFERENCE, "1:60Hz", harmonics=2, progress=False)),
+    "convergence": (
+        ["convergence", "--counts", "2,5,10,20", "--modes", "4"],
+        lambda: whirl.convergence(REFERENCE, [2, 5, 10, 20], modes=4),
+    ),
+    "static": (["static"], lambda: whirl.static(REFERENCE)),
+    "reduce": (["reduce", "--modes", "8", "--nodes", "10"], lambda: whirl.reduce(REFERENCE, modes=8, nodes=[10])),
+    "ucs": (["ucs", "--modes", "3"], lambda: whirl.ucs(REFERENCE, modes=3)),
+    "frf": (["frf", "--input", "10:ux"], lambda: whirl.frf(REFERENCE, (10, "ux"))),
+    "stiffness": (
+        ["stiffness", "--cage-steps", "4", "--grid", "5"],
+        lambda: whirl.stiffness(REFERENCE, cage_steps=4, grid=5),
+    ),
 }
 
 
