@@ -33,6 +33,7 @@ use whirl::response::{FrfKind, FrfResult, UnbalanceResult};
 use whirl::runup::RunupReport;
 use whirl::statics::StaticResult;
 use whirl::study::report::StudyReport;
+use whirl::time::SimulationReport;
 use whirl_plot::{NamedFigure, SpeedAxis};
 
 pub mod hbm;
@@ -230,6 +231,45 @@ pub fn study(report: &StudyReport) -> Vec<NamedFigure> {
             plots::study::nsv_versus_parameter(sweep, study.metric),
         ));
     }
+    figures
+}
+
+/// `whirl simulate`: per roller bearing its contact line, contact zone and load zone, then
+/// the time history, the orbits (with each roller bearing's clearance circle at the final
+/// speed) and the spectrum (with the bearings' characteristic and waviness frequencies).
+pub fn simulate(model: &Model, report: &SimulationReport) -> Vec<NamedFigure> {
+    let result = &report.result;
+    let mut figures = Vec::new();
+    for b in &report.bearings {
+        let r = report.record(b);
+        figures.extend([
+            NamedFigure::new(
+                format!("contact_line_{}", b.stem),
+                plots::contact_line(r, &result.time, b.line_window.clone()),
+            ),
+            NamedFigure::new(
+                format!("contact_zone_{}", b.stem),
+                plots::contact_zone(r, b.settled_range.clone(), b.clearance),
+            ),
+            NamedFigure::new(
+                format!("load_zone_{}", b.stem),
+                plots::load_zone(r, b.settled_range.clone()),
+            ),
+        ]);
+    }
+    // Every recorded node: those asked for and the bearing nodes a contact law adds.
+    let mut recorded: Vec<usize> = result.channels.iter().map(|c| c.node).collect();
+    recorded.dedup();
+    let circles = plots::clearance_circles(model, report.final_speed());
+    let markers = plots::spectrum_markers(&report.bearings);
+    figures.extend([
+        NamedFigure::new("time_history", plots::time_history(result, &recorded)),
+        NamedFigure::new("orbits", plots::orbits(result, &recorded, &circles)),
+        NamedFigure::new(
+            "spectrum",
+            plots::spectrum(&report.channels, report.running_hz(), &markers),
+        ),
+    ]);
     figures
 }
 

@@ -38,8 +38,8 @@ pub use frf::{critical_speed_map, frf};
 pub use reduce::{reduction_error, stable_steps};
 pub use runup::{runup_amplitudes, runup_maps};
 pub use statics::{roller_loads, static_response};
+pub use time::{clearance_circles, orbits, spectrum, spectrum_markers, time_history};
 pub use time::{contact_line, contact_zone, load_zone};
-pub use time::{orbits, spectrum, time_history};
 
 /// At most this many panels of modes (a grid of 4 x 3).
 const MAX_PANELS: usize = 12;

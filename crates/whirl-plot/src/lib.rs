@@ -1,7 +1,9 @@
 //! PNG and SVG figures for whirl, built on `plotters`.
 //!
-//! This crate knows nothing about rotors: it draws generic figures, and the CLI maps analysis
-//! results (Campbell diagrams, mode shapes, orbits, Bode plots, cascades) onto them.
+//! This crate knows nothing about rotors: it draws generic figures, and whirl-figures maps
+//! analysis results (Campbell diagrams, mode shapes, orbits, Bode plots, cascades) onto them.
+//! Figures are plain data and serialise (serde) to a specification another renderer can draw
+//! (the Python package's matplotlib); [`NamedFigure`] is one with the stem of its files.
 //!
 //! | figure | type | typical use |
 //! |---|---|---|

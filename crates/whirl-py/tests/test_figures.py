@@ -36,6 +36,10 @@ RUNS = {
         ),
     ),
     "hbm": (["hbm", "--speeds", "1:60Hz", "--harmonics", "2"], lambda: whirl.hbm(REFERENCE, "1:60Hz", harmonics=2, progress=False)),
+    "simulate": (
+        ["simulate", "--speed", "50Hz", "--duration", "0.3s", "--reduce", "12", "--nodes", "10"],
+        lambda: whirl.simulate(REFERENCE, "50Hz", duration="0.3s", reduce=12, nodes=[10], progress=False),
+    ),
     "convergence": (
         ["convergence", "--counts", "2,5,10,20", "--modes", "4"],
         lambda: whirl.convergence(REFERENCE, [2, 5, 10, 20], modes=4),
@@ -49,6 +53,14 @@ RUNS = {
         lambda: whirl.stiffness(REFERENCE, cage_steps=4, grid=5),
     ),
 }
+
+
+@pytest.fixture(autouse=True)
+def close_figures():
+    yield
+    import matplotlib.pyplot as plt
+
+    plt.close("all")
 
 
 def svgs(folder) -> dict[str, bytes]:
