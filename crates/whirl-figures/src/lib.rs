@@ -33,7 +33,7 @@ use whirl::response::{FrfKind, FrfResult, UnbalanceResult};
 use whirl::runup::RunupReport;
 use whirl::statics::StaticResult;
 use whirl::study::report::StudyReport;
-use whirl::time::SimulationReport;
+use whirl::time::{ForcingFitReport, SimulationReport};
 use whirl_plot::{NamedFigure, SpeedAxis};
 
 pub mod hbm;
@@ -271,6 +271,14 @@ pub fn simulate(model: &Model, report: &SimulationReport) -> Vec<NamedFigure> {
         ),
     ]);
     figures
+}
+
+/// `whirl fit-forcing`: the force over the deflection, samples and fit per speed.
+pub fn fit_forcing(report: &ForcingFitReport) -> Vec<NamedFigure> {
+    vec![NamedFigure::new(
+        "force_deflection",
+        plots::fit::force_deflection(&report.fit),
+    )]
 }
 
 /// `whirl hbm`: the harmonics over speed, the stability (when computed) and the harmonics

@@ -22,6 +22,7 @@ use whirl_plot::{
 use crate::order_name;
 
 mod cascade;
+pub mod fit;
 mod frf;
 pub mod map;
 mod reduce;

@@ -189,5 +189,6 @@ pub fn fit_forcing(
         let progress = fraction_progress(watch);
         fit(model, bearing, &speeds, &options, Some(&progress))
     })?;
-    PyReport::of(&ForcingFitReport::new(model, bearing, lib(result)?))
+    let report = ForcingFitReport::new(model, bearing, lib(result)?);
+    PyReport::with_figures(&report, whirl_figures::fit_forcing(&report))
 }

@@ -40,6 +40,10 @@ RUNS = {
         ["simulate", "--speed", "50Hz", "--duration", "0.3s", "--reduce", "12", "--nodes", "10"],
         lambda: whirl.simulate(REFERENCE, "50Hz", duration="0.3s", reduce=12, nodes=[10], progress=False),
     ),
+    "fit-forcing": (
+        ["fit-forcing", "--speeds", "200Hz:300Hz:2", "--duration", "0.2s", "--settle", "0.1s"],
+        lambda: whirl.fit_forcing(REFERENCE, "200Hz:300Hz:2", duration="0.2s", settle="0.1s"),
+    ),
     "convergence": (
         ["convergence", "--counts", "2,5,10,20", "--modes", "4"],
         lambda: whirl.convergence(REFERENCE, [2, 5, 10, 20], modes=4),

@@ -174,13 +174,14 @@ def _draw_heat_map(figure: dict[str, Any], ax: Any) -> None:
     _legend(ax, figure["legend"])
 
 
-def _spec_drawer(name: str, what: str):
-    """The function of :mod:`whirl.plot` that draws a result's command line figure ``name``."""
+def _spec_drawer(name: str, what: str, function: str | None = None):
+    """The function of :mod:`whirl.plot` (named ``function``, default ``name``) that draws a
+    result's command line figure ``name``."""
 
     def drawn(result, ax=None):
         return draw(result.figure_spec(name), ax)
 
-    drawn.__name__ = drawn.__qualname__ = name
+    drawn.__name__ = drawn.__qualname__ = function or name
     drawn.__doc__ = f"{what} (the command line's ``{name}`` figure, from its specification)."
     return drawn
 
@@ -283,17 +284,6 @@ def hb_branch(result, node=None, direction="uy", ax=None):
     return ax
 
 
-def hb_stability(result, ax=None):
-    """Harmonic balance: the largest real part of the Floquet exponents along the branch
-    (above zero: unstable)."""
-    ax = _axes(ax)
-    branch = result.columns("branch")
-    ax.plot(branch["speed_hz"], branch["max_real_exponent_per_s"])
-    ax.axhline(0.0, color="grey", lw=0.8)
-    ax.set(xlabel="speed [Hz]", ylabel="largest real part [1/s]", title="Floquet stability")
-    return ax
-
-
 def frf(result, kind="receptance", ax=None):
     """Frequency response functions (``whirl.frf``): the magnitude of ``kind``
     (receptance, mobility or accelerance) of each output over frequency, peaks marked."""
@@ -342,22 +332,6 @@ def force_surface(result, clearance=None, component="fr", ax=None):
     ax.figure.colorbar(drawn, ax=ax, label=f"{component} [N]")
     ax.set(xlabel="ux [um]", ylabel="uy [um]", aspect="equal",
            title=f"{component} at clearance {name.removeprefix('surfaces_')}")
-    return ax
-
-
-def fit_forcing(result, ax=None):
-    """The forcing-function fit (``whirl.fit_forcing``): the bearing's force over its
-    deflection, sampled and fitted, log-log, per speed."""
-    ax = _axes(ax)
-    fit = result.columns("fit")
-    for speed in np.unique(fit["speed_hz"]):
-        at = fit["speed_hz"] == speed
-        order = np.argsort(fit["deflection_m"][at])
-        (drawn,) = ax.loglog(fit["deflection_m"][at], fit["force_n"][at], ".", alpha=0.4)
-        ax.loglog(fit["deflection_m"][at][order], fit["fitted_force_n"][at][order], "-",
-                  color=drawn.get_color(), label=f"{speed:g} Hz")
-    ax.set(xlabel="deflection (m)", ylabel="force (N)", title="forcing function: samples and fit")
-    ax.legend()
     return ax
 
 
@@ -420,4 +394,14 @@ mode_shapes = _spec_drawer(
 rotor = _spec_drawer(
     "rotor",
     "The rotor's layout (``whirl.check``): shaft, nodes, disks and bearings",
+)
+hb_stability = _spec_drawer(
+    "stability",
+    "Harmonic balance: the largest real part of the Floquet exponents along the branch (above zero: unstable)",
+    "hb_stability",
+)
+fit_forcing = _spec_drawer(
+    "force_deflection",
+    "The forcing-function fit (``whirl.fit_forcing``): the contact force over the deflection beyond the clearance, log-log, samples and fit per speed",
+    "fit_forcing",
 )

@@ -17,10 +17,9 @@ from .model import Model
 #: The figures only :mod:`whirl.plot` draws of each command's report (with options the
 #: command line's figures, which every report has, do not take).
 _FIGURES = {
-    "hbm": ("hb_branch", "hb_stability"),
+    "hbm": ("hb_branch",),
     "frf": ("frf",),
     "stiffness": ("stiffness", "force_surface"),
-    "fit-forcing": ("fit_forcing",),
 }
 #: A text column of these values only is a column of flags.
 _FLAG_TEXT = {"true": True, "false": False}
