@@ -14,7 +14,7 @@ import pytest  # noqa: E402
 
 import whirl  # noqa: E402
 import whirl.plot  # noqa: E402
-from conftest import REFERENCE  # noqa: E402
+from conftest import EXAMPLES, REFERENCE  # noqa: E402
 
 #: Each analysis as the command line runs it and as Python does, with the same options.
 #: Small runs (seconds): the figures, not the physics, are under test.
@@ -85,6 +85,17 @@ def test_python_writes_the_command_lines_figures(command, run_cli, tmp_path):
     assert list(expected) == sorted(names), "Python and the command line write different figures"
     for name, svg in svgs(tmp_path / "py").items():
         assert svg == expected[name], f"{command}: {name}.svg differs from the command line's"
+
+
+def test_a_study_writes_the_command_lines_figures(run_cli, tmp_path):
+    study = tmp_path / "study.toml"
+    text = (EXAMPLES / "quick_study.toml").read_text()
+    study.write_text(text.replace('model = "reference_rotor.toml"', f"model = {str(REFERENCE)!r}"))
+    cli = run_cli("study", str(study), "--checkpoint", str(tmp_path / "cli.points"))
+    result = whirl.study(study, checkpoint=tmp_path / "py.points", progress=False)
+    assert result.figures == ("cascades_0", "nsv_0")
+    result.save_figures(tmp_path / "py")
+    assert svgs(tmp_path / "py") == svgs(cli.out)
 
 
 def test_speeds_in_rpm_as_the_command_line_writes_them(run_cli, tmp_path):

@@ -32,7 +32,43 @@ def _shown(value: Any, limit: int) -> str:
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
-class Display:
+class Figured:
+    """A result with the command line's figures as specifications (``figure_specs()``):
+    one by name, and all of them saved as the command line saves them."""
+
+    __slots__ = ()
+
+    def figure_specs(self) -> list[dict[str, Any]]:
+        """The command line's figures of this result as specifications, in its order: dicts
+        of ``name`` (the files' stem), ``speeds`` (where it shows speeds) and ``figure`` (its
+        ``kind`` and what it shows: series, axes, marks, labels), defined once in Rust for
+        the command line, :meth:`save_figures` and :func:`whirl.plot.draw`."""
+        raise NotImplementedError
+
+    def _spec_names(self) -> tuple[str, ...]:
+        return tuple(spec["name"] for spec in self.figure_specs())
+
+    def figure_spec(self, name: str) -> dict[str, Any]:
+        """The command line's figure ``name`` as its specification: ``name``, ``speeds``
+        and ``figure``, what :func:`whirl.plot.draw` draws."""
+        specs = self.figure_specs()
+        for spec in specs:
+            if spec["name"] == name:
+                return spec
+        raise ValueError(f"no command line figure `{name}` of a {type(self).__name__}: "
+                         f"its figures are {[s['name'] for s in specs]}")
+
+    def save_figures(self, folder: str | os.PathLike[str], rpm: bool = False) -> list[str]:
+        """Writes the command line's figures of this result into ``folder`` (created if
+        needed), each as ``<name>.png`` and ``<name>.svg``, drawn by the same code as the
+        command line's (speeds in rpm when ``rpm``, as ``--rpm``); returns the paths
+        written."""
+        from . import _whirl
+
+        return [os.fspath(p) for p in _whirl.save_figures(self.figure_specs(), folder, rpm)]
+
+
+class Display(Figured):
     """Notebook display of a result whose report is ``self._report()``: its command, model,
     summary (``to_dict()``) and tables (``columns(name)``). ``_figures`` names the functions of
     :mod:`whirl.plot` that draw this result, the default first."""
@@ -112,27 +148,8 @@ class Display:
         names = self._spec_names()
         return names + tuple(f for f in self._figures if f not in names)
 
-    def _spec_names(self) -> tuple[str, ...]:
-        return tuple(spec["name"] for spec in self._report().figure_specs())
-
-    def figure_spec(self, name: str) -> dict[str, Any]:
-        """The command line's figure ``name`` (one of :attr:`figures`) as its specification:
-        ``name``, ``speeds`` and ``figure``, what :func:`whirl.plot.draw` draws."""
-        specs = self._report().figure_specs()
-        for spec in specs:
-            if spec["name"] == name:
-                return spec
-        raise ValueError(f"no command line figure `{name}` of a {type(self).__name__}: "
-                         f"its figures are {[s['name'] for s in specs]}")
-
-    def save_figures(self, folder: str | os.PathLike[str], rpm: bool = False) -> list[str]:
-        """Writes the command line's figures of this result into ``folder`` (created if
-        needed), each as ``<name>.png`` and ``<name>.svg``, drawn by the same code as the
-        command line's (speeds in rpm when ``rpm``, as ``--rpm``); returns the paths
-        written."""
-        from . import _whirl
-
-        return [os.fspath(p) for p in _whirl.save_figures(self._report().figure_specs(), folder, rpm)]
+    def figure_specs(self) -> list[dict[str, Any]]:
+        return self._report().figure_specs()
 
 
 def _table_head_html(columns: dict[str, Any]) -> str:

@@ -65,10 +65,6 @@ class Report(Display):
         return pd.DataFrame(self.columns(table))
 
     def figure_specs(self) -> list[dict[str, Any]]:
-        """The command line's figures of this result as specifications, in its order: dicts
-        of ``name`` (the files' stem), ``speeds`` (where it shows speeds) and ``figure`` (its
-        ``kind`` and what it shows: series, axes, marks, labels), defined once in Rust for
-        the command line, :meth:`save_figures` and :func:`whirl.plot.draw`."""
         return self._raw.figures()
 
     def __getattr__(self, name: str) -> Any:
