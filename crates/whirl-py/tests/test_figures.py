@@ -44,6 +44,14 @@ RUNS = {
         ["fit-forcing", "--speeds", "200Hz:300Hz:2", "--duration", "0.2s", "--settle", "0.1s"],
         lambda: whirl.fit_forcing(REFERENCE, "200Hz:300Hz:2", duration="0.2s", settle="0.1s"),
     ),
+    "runup": (
+        ["runup", "--speeds", "100:140Hz", "--rate", "40Hz/s", "--steady", "none"],
+        lambda: whirl.runup(REFERENCE, speeds="100:140Hz", rate="40Hz/s", steady="none"),
+    ),
+    "map": (
+        ["map", "--values", "20um,60um", "--speeds", "1:30Hz", "--harmonics", "2", "--reduce", "12"],
+        lambda: whirl.map(REFERENCE, ["20um", "60um"], "1:30Hz", harmonics=2, reduce=12, progress=False),
+    ),
     "convergence": (
         ["convergence", "--counts", "2,5,10,20", "--modes", "4"],
         lambda: whirl.convergence(REFERENCE, [2, 5, 10, 20], modes=4),
