@@ -285,19 +285,10 @@ def hb_branch(result, node=None, direction="uy", ax=None):
 
 
 def frf(result, kind="receptance", ax=None):
-    """Frequency response functions (``whirl.frf``): the magnitude of ``kind``
-    (receptance, mobility or accelerance) of each output over frequency, peaks marked."""
-    ax = _axes(ax)
-    table = result.columns("frf")
-    for name in table:
-        if name.endswith(f"_{kind}_magnitude"):
-            ax.semilogy(table["frequency_hz"], table[name], label=name.removesuffix(f"_{kind}_magnitude"))
-    if kind == "receptance":
-        peaks = result.to_pandas("peaks")
-        ax.plot(peaks["frequency_hz"], peaks["receptance_magnitude"], "v", color="black")
-    ax.set(xlabel="frequency [Hz]", ylabel=f"{kind} magnitude", title=f"{kind} from {result.input}")
-    ax.legend(fontsize="small")
-    return ax
+    """Frequency response functions (``whirl.frf``): the command line's figure of ``kind``
+    (receptance, mobility or accelerance), magnitude, phase, real and imaginary parts of
+    each output over frequency, from its specification."""
+    return draw(result.figure_spec(kind), ax)
 
 
 def stiffness(result, entry="kyy", ax=None):
@@ -319,20 +310,12 @@ def stiffness(result, entry="kyy", ax=None):
 
 
 def force_surface(result, clearance=None, component="fr", ax=None):
-    """A force-deflection surface (``whirl.stiffness``): ``component`` (fx, fy or fr, N) over
-    the journal displacement at ``clearance`` (a table's label such as ``"20um"``; default
-    the first surface), filled contours."""
-    ax = _axes(ax)
+    """A force-deflection surface (``whirl.stiffness``): the command line's heat map of
+    ``component`` (fx, fy or fr, N) over the journal displacement at ``clearance`` (a table's
+    label such as ``"20um"``; default the first surface), from its specification."""
     names = [n for n in result.tables if n.startswith("surfaces_")]
-    name = names[0] if clearance is None else f"surfaces_{clearance}"
-    t = result.columns(name)
-    n = int(round(np.sqrt(len(t["ux_um"]))))
-    grid = lambda key: np.asarray(t[key]).reshape(n, n)  # noqa: E731  (rows of uy)
-    drawn = ax.contourf(grid("ux_um"), grid("uy_um"), grid(f"{component}_n"), levels=20)
-    ax.figure.colorbar(drawn, ax=ax, label=f"{component} [N]")
-    ax.set(xlabel="ux [um]", ylabel="uy [um]", aspect="equal",
-           title=f"{component} at clearance {name.removeprefix('surfaces_')}")
-    return ax
+    label = names[0].removeprefix("surfaces_") if clearance is None else clearance
+    return draw(result.figure_spec(f"surface_{label}_{component}"), ax)
 
 
 campbell = _spec_drawer(

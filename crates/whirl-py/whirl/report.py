@@ -18,8 +18,7 @@ from .model import Model
 #: command line's figures, which every report has, do not take).
 _FIGURES = {
     "hbm": ("hb_branch",),
-    "frf": ("frf",),
-    "stiffness": ("stiffness", "force_surface"),
+    "stiffness": ("stiffness",),
 }
 #: A text column of these values only is a column of flags.
 _FLAG_TEXT = {"true": True, "false": False}
