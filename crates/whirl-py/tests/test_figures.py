@@ -157,6 +157,8 @@ def test_panels_and_heat_maps_draw_from_their_specification():
         np.testing.assert_array_equal(x, sx)
         np.testing.assert_array_equal(y, sy)
     assert amplitude.get_yscale() == "log" and phase.get_ylabel() == "Phase [deg]"
+    with pytest.raises(ValueError, match="2 panels: give as many Axes, not 1"):
+        whirl.plot.bode(response, ax=amplitude)
     cascade = RUNS["cascade"][1]()
     ax = cascade.plot("cascade_map")
     figure = cascade.figure_spec("cascade_map")["figure"]

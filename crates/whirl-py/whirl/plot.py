@@ -92,7 +92,10 @@ def _inches(size: list[int]) -> tuple[float, float]:
 
 def _panel_axes(figure: dict[str, Any], ax: Any) -> list[Any]:
     if ax is not None:
-        return list(ax)
+        axes = list(np.ravel(ax))
+        if len(axes) < len(figure["panels"]):
+            raise ValueError(f"the figure has {len(figure['panels'])} panels: give as many Axes, not {len(axes)}")
+        return axes
     import matplotlib.pyplot as plt
 
     _, axes = plt.subplots(figure["rows"], figure["cols"], squeeze=False, figsize=_inches(figure["size"]),
