@@ -110,5 +110,5 @@ pub fn hbm(
         })
     })?
     .map_err(to_py)?;
-    PyReport::of(&report)
+    PyReport::with_figures(&report, whirl_figures::harmonic_balance(&report))
 }

@@ -85,7 +85,8 @@ fn request(a: &RunupArgs) -> PyResult<RunupRequest> {
 pub fn runup(py: Python<'_>, model: &PyModel, options: RunupArgs) -> PyResult<PyReport> {
     let o = lib(request(&options)?.options(&model.model))?;
     let result = lib(py.detach(|| sweep(&model.model, &o, None)))?;
-    PyReport::of(&RunupReport { runup: result })
+    let report = RunupReport { runup: result };
+    PyReport::with_figures(&report, whirl_figures::runup(&report, None))
 }
 
 /// A speed range `low:high` such as `1:750Hz`, in rad/s.

@@ -24,14 +24,11 @@ use whirl::runup::{runup, Direction, Quantity, Runup, RunupReport, RunupRequest,
 use whirl::time::Initial;
 use whirl::units::{parse_angular_acceleration, parse_speed_range};
 
-use whirl_plot::SpeedAxis;
-
 use super::cascade::{bins, flagged_error, frequency};
 use super::{finish, load, mode_count, node_index, positive_length, report_summary, time};
 use super::{Common, Outcome};
 use crate::interrupt;
 use crate::output::Output;
-use crate::plots;
 use crate::progress::progress_line;
 
 /// `whirl runup`
@@ -202,23 +199,13 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let report = RunupReport { runup: result };
     let summary = report_summary("runup", &loaded, &report)?;
     let tables = report.tables();
-    let r = &report.runup;
     let mut out = Output::begin(&out_dir)?;
     for t in &tables {
         out.table(t)?;
     }
     let common = &args.common;
-    let fastest = r.options.high / std::f64::consts::TAU;
-    let top = args
-        .map_max_frequency
-        .unwrap_or(2.0 * fastest)
-        .min(r.resolved.max_frequency_hz);
-    let maps = plots::runup_maps(r, top);
-    out.plot("runup_map", |stem| maps.save(stem))?;
-    let figure = plots::runup_amplitudes(r);
-    out.plot("runup_nsv", |stem| {
-        common.speed_axis(figure, SpeedAxis::X).save(stem)
-    })?;
+    let figures = whirl_figures::runup(&report, args.map_max_frequency);
+    out.figures(figures, common.rpm)?;
     finish(out, summary, text, common)
 }
 
