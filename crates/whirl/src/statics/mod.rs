@@ -36,11 +36,11 @@ use serde::Serialize;
 
 use crate::bearing::hertz_bearings;
 use crate::error::{Error, Result};
-use crate::fe::{dof, too_large_for_dense, Bearings, Direction, MAX_DENSE_DOFS};
+use crate::fe::{dof, Bearings, Direction};
 use crate::force::{no_forces, ForceBuilder};
 use crate::model::Model;
-use crate::system::build;
-use crate::time::static_equilibrium;
+use crate::system::banded;
+use crate::time::statics::{equilibrium, Structure};
 
 /// How roller bearings carry the load.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -95,27 +95,26 @@ impl StaticResult {
 
 /// Static response of `model` under its gravity, roller bearings carried as `rollers` says.
 ///
+/// The structure is held on its bands and the balance condensed onto the contacts'
+/// coordinates ([`crate::time::static_equilibrium`]'s method), so memory and time grow
+/// linearly with the elements: every mesh a model may have is solved.
+///
 /// # Errors
-/// [`Error::NotConverged`] or [`Error::Singular`] when the equilibrium cannot be found (a rotor not held by its
-/// bearings); [`Error::Unsupported`] above [`MAX_DENSE_DOFS`] DOFs.
+/// [`Error::NotConverged`] or [`Error::Singular`] when the equilibrium cannot be found (a
+/// rotor not held by its bearings).
 pub fn static_response(model: &Model, rollers: RollerSupport) -> Result<StaticResult> {
-    // The equilibrium is solved on the dense matrices and a static analysis has no
-    // reduction to offer: the refusal says so here, before `build` would suggest one.
-    let dofs = model.dof_count();
-    if dofs > MAX_DENSE_DOFS {
-        return Err(too_large_for_dense(
-            dofs,
-            "The static deflection converges with few elements (it is a smooth curve): \
-             use fewer, e.g. the model's mesh at 200 elements",
-        ));
-    }
     let (bearings, forces): (Bearings, ForceBuilder<'_>) = match rollers {
         RollerSupport::Hertz => (Bearings::NonlinearApart, &hertz_bearings),
         RollerSupport::Linear => (Bearings::Linearised, &no_forces),
     };
-    let mut problem = build(model, None, bearings, forces)?.system;
-    let n = problem.size();
-    let q = static_equilibrium(&mut problem, &vec![0.0; n], 0.0)?;
+    let mut problem = banded(model, bearings, forces)?;
+    let structure = Structure {
+        stiffness: &problem.matrices.stiffness,
+        mass: &problem.matrices.mass,
+        constant_force: &problem.constant_force,
+    };
+    let rest = vec![0.0; problem.matrices.dofs()];
+    let q = equilibrium(&structure, &mut problem.nonlinear, &rest, 0.0)?;
     if q.iter().any(|v| !v.is_finite()) {
         return Err(Error::singular(
             "stiffness matrix",
