@@ -36,11 +36,11 @@ use serde::Serialize;
 
 use crate::bearing::hertz_bearings;
 use crate::error::{Error, Result};
-use crate::fe::{dof, Bearings, Direction};
+use crate::fe::{dof, stiffness_product, Bearings, Direction};
 use crate::force::{no_forces, ForceBuilder};
 use crate::model::Model;
 use crate::system::banded;
-use crate::time::statics::{equilibrium, Structure};
+use crate::time::statics::{equilibrium, Product, Structure};
 
 /// How roller bearings carry the load.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -108,10 +108,18 @@ pub fn static_response(model: &Model, rollers: RollerSupport) -> Result<StaticRe
         RollerSupport::Linear => (Bearings::Linearised, &no_forces),
     };
     let mut problem = banded(model, bearings, forces)?;
+    // K x element by element, from each element's deformation (see
+    // [`crate::fe::element_forces`]): a fine mesh's deflection keeps its digits.
+    let product = problem.matrices.parts.as_ref().map(|parts| {
+        move |x: &[f64], out: &mut [f64]| {
+            stiffness_product(model, &parts.support_stiffness, x, out);
+        }
+    });
     let structure = Structure {
         stiffness: &problem.matrices.stiffness,
         mass: &problem.matrices.mass,
         constant_force: &problem.constant_force,
+        product: product.as_ref().map(|p| p as &Product<'_>),
     };
     let rest = vec![0.0; problem.matrices.dofs()];
     let q = equilibrium(&structure, &mut problem.nonlinear, &rest, 0.0)?;
