@@ -635,6 +635,28 @@ mod tests {
     }
 
     #[test]
+    fn a_band_factorised_as_a_band_solves_whether_or_not_it_is_definite() {
+        // Definite: the LU without row swaps; a pivot made negative: the one with them
+        // (where `Factors::new` would hold the dense inverse).
+        let n = 40;
+        let mut a = banded(n);
+        for definite in [true, false] {
+            if !definite {
+                a[(17, 17)] = -a[(17, 17)];
+            }
+            let band = Band::from_fn(n, (3, 2), |i, j| a[(i, j)]);
+            let mut factors = Factors::of_band(&band).expect("not singular");
+            assert_eq!(matches!(factors, Factors::Banded { .. }), definite);
+            let x: Vec<f64> = (0..n).map(|i| entry(i, 5)).collect();
+            let b = dense_product(&a, &x);
+            let mut solved = vec![0.0; n];
+            factors.solve(&b, &mut solved);
+            // Well conditioned (diagonally dominant either way): a few units of round-off.
+            assert!(close(&solved, &x) < 1e-13, "definite: {definite}");
+        }
+    }
+
+    #[test]
     fn column_product_matches_dense_algebra_on_every_instruction_set() {
         for (rows, cols) in [(1, 1), (3, 7), (20, 40), (21, 42)] {
             let a = Mat::from_fn(rows, cols, entry);
