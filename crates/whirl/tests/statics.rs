@@ -14,7 +14,7 @@ use whirl::system::build;
 use whirl::time::static_equilibrium;
 
 mod common;
-use common::reference_rotor;
+use common::{example_path, reference_rotor};
 
 const E: f64 = 2.1e11;
 const RHO: f64 = 7800.0;
@@ -412,6 +412,38 @@ fn static_solves_meshes_too_large_for_dense_matrices_to_the_nodally_exact_answer
         assert!(deflection < 5e-7, "{elements}: {deflection}");
         assert!(loads < 1e-5, "{elements}: {loads}");
     }
+}
+
+#[test]
+fn bands_widened_past_memory_by_a_housing_are_refused_before_allocation() {
+    // A bearing in a housing couples the shaft's node with the housing's DOFs, numbered
+    // after all the shaft's, so the bands reach across the whole model: at 2,000 elements
+    // with the rollers' linear stiffness (shaft to housing) they would take about 12 GB.
+    // With Hertz rollers the contacts between shaft and housing are condensed apart and
+    // the bands stay narrow.
+    let model = Model::from_file(&example_path("reference_rotor_sfd.toml"))
+        .unwrap()
+        .remeshed(&[2000])
+        .unwrap();
+    match static_response(&model, RollerSupport::Linear) {
+        Err(whirl::Error::Unsupported(m)) => {
+            assert!(m.contains("8008 DOFs") && m.contains("housing"), "{m}");
+            assert!(
+                m.contains("Use fewer elements") && !m.contains("--reduce"),
+                "{m}"
+            );
+        }
+        other => panic!("expected a refusal, got {:?}", other.map(|_| ())),
+    }
+    let hertz = static_response(&model, RollerSupport::Hertz).unwrap();
+    let total = hertz.total_reaction();
+    // The rollers carry the rotor (the housings hang on their centring springs), to the
+    // solver's tolerance and the fine mesh's round-off.
+    assert!(
+        (total[1] / hertz.weight - 1.0).abs() < 1e-7,
+        "{total:?} against {}",
+        hertz.weight
+    );
 }
 
 #[test]

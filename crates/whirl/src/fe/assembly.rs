@@ -234,15 +234,27 @@ pub fn assemble_dense(model: &Model, bearings: Bearings, fix: &str) -> Result<Sy
     Ok(assemble(model, bearings))
 }
 
+/// How far from the diagonal the matrices [`assemble_banded`] makes of `model` reach: an
+/// element's [`HALF_BANDWIDTH`], or further for a support between the shaft and a housing,
+/// whose DOFs follow all the shaft's.
+pub fn band_reach(model: &Model, bearings: Bearings) -> usize {
+    reach(&supports(model, bearings))
+}
+
+/// The reach of an element or, further, of one of `supports`.
+fn reach(supports: &[Support]) -> usize {
+    supports
+        .iter()
+        .map(Support::reach)
+        .fold(HALF_BANDWIDTH, usize::max)
+}
+
 /// Assembles M, K, G and C of a model as bands. A bearing between the shaft and a housing
 /// widens the band to reach the housing's DOFs, which follow the shaft's.
 pub fn assemble_banded(model: &Model, bearings: Bearings) -> BandedSystem {
     let n = model.dof_count();
     let supports = supports(model, bearings);
-    let width = supports
-        .iter()
-        .map(Support::reach)
-        .fold(HALF_BANDWIDTH, usize::max);
+    let width = reach(&supports);
     let band = |_| Band::from_fn(n, (width, width), |_, _| 0.0);
     let [mut mass, mut stiffness, mut gyroscopic] = [0; 3].map(band);
     let opts = model.options;
