@@ -6,8 +6,8 @@
 //! the settled neighbours within a window in hertz of speed, and its companions `k Omega -+
 //! f` in the point's own spectrum. The rotor-whirl classes carry the whirl direction from
 //! the full spectrum of x + i y (forward when the component at +f is the larger, planar
-//! when the two are equal within [`PLANAR_FLATNESS`] or their measurement: a line orbit,
-//! whose direction round-off would decide): whip is forward precession locked at a natural
+//! when the two are equal within [`PLANAR_FLATNESS`]: a line orbit, whose direction
+//! round-off would decide): whip is forward precession locked at a natural
 //! frequency, and a backward or planar whirl locked the same way is `backward-whip` or
 //! `planar-whip`, never plain whip.
 //!
@@ -94,8 +94,8 @@ pub enum WhirlDirection {
     Forward,
     /// Against the spin.
     Backward,
-    /// Neither: the two components are equal within the orbit's flatness limit or their
-    /// measurement, so the orbit is a line whose direction round-off would decide.
+    /// Neither: the two components are equal within the orbit's flatness limit, so the
+    /// orbit is a line whose direction round-off would decide.
     Planar,
 }
 
@@ -110,16 +110,14 @@ impl WhirlDirection {
     }
 
     /// The direction of an orbit with circular components `forward` (at +f) and `backward`
-    /// (at -f), each known to `relative_error`. The orbit's minor axis over its major is
-    /// |F - B| / (F + B); below [`PLANAR_FLATNESS`], or below twice the standard error of
-    /// F - B (`relative_error` sqrt(F^2 + B^2)), the orbit is planar: the reference rotor's
-    /// locked whips on anisotropic contacts have orbits this flat, and their larger
-    /// component changed with the last bit of the contact solve.
-    pub fn of(forward: f64, backward: f64, relative_error: f64) -> Self {
+    /// (at -f). The orbit's minor axis over its major is |F - B| / (F + B); below
+    /// [`PLANAR_FLATNESS`] the orbit is planar: the reference rotor's locked whips on
+    /// anisotropic contacts have orbits this flat, and their larger component changed with
+    /// the last bit of the contact solve. (The records' scatter is no measure of F - B:
+    /// the two components wander together with the whirl's amplitude.)
+    pub fn of(forward: f64, backward: f64) -> Self {
         let difference = forward - backward;
-        let undecided = (PLANAR_FLATNESS * (forward + backward))
-            .max(2.0 * relative_error * forward.hypot(backward));
-        if difference.abs() <= undecided {
+        if difference.abs() <= PLANAR_FLATNESS * (forward + backward) {
             WhirlDirection::Planar
         } else if difference > 0.0 {
             WhirlDirection::Forward
@@ -190,6 +188,23 @@ impl NsvClass {
     /// Whether this is a steady NSV (every class but unsettled).
     pub fn is_steady(self) -> bool {
         self != NsvClass::Unsettled
+    }
+
+    /// Whether `self` and `other` name different mechanisms or whirls: a planar orbit
+    /// beside a forward or backward one of the same mechanism is the same whirl on either
+    /// side of the flatness limit, not a change.
+    pub fn differs_from(self, other: NsvClass) -> bool {
+        use NsvClass::{CombinationResonance, Subharmonic, Whip};
+        use WhirlDirection::Planar;
+        let same_but_flat = |a: WhirlDirection, b: WhirlDirection| a == Planar || b == Planar;
+        match (self, other) {
+            (Whip(a), Whip(b))
+            | (Subharmonic(a), Subharmonic(b))
+            | (CombinationResonance(a), CombinationResonance(b)) => {
+                !(a == b || same_but_flat(a, b))
+            }
+            _ => self != other,
+        }
     }
 }
 
@@ -266,11 +281,7 @@ pub(super) fn classify(
         .enumerate()
         .map(|(i, p)| {
             let peak = p.peak?;
-            let direction = WhirlDirection::of(
-                peak.forward_m,
-                peak.backward_m,
-                peak.standard_error_m / peak.amplitude_m,
-            );
+            let direction = WhirlDirection::of(peak.forward_m, peak.backward_m);
             if !p.settled {
                 let why = format!(
                     "still dying away after {:.2} s: {:.2} of its amplitude per half record",
@@ -682,20 +693,29 @@ mod tests {
     #[test]
     fn a_line_orbit_has_no_direction() {
         use WhirlDirection::{Backward, Forward, Planar};
-        // The 32-roller locked whip whose larger component changed with round-off (um,
-        // relative standard error 0.6 %): planar both ways.
-        assert_eq!(WhirlDirection::of(46.09, 46.35, 0.006), Planar);
-        assert_eq!(WhirlDirection::of(46.58, 46.09, 0.006), Planar);
-        // Minor axis 2 % of the major, measured exactly: still a line.
-        assert_eq!(WhirlDirection::of(10.0, 9.6, 0.0), Planar);
-        // Minor axis 11 % of the major: a whirl when measured to 1 %, not when to 10 %
-        // (the difference, 2, is within twice its error 0.1 x 12.8).
-        assert_eq!(WhirlDirection::of(10.0, 8.0, 0.01), Forward);
-        assert_eq!(WhirlDirection::of(8.0, 10.0, 0.01), Backward);
-        assert_eq!(WhirlDirection::of(10.0, 8.0, 0.1), Planar);
+        // The 32-roller locked whip whose larger component changed with round-off (um):
+        // planar both ways.
+        assert_eq!(WhirlDirection::of(46.09, 46.35), Planar);
+        assert_eq!(WhirlDirection::of(46.58, 46.09), Planar);
+        // Minor axis 4 % of the major: still a line; 11 %: a whirl each way.
+        assert_eq!(WhirlDirection::of(10.0, 9.2), Planar);
+        assert_eq!(WhirlDirection::of(10.0, 8.0), Forward);
+        assert_eq!(WhirlDirection::of(8.0, 10.0), Backward);
         // A circle each way.
-        assert_eq!(WhirlDirection::of(1.0, 0.0, 0.0), Forward);
-        assert_eq!(WhirlDirection::of(0.0, 1.0, 0.0), Backward);
+        assert_eq!(WhirlDirection::of(1.0, 0.0), Forward);
+        assert_eq!(WhirlDirection::of(0.0, 1.0), Backward);
+    }
+
+    #[test]
+    fn a_planar_whirl_beside_a_directed_one_is_no_change() {
+        use WhirlDirection::{Backward, Forward, Planar};
+        let whip = NsvClass::Whip;
+        assert!(!whip(Planar).differs_from(whip(Forward)));
+        assert!(!whip(Backward).differs_from(whip(Planar)));
+        assert!(whip(Forward).differs_from(whip(Backward)));
+        assert!(whip(Planar).differs_from(NsvClass::CombinationResonance(Planar)));
+        assert!(NsvClass::VaryingCompliance.differs_from(NsvClass::Other));
+        assert!(!NsvClass::Other.differs_from(NsvClass::Other));
     }
 
     #[test]

@@ -189,7 +189,8 @@ fn sharp(a: &Option<Nsv>, level_a: f64, b: &Option<Nsv>, level_b: f64, tolerance
         (Some(a), Some(b)) => {
             let tolerance =
                 lock_tolerance(a.peak.frequency_hz.max(b.peak.frequency_hz), tolerance_hz);
-            a.class != b.class || (a.peak.frequency_hz - b.peak.frequency_hz).abs() > tolerance
+            a.class.differs_from(b.class)
+                || (a.peak.frequency_hz - b.peak.frequency_hz).abs() > tolerance
         }
         _ => false,
     }
