@@ -258,10 +258,11 @@ const PROBE_TRIALS: usize = 8;
 /// parametric resonance the map also draws as a line. Its multiplier pair closes on -1
 /// like the square root of the distance to the collision, and the multiplier that leaves
 /// is not the least damped at the path's points, so neither the points' verdicts nor g's
-/// extremum show it (reference rotor, 28 um: a 0.3 Hz tongue at 34.9-35.2 Hz, w_1 = 1.5 w,
-/// between points at 34.6 and 36.6 Hz). The mode's frequency is that of the orbit's
-/// averaged linearisation ([`OrbitMode`]), not the exponent itself, so a meeting within
-/// this much of w_i / w either side of the stretch counts.
+/// extremum show it (reference rotor, 28 um: a 0.3 Hz tongue at 34.9-35.2 Hz, where the
+/// second mode's forward whirl meets 7.5 w, between points at 34.6 and 36.6 Hz). The
+/// mode's frequency is that of the orbit's averaged linearisation ([`OrbitMode`]), not the
+/// exponent itself (there 7.54 w, 0.5 % off), so a meeting within this much of w_i / w
+/// either side of the stretch counts.
 const HALF_ORDER_MARGIN: f64 = 0.01;
 
 /// The highest w_i / w sought: a tongue at w_i = (m + 1/2) w is a parametric resonance
@@ -271,8 +272,8 @@ const MAX_HALF_ORDER: f64 = 8.0;
 
 /// The least modulus of the meeting mode's multiplier, exp(-zeta w_i T / sqrt(1 - zeta^2)):
 /// the two reals a pair of modulus r splits into keep their product near r^2, so the
-/// larger reaches 1 only if the smaller falls to about r^2; below a half that asks a
-/// split wider than the reference rotor's tongues show (pair 0.74, reals 0.5-1.35 at 28 um).
+/// larger reaches 1 only if the smaller falls to about r^2; below a half that asks a split
+/// of more than four to one (the reference rotor's 28 um tongue opens from a pair of 0.74).
 const NEAR_MINUS_ONE: f64 = 0.5;
 
 /// Evenly spaced speeds sampled between two such points before the meeting mode's
