@@ -12,8 +12,8 @@ use whirl::time::{
 };
 
 use crate::error::{keyword_lib, lib, to_py, NumericalError};
+use crate::given::choice;
 use crate::model::PyModel;
-use crate::nsv::choice;
 use crate::report::PyReport;
 use crate::watch::run_watched;
 

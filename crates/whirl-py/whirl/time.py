@@ -10,9 +10,8 @@ from typing import Any
 
 import numpy as np
 
-from . import _progress, _whirl
+from . import _options, _progress, _whirl
 from .model import Model, as_model
-from .nsv import _time
 from .report import Report, Reported
 from .response import report_nodes
 
@@ -96,12 +95,12 @@ def simulate(
     model = as_model(model)
     options = {
         "speed": _whirl.parse_speed(str(speed)),
-        "duration": _time("duration", duration),
+        "duration": _options.time("duration", duration),
         "method": method,
         "hht_alpha": hht_alpha,
-        "step": None if step is None else _time("step", step),
+        "step": None if step is None else _options.time("step", step),
         "reduce": reduce,
-        "settle": None if settle is None else _time("settle", settle),
+        "settle": None if settle is None else _options.time("settle", settle),
         "nodes": report_nodes(model, nodes),
         "contact": contact,
         "record_every": record_every,
