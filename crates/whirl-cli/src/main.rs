@@ -16,10 +16,6 @@ mod commands;
 mod error;
 mod interrupt;
 mod output;
-mod plots;
-mod plots_map;
-mod plots_stiffness;
-mod plots_study;
 mod progress;
 
 use std::io::Write;

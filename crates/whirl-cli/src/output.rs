@@ -26,6 +26,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::Value;
 use whirl::report::{Cell, Table};
+use whirl_plot::NamedFigure;
 
 use crate::error::{from_whirl, Diag};
 use crate::interrupt;
@@ -192,6 +193,16 @@ impl Output {
         };
         write().map_err(|e| io_error("write", &path, e))?;
         self.files.push(name.to_string());
+        Ok(())
+    }
+
+    /// Draws an analysis's figures (`whirl_figures`), each as `<name>.png` and `.svg`, its
+    /// speeds in rpm when `rpm`.
+    pub fn figures(&mut self, figures: Vec<NamedFigure>, rpm: bool) -> miette::Result<()> {
+        for figure in figures {
+            let figure = if rpm { figure.in_rpm() } else { figure };
+            self.plot(&figure.name, |stem| figure.figure.save(stem))?;
+        }
         Ok(())
     }
 

@@ -17,7 +17,7 @@ use crate::style::Colour;
 use crate::{PlotError, FIGURE_SIZE};
 
 /// A text label at a data point, drawn above and beside it.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Annotation {
     /// Abscissa of the labelled point, in data units.
     pub x: f64,
@@ -48,7 +48,7 @@ impl Annotation {
 
 /// A dashed vertical or horizontal line across the plot at a fixed value, e.g. a critical speed
 /// or an alarm level.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RefLine {
     /// Position on the axis it crosses, in data units.
     pub value: f64,
@@ -82,7 +82,7 @@ impl RefLine {
 /// Axis ranges not given explicitly fit the drawable points (those inside the other axis' explicit
 /// range, if it has one) with a small margin. Reference lines and annotations do not widen the
 /// ranges; those outside are not drawn.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Figure2d {
     /// Title above the plot; empty for none.
     pub title: String,

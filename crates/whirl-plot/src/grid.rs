@@ -14,7 +14,7 @@ use crate::PlotError;
 /// Panels of [`Figure2d`] in `rows` x `cols`, filled row by row (mode shapes of six modes in
 /// 2 x 3, Bode magnitude above phase in 2 x 1). Cells without a panel stay blank. Each panel
 /// keeps its own title, labels, ranges and legend; its `size` is ignored.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Grid {
     /// Title above all panels; empty for none.
     pub title: String,

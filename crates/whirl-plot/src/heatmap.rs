@@ -25,7 +25,7 @@ use crate::series::{draw_all, draw_legend, LegendPosition, Series};
 use crate::{PlotError, FIGURE_SIZE};
 
 /// A colour map of `z` over the grid `x` by `y`.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct HeatMap {
     /// Title above the plot; empty for none.
     pub title: String,

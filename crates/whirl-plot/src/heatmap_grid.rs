@@ -16,7 +16,7 @@ use crate::PlotError;
 /// sweep with fewer values than the longest). Each panel keeps its own title, labels,
 /// colour scale and overlays; its `size` is ignored. Give the panels one `z_range` to
 /// compare their colours.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct HeatMapGrid {
     /// Title above all panels; empty for none.
     pub title: String,

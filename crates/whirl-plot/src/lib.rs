@@ -1,7 +1,9 @@
 //! PNG and SVG figures for whirl, built on `plotters`.
 //!
-//! This crate knows nothing about rotors: it draws generic figures, and the CLI maps analysis
-//! results (Campbell diagrams, mode shapes, orbits, Bode plots, cascades) onto them.
+//! This crate knows nothing about rotors: it draws generic figures, and whirl-figures maps
+//! analysis results (Campbell diagrams, mode shapes, orbits, Bode plots, cascades) onto them.
+//! Figures are plain data and serialise (serde) to a specification another renderer can draw
+//! (the Python package's matplotlib); [`NamedFigure`] is one with the stem of its files.
 //!
 //! | figure | type | typical use |
 //! |---|---|---|
@@ -52,6 +54,7 @@ mod grid;
 mod heatmap;
 mod heatmap_grid;
 mod marker;
+mod named;
 mod render;
 mod rpm;
 mod series;
@@ -63,6 +66,7 @@ pub use font::{FONT_BYTES, FONT_FAMILY};
 pub use grid::Grid;
 pub use heatmap::HeatMap;
 pub use heatmap_grid::HeatMapGrid;
+pub use named::{Figure, NamedFigure, SpeedMarks};
 pub use rpm::{SpeedAxis, SpeedInRpm, RPM_PER_HZ};
 pub use series::{LegendPosition, Series};
 pub use style::{Colour, Line, Marker, Style, PALETTE};

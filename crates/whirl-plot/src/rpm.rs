@@ -12,7 +12,8 @@ use crate::{Annotation, Figure2d, Grid, HeatMap, RefLine};
 pub const RPM_PER_HZ: f64 = 60.0;
 
 /// The axis of a figure that shows a speed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum SpeedAxis {
     /// The horizontal axis.
     X,

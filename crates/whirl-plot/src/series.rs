@@ -14,7 +14,7 @@ use crate::PlotError;
 ///
 /// Points where x or y is NaN or infinite (or not positive on a logarithmic axis) are not drawn
 /// and break the line, so a tracked branch that disappears and comes back shows a gap.
-#[derive(Debug, Clone, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct Series {
     /// Legend text; `None` (or empty) keeps the series out of the legend.
     pub label: Option<String>,
@@ -80,7 +80,8 @@ impl Series {
 }
 
 /// Where the legend box goes inside the plotting area.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum LegendPosition {
     /// Top right corner.
     #[default]

@@ -38,9 +38,45 @@ impl Colour {
         }
     }
 
+    /// The colour as `#rrggbb`, as a figure's specification writes it.
+    pub fn hex(self) -> String {
+        let (r, g, b) = self.rgb();
+        format!("#{r:02x}{g:02x}{b:02x}")
+    }
+
     pub(crate) fn to_plotters(self) -> RGBColor {
         let (r, g, b) = self.rgb();
         RGBColor(r, g, b)
+    }
+}
+
+/// A colour is written as `#rrggbb` in a figure's specification (what a renderer other than
+/// this crate's, such as matplotlib, reads): a palette entry as the RGB it stands for.
+impl serde::Serialize for Colour {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(&self.hex())
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for Colour {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let text = String::deserialize(deserializer)?;
+        let channel = |i: usize| {
+            text.get(i..i + 2)
+                .and_then(|h| u8::from_str_radix(h, 16).ok())
+        };
+        match (
+            text.len(),
+            text.starts_with('#'),
+            channel(1),
+            channel(3),
+            channel(5),
+        ) {
+            (7, true, Some(r), Some(g), Some(b)) => Ok(Colour::Rgb(r, g, b)),
+            _ => Err(serde::de::Error::custom(format!(
+                "colour {text:?} is not of the form #rrggbb"
+            ))),
+        }
     }
 }
 
@@ -51,7 +87,8 @@ impl Default for Colour {
 }
 
 /// How consecutive points are joined.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Line {
     /// Not joined: markers only.
     None,
@@ -65,7 +102,8 @@ pub enum Line {
 }
 
 /// The symbol drawn at each point.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Marker {
     /// No symbol.
     #[default]
@@ -86,7 +124,7 @@ pub enum Marker {
 ///
 /// A series with `line: Line::None` and `marker: Marker::None` draws nothing but may still
 /// appear in the legend.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Style {
     /// Colour of line and markers. `None` takes the palette entry of the series' index.
     pub colour: Option<Colour>,

@@ -28,7 +28,7 @@ pub fn reduce(
     nodes: Vec<usize>,
 ) -> PyResult<PyReport> {
     let report = lib(py.detach(|| reduction_report(&model.model, modes, &nodes, None)))?;
-    PyReport::of(&report)
+    PyReport::with_figures(&report, whirl_figures::reduce(&report))
 }
 
 /// The stiffness of roller bearing `bearing` versus clearance (`whirl stiffness`): at the
@@ -63,7 +63,7 @@ pub fn stiffness(
         grid,
     };
     let report = keyword_lib(py.detach(|| stiffness_report(&model.model, &request)))?;
-    PyReport::of(&report)
+    PyReport::with_figures(&report, whirl_figures::stiffness(&report))
 }
 
 /// The static response under gravity (`whirl static`), the roller bearings carrying the
@@ -72,7 +72,7 @@ pub fn stiffness(
 pub fn statics(py: Python<'_>, model: &PyModel, rollers: &str) -> PyResult<PyReport> {
     let rollers = choice("rollers", rollers)?;
     let result = lib(py.detach(|| static_response(&model.model, rollers)))?;
-    PyReport::of(&result)
+    PyReport::with_figures(&result, whirl_figures::statics(&model.model, &result))
 }
 
 /// The undamped critical-speed map (`whirl ucs`) over the bearing stiffnesses `stiffness`
@@ -88,7 +88,7 @@ pub fn ucs(
     let map = lib(stoppable(py, |progress| {
         critical_speed_map(&model.model, &stiffness, modes, synchronous, Some(progress))
     })?)?;
-    PyReport::of(&map)
+    PyReport::with_figures(&map, whirl_figures::ucs(&model.model, &map))
 }
 
 /// The stiffnesses of a critical-speed map when none are given (N/m).
@@ -157,7 +157,8 @@ pub fn frf(
             Some(progress),
         )
     })?)?;
-    PyReport::of(&FrfReport { result, force })
+    let figures = whirl_figures::frf(model, &result);
+    PyReport::with_figures(&FrfReport { result, force }, figures)
 }
 
 /// The forcing-function fit (`whirl fit-forcing`) of roller bearing `bearing` at `speeds`
@@ -188,5 +189,6 @@ pub fn fit_forcing(
         let progress = fraction_progress(watch);
         fit(model, bearing, &speeds, &options, Some(&progress))
     })?;
-    PyReport::of(&ForcingFitReport::new(model, bearing, lib(result)?))
+    let report = ForcingFitReport::new(model, bearing, lib(result)?);
+    PyReport::with_figures(&report, whirl_figures::fit_forcing(&report))
 }

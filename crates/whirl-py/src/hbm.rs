@@ -31,5 +31,6 @@ pub fn hbm(
             sweep_with_progress(model, o, Some(&fraction_progress(watch)))
         })
     })?;
-    PyReport::of(&keyword_lib(report)?)
+    let report = keyword_lib(report)?;
+    PyReport::with_figures(&report, whirl_figures::harmonic_balance(&report))
 }

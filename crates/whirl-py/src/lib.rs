@@ -64,6 +64,10 @@ fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     )?;
     m.add("DEFAULT_GRID", whirl::bearing::stiffness::DEFAULT_GRID)?;
     m.add_class::<report::PyReport>()?;
+    m.add_function(wrap_pyfunction!(report::save_figures, m)?)?;
+    // The colours of a figure's series that name none, by index (`whirl.plot.draw`).
+    let palette = (0..whirl_plot::PALETTE.len()).map(|i| whirl_plot::Colour::Palette(i).hex());
+    m.add("PALETTE", palette.collect::<Vec<_>>())?;
     m.add_function(wrap_pyfunction!(hbm::hbm, m)?)?;
     m.add_function(wrap_pyfunction!(map::map, m)?)?;
     m.add_function(wrap_pyfunction!(analyses::reduce, m)?)?;

@@ -64,5 +64,5 @@ pub fn map(
         map_with(&request, Parallelism::default(), Some(&progress))
     })?
     .map_err(to_py)?;
-    PyReport::of(&report)
+    PyReport::with_figures(&report, whirl_figures::map(&report))
 }

@@ -18,7 +18,8 @@ use crate::watch::stoppable;
 /// natural frequencies.
 #[pyfunction]
 pub fn check(py: Python<'_>, model: &PyModel) -> PyResult<PyReport> {
-    PyReport::of(&lib(py.detach(|| check_model(&model.model)))?)
+    let check = lib(py.detach(|| check_model(&model.model)))?;
+    PyReport::with_figures(&check, whirl_figures::check(&check))
 }
 
 /// The Campbell diagram over `speeds` (rad/s): `modes` branches, critical speeds at the
@@ -43,7 +44,7 @@ pub fn campbell<'py>(
         let system = assemble_banded(&model.model, Bearings::Linearised);
         whirl::modal::campbell(&system, &options, Some(progress))
     })?)?;
-    let report = PyReport::of(&result)?;
+    let report = PyReport::with_figures(&result, whirl_figures::campbell(&model.model, &result))?;
     let labels = result.labels();
     let branches = PyList::empty(py);
     for (b, label) in result.branches.into_iter().zip(labels) {
@@ -92,7 +93,11 @@ pub fn convergence<'py>(
     let result = keyword_lib(stoppable(py, |progress| {
         whirl::modal::convergence(&model.model, &counts, modes, Some(progress))
     })?)?;
-    Ok((pythonize(py, &result)?, PyReport::of(&result)?))
+    let figures = whirl_figures::convergence(&result);
+    Ok((
+        pythonize(py, &result)?,
+        PyReport::with_figures(&result, figures)?,
+    ))
 }
 
 /// The `modes` undamped modes (frequencies, mass-normalised shapes `[dof, mode]`) and the
@@ -153,6 +158,7 @@ pub fn modal<'py>(
         numpy::PyArray2::from_owned_array(py, shapes),
     )?;
     out.set_item("damped", list)?;
-    out.set_item("report", PyReport::of(&report)?)?;
+    let figures = whirl_figures::modal(&model.model, &report);
+    out.set_item("report", PyReport::with_figures(&report, figures)?)?;
     Ok(out)
 }

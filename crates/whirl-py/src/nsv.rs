@@ -150,12 +150,13 @@ pub fn cascade_report(
         .map(|s| compare(&first.0, s.0.clone(), threshold))
         .transpose()
         .map_err(to_py)?;
-    PyReport::of(&CascadeReport {
+    let report = CascadeReport {
         cascade: first.0.clone(),
         threshold_m: threshold,
         starts,
         checkpoint_folder,
-    })
+    };
+    PyReport::with_figures(&report, whirl_figures::cascade(&report, None))
 }
 
 /// Hands a batch to the Python runner and each point it yields to `done`.

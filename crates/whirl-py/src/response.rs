@@ -24,5 +24,9 @@ pub fn unbalance<'py>(
         let system = assemble_banded(&model.model, Bearings::Linearised);
         unbalance_response_refined(&model.model, &system, &speeds, &nodes, Some(progress))
     })?)?;
-    Ok((pythonize(py, &result)?, PyReport::of(&result)?))
+    let figures = whirl_figures::unbalance(&result);
+    Ok((
+        pythonize(py, &result)?,
+        PyReport::with_figures(&result, figures)?,
+    ))
 }

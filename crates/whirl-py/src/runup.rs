@@ -24,5 +24,6 @@ fn request(options: &Bound<'_, PyDict>) -> PyResult<RunupRequest> {
 pub fn runup(py: Python<'_>, model: &PyModel, options: &Bound<'_, PyDict>) -> PyResult<PyReport> {
     let o = keyword_lib(request(options)?.options(&model.model))?;
     let result = lib(py.detach(|| sweep(&model.model, &o, None)))?;
-    PyReport::of(&RunupReport { runup: result })
+    let report = RunupReport { runup: result };
+    PyReport::with_figures(&report, whirl_figures::runup(&report, None))
 }

@@ -9,6 +9,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use pythonize::pythonize;
 use whirl::progress::Progress;
+use whirl::study::report::StudyReport;
 use whirl::study::results::{analyse, run_points, PointResult};
 use whirl::study::store::Store;
 use whirl::study::{point, Point, Study};
@@ -145,6 +146,16 @@ pub fn study<'py>(
     out.set_item("checkpoint", store.dir())?;
     out.set_item("points", points)?;
     out.set_item("analysis", pythonize(py, &analysis)?)?;
+    let report = StudyReport {
+        study,
+        results: outcomes,
+        outcome: analysis,
+    };
+    let figures = PyList::empty(py);
+    for figure in whirl_figures::study(&report) {
+        figures.append(pythonize(py, &figure)?)?;
+    }
+    out.set_item("figures", figures)?;
     Ok(out)
 }
 

@@ -104,5 +104,6 @@ pub fn simulate<'py>(
     out.set_item("step", result.step)?;
     out.set_item("record_every", result.record_every)?;
     let report = lib(SimulationReport::new(&model.model, &o, result))?;
-    Ok((out, PyReport::of(&report)?))
+    let figures = whirl_figures::simulate(&model.model, &report);
+    Ok((out, PyReport::with_figures(&report, figures)?))
 }

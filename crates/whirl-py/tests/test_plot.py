@@ -22,7 +22,8 @@ def test_every_figure_draws(tmp_path):
     cascade = whirl.cascade(
         model, "100Hz:300Hz:4", no_refine=True, max_records=1, compare_starts=True, progress=False
     )
-    assert cascade.figures[-1] == "starts", "a cascade of two starts offers their figure"
+    # The command line's figures in its order: the two starts' first, when compared.
+    assert cascade.figures == ("starts", "waterfall", "cascade_map", "nsv")
     branch = whirl.hbm(model, "1:60Hz", harmonics=2, progress=False)
     reduced = whirl.reduce(model)
     axes = [
@@ -63,14 +64,15 @@ def test_every_figure_draws(tmp_path):
     )
     # The cascade map has the bearing's lines (BPFO = N_b w_c among them) and the NSV peaks.
     labels = [line.get_label() for line in axes[6].lines]
-    assert any(label.startswith("BPFO = N_b w_c") for label in labels), labels
+    assert "BPFO = N_b w_c" in labels, labels
     assert "NSV >= threshold" in labels
     # The waterfall the same lines, frequency over speed.
     assert [line.get_label() for line in axes[5].lines if not line.get_label().startswith("_")] == labels[:-1]
-    # The Bode plot has the amplitude above the phase, ux and uy of each node in both.
+    # The Bode plot has the amplitude above the phase, ux and uy of each node in both (and
+    # the operating speed range's two lines).
     amplitude, phase = axes[1].figure.axes
-    assert len(amplitude.lines) == len(phase.lines) == 2 * len(response.nodes)
-    assert phase.get_ylabel() == "phase [deg]"
+    assert len(amplitude.lines) == len(phase.lines) == 2 * len(response.nodes) + 2
+    assert phase.get_ylabel() == "Phase [deg]"
     # Its bifurcations where stability is lost, labelled by initials as the command line
     # does (whole names of close speeds ran into each other).
     labels = [t.get_text().rstrip("?") for t in axes[9].texts]

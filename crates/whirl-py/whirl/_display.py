@@ -1,10 +1,12 @@
 """How a result shows itself in a notebook: a one-line repr, an HTML summary with the
-heads of its tables, and ``.plot()`` drawing its figures from :mod:`whirl.plot`."""
+heads of its tables, ``.plot()`` drawing its figures with matplotlib (:mod:`whirl.plot`),
+and ``.save_figures()`` writing the command line's PNG and SVG files."""
 
 from __future__ import annotations
 
 import html
 import json
+import os
 from typing import Any
 
 #: Summary keys every result has (which command, which whirl, which model): the repr and
@@ -30,7 +32,43 @@ def _shown(value: Any, limit: int) -> str:
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
-class Display:
+class Figured:
+    """A result with the command line's figures as specifications (``figure_specs()``):
+    one by name, and all of them saved as the command line saves them."""
+
+    __slots__ = ()
+
+    def figure_specs(self) -> list[dict[str, Any]]:
+        """The command line's figures of this result as specifications, in its order: dicts
+        of ``name`` (the files' stem), ``speeds`` (where it shows speeds) and ``figure`` (its
+        ``kind`` and what it shows: series, axes, marks, labels), defined once in Rust for
+        the command line, :meth:`save_figures` and :func:`whirl.plot.draw`."""
+        raise NotImplementedError
+
+    def _spec_names(self) -> tuple[str, ...]:
+        return tuple(spec["name"] for spec in self.figure_specs())
+
+    def figure_spec(self, name: str) -> dict[str, Any]:
+        """The command line's figure ``name`` as its specification: ``name``, ``speeds``
+        and ``figure``, what :func:`whirl.plot.draw` draws."""
+        specs = self.figure_specs()
+        for spec in specs:
+            if spec["name"] == name:
+                return spec
+        raise ValueError(f"no command line figure `{name}` of a {type(self).__name__}: "
+                         f"its figures are {[s['name'] for s in specs]}")
+
+    def save_figures(self, folder: str | os.PathLike[str], rpm: bool = False) -> list[str]:
+        """Writes the command line's figures of this result into ``folder`` (created if
+        needed), each as ``<name>.png`` and ``<name>.svg``, drawn by the same code as the
+        command line's (speeds in rpm when ``rpm``, as ``--rpm``); returns the paths
+        written."""
+        from . import _whirl
+
+        return [os.fspath(p) for p in _whirl.save_figures(self.figure_specs(), folder, rpm)]
+
+
+class Display(Figured):
     """Notebook display of a result whose report is ``self._report()``: its command, model,
     summary (``to_dict()``) and tables (``columns(name)``). ``_figures`` names the functions of
     :mod:`whirl.plot` that draw this result, the default first."""
@@ -87,22 +125,31 @@ class Display:
         return "".join(parts)
 
     def plot(self, kind: str | None = None, **options: Any) -> Any:
-        """Draws the result with :mod:`whirl.plot` (matplotlib) and returns the Axes:
-        ``kind`` is one of :attr:`figures` (default the first); ``options`` go to that
-        function (``ax=``, ...)."""
+        """Draws the result with matplotlib and returns the Axes: ``kind`` is one of
+        :attr:`figures` (default the first). The command line's figures are drawn from
+        their specification (:func:`whirl.plot.draw`; ``ax=`` to draw on given Axes), the
+        others by the function of :mod:`whirl.plot` of that name, which takes ``options``."""
         from . import plot
 
-        if not self._figures:
+        figures = self.figures
+        if not figures:
             raise NotImplementedError(f"whirl.plot has no figure of a {type(self).__name__}")
-        name = self._figures[0] if kind is None else kind
-        if name not in self._figures:
-            raise ValueError(f"no figure `{name}` of a {type(self).__name__}: its figures are {list(self._figures)}")
+        name = figures[0] if kind is None else kind
+        if name not in figures:
+            raise ValueError(f"no figure `{name}` of a {type(self).__name__}: its figures are {list(figures)}")
+        if name in self._spec_names():
+            return plot.draw(self.figure_spec(name), **options)
         return getattr(plot, name)(self, **options)
 
     @property
     def figures(self) -> tuple[str, ...]:
-        """The figures ``plot(kind)`` draws of this result, the default first."""
-        return self._figures
+        """The figures ``plot(kind)`` draws of this result, the default first: the command
+        line's (as it names their files), then those only :mod:`whirl.plot` draws."""
+        names = self._spec_names()
+        return names + tuple(f for f in self._figures if f not in names)
+
+    def figure_specs(self) -> list[dict[str, Any]]:
+        return self._report().figure_specs()
 
 
 def _table_head_html(columns: dict[str, Any]) -> str:

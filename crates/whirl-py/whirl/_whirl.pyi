@@ -1,5 +1,7 @@
 """Type stubs of the compiled module whirl._whirl (the Python API is in whirl/*.py)."""
 
+import os
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -113,6 +115,11 @@ class Report:
     def tables(self) -> list[str]: ...
     def summary(self) -> dict[str, Any]: ...
     def table(self, name: str) -> dict[str, npt.NDArray[np.float64] | list[str | None]]: ...
+    def figures(self) -> list[dict[str, Any]]: ...
+
+def save_figures(specs: list[dict[str, Any]], folder: str | os.PathLike[str], rpm: bool) -> list[Path]: ...
+
+PALETTE: list[str]
 
 def hbm(model: Model, options: dict[str, Any], progress: Any = None) -> Report: ...
 def map(  # noqa: A001

@@ -73,8 +73,6 @@ class CampbellResult(Reported):
     """A Campbell diagram (``whirl campbell``): whirl frequencies over speed, forward and
     backward branches, critical speeds where they cross the excitation orders."""
 
-    _figures = ("campbell", "log_decrement")
-
     model: Model
     #: Spin speeds, Hz.
     speeds_hz: np.ndarray
@@ -145,8 +143,6 @@ def campbell(
 @dataclass(frozen=True, repr=False)
 class ConvergenceResult(Reported):
     """Natural frequencies versus the number of beam elements (``whirl convergence``)."""
-
-    _figures = ("convergence",)
 
     model: Model
     #: Total element counts that could be meshed, ascending.
@@ -219,8 +215,6 @@ def convergence(
 @dataclass(frozen=True, repr=False)
 class ModalResult(Reported):
     """Undamped modes and damped whirl modes at a speed (``whirl modal``)."""
-
-    _figures = ("mode_shapes",)
 
     model: Model
     #: Spin speed of the damped modes, rad/s.

@@ -73,12 +73,6 @@ class CascadeResult(Reported):
     nsv: list[dict[str, Any] | None]
     report: Report
 
-    @property
-    def _figures(self) -> tuple[str, ...]:
-        # The two starts' figure only of a cascade run with compare_starts=True.
-        both = ("starts",) if "starts" in self.tables else ()
-        return ("cascade_map", "waterfall", "nsv", *both)
-
 
 def _result(model: Model, raw: dict[str, Any], report: Report) -> CascadeResult:
     points = raw["points"]

@@ -1,5 +1,13 @@
-"""The command line's figures drawn with matplotlib from the result objects: each function
-takes a result (and optionally the Axes to draw on) and returns the Axes.
+"""The command line's figures drawn with matplotlib.
+
+Each analysis's figures are defined once, in Rust (the crate whirl-figures): what series,
+axes, marks and labels they have. A result hands them out as specifications
+(``result.figure_spec("campbell")``), :func:`draw` draws one with matplotlib, and
+``result.save_figures(folder)`` writes the command line's own PNG and SVG files. The
+functions named as a command line figure (``campbell``, ``bode``, ...) draw its
+specification; the others (``orbit``, ``spectrum``, ``hb_branch``, ...) are drawn here, with
+options the command line does not have. Each takes a result (and optionally the Axes to draw
+on) and returns the Axes.
 
     import whirl.plot
     whirl.plot.campbell(whirl.campbell("examples/reference_rotor.toml"))
@@ -11,6 +19,8 @@ from typing import Any
 
 import numpy as np
 
+from . import _whirl
+
 
 def _axes(ax: Any, **kwargs: Any) -> Any:
     if ax is not None:
@@ -20,94 +30,163 @@ def _axes(ax: Any, **kwargs: Any) -> Any:
     return plt.figure(**kwargs).add_subplot()
 
 
-def campbell(diagram, ax=None):
-    """Whirl frequencies over speed (forward solid, backward dashed), the excitation orders
-    and the critical speeds."""
-    ax = _axes(ax)
-    for b in diagram.branches:
-        style = "--" if b.whirl == "backward" else "-"
-        ax.plot(diagram.speeds_hz, b.frequency_hz, style, label=b.label)
-    for k in diagram.orders:
-        ax.plot(diagram.speeds_hz, k * diagram.speeds_hz, ":", color="grey", label=f"{k:g}X")
-    for c in diagram.critical_speeds:
-        ax.plot(c.speed_hz, c.frequency_hz, "o", color="black")
-    top = max(np.nanmax(b.frequency_hz) for b in diagram.branches) if diagram.branches else 1.0
-    ax.set(xlabel="speed [Hz]", ylabel="frequency [Hz]", ylim=(0, 1.1 * top), title="Campbell diagram")
-    ax.legend(fontsize="small", ncol=2)
-    return ax
+#: A specification's line kinds and markers as matplotlib's (markers: symbol, filled).
+_LINES = {"solid": "-", "dashed": "--", "dotted": ":", "none": ""}
+_MARKERS = {
+    "none": ("", True),
+    "circle": ("o", True),
+    "open_circle": ("o", False),
+    "triangle": ("^", True),
+    "square": ("s", False),
+    "cross": ("x", True),
+}
+_LEGEND = {
+    "upper_right": "upper right",
+    "upper_left": "upper left",
+    "lower_left": "lower left",
+    "lower_right": "lower right",
+    "upper_middle": "upper center",
+    "lower_middle": "lower center",
+    "middle_right": "center right",
+    "middle_left": "center left",
+}
+#: Pixels of the command line's 1000 x 700 figure per point of matplotlib's default
+#: 6.4 x 4.8 in figure: line widths and marker sizes scaled alike.
+_POINTS_PER_PIXEL = 0.6
+#: Inches of a matplotlib figure per pixel of the command line's.
+_INCHES_PER_PIXEL = 1 / 150
 
 
-#: API 617's least logarithmic decrement of a mode.
-_API_617_LOG_DECREMENT = 0.1
+def draw(spec: dict[str, Any], ax: Any = None) -> Any:
+    """Draws a figure specification (``result.figure_spec(name)``, or the ``figure`` of one)
+    with matplotlib and returns its Axes: for panels (a grid), the first panel's; all of
+    them are ``ax.figure.axes``. ``ax`` is the Axes to draw a single figure on (a sequence of
+    Axes for panels); default a new figure of the command line's proportions."""
+    figure = spec.get("figure", spec)
+    kind = figure["kind"]
+    if kind == "plot":
+        ax = _axes(ax, figsize=_inches(figure["size"]))
+        _draw_plot(figure, ax)
+        return ax
+    if kind == "heat_map":
+        ax = _axes(ax, figsize=_inches(figure["size"]))
+        _draw_heat_map(figure, ax)
+        return ax
+    draw_panel = {"grid": _draw_plot, "heat_map_grid": _draw_heat_map}[kind]
+    axes = _panel_axes(figure, ax)
+    for panel, panel_ax in zip(figure["panels"], axes):
+        if panel is None:
+            panel_ax.set_axis_off()
+        else:
+            draw_panel(panel, panel_ax)
+    for unused in axes[len(figure["panels"]) :]:
+        unused.set_axis_off()
+    if figure["title"]:
+        axes[0].figure.suptitle(figure["title"])
+    return axes[0]
 
 
-def log_decrement(diagram, ax=None):
-    """The logarithmic decrement of each whirl branch of a Campbell diagram over speed
-    (forward solid, backward dashed), with API 617's minimum of 0.1."""
-    ax = _axes(ax)
-    for b in diagram.branches:
-        ax.plot(diagram.speeds_hz, b.log_decrement, "--" if b.whirl == "backward" else "-", label=b.label)
-    ax.axhline(_API_617_LOG_DECREMENT, color="grey", lw=0.8, label="API 617 minimum")
-    ax.set(xlabel="speed [Hz]", ylabel="log decrement [-]", title="logarithmic decrement of the whirl branches")
-    ax.legend(fontsize="small", ncol=2)
-    return ax
+def _inches(size: list[int]) -> tuple[float, float]:
+    return (size[0] * _INCHES_PER_PIXEL, size[1] * _INCHES_PER_PIXEL)
 
 
-def bode(response, ax=None):
-    """Unbalance response as the command line's Bode plot: the amplitude of ux (solid) and
-    uy (dashed) at each reported node over speed, um on a log scale, above their phase,
-    unwrapped, degrees. ``ax`` is the pair of Axes (amplitude, phase) to draw on, or one
-    Axes for the amplitude alone; returns the amplitude's Axes."""
-    if ax is None:
-        import matplotlib.pyplot as plt
-
-        _, (amplitude, phase) = plt.subplots(2, 1, sharex=True, figsize=(6.4, 6.4))
-    elif isinstance(ax, (tuple, list)):
-        amplitude, phase = ax
-    else:
-        amplitude, phase = ax, None
-    for r in response.nodes:
-        (line,) = amplitude.semilogy(response.speeds_hz, 1e6 * r.ux_amplitude, label=f"node {r.node} ux")
-        amplitude.semilogy(response.speeds_hz, 1e6 * r.uy_amplitude, "--", color=line.get_color(),
-                           label=f"node {r.node} uy")
-        if phase is not None:
-            for values, style in ((r.ux_phase_deg, "-"), (r.uy_phase_deg, "--")):
-                unwrapped = np.degrees(np.unwrap(np.radians(values)))
-                phase.plot(response.speeds_hz, unwrapped, style, color=line.get_color())
-    amplitude.set(ylabel="amplitude [um]", title="unbalance response")
-    amplitude.legend(fontsize="small")
-    if phase is not None:
-        phase.set(xlabel="speed [Hz]", ylabel="phase [deg]")
-    else:
-        amplitude.set(xlabel="speed [Hz]")
-    return amplitude
-
-
-def orbit_major(response, ax=None):
-    """Unbalance response: the orbit's major semi-axis over speed at each reported node
-    (um, log scale), each peak marked and labelled with its speed."""
-    ax = _axes(ax)
-    for r in response.nodes:
-        ax.semilogy(response.speeds_hz, 1e6 * r.major, label=f"node {r.node}")
-        for p in r.peaks:
-            ax.plot(p.speed_hz, 1e6 * p.amplitude, "v", color="black")
-            ax.annotate(f"{p.speed_hz:.1f} Hz", (p.speed_hz, 1e6 * p.amplitude), fontsize="small",
-                        textcoords="offset points", xytext=(3, 3))
-    ax.set(xlabel="speed [Hz]", ylabel="major semi-axis [um]", title="unbalance response: orbit size")
-    ax.legend(fontsize="small")
-    return ax
-
-
-def polar(response, node=None, ax=None):
-    """Unbalance response of ux at a node (default the first) in the complex plane."""
+def _panel_axes(figure: dict[str, Any], ax: Any) -> list[Any]:
+    if ax is not None:
+        axes = list(np.ravel(ax))
+        if len(axes) < len(figure["panels"]):
+            raise ValueError(f"the figure has {len(figure['panels'])} panels: give as many Axes, not {len(axes)}")
+        return axes
     import matplotlib.pyplot as plt
 
-    r = response.nodes[0] if node is None else response.node(node)
-    if ax is None:
-        ax = plt.figure().add_subplot(projection="polar")
-    ax.plot(np.radians(r.ux_phase_deg), r.ux_amplitude)
-    ax.set_title(f"polar plot, node {r.node} ux")
-    return ax
+    _, axes = plt.subplots(figure["rows"], figure["cols"], squeeze=False, figsize=_inches(figure["size"]),
+                           layout="constrained")
+    return list(axes.flat)
+
+
+def _series(ax: Any, series: dict[str, Any], index: int) -> None:
+    style = series["style"]
+    colour = style["colour"] or _whirl.PALETTE[index % len(_whirl.PALETTE)]
+    marker, filled = _MARKERS[style["marker"]]
+    ax.plot(
+        series["x"],
+        series["y"],
+        linestyle=_LINES[style["line"]] or "none",
+        marker=marker or None,
+        color=colour,
+        markerfacecolor=colour if filled else "none",
+        linewidth=_POINTS_PER_PIXEL * style["line_width"],
+        markersize=2 * _POINTS_PER_PIXEL * style["marker_size"],
+        label=series["label"] if series["label"] is not None else "_nolegend_",
+    )
+
+
+def _legend(ax: Any, position: str) -> None:
+    labelled = any(not h.get_label().startswith("_") for h in ax.get_legend_handles_labels()[0])
+    if position != "hidden" and labelled:
+        ax.legend(loc=_LEGEND[position], fontsize="small")
+
+
+def _draw_plot(figure: dict[str, Any], ax: Any) -> None:
+    for i, series in enumerate(figure["series"]):
+        _series(ax, series, i)
+    for line in figure["vertical_lines"]:
+        ax.axvline(line["value"], color=line["colour"], ls="--", lw=0.8)
+        if line["label"]:
+            ax.annotate(line["label"], (line["value"], 1), xycoords=("data", "axes fraction"), rotation=90,
+                        va="top", ha="right", fontsize="x-small", color=line["colour"])
+    for line in figure["horizontal_lines"]:
+        ax.axhline(line["value"], color=line["colour"], ls="--", lw=0.8)
+        if line["label"]:
+            ax.annotate(line["label"], (1, line["value"]), xycoords=("axes fraction", "data"), va="bottom",
+                        ha="right", fontsize="x-small", color=line["colour"])
+    for note in figure["annotations"]:
+        if note["mark"]:
+            ax.plot(note["x"], note["y"], "o", color="black", ms=3, label="_nolegend_")
+        ax.annotate(note["text"], (note["x"], note["y"]), textcoords="offset points", xytext=(3, 3),
+                    fontsize="x-small")
+    if figure["log_x"]:
+        ax.set_xscale("log")
+    if figure["log_y"]:
+        ax.set_yscale("log")
+    if figure["x_range"] is not None:
+        ax.set_xlim(*figure["x_range"])
+    if figure["y_range"] is not None:
+        ax.set_ylim(*figure["y_range"])
+    if figure["equal_aspect"]:
+        ax.set_aspect("equal", adjustable="datalim")
+    ax.set(xlabel=figure["x_label"], ylabel=figure["y_label"], title=figure["title"])
+    _legend(ax, figure["legend"])
+
+
+def _draw_heat_map(figure: dict[str, Any], ax: Any) -> None:
+    from matplotlib.colors import LogNorm, Normalize
+
+    z = np.asarray(figure["z"], dtype=float).reshape(len(figure["y"]), len(figure["x"]))
+    lo, hi = figure["z_range"] if figure["z_range"] is not None else (None, None)
+    if figure["log_colour"]:
+        z = np.ma.masked_less_equal(z, 0.0)
+        norm = LogNorm(vmin=lo, vmax=hi)
+    else:
+        norm = Normalize(vmin=lo, vmax=hi)
+    mesh = ax.pcolormesh(figure["x"], figure["y"], np.ma.masked_invalid(z), norm=norm, shading="nearest")
+    ax.figure.colorbar(mesh, ax=ax, label=figure["colour_label"])
+    for i, series in enumerate(figure["overlays"]):
+        _series(ax, series, i)
+    ax.set(xlabel=figure["x_label"], ylabel=figure["y_label"], title=figure["title"],
+           xlim=(figure["x"][0], figure["x"][-1]), ylim=(figure["y"][0], figure["y"][-1]))
+    _legend(ax, figure["legend"])
+
+
+def _spec_drawer(name: str, what: str, function: str | None = None):
+    """The function of :mod:`whirl.plot` (named ``function``, default ``name``) that draws a
+    result's command line figure ``name``."""
+
+    def drawn(result, ax=None):
+        return draw(result.figure_spec(name), ax)
+
+    drawn.__name__ = drawn.__qualname__ = function or name
+    drawn.__doc__ = f"{what} (the command line's ``{name}`` figure, from its specification)."
+    return drawn
 
 
 def orbit(run, node=None, ax=None):
@@ -152,106 +231,6 @@ def spectrum(run, channel=None, ax=None):
         ax.axvline(k * running, color="grey", lw=0.6, ls=":")
     ax.set(xlabel="frequency [Hz]", ylabel="amplitude, zero-to-peak [um]", xlim=(0, top),
            title=f"spectrum of {name} ({run.spectrum_window} window)")
-    return ax
-
-
-#: The roller bearings' characteristic frequencies, as the summary's ``bearing_orders``
-#: name them, and as the figures label them.
-_BEARING_LINES = (("ftf", "FTF"), ("bpfo", "BPFO = N_b w_c"), ("bpfi", "BPFI"), ("bsf", "BSF"))
-
-
-def _order_lines(cascade) -> list[tuple[str, float]]:
-    """The orders drawn over a cascade, as the command line draws them: 0.5X, 1X and 2X, and
-    the first roller bearing's characteristic frequencies."""
-    lines = [(f"{k:g}X", k) for k in (0.5, 1.0, 2.0)]
-    for bearing in cascade.to_dict()["bearing_orders"][:1]:
-        lines += [(f"{name}, {bearing['bearing']}", bearing["orders"][key]) for key, name in _BEARING_LINES]
-    return lines
-
-
-def waterfall(cascade, ax=None):
-    """Every speed's spectrum, offset by its speed and rising by its log amplitude over the
-    four decades below the largest (the cascade's waterfall), with the order lines and the
-    first roller bearing's characteristic frequencies dashed."""
-    ax = _axes(ax)
-    speeds = cascade.speeds_hz
-    floor = (np.nanmax(cascade.amplitude) or 1.0) * 1e-4
-    step = np.median(np.diff(speeds)) if len(speeds) > 1 else 1.0
-    for speed, a in zip(speeds, cascade.amplitude):
-        rise = np.log10(np.maximum(a, floor) / floor) / 4
-        ax.plot(cascade.frequency_hz, speed + 3 * step * rise, color="black", lw=0.5)
-    for name, order in _order_lines(cascade):
-        ax.plot(order * speeds, speeds, "--", lw=0.8, label=name)
-    ax.set(xlabel="frequency [Hz]", ylabel="speed [Hz] (trace: log amplitude)", title="cascade",
-           xlim=(0, cascade.frequency_hz[-1]))
-    ax.legend(fontsize="small", loc="lower right")
-    return ax
-
-
-def cascade_map(cascade, ax=None, max_frequency_hz=None):
-    """Frequency over speed, colour the log amplitude over four decades, as the command
-    line's map: the 0.5X, 1X and 2X lines and the first roller bearing's characteristic
-    frequencies (FTF, BPFO = N_b w_c, BPFI, BSF) dashed, and the steady NSV peaks at or
-    above the threshold circled."""
-    ax = _axes(ax)
-    speeds = cascade.speeds_hz
-    top = max_frequency_hz or 2 * speeds.max()
-    keep = cascade.frequency_hz <= top
-    level = np.log10(np.maximum(cascade.amplitude[:, keep].T, 1e-300))
-    # Four decades below the largest amplitude, as the command line's map.
-    ax.pcolormesh(speeds, cascade.frequency_hz[keep], level, shading="nearest",
-                  vmin=level.max() - 4, vmax=level.max())
-    for name, order in _order_lines(cascade):
-        ax.plot(speeds, order * speeds, "--", lw=0.8, label=name)
-    threshold = cascade.to_dict()["nsv"]["threshold_m"]
-    peaks = [
-        (n["speed_hz"], n["peak"]["frequency_hz"])
-        for n in cascade.nsv
-        if n is not None and n["class"] != "unsettled" and n["peak"]["amplitude_m"] >= threshold
-    ]
-    if peaks:
-        ax.plot(*zip(*peaks), "o", mfc="none", mec="white", ms=5, label="NSV >= threshold")
-    ax.set(xlabel="speed [Hz]", ylabel="frequency [Hz]", ylim=(0, top), title="cascade map (log amplitude)")
-    ax.legend(fontsize="small", loc="upper left")
-    return ax
-
-
-def nsv(cascade, ax=None):
-    """1X and the NSV amplitude over speed, the NSV by class, added speeds circled."""
-    ax = _axes(ax)
-    one_x = [p["one_x_m"] for p in cascade.points]
-    ax.semilogy(cascade.speeds_hz, one_x, color="grey", label="1X")
-    classes: dict[str, list[tuple[float, float]]] = {}
-    for p, n in zip(cascade.points, cascade.nsv):
-        if n is not None:
-            classes.setdefault(n["class"], []).append((p["speed_hz"], n["peak"]["amplitude_m"]))
-    for name, points in sorted(classes.items()):
-        s, a = zip(*points)
-        ax.semilogy(s, a, "o", ms=3, label=name)
-    added = [(p["speed_hz"], n["peak"]["amplitude_m"]) for p, n in zip(cascade.points, cascade.nsv) if p["added"] and n]
-    if added:
-        s, a = zip(*added)
-        ax.plot(s, a, "o", mfc="none", mec="black", ms=7, label="added speed")
-    ax.set(xlabel="speed [Hz]", ylabel="amplitude [m]", title="NSV by class")
-    ax.legend(fontsize="small")
-    return ax
-
-
-def starts(cascade, ax=None):
-    """The NSV from both starts over speed (``compare_starts=True``), the speeds where they
-    differ (coexisting motions) circled."""
-    compared = cascade.to_dict().get("starts")
-    if compared is None:
-        raise ValueError("the cascade has no second start: run it with compare_starts=True")
-    ax = _axes(ax)
-    t = cascade.to_pandas("starts")
-    other = compared["other_start"]
-    ax.semilogy(t["speed_hz"], t["nsv_m"], "o-", ms=3, label="first start")
-    ax.semilogy(t["speed_hz"], t["other_start_nsv_m"], "s--", ms=3, label=f"from {other}")
-    differ = t[t["differs"] == 1]
-    ax.plot(differ["speed_hz"], differ["nsv_m"], "o", mfc="none", mec="red", ms=9, label="differ")
-    ax.set(xlabel="speed [Hz]", ylabel="NSV amplitude [m]", title="NSV from both starts")
-    ax.legend(fontsize="small")
     return ax
 
 
@@ -308,79 +287,11 @@ def hb_branch(result, node=None, direction="uy", ax=None):
     return ax
 
 
-def hb_stability(result, ax=None):
-    """Harmonic balance: the largest real part of the Floquet exponents along the branch
-    (above zero: unstable)."""
-    ax = _axes(ax)
-    branch = result.columns("branch")
-    ax.plot(branch["speed_hz"], branch["max_real_exponent_per_s"])
-    ax.axhline(0.0, color="grey", lw=0.8)
-    ax.set(xlabel="speed [Hz]", ylabel="largest real part [1/s]", title="Floquet stability")
-    return ax
-
-
-def reduction_error(result, modes=4, ax=None):
-    """Craig-Bampton (``whirl.reduce``): the relative error of the first ``modes`` natural
-    frequencies over the number of fixed-interface modes kept (log scale)."""
-    ax = _axes(ax)
-    study = result.columns("study")
-    kept = study["fixed_interface_modes"]
-    for j in range(1, modes + 1):
-        name = f"mode{j}_relative_error"
-        if name in study:
-            ax.semilogy(kept, np.abs(study[name]), "o-", ms=3, label=f"mode {j}")
-    ax.set(xlabel="fixed-interface modes", ylabel="relative frequency error",
-           title="Craig-Bampton reduction error")
-    ax.legend(fontsize="small")
-    return ax
-
-
-def static_response(result, ax=None):
-    """The static response (``whirl.static``): the deflection along the shaft, the
-    bearings marked."""
-    ax = _axes(ax)
-    stations = result.to_pandas("stations")
-    ax.plot(stations["z_m"], stations["uy_m"], label="uy")
-    ax.plot(stations["z_m"], stations["ux_m"], "--", label="ux")
-    reactions = result.to_pandas("reactions")
-    ax.plot(reactions["z_m"], reactions["uy_m"], "^", color="black", label="bearings")
-    ax.set(xlabel="z [m]", ylabel="deflection [m]", title="static deflection under gravity")
-    ax.legend(fontsize="small")
-    return ax
-
-
-def ucs(result, ax=None):
-    """The undamped critical-speed map (``whirl.ucs``): each critical speed over the bearing
-    stiffness (log-log), where the bearings' own stiffness cuts the curves marked."""
-    ax = _axes(ax)
-    table = result.columns("ucs")
-    for name, speeds in table.items():
-        if name != "stiffness_n_per_m":
-            ax.loglog(table["stiffness_n_per_m"], speeds, label=name.removesuffix("_hz"))
-    for b in result.bearings:
-        ax.axvline(b["stiffness_n_per_m"], color="grey", ls=":", lw=0.8)
-        cuts = [c for c in b["critical_speeds_hz"] if c is not None]
-        ax.plot([b["stiffness_n_per_m"]] * len(cuts), cuts, "o", color="black")
-    ax.set(xlabel="bearing stiffness [N/m]", ylabel="critical speed [Hz]",
-           title="undamped critical-speed map")
-    ax.legend(fontsize="small")
-    return ax
-
-
 def frf(result, kind="receptance", ax=None):
-    """Frequency response functions (``whirl.frf``): the magnitude of ``kind``
-    (receptance, mobility or accelerance) of each output over frequency, peaks marked."""
-    ax = _axes(ax)
-    table = result.columns("frf")
-    for name in table:
-        if name.endswith(f"_{kind}_magnitude"):
-            ax.semilogy(table["frequency_hz"], table[name], label=name.removesuffix(f"_{kind}_magnitude"))
-    if kind == "receptance":
-        peaks = result.to_pandas("peaks")
-        ax.plot(peaks["frequency_hz"], peaks["receptance_magnitude"], "v", color="black")
-    ax.set(xlabel="frequency [Hz]", ylabel=f"{kind} magnitude", title=f"{kind} from {result.input}")
-    ax.legend(fontsize="small")
-    return ax
+    """Frequency response functions (``whirl.frf``): the command line's figure of ``kind``
+    (receptance, mobility or accelerance), magnitude, phase, real and imaginary parts of
+    each output over frequency, from its specification."""
+    return draw(result.figure_spec(kind), ax)
 
 
 def stiffness(result, entry="kyy", ax=None):
@@ -402,74 +313,81 @@ def stiffness(result, entry="kyy", ax=None):
 
 
 def force_surface(result, clearance=None, component="fr", ax=None):
-    """A force-deflection surface (``whirl.stiffness``): ``component`` (fx, fy or fr, N) over
-    the journal displacement at ``clearance`` (a table's label such as ``"20um"``; default
-    the first surface), filled contours."""
-    ax = _axes(ax)
+    """A force-deflection surface (``whirl.stiffness``): the command line's heat map of
+    ``component`` (fx, fy or fr, N) over the journal displacement at ``clearance`` (a table's
+    label such as ``"20um"``; default the first surface), from its specification."""
     names = [n for n in result.tables if n.startswith("surfaces_")]
-    name = names[0] if clearance is None else f"surfaces_{clearance}"
-    t = result.columns(name)
-    n = int(round(np.sqrt(len(t["ux_um"]))))
-    grid = lambda key: np.asarray(t[key]).reshape(n, n)  # noqa: E731  (rows of uy)
-    drawn = ax.contourf(grid("ux_um"), grid("uy_um"), grid(f"{component}_n"), levels=20)
-    ax.figure.colorbar(drawn, ax=ax, label=f"{component} [N]")
-    ax.set(xlabel="ux [um]", ylabel="uy [um]", aspect="equal",
-           title=f"{component} at clearance {name.removeprefix('surfaces_')}")
-    return ax
+    label = names[0].removeprefix("surfaces_") if clearance is None else clearance
+    return draw(result.figure_spec(f"surface_{label}_{component}"), ax)
 
 
-def rotor(result, ax=None):
-    """The rotor's layout (``whirl.check``): the nodes along the shaft, disks and bearings
-    marked with their node numbers."""
-    model = result.model
-    ax = _axes(ax)
-    z = model.node_positions()
-    ax.plot(z, np.zeros_like(z), "k.-", label="shaft nodes")
-    bearings = model.bearing_nodes()
-    ax.plot(z[bearings], np.zeros(len(bearings)), "^", markersize=12, label="bearings")
-    for node in bearings:
-        ax.annotate(str(node), (z[node], 0.0), textcoords="offset points", xytext=(0, -18), ha="center")
-    ax.set(xlabel="z (m)", yticks=[], title=f"{model.name}: {model.node_count} nodes")
-    ax.legend()
-    return ax
-
-
-def convergence(result, ax=None):
-    """Each natural frequency over the number of elements (``whirl.convergence``)."""
-    ax = _axes(ax)
-    for j in range(result.frequencies_hz.shape[1]):
-        ax.plot(result.element_counts, result.frequencies_hz[:, j], "o-", label=f"mode {j + 1}")
-    ax.set(xlabel="elements", ylabel="natural frequency (Hz)", yscale="log", title="mesh convergence")
-    ax.legend()
-    return ax
-
-
-def mode_shapes(result, ax=None):
-    """The undamped mode shapes (``whirl.modal``): the larger of ux and uy of each mode along
-    the shaft, scaled to 1, with its frequency."""
-    ax = _axes(ax)
-    z = result.model.node_positions()
-    for j, f in enumerate(result.undamped_frequencies_hz):
-        shape = result.undamped_shapes[:, j].reshape(len(z), 4)
-        lateral = shape[:, 0] if np.abs(shape[:, 0]).max() >= np.abs(shape[:, 1]).max() else shape[:, 1]
-        ax.plot(z, lateral / lateral[np.abs(lateral).argmax()], label=f"{f:.1f} Hz")
-    ax.axhline(0.0, color="k", linewidth=0.5)
-    ax.set(xlabel="z (m)", ylabel="displacement (scaled)", title="undamped mode shapes")
-    ax.legend()
-    return ax
-
-
-def fit_forcing(result, ax=None):
-    """The forcing-function fit (``whirl.fit_forcing``): the bearing's force over its
-    deflection, sampled and fitted, log-log, per speed."""
-    ax = _axes(ax)
-    fit = result.columns("fit")
-    for speed in np.unique(fit["speed_hz"]):
-        at = fit["speed_hz"] == speed
-        order = np.argsort(fit["deflection_m"][at])
-        (drawn,) = ax.loglog(fit["deflection_m"][at], fit["force_n"][at], ".", alpha=0.4)
-        ax.loglog(fit["deflection_m"][at][order], fit["fitted_force_n"][at][order], "-",
-                  color=drawn.get_color(), label=f"{speed:g} Hz")
-    ax.set(xlabel="deflection (m)", ylabel="force (N)", title="forcing function: samples and fit")
-    ax.legend()
-    return ax
+campbell = _spec_drawer(
+    "campbell",
+    "The Campbell diagram: whirl frequencies over speed (forward solid, backward dashed), the excitation orders, the first roller bearing's characteristic frequencies and the critical speeds",
+)
+log_decrement = _spec_drawer(
+    "log_decrement",
+    "The logarithmic decrement of each whirl branch over speed, with API 617's minimum of 0.1",
+)
+bode = _spec_drawer(
+    "bode",
+    "The unbalance response's Bode plot: the amplitude of ux (solid) and uy (dashed) at each node over speed, log scale, above their unwrapped phase",
+)
+orbit_major = _spec_drawer(
+    "orbit_major",
+    "The unbalance response's orbit size over speed at each node, each peak labelled with its speed and amplification factor",
+)
+polar = _spec_drawer(
+    "polar",
+    "The unbalance response of ux at each node in the complex plane, peaks labelled with their speed",
+)
+waterfall = _spec_drawer(
+    "waterfall",
+    "A cascade's spectra stacked along speed, with the order lines and the first roller bearing's characteristic frequencies",
+)
+cascade_map = _spec_drawer(
+    "cascade_map",
+    "A cascade's map: frequency over speed, colour the log amplitude, the order and bearing lines and the NSV peaks at or above the threshold",
+)
+nsv = _spec_drawer(
+    "nsv",
+    "A cascade's 1X and largest non-synchronous amplitude over speed, with the threshold",
+)
+starts = _spec_drawer(
+    "starts",
+    "A cascade's NSV from both starts over speed (``compare_starts=True``)",
+)
+reduction_error = _spec_drawer(
+    "reduction_error",
+    "Craig-Bampton (``whirl.reduce``): each mode's relative frequency error over the number of modes",
+)
+static_response = _spec_drawer(
+    "static_response",
+    "The static response (``whirl.static``): the deflected rotor and the bearing reactions",
+)
+ucs = _spec_drawer(
+    "ucs",
+    "The undamped critical-speed map (``whirl.ucs``): each critical speed over the bearing stiffness",
+)
+convergence = _spec_drawer(
+    "convergence",
+    "Each natural frequency over the number of elements (``whirl.convergence``), one panel per mode",
+)
+mode_shapes = _spec_drawer(
+    "mode_shapes",
+    "The undamped mode shapes (``whirl.modal``), one panel per mode",
+)
+rotor = _spec_drawer(
+    "rotor",
+    "The rotor's layout (``whirl.check``): shaft, nodes, disks and bearings",
+)
+hb_stability = _spec_drawer(
+    "stability",
+    "Harmonic balance: the largest real part of the Floquet exponents along the branch (above zero: unstable)",
+    "hb_stability",
+)
+fit_forcing = _spec_drawer(
+    "force_deflection",
+    "The forcing-function fit (``whirl.fit_forcing``): the contact force over the deflection beyond the clearance, log-log, samples and fit per speed",
+    "fit_forcing",
+)

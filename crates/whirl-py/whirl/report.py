@@ -14,16 +14,11 @@ from ._display import Display
 from ._summary import head
 from .model import Model
 
-#: The figures of :mod:`whirl.plot` that draw each command's report, the default first.
+#: The figures only :mod:`whirl.plot` draws of each command's report (with options the
+#: command line's figures, which every report has, do not take).
 _FIGURES = {
-    "check": ("rotor",),
-    "hbm": ("hb_branch", "hb_stability"),
-    "reduce": ("reduction_error",),
-    "static": ("static_response",),
-    "ucs": ("ucs",),
-    "frf": ("frf",),
-    "stiffness": ("stiffness", "force_surface"),
-    "fit-forcing": ("fit_forcing",),
+    "hbm": ("hb_branch",),
+    "stiffness": ("stiffness",),
 }
 #: A text column of these values only is a column of flags.
 _FLAG_TEXT = {"true": True, "false": False}
@@ -68,6 +63,9 @@ class Report(Display):
 
         return pd.DataFrame(self.columns(table))
 
+    def figure_specs(self) -> list[dict[str, Any]]:
+        return self._raw.figures()
+
     def __getattr__(self, name: str) -> Any:
         if name.startswith("_"):
             raise AttributeError(name)
@@ -88,7 +86,7 @@ class Report(Display):
 
     def __reduce__(self):
         # The compiled report does not pickle: its summary and tables, as read, do.
-        raw = _Read(self._raw.summary(), {t: self._raw.table(t) for t in self.tables})
+        raw = _Read(self._raw.summary(), {t: self._raw.table(t) for t in self.tables}, self._raw.figures())
         return (_restored, (type(self), self.command, self.model, raw))
 
 
@@ -102,11 +100,12 @@ class _Read:
     """A report's summary and tables as read from the compiled one, with its interface: what
     an unpickled :class:`Report` holds."""
 
-    __slots__ = ("_summary", "_tables")
+    __slots__ = ("_summary", "_tables", "_figures")
 
-    def __init__(self, summary: dict[str, Any], tables: dict[str, dict[str, Any]]):
+    def __init__(self, summary: dict[str, Any], tables: dict[str, dict[str, Any]], figures: list[dict[str, Any]]):
         self._summary = summary
         self._tables = tables
+        self._figures = figures
 
     @property
     def tables(self) -> list[str]:
@@ -114,6 +113,9 @@ class _Read:
 
     def summary(self) -> dict[str, Any]:
         return copy.deepcopy(self._summary)
+
+    def figures(self) -> list[dict[str, Any]]:
+        return copy.deepcopy(self._figures)
 
     def table(self, name: str) -> dict[str, Any]:
         if name not in self._tables:

@@ -62,8 +62,6 @@ class UnbalanceResult(Reported):
     of ux and uy and the orbit's semi-axes over speed, and the resonance peaks with their
     amplification factors and API 617 separation margins."""
 
-    _figures = ("bode", "polar", "orbit_major")
-
     model: Model
     #: Spin speeds, Hz (uneven: speeds are added inside each peak's half-power band).
     speeds_hz: np.ndarray

@@ -4,11 +4,12 @@ a cascade (thesis ch. 5); on this machine or on a Dask cluster."""
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, ClassVar
 
 from . import _progress, _whirl
+from ._display import Figured
 from ._summary import jsonable
 
 #: NSV fields of points.csv, by the library's names.
@@ -27,9 +28,10 @@ _POINT_NSV = [
 
 
 @dataclass(frozen=True)
-class StudyResult:
+class StudyResult(Figured):
     """A finished study: each distinct point's NSV summary (or why it failed), each sweep's
-    values and fit, and the ranking of the sweeps and parameters by their effect."""
+    values and fit, and the ranking of the sweeps and parameters by their effect; the command
+    line's figures (``save_figures``, ``figure_spec``)."""
 
     study_file: str
     title: str
@@ -43,7 +45,17 @@ class StudyResult:
     sweeps: list[dict[str, Any]]
     ranking: list[dict[str, Any]]
     ranking_by_parameter: list[dict[str, Any]]
+    #: The command line's figures as specifications (:meth:`figure_specs`).
+    specs: list[dict[str, Any]] = field(default_factory=list, repr=False)
     tables: ClassVar[tuple[str, ...]] = ("points", "sweeps", "fits", "ranking", "ranking_by_parameter")
+
+    def figure_specs(self) -> list[dict[str, Any]]:
+        return self.specs
+
+    @property
+    def figures(self) -> tuple[str, ...]:
+        """The names of the command line's figures (``cascades_<i>``, ``nsv_<i>``)."""
+        return self._spec_names()
 
     def to_pandas(self, table: str = "points"):
         """The command line's CSV tables: ``points`` (one row per distinct point: its
@@ -162,4 +174,5 @@ def study(
         sweeps=analysis["sweeps"],
         ranking=analysis["ranking"],
         ranking_by_parameter=analysis["ranking_by_parameter"],
+        specs=raw["figures"],
     )

@@ -4,8 +4,8 @@
 //! matrices by columns, four added at a time down each whole column (row blocks of eight
 //! held in registers took 230 ns for the product alone, the column form about 120 ns by
 //! difference), the rollers' and the unbalance's directions advanced by a rotation per
-//! step, and no other work (delta^(10/9) by the C library's `pow`: two cube roots took
-//! three times as long here). Both march the same steps from the same start, and the bench
+//! step, and no other work (delta^(10/9) by the library's `bearing::Power`, as the step:
+//! the C library's `pow` took 10-16 ns, two cube roots three times as long). Both march the same steps from the same start, and the bench
 //! checks that they end in the same place, so the plain loop is known to do the same work.
 //! Figures go to BENCHMARKS.md.
 //! Run with `cargo bench -p whirl-rotordynamics --bench step`.
@@ -25,7 +25,7 @@ use faer::traits::pulp::{Arch, Simd, WithSimd};
 use faer::Mat;
 use nix::time::{clock_gettime, ClockId};
 use reference::reference_rotor;
-use whirl::bearing::{hertz_bearings, ContactLaw};
+use whirl::bearing::{hertz_bearings, ContactLaw, Power};
 use whirl::model::{Model, RollerBearing};
 use whirl::nsv::{cascade, CascadeOptions};
 use whirl::system::{linear, SpeedProfile, System};
@@ -196,7 +196,7 @@ struct PlainBearing {
     clearance: f64,
     stiffness: f64,
     damping: f64,
-    exponent: f64,
+    power: Power,
     sin: Vec<f64>,
     cos: Vec<f64>,
 }
@@ -217,7 +217,7 @@ impl PlainBearing {
             clearance: b.clearance.at_speed(speed),
             stiffness: b.contact_stiffness,
             damping: b.contact_damping,
-            exponent: b.contact_exponent,
+            power: Power::new(b.contact_exponent),
             sin: vec![0.0; rollers],
             cos: vec![0.0; rollers],
         }
@@ -248,7 +248,7 @@ impl PlainBearing {
                 continue;
             }
             let rate = c * vx + s * vy + self.cage_speed * (c * qy - s * qx);
-            let load = self.stiffness * delta.powf(self.exponent) + self.damping * rate;
+            let load = self.stiffness * self.power.of(delta) + self.damping * rate;
             if load > 0.0 {
                 fx -= load * c;
                 fy -= load * s;

@@ -2,7 +2,7 @@
 
 use std::f64::consts::PI;
 
-use whirl::fe::{assemble, gravity_force, Bearings};
+use whirl::fe::{assemble, element_forces, element_matrices, gravity_force, Bearings};
 use whirl::modal::undamped_modes;
 use whirl::model::Model;
 
@@ -298,4 +298,37 @@ fn check_tabulates_the_thesis_clearance_over_speed() {
     // A constant clearance has no curve.
     let reference = whirl::modal::check_model(&reference_rotor()).unwrap();
     assert!(reference.clearance_over_speed().is_none());
+}
+
+#[test]
+fn an_elements_forces_from_its_deformation_are_its_stiffness_times_its_motion() {
+    // `element_forces` leaves out the rigid motion, which the bending stiffness turns into
+    // no force; the geometric stiffness of the axial load does resist a rotation, and acts
+    // on the whole motion. Both beam theories, with an axial load.
+    for beam in ["euler-bernoulli", "timoshenko"] {
+        let model = shaft(4, true, &format!("beam = \"{beam}\"\naxial_load = 2e4\n"));
+        let section = &model.sections[0];
+        let e = element_matrices(section);
+        let length = L / 4.0;
+        let axial = model.options.axial_load;
+        assert_eq!(axial, 2e4);
+        let u: Vec<f64> = (0..8)
+            .map(|i| 1e-4 * (1.0 + 0.37 * i as f64).sin())
+            .collect();
+        let f = element_forces(&e, length, axial, &u);
+        let scale = (0..8)
+            .flat_map(|i| (0..8).map(move |j| (i, j)))
+            .map(|(i, j)| e.stiffness[i][j].abs() * u[j].abs())
+            .fold(0.0f64, f64::max);
+        for (i, fi) in f.iter().enumerate() {
+            let direct: f64 = (0..8)
+                .map(|j| (e.stiffness[i][j] + axial * e.stiffness_axial[i][j]) * u[j])
+                .sum();
+            // Two roundings of the same sums of terms up to `scale`.
+            assert!(
+                (fi - direct).abs() < 1e-13 * scale,
+                "{beam}, row {i}: {fi} against {direct}"
+            );
+        }
+    }
 }

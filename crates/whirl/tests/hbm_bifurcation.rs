@@ -197,13 +197,13 @@ const MATHIEU_DEPTH: f64 = 0.2;
 /// The trace and determinant of the monodromy matrix of x'' + c x' + (1 + e cos w t) x = 0
 /// over one period, by classical Runge-Kutta with 4000 fixed steps (error of order
 /// (T / 4000)^4, below 1e-12 here).
-fn monodromy(w: f64) -> (f64, f64) {
+fn monodromy(w: f64, depth: f64) -> (f64, f64) {
     let steps = 4000;
     let h = TAU / w / steps as f64;
     let field = |t: f64, y: [f64; 2]| {
         [
             y[1],
-            -MATHIEU_DAMPING * y[1] - (1.0 + MATHIEU_DEPTH * (w * t).cos()) * y[0],
+            -MATHIEU_DAMPING * y[1] - (1.0 + depth * (w * t).cos()) * y[0],
         ]
     };
     let mut columns = [[1.0, 0.0], [0.0, 1.0]];
@@ -233,9 +233,9 @@ fn monodromy(w: f64) -> (f64, f64) {
 /// A boundary of the first instability tongue: where a multiplier is -1, i.e. the
 /// characteristic polynomial mu^2 - tr mu + det vanishes at mu = -1. Bisection between
 /// `lo` and `hi`, which bracket it.
-fn period_doubling_boundary(mut lo: f64, mut hi: f64) -> f64 {
+fn period_doubling_boundary(depth: f64, mut lo: f64, mut hi: f64) -> f64 {
     let f = |w: f64| {
-        let (trace, determinant) = monodromy(w);
+        let (trace, determinant) = monodromy(w, depth);
         1.0 + trace + determinant
     };
     let f_lo = f(lo);
@@ -253,6 +253,11 @@ fn period_doubling_boundary(mut lo: f64, mut hi: f64) -> f64 {
 
 /// The loaded Mathieu oscillator.
 fn mathieu() -> System {
+    mathieu_of_depth(MATHIEU_DEPTH)
+}
+
+/// The loaded Mathieu oscillator with stiffness 1 + `depth` cos w t.
+fn mathieu_of_depth(depth: f64) -> System {
     let oscillator = Oscillator {
         mass: 1.0,
         stiffness: 1.0,
@@ -262,7 +267,7 @@ fn mathieu() -> System {
         constant_force: vec![1.0],
         nonlinear: vec![Box::new(Parametric {
             dofs: [0],
-            amplitude: MATHIEU_DEPTH,
+            amplitude: depth,
         })],
         ..oscillator.system()
     }
@@ -283,8 +288,8 @@ fn fine_mathieu() -> HarmonicBalance {
 /// narrows it.
 fn mathieu_tongue() -> [f64; 2] {
     [
-        period_doubling_boundary(1.85, 2.0),
-        period_doubling_boundary(2.0, 2.15),
+        period_doubling_boundary(MATHIEU_DEPTH, 1.85, 2.0),
+        period_doubling_boundary(MATHIEU_DEPTH, 2.0, 2.15),
     ]
 }
 
@@ -315,6 +320,53 @@ fn mathieu_tongue_is_bounded_by_period_doublings_where_the_monodromy_matrix_says
         // times d|mu|/ds (measured 6.2e-5 and 3.0e-6 off -1 at the two boundaries). Real
         // and near -1 is what names the doubling.
         assert!((b.multiplier.0 + 1.0).abs() < 3e-4 && b.multiplier.1 == 0.0);
+    }
+    assert!(branch.bifurcations[0].loses_stability && !branch.bifurcations[1].loses_stability);
+}
+
+/// A Mathieu tongue narrower than the path's spacing, between two stable points. Outside
+/// the tongue the oscillator's two exponents share the real part -c/2 at every point, so
+/// the largest real part is flat and the window probe has no extremum to follow; the pair
+/// meets the negative axis only just before the tongue. The path's points are 10 % apart
+/// and straddle the tongue (depth 0.08: about 1.97-2.03 rad/s); the mode (1 rad/s) meets
+/// half the speed there, where the tongue probe samples and finds it, and both edges are
+/// located where the monodromy matrix puts them.
+#[test]
+fn a_period_doubling_tongue_between_two_stable_points_is_found() {
+    let depth = 0.08;
+    let mut options = HbOptions::new(8);
+    options.samples = 1024;
+    let mut hb = HarmonicBalance::new(mathieu_of_depth(depth), options).unwrap();
+    let steps = ContinuationOptions {
+        initial_step: 0.1,
+        max_step: 0.1,
+        ..ContinuationOptions::default()
+    };
+    let guess = vec![0.0; hb.unknowns()];
+    let branch = continuation(&mut hb, 1.6, 2.5, &guess, &steps).unwrap();
+    let reference = [
+        period_doubling_boundary(depth, 1.9, 2.0),
+        period_doubling_boundary(depth, 2.0, 2.1),
+    ];
+    let speeds: Vec<f64> = branch.points.iter().map(|p| p.solution.frequency).collect();
+    eprintln!(
+        "narrow Mathieu tongue {reference:?}: points {speeds:?}, {:?}",
+        branch.bifurcations
+    );
+    // Every point of the path is stable: the tongue lies between two of them.
+    assert!(branch
+        .points
+        .iter()
+        .all(|p| p.stability.as_ref().is_some_and(|s| s.stable)));
+    assert_eq!(branch.bifurcations.len(), 2);
+    for (b, exact) in branch.bifurcations.iter().zip(reference) {
+        assert_eq!(b.kind, BifurcationKind::PeriodDoubling);
+        // As for the wide tongue above: the midpoint rule at 1024 samples and the bracket.
+        assert!(
+            (b.frequency - exact).abs() < 1e-6 * exact,
+            "{} against {exact}",
+            b.frequency
+        );
     }
     assert!(branch.bifurcations[0].loses_stability && !branch.bifurcations[1].loses_stability);
 }

@@ -89,6 +89,7 @@ fn lagrange_contacts_never_penetrate_and_never_pull() {
         .flat_map(|b| contact_coordinates(b, &map).unwrap())
         .collect();
     let mut contacts = LagrangeContacts::new(&model.roller_bearings, coordinates).unwrap();
+    contacts.keep_history();
     let h = 0.9 * central_difference_limit(&p).unwrap();
     let (angle, uy) = run(&mut p, &cb, h, Some(&mut contacts));
 
@@ -159,6 +160,7 @@ fn crowded_bearings_settle_at_the_default_step() {
             .flat_map(|b| contact_coordinates(b, &map).unwrap())
             .collect();
         let mut contacts = LagrangeContacts::new(&model.roller_bearings, coordinates).unwrap();
+        contacts.keep_history();
         let h = 0.9 * central_difference_limit(&p).unwrap();
         let (angle, uy) = run(&mut p, &cb, h, Some(&mut contacts));
         // Round-off of the corrected approach, as for 8 rollers.

@@ -142,18 +142,6 @@ fn absurd_magnitudes_are_refused_by_check_naming_the_field() {
 }
 
 #[test]
-fn static_on_a_large_model_does_not_recommend_an_option_it_lacks() {
-    // `static` refused 1,000 elements recommending `--reduce`, which it does not have.
-    let model = short_reference(1000, "1.3 m");
-    let e = whirl::statics::static_response(&model, whirl::statics::RollerSupport::Linear)
-        .map(|_| ())
-        .unwrap_err()
-        .to_string();
-    assert!(!e.contains("--reduce"), "{e}");
-    assert!(e.contains("use fewer"), "{e}");
-}
-
-#[test]
 fn explicit_speed_lists_have_the_ranges_cap() {
     // A range is refused above 100,000 values; an explicit array (from Python) of 10
     // million ran on for minutes. The cap is checked before any solve.

@@ -4,11 +4,17 @@
 
 use std::f64::consts::PI;
 
+use faer::Mat;
+use whirl::bearing::hertz_bearings;
+use whirl::fe::{assemble, gravity_force, Bearings};
+use whirl::force::Kinematics;
 use whirl::model::Model;
 use whirl::statics::{static_response, RollerSupport, StaticResult};
+use whirl::system::build;
+use whirl::time::static_equilibrium;
 
 mod common;
-use common::reference_rotor;
+use common::{example_path, reference_rotor};
 
 const E: f64 = 2.1e11;
 const RHO: f64 = 7800.0;
@@ -251,11 +257,12 @@ fn the_full_model_hangs_in_its_rollers_at_any_mesh() {
         let r = static_response(&model, RollerSupport::Hertz).unwrap();
         // The solve converges to 1e-10 of the load, but its round-off grows with the
         // condition of the stiffness, as the fourth power of the element count (an
-        // element's bending stiffness goes as 1/l^3, the bearings' stays): measured from
-        // 20 to 640 elements, the drop's relative error went 2e-14, 2e-12 (80), 3e-8 (640)
-        // and the total reaction's about 14 times that (the roller's force goes as the
-        // 10/9 power of the 1.66 um beyond the clearance, 1/13 of the drop). The bounds
-        // allow at least 3 times what was measured.
+        // element's bending stiffness goes as 1/l^3, the bearings' stays): the drop's
+        // relative error went 2e-14, 2e-12 (80), 3e-8 (640) before the solves were refined
+        // against the elements' own products, 2e-14, 6e-14, 3e-11 since; the total
+        // reaction's is about 14 times that (the roller's force goes as the 10/9 power of
+        // the 1.66 um beyond the clearance, 1/13 of the drop). The bounds allow at least 3
+        // times what was measured before.
         let growth = (elements as f64 / 20.0).powi(4);
         let total = r.total_reaction();
         assert!(
@@ -278,6 +285,165 @@ fn the_full_model_hangs_in_its_rollers_at_any_mesh() {
             );
         }
     }
+}
+
+#[test]
+fn the_banded_solve_is_the_dense_solve() {
+    // The static response holds the stiffness on its bands and condenses the balance onto
+    // the contacts' coordinates; here it is checked against the balance written dense, on
+    // the reference rotor and a 40-element mesh of it.
+    for elements in [20, 40] {
+        let model = reference_rotor().remeshed(&[elements]).unwrap();
+        // Linear rollers: K q = F_g, solved by a dense LU with partial pivoting.
+        let m = assemble(&model, Bearings::Linearised);
+        let f = gravity_force(&model, &m);
+        let n = f.len();
+        let mut dense = Mat::<f64>::from_fn(n, 1, |i, _| f[i]);
+        faer::linalg::solvers::Solve::solve_in_place(&m.stiffness.partial_piv_lu(), dense.as_mut());
+        let linear = static_response(&model, RollerSupport::Linear).unwrap();
+        let largest = linear
+            .displacements
+            .iter()
+            .fold(0.0f64, |a, x| a.max(x.abs()));
+        let apart = linear
+            .displacements
+            .iter()
+            .enumerate()
+            .fold(0.0f64, |a, (i, q)| a.max((q - dense[(i, 0)]).abs()));
+        println!(
+            "{elements} elements: linear {:.2e} of the largest displacement apart",
+            apart / largest
+        );
+        // Two factorisations (a band LU without row swaps, a dense one with them) of a
+        // matrix whose condition (K's largest entries against the bearings' 1e8 N/m)
+        // grows as the cube of the element count: measured 1.8e-12 at 20 elements and
+        // 2.4e-11 at 40.
+        assert!(apart < 1e-10 * largest, "{elements}: {apart} m");
+        // Hertz rollers: the whole balance K q - F_g - F_c(q), dense, vanishes, and the
+        // displacements are those of the solver of the time-marching start (the dense
+        // system of `build`).
+        let hertz = static_response(&model, RollerSupport::Hertz).unwrap();
+        let mut system = build(&model, None, Bearings::NonlinearApart, &hertz_bearings)
+            .unwrap()
+            .system;
+        let q = &hertz.displacements;
+        let mut balance = vec![0.0; n];
+        let rest = Kinematics {
+            time: 0.0,
+            speed: 0.0,
+            angle: 0.0,
+        };
+        let mut scratch = system.scratch();
+        system.add_nonlinear(&rest, q, &vec![0.0; n], &mut balance, &mut scratch);
+        let residual: f64 = (0..n)
+            .map(|i| {
+                let kq: f64 = (0..n)
+                    .map(|j| system.matrices.stiffness[(i, j)] * q[j])
+                    .sum();
+                (kq - system.constant_force[i] - balance[i]).powi(2)
+            })
+            .sum::<f64>()
+            .sqrt();
+        let load = system
+            .constant_force
+            .iter()
+            .map(|x| x * x)
+            .sum::<f64>()
+            .sqrt();
+        // Converged to 1e-10 of the load on the contacts' coordinates; the rest is solved
+        // exactly up to the rounding of K q (entries to 4e10 N/m times 1e-4 m): measured
+        // 3.3e-12 of the load at 20 elements and 3.7e-11 at 40.
+        assert!(
+            residual < 1e-9 * load,
+            "{elements}: {residual} N against {load} N"
+        );
+        println!(
+            "{elements} elements: Hertz balance {:.2e} of the load",
+            residual / load
+        );
+        // The time-marching start condenses the same way, with K x from the band where the
+        // static response takes it from the elements: the vertical plane (uy, tx) agrees to
+        // round-off. The horizontal position on one bottom roller is set by round-off alone
+        // (neither stiffness nor load: the rotor may roll sideways in its clearance).
+        let marched = static_equilibrium(&mut system, &vec![0.0; n], 0.0).unwrap();
+        let apart = |plane: [usize; 2]| {
+            q.iter()
+                .zip(&marched)
+                .enumerate()
+                .filter(|(i, _)| plane.contains(&(i % 4)))
+                .fold(0.0f64, |a, (_, (x, y))| a.max((x - y).abs()))
+                / largest
+        };
+        let (vertical, horizontal) = (apart([1, 2]), apart([0, 3]));
+        println!("{elements} elements: vertical {vertical:.1e}, horizontal {horizontal:.1e} apart");
+        assert!(vertical < 1e-11, "{elements}: {vertical}");
+        assert!(horizontal < 1e-5, "{elements}: {horizontal}");
+    }
+}
+
+#[test]
+fn static_solves_meshes_too_large_for_dense_matrices_to_the_nodally_exact_answer() {
+    // 2,000 and 10,000 elements: 8,004 and 40,004 DOFs, which `static` refused (it held the
+    // stiffness and the contact tangents dense, 512 MB each at 8,004 DOFs). Cubic beam
+    // elements are exact at the nodes under point loads and the shaft's uniform weight, so
+    // each node of the 20-element mesh has the same deflection on every finer one, and the
+    // bearings the same loads: what differs is round-off. Solved on the bands alone, the
+    // 10,000-element mesh's bearing loads were 6e-4 off and its sag 2.5e-4; with the
+    // products from the elements' deformation, measured 2.6e-6 on the loads and 5.8e-8 of
+    // the sag on the deflections (8.8e-9 and 9.8e-11 at 2,000 elements).
+    let reference = reference_rotor();
+    let coarse = static_response(&reference, RollerSupport::Hertz).unwrap();
+    let sag = uy(&coarse, 10).abs();
+    for elements in [2000, 10_000] {
+        let model = reference.remeshed(&[elements]).unwrap();
+        assert_eq!(model.dof_count(), 4 * (elements + 1));
+        let fine = static_response(&model, RollerSupport::Hertz).unwrap();
+        let every = elements / 20;
+        let deflection = (0..=20)
+            .map(|node| (uy(&coarse, node) - uy(&fine, every * node)).abs() / sag)
+            .fold(0.0f64, f64::max);
+        let loads = coarse
+            .reactions
+            .iter()
+            .zip(&fine.reactions)
+            .map(|(a, b)| (b.force[1] / a.force[1] - 1.0).abs())
+            .fold(0.0f64, f64::max);
+        println!("{elements} elements: deflections {deflection:.1e} of the sag, loads {loads:.1e}");
+        assert!(deflection < 5e-7, "{elements}: {deflection}");
+        assert!(loads < 1e-5, "{elements}: {loads}");
+    }
+}
+
+#[test]
+fn bands_widened_past_memory_by_a_housing_are_refused_before_allocation() {
+    // A bearing in a housing couples the shaft's node with the housing's DOFs, numbered
+    // after all the shaft's, so the bands reach across the whole model: at 2,000 elements
+    // with the rollers' linear stiffness (shaft to housing) they would take about 12 GB.
+    // With Hertz rollers the contacts between shaft and housing are condensed apart and
+    // the bands stay narrow.
+    let model = Model::from_file(&example_path("reference_rotor_sfd.toml"))
+        .unwrap()
+        .remeshed(&[2000])
+        .unwrap();
+    match static_response(&model, RollerSupport::Linear) {
+        Err(whirl::Error::Unsupported(m)) => {
+            assert!(m.contains("8008 DOFs") && m.contains("housing"), "{m}");
+            assert!(
+                m.contains("Use fewer elements") && !m.contains("--reduce"),
+                "{m}"
+            );
+        }
+        other => panic!("expected a refusal, got {:?}", other.map(|_| ())),
+    }
+    let hertz = static_response(&model, RollerSupport::Hertz).unwrap();
+    let total = hertz.total_reaction();
+    // The rollers carry the rotor (the housings hang on their centring springs), to the
+    // solver's tolerance and the fine mesh's round-off.
+    assert!(
+        (total[1] / hertz.weight - 1.0).abs() < 1e-7,
+        "{total:?} against {}",
+        hertz.weight
+    );
 }
 
 #[test]

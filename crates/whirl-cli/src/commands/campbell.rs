@@ -15,11 +15,8 @@ use whirl::modal::{campbell, CampbellOptions, CampbellResult};
 use whirl::model::Model;
 use whirl::report::Report;
 
-use whirl_plot::SpeedAxis;
-
 use super::{finish, lib, load, mode_count, report_summary, speeds, Common, Outcome, Speeds};
 use crate::output::Output;
-use crate::plots;
 use crate::progress::shown;
 
 /// `whirl campbell`
@@ -54,11 +51,6 @@ fn order(text: &str) -> Result<f64, String> {
     }
 }
 
-/// "1X", "0.5X".
-pub fn order_name(k: f64) -> String {
-    format!("{k}X")
-}
-
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     let diagram = solve(&loaded.model, args)?;
@@ -66,7 +58,10 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     for table in diagram.tables() {
         out.table(&table)?;
     }
-    write_plots(&mut out, &loaded.model, &diagram, &args.common)?;
+    out.figures(
+        whirl_figures::campbell(&loaded.model, &diagram),
+        args.common.rpm,
+    )?;
     let text = text(&loaded.model, &diagram);
     let summary = report_summary("campbell", &loaded, &diagram)?;
     finish(out, summary, text, &args.common)
@@ -113,26 +108,9 @@ fn text(model: &Model, result: &CampbellResult) -> String {
             c.speed_hz,
             c.speed_rpm,
             result.label_of(c.branch),
-            order_name(c.order),
+            whirl_figures::order_name(c.order),
             c.damping_ratio
         );
     }
     text
-}
-
-fn write_plots(
-    out: &mut Output,
-    model: &Model,
-    diagram: &CampbellResult,
-    common: &Common,
-) -> miette::Result<()> {
-    let labels = diagram.labels();
-    let campbell = plots::campbell(model, diagram, &labels);
-    out.plot("campbell", |stem| {
-        common.speed_axis(campbell, SpeedAxis::X).save(stem)
-    })?;
-    let log_decrement = plots::log_decrement(diagram, &labels);
-    out.plot("log_decrement", |stem| {
-        common.speed_axis(log_decrement, SpeedAxis::X).save(stem)
-    })
 }

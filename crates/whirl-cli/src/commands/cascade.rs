@@ -44,8 +44,6 @@ use whirl::time::Initial;
 use whirl::time::DEFAULT_MODES;
 use whirl::units::with_uncertainty;
 
-use whirl_plot::SpeedAxis;
-
 use super::{
     default_is, finish, given, hertz, load, metres, mode_count, node_index, positive_length,
     report_summary, seconds, speeds, time,
@@ -54,7 +52,6 @@ use super::{Common, Outcome, Speeds};
 use crate::error::{from_whirl, Diag};
 use crate::interrupt;
 use crate::output::Output;
-use crate::plots;
 use crate::progress::{duration_text, progress_line};
 
 /// `whirl cascade`: every option left out takes the library's default
@@ -245,32 +242,9 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     if let Some(starts) = &report.starts {
         text.push_str(&starts_text(starts));
         out.table_named(&tables, "starts")?;
-        let figure = plots::nsv_from_both_starts(result, starts, threshold);
-        out.plot("starts", |stem| {
-            common.speed_axis(figure, SpeedAxis::X).save(stem)
-        })?;
     }
-    let figure = plots::waterfall(result);
-    out.plot("waterfall", |stem| {
-        common.speed_axis(figure, SpeedAxis::Y).save(stem)
-    })?;
-    let map_top = args
-        .map_max_frequency
-        .unwrap_or_else(|| plots::default_map_top_hz(result));
-    let figure = plots::cascade_map(result, threshold, map_top);
-    out.plot("cascade_map", |stem| {
-        common.speed_axis(figure, SpeedAxis::X).save(stem)
-    })?;
-    let figure = plots::nsv_amplitude(result, threshold);
-    out.plot("nsv", |stem| {
-        common.speed_axis(figure, SpeedAxis::X).save(stem)
-    })?;
-    if args.full {
-        let figure = plots::full_map(result, map_top);
-        out.plot("full_map", |stem| {
-            common.speed_axis(figure, SpeedAxis::X).save(stem)
-        })?;
-    }
+    let figures = whirl_figures::cascade(&report, args.map_max_frequency);
+    out.figures(figures, common.rpm)?;
     finish(out, summary, text, &args.common)
 }
 

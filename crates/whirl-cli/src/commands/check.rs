@@ -12,7 +12,6 @@ use whirl::report::Report;
 
 use super::{finish, lib, load, report_summary, Common, Outcome};
 use crate::output::Output;
-use crate::plots;
 
 /// `whirl check`
 #[derive(Debug, clap::Args)]
@@ -29,12 +28,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     for table in check.tables() {
         out.table(&table)?;
     }
-    out.plot("rotor", |stem| plots::rotor_layout(model).save(stem))?;
-    if let Some(curve) = check.clearance_over_speed() {
-        out.plot("clearance", |stem| {
-            plots::clearance_over_speed(&curve).save(stem)
-        })?;
-    }
+    out.figures(whirl_figures::check(&check), args.common.rpm)?;
     let text = text(&check);
     let summary = report_summary("check", &loaded, &check)?;
     finish(out, summary, text, &args.common)

@@ -17,7 +17,6 @@ use whirl::report::Report;
 use super::{finish, lib, load, mode_count, report_summary, Common, Outcome};
 use crate::error::Diag;
 use crate::output::Output;
-use crate::plots;
 use crate::progress::shown;
 
 /// `whirl convergence`
@@ -110,10 +109,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     for table in result.tables() {
         out.table(&table)?;
     }
-    out.plot("convergence", |stem| plots::convergence(&result).save(stem))?;
-    out.plot("convergence_change", |stem| {
-        plots::convergence_change(&result).save(stem)
-    })?;
+    out.figures(whirl_figures::convergence(&result), args.common.rpm)?;
     finish(out, summary, text, &args.common)
 }
 

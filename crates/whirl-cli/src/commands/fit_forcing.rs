@@ -19,7 +19,7 @@ use whirl::report::Report;
 use whirl::time::{fit_forcing, ForcingFit, ForcingFitOptions, ForcingFitReport, DEFAULT_MODES};
 
 use crate::progress::shown;
-use whirl_plot::{Colour, Figure2d, LegendPosition, Marker, PlotError, Series, Style};
+use whirl_plot::PlotError;
 
 use super::{
     finish, hz, lib, load, mode_count, report_summary, speeds, time, Common, Outcome, Speeds,
@@ -51,10 +51,6 @@ pub struct Args {
     pub reduce: usize,
 }
 
-/// Samples drawn per speed in the plot: enough to show the cloud, few enough to keep the
-/// SVG small (fit.csv has them all).
-const PLOTTED_SAMPLES: usize = 300;
-
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     let model = &loaded.model;
@@ -77,9 +73,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     }
     let block = toml_block(&report.fit, &args.speeds.0);
     out.plot("forcing_function", |stem| write_text(stem, "toml", &block))?;
-    out.plot("force_deflection", |stem| {
-        force_deflection(&report.fit).save(stem)
-    })?;
+    out.figures(whirl_figures::fit_forcing(&report), args.common.rpm)?;
     finish(out, summary, text, &args.common)
 }
 
@@ -173,42 +167,4 @@ fn write_text(stem: &Path, extension: &str, text: &str) -> Result<Vec<PathBuf>, 
         source,
     })?;
     Ok(vec![path])
-}
-
-/// Force over deflection beyond the clearance, log-log: each speed's samples as dots and
-/// the law at that speed as a line through the same deflections.
-fn force_deflection(fit: &ForcingFit) -> Figure2d {
-    let mut fig = Figure2d::new(
-        format!("Forcing function of {}", fit.bearing),
-        "Deflection beyond the clearance u_r - γ [µm]",
-        "Contact force [N]",
-    );
-    fig.log_x = true;
-    fig.log_y = true;
-    fig.legend = LegendPosition::LowerRight;
-    for (k, s) in fit.speeds.iter().enumerate() {
-        let mut at: Vec<_> = fit.points.iter().filter(|p| p.speed == s.speed).collect();
-        at.sort_by(|a, b| a.deflection.total_cmp(&b.deflection));
-        let gamma = fit.clearance.at_speed(s.speed);
-        let micro = |d: f64| 1e6 * (d - gamma);
-        let every = at.len().div_ceil(PLOTTED_SAMPLES).max(1);
-        let shown: Vec<_> = at.iter().step_by(every).collect();
-        let colour = Colour::Palette(k);
-        fig.series.push(
-            Series::new(
-                shown.iter().map(|p| micro(p.deflection)).collect(),
-                shown.iter().map(|p| p.force).collect(),
-            )
-            .style(Style::markers(colour, Marker::Circle).marker_size(2)),
-        );
-        fig.series.push(
-            Series::new(
-                at.iter().map(|p| micro(p.deflection)).collect(),
-                at.iter().map(|p| fit.fitted(p)).collect(),
-            )
-            .label(format!("{:.0} Hz", hz(s.speed)))
-            .style(Style::solid(colour).width(2)),
-        );
-    }
-    fig
 }

@@ -17,7 +17,7 @@ use std::fmt::Write;
 use whirl::fe::{assemble_banded, dof, Bearings, Direction};
 use whirl::model::Model;
 use whirl::report::Report;
-use whirl::response::{default_frequencies, frf_refined, FrfKind, FrfReport};
+use whirl::response::{default_frequencies, frf_refined, FrfReport};
 use whirl::units::{parse_quantity, Dimension};
 
 use super::{
@@ -25,7 +25,6 @@ use super::{
 };
 use crate::error::Diag;
 use crate::output::Output;
-use crate::plots;
 use crate::progress::shown;
 
 /// `whirl frf`
@@ -171,10 +170,6 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     for table in report.tables() {
         out.table(&table)?;
     }
-    for kind in FrfKind::ALL {
-        out.plot(kind.name(), |stem| {
-            plots::frf(model, result, kind).save(stem)
-        })?;
-    }
+    out.figures(whirl_figures::frf(model, result), args.common.rpm)?;
     finish(out, summary, text, &args.common)
 }

@@ -22,9 +22,7 @@ use super::{
     Speeds,
 };
 use crate::output::Output;
-use crate::plots_map::map_plot;
 use crate::progress::{duration_text, shown};
-use whirl_plot::SpeedAxis;
 
 /// `whirl map`
 #[derive(Debug, clap::Args)]
@@ -103,9 +101,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     if !report.checks.is_empty() {
         out.table_named(&tables, "checks")?;
     }
-    let figure = map_plot(&report);
-    let common = &args.common;
-    out.plot("map", |p| common.speed_axis(figure, SpeedAxis::X).save(p))?;
+    out.figures(whirl_figures::map(&report), args.common.rpm)?;
     finish(out, summary, text, &args.common)
 }
 

@@ -28,7 +28,6 @@ use whirl::given::Given;
 use whirl::model::Model;
 use whirl::report::Report;
 use whirl::units::{parse_quantity, parse_range, Dimension};
-use whirl_plot::{SpeedAxis, SpeedInRpm};
 
 use crate::error::{from_whirl, Diag};
 use crate::output::Output;
@@ -56,25 +55,6 @@ impl Common {
     /// The output folder of `command`.
     pub fn out_dir(&self, command: &str) -> PathBuf {
         out_or_default(&self.out, command)
-    }
-
-    /// `figure` with its speed axis `axis` in rpm when `--rpm` was given.
-    pub fn speed_axis<F: SpeedInRpm>(&self, figure: F, axis: SpeedAxis) -> F {
-        if self.rpm {
-            figure.speed_in_rpm(axis)
-        } else {
-            figure
-        }
-    }
-
-    /// `figure` with the speeds its marks name in rpm when `--rpm` was given (a figure
-    /// without a speed axis, such as the polar plot).
-    pub fn speed_texts<F: SpeedInRpm>(&self, figure: F) -> F {
-        if self.rpm {
-            figure.speed_texts_in_rpm()
-        } else {
-            figure
-        }
     }
 }
 

@@ -16,7 +16,6 @@ use whirl::report::Report;
 
 use super::{finish, hz, lib, load, mode_count, report_summary, speed, Common, Outcome};
 use crate::output::Output;
-use crate::plots;
 use crate::progress::shown;
 
 /// `whirl modal`
@@ -41,7 +40,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     for table in modes.tables() {
         out.table(&table)?;
     }
-    write_plots(&mut out, &loaded.model, &modes, args.speed)?;
+    out.figures(whirl_figures::modal(&loaded.model, &modes), args.common.rpm)?;
     let text = text(&loaded.model, &modes, args.speed);
     let summary = report_summary("modal", &loaded, &modes)?;
     finish(out, summary, text, &args.common)
@@ -79,18 +78,4 @@ fn text(model: &Model, modes: &ModalReport, speed: f64) -> String {
         );
     }
     text
-}
-
-fn write_plots(
-    out: &mut Output,
-    model: &Model,
-    modes: &ModalReport,
-    speed: f64,
-) -> miette::Result<()> {
-    out.plot("mode_shapes", |stem| {
-        plots::mode_shapes(model, &modes.undamped).save(stem)
-    })?;
-    out.plot("damped_orbits", |stem| {
-        plots::damped_orbits(model, &modes.damped, &modes.labels, hz(speed)).save(stem)
-    })
 }

@@ -22,7 +22,6 @@ use super::{
     check_nodes, finish, lib, load, mode_count, node_index, report_summary, Common, Outcome,
 };
 use crate::output::Output;
-use crate::plots;
 use crate::progress::shown;
 
 /// `whirl reduce`
@@ -50,11 +49,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     for table in report.tables() {
         out.table(&table)?;
     }
-    let study = &report.study;
-    out.plot("reduction_error", |stem| {
-        plots::reduction_error(study).save(stem)
-    })?;
-    out.plot("stable_step", |stem| plots::stable_steps(study).save(stem))?;
+    out.figures(whirl_figures::reduce(&report), args.common.rpm)?;
     finish(out, summary, text, &args.common)
 }
 

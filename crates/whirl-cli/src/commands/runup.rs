@@ -27,8 +27,6 @@ use whirl::runup::{
 };
 use whirl::units::{parse_angular_acceleration, parse_speed_range};
 
-use whirl_plot::SpeedAxis;
-
 use super::cascade::{flagged_error, frequency, RunSettings};
 use super::{
     default_is, finish, hertz, load, metres, positive_length, report_summary, seconds, time,
@@ -36,7 +34,6 @@ use super::{
 use super::{Common, Outcome};
 use crate::interrupt;
 use crate::output::Output;
-use crate::plots;
 use crate::progress::progress_line;
 
 /// `whirl runup`
@@ -159,23 +156,13 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let report = RunupReport { runup: result };
     let summary = report_summary("runup", &loaded, &report)?;
     let tables = report.tables();
-    let r = &report.runup;
     let mut out = Output::begin(&out_dir)?;
     for t in &tables {
         out.table(t)?;
     }
     let common = &args.common;
-    let fastest = r.options.high / std::f64::consts::TAU;
-    let top = args
-        .map_max_frequency
-        .unwrap_or(2.0 * fastest)
-        .min(r.resolved.max_frequency_hz);
-    let maps = plots::runup_maps(r, top);
-    out.plot("runup_map", |stem| maps.save(stem))?;
-    let figure = plots::runup_amplitudes(r);
-    out.plot("runup_nsv", |stem| {
-        common.speed_axis(figure, SpeedAxis::X).save(stem)
-    })?;
+    let figures = whirl_figures::runup(&report, args.map_max_frequency);
+    out.figures(figures, common.rpm)?;
     finish(out, summary, text, common)
 }
 

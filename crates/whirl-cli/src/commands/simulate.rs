@@ -52,7 +52,6 @@ use super::{
 };
 use crate::error::Diag;
 use crate::output::Output;
-use crate::plots;
 use crate::progress::progress_line;
 
 /// `whirl simulate`
@@ -137,11 +136,8 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     };
     check_settled_part(&result)?;
     let report = lib(SimulationReport::new(model, &options, result))?;
-    let (final_speed, running_hz) = (report.final_speed(), report.running_hz());
+    let running_hz = report.running_hz();
     let result = &report.result;
-    // Every recorded node: those asked for and the bearing nodes a contact law adds.
-    let mut recorded: Vec<usize> = result.channels.iter().map(|c| c.node).collect();
-    recorded.dedup();
 
     let summary = report_summary("simulate", &loaded, &report)?;
     let mut text = text(
@@ -158,18 +154,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         out.table(&table)?;
     }
     write_time_history_npy(&mut out, result)?;
-    contacts::plot(&mut out, &report)?;
-    out.plot("time_history", |stem| {
-        plots::time_history(result, &recorded).save(stem)
-    })?;
-    let circles = contacts::clearance_circles(model, final_speed);
-    out.plot("orbits", |stem| {
-        plots::orbits(result, &recorded, &circles).save(stem)
-    })?;
-    let markers = contacts::spectrum_markers(&report.bearings);
-    out.plot("spectrum", |stem| {
-        plots::spectrum(&report.channels, running_hz, &markers).save(stem)
-    })?;
+    out.figures(whirl_figures::simulate(model, &report), args.common.rpm)?;
     finish(out, summary, text, &args.common)
 }
 

@@ -15,7 +15,6 @@ use whirl::statics::{static_response, RollerSupport};
 
 use super::{finish, lib, load, report_summary, Common, Outcome};
 use crate::output::Output;
-use crate::plots;
 
 /// `whirl static`
 #[derive(Debug, clap::Args)]
@@ -84,13 +83,6 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     for table in result.tables() {
         out.table(&table)?;
     }
-    out.plot("static_response", |stem| {
-        plots::static_response(model, &result).save(stem)
-    })?;
-    if result.has_rollers() {
-        out.plot("roller_loads", |stem| {
-            plots::roller_loads(model, &result).save(stem)
-        })?;
-    }
+    out.figures(whirl_figures::statics(model, &result), args.common.rpm)?;
     finish(out, summary, text, &args.common)
 }

@@ -33,7 +33,6 @@ use whirl::units::{parse_quantity, parse_range, Dimension};
 
 use super::{finish, load, option_error, report_summary, Common, Outcome};
 use crate::output::Output;
-use crate::plots_stiffness;
 
 /// `whirl stiffness`
 #[derive(Debug, clap::Args)]
@@ -181,19 +180,11 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let mut out = Output::begin(&args.common.out_dir("stiffness"))?;
     out.table_named(&tables, "stiffness")?;
     out.table_named(&tables, "passage")?;
-    let study = &report.study;
-    out.plot("stiffness_vs_clearance", |stem| {
-        plots_stiffness::stiffness_vs_clearance(study).save(stem)
-    })?;
     for surface in &report.surfaces {
         let label = clearance_label(surface.clearance);
         out.table_named(&tables, &format!("surfaces_{label}"))?;
-        for component in plots_stiffness::Component::ALL {
-            out.plot(&format!("surface_{label}_{}", component.name()), |stem| {
-                plots_stiffness::force_surface(surface, component).save(stem)
-            })?;
-        }
     }
+    out.figures(whirl_figures::stiffness(&report), args.common.rpm)?;
     let summary = report_summary("stiffness", &loaded, &report)?;
     let text = text(&report);
     finish(out, summary, text, &args.common)

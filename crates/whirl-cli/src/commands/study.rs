@@ -31,7 +31,6 @@ use super::{finish_json, lib, Outcome};
 use crate::error::{from_whirl, Diag};
 use crate::interrupt;
 use crate::output::Output;
-use crate::plots_study;
 use crate::progress::{duration_text, progress_line};
 
 /// `whirl study`
@@ -100,24 +99,13 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         results,
         outcome,
     };
-    let (study, results, outcome) = (&report.study, &report.results, &report.outcome);
+    let (study, outcome) = (&report.study, &report.outcome);
     let mut out = Output::begin(&out_dir)?;
     for table in report.tables() {
         out.table(&table)?;
     }
-    for (i, sweep) in outcome.sweeps.iter().enumerate() {
-        let maps: Vec<_> = study.sweeps[i]
-            .points
-            .iter()
-            .map(|&p| results[p].as_ref().ok().map(|r| &r.map))
-            .collect();
-        out.plot(&format!("cascades_{i}"), |stem| {
-            plots_study::cascade_grid(sweep, &maps).save(stem)
-        })?;
-        out.plot(&format!("nsv_{i}"), |stem| {
-            plots_study::nsv_versus_parameter(sweep, study.metric).save(stem)
-        })?;
-    }
+    // The study's figures show no speeds on an axis: nothing for --rpm to rewrite.
+    out.figures(whirl_figures::study(&report), false)?;
     let summary = summary(args, &report, &store, start)?;
     let text = text(study, outcome, &store);
     finish_json(out, summary, text, args.json)

@@ -12,11 +12,8 @@ use std::fmt::Write;
 use whirl::modal::{critical_speed_map, default_stiffnesses, log_space};
 use whirl::report::Report;
 
-use whirl_plot::SpeedAxis;
-
 use super::{finish, lib, load, mode_count, report_summary, Common, Outcome};
 use crate::output::Output;
-use crate::plots;
 use crate::progress::shown;
 
 /// `whirl ucs`
@@ -126,10 +123,6 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     for table in map.tables() {
         out.table(&table)?;
     }
-    out.plot("ucs", |stem| {
-        args.common
-            .speed_axis(plots::critical_speed_map(model, &map), SpeedAxis::Y)
-            .save(stem)
-    })?;
+    out.figures(whirl_figures::ucs(model, &map), args.common.rpm)?;
     finish(out, summary, text, &args.common)
 }

@@ -17,13 +17,10 @@ use whirl::fe::{assemble_banded, Bearings};
 use whirl::report::Report;
 use whirl::response::{unbalance_response_refined, UnbalanceResult};
 
-use whirl_plot::SpeedAxis;
-
 use super::{
     finish, lib, load, report_summary, round_off_note, speeds, Common, Nodes, Outcome, Speeds,
 };
 use crate::output::Output;
-use crate::plots;
 use crate::progress::shown;
 
 /// `whirl unbalance`
@@ -52,20 +49,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     for table in result.tables() {
         out.table(&table)?;
     }
-    let common = &args.common;
-    out.plot("bode", |stem| {
-        common
-            .speed_axis(plots::bode(&result), SpeedAxis::X)
-            .save(stem)
-    })?;
-    out.plot("polar", |stem| {
-        common.speed_texts(plots::polar(&result)).save(stem)
-    })?;
-    out.plot("orbit_major", |stem| {
-        common
-            .speed_axis(plots::orbit_major(&result), SpeedAxis::X)
-            .save(stem)
-    })?;
+    out.figures(whirl_figures::unbalance(&result), args.common.rpm)?;
     let text = text(&model.name, &nodes, &result);
     let summary = report_summary("unbalance", &loaded, &result)?;
     finish(out, summary, text, &args.common)

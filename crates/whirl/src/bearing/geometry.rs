@@ -166,7 +166,11 @@ impl RollerGeometry {
         let mut sin_cos = (self.cage_angle + cage_phase).sin_cos();
         for j in 0..self.rollers {
             let pitch = self.pitch(j);
-            let (wavy, wavy_rate) = self.waviness_at(j, cage_phase, cage_speed, at);
+            let (wavy, wavy_rate) = if self.is_round() {
+                (0.0, 0.0)
+            } else {
+                self.waviness_at(j, cage_phase, cage_speed, at)
+            };
             let angle = pitch + cage_phase;
             if j > 0 {
                 let (s, c) = sin_cos;

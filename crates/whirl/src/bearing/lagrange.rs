@@ -51,8 +51,12 @@ pub struct LagrangeContacts {
     coordinates: Vec<usize>,
     /// Multipliers of the last step, N, roller after roller.
     lambda: Vec<f64>,
-    /// Multipliers at every observed instant, one block of `rollers()` per instant.
+    /// Multipliers at every observed instant, one block of `rollers()` per instant, when
+    /// kept (`keep_history`).
     history: Vec<f64>,
+    /// Whether `record` keeps the multipliers: only a run that reports per-roller forces
+    /// reads them, and a cascade's runs would hold 0.5 kB a step for nothing.
+    keeping: bool,
     /// Largest penetration left after any correction, m.
     worst_penetration: f64,
     /// Most active-set iterations any step needed.
@@ -137,21 +141,41 @@ impl Work {
         }
     }
 
-    /// W_ab = J_a S J_b^T through the 2x2 blocks of S (`s_block`, c x c) between the two
-    /// rollers' bearings.
-    fn coupling(&self, s_block: &[f64], c: usize, a: usize, b: usize) -> f64 {
+    /// J_a S, roller a's direction through S (`s_block`, c x c; not symmetric at speed,
+    /// where D holds the gyroscopic matrix).
+    fn row_through_s(&self, s_block: &[f64], c: usize, a: usize) -> [f64; 2 * MAX_BEARINGS] {
         let (ca, sa, ba) = self.rows[a];
-        let (cb, sb, bb) = self.rows[b];
-        let s = |i: usize, k: usize| s_block[(2 * ba + i) * c + 2 * bb + k];
-        ca * (s(0, 0) * cb + s(0, 1) * sb) + sa * (s(1, 0) * cb + s(1, 1) * sb)
+        let mut motion = [0.0; 2 * MAX_BEARINGS];
+        for (l, x) in motion[..c].iter_mut().enumerate() {
+            *x = ca * s_block[2 * ba * c + l] + sa * s_block[(2 * ba + 1) * c + l];
+        }
+        motion
+    }
+
+    /// J^T lambda: the rollers' `(roller, multiplier)` gathered on their bearings'
+    /// coordinates (on the stack: `new` admits at most `MAX_BEARINGS` bearings).
+    fn bearing_loads(
+        &self,
+        rollers: impl Iterator<Item = (usize, f64)>,
+    ) -> [f64; 2 * MAX_BEARINGS] {
+        let mut load = [0.0; 2 * MAX_BEARINGS];
+        for (j, lambda) in rollers {
+            let (cs, sn, b) = self.rows[j];
+            load[2 * b] += cs * lambda;
+            load[2 * b + 1] += sn * lambda;
+        }
+        load
     }
 
     /// Solves the complementarity problem on `set`; returns the pivots used.
     fn solve_set(&mut self, s_block: &[f64], c: usize) -> Result<usize> {
+        // Row a of W = J S J^T: J_a S once, then its component along each roller.
         let k = self.set.len();
         for a in 0..k {
+            let row = self.row_through_s(s_block, c, self.set[a]);
             for b in 0..k {
-                self.w[a * k + b] = self.coupling(s_block, c, self.set[a], self.set[b]);
+                let (cs, sn, bearing) = self.rows[self.set[b]];
+                self.w[a * k + b] = cs * row[2 * bearing] + sn * row[2 * bearing + 1];
             }
             self.predicted[a] = self.approach[self.set[a]];
         }
@@ -161,15 +185,26 @@ impl Work {
     /// Adds to `set` every roller outside it that the correction pushes in beyond
     /// `tolerance`; returns whether any was added.
     fn add_pushed_in(&mut self, s_block: &[f64], c: usize, tolerance: f64) -> bool {
+        // (W lambda)_j = J_j S (J^T lambda): the correction's motion of the bearings once,
+        // then each roller's share of it, rather than a row of W per roller.
         let k = self.set.len();
+        let load = self.bearing_loads(
+            self.set
+                .iter()
+                .copied()
+                .zip(self.lambda[..k].iter().copied()),
+        );
+        let mut motion = [0.0; 2 * MAX_BEARINGS];
+        for (i, x) in motion[..c].iter_mut().enumerate() {
+            *x = (0..c).map(|l| s_block[i * c + l] * load[l]).sum();
+        }
         let mut added = false;
         for j in 0..self.approach.len() {
             if self.set[..k].contains(&j) {
                 continue;
             }
-            let pushed: f64 = (0..k)
-                .map(|a| self.coupling(s_block, c, j, self.set[a]) * self.lambda[a])
-                .sum();
+            let (cs, sn, b) = self.rows[j];
+            let pushed = cs * motion[2 * b] + sn * motion[2 * b + 1];
             if self.approach[j] - pushed > tolerance {
                 self.set.push(j);
                 added = true;
@@ -234,6 +269,7 @@ impl LagrangeContacts {
             coordinates,
             lambda: vec![0.0; m],
             history: Vec::new(),
+            keeping: false,
             worst_penetration: f64::NEG_INFINITY,
             most_iterations: 0,
             work,
@@ -260,20 +296,33 @@ impl LagrangeContacts {
         &self.lambda
     }
 
-    /// Clears the record and reserves room for `steps` instants.
+    /// Makes `record` keep the multipliers, for `history`.
+    pub fn keep_history(&mut self) {
+        self.keeping = true;
+    }
+
+    /// Clears the record and, when the history is kept, reserves room for `steps` instants.
     pub fn start_recording(&mut self, steps: usize) {
-        self.history = Vec::with_capacity(steps * self.rollers());
+        self.history = Vec::with_capacity(if self.keeping {
+            steps * self.rollers()
+        } else {
+            0
+        });
         self.lambda.iter_mut().for_each(|l| *l = 0.0);
         self.worst_penetration = f64::NEG_INFINITY;
         self.most_iterations = 0;
     }
 
-    /// Appends the current multipliers (those acting at the instant being observed).
+    /// Appends the current multipliers (those acting at the instant being observed) when
+    /// the history is kept.
     pub fn record(&mut self) {
-        self.history.extend_from_slice(&self.lambda);
+        if self.keeping {
+            self.history.extend_from_slice(&self.lambda);
+        }
     }
 
-    /// Recorded multipliers, N: instant after instant, roller after roller.
+    /// Recorded multipliers, N: instant after instant, roller after roller (empty unless
+    /// `keep_history` was called).
     pub fn history(&self) -> &[f64] {
         &self.history
     }
@@ -337,16 +386,9 @@ impl LagrangeContacts {
         for (a, &j) in w.set.iter().enumerate() {
             self.lambda[j] = w.lambda[a];
         }
-        // q -= S J^T lambda, J^T lambda gathered per coordinate first (on the stack: `new`
-        // admits at most MAX_BEARINGS bearings).
-        let mut push = [0.0; 2 * MAX_BEARINGS];
-        let per_coordinate = &mut push[..c];
-        for j in 0..m {
-            let (cs, sn, b) = w.rows[j];
-            per_coordinate[2 * b] += cs * self.lambda[j];
-            per_coordinate[2 * b + 1] += sn * self.lambda[j];
-        }
-        for (k, &f) in per_coordinate.iter().enumerate() {
+        // q -= S J^T lambda, J^T lambda gathered per coordinate first.
+        let load = w.bearing_loads(w.set.iter().map(|&j| (j, self.lambda[j])));
+        for (k, &f) in load[..c].iter().enumerate() {
             if f != 0.0 {
                 add_column(k, -f, q);
             }
@@ -437,7 +479,8 @@ impl Tableau {
             artificial: 2 * m,
             rhs: 2 * m + 1,
         };
-        w.tableau.iter_mut().for_each(|x| *x = 0.0);
+        // Only the problem's rows: the buffer is sized for every roller.
+        w.tableau[..m * t.cols].iter_mut().for_each(|x| *x = 0.0);
         for i in 0..m {
             let row = &mut w.tableau[i * t.cols..(i + 1) * t.cols];
             row[i] = 1.0;

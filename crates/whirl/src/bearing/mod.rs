@@ -40,7 +40,7 @@ pub mod lagrange;
 pub mod law;
 pub(crate) mod least_squares;
 pub mod life;
-pub(crate) mod power;
+mod power;
 pub mod stiffness;
 
 pub use forcing::{forcing_bearings, law_speeds, valid_up_to, ForcingBearing};
@@ -54,6 +54,7 @@ pub use housed::{mounted, Housed};
 pub use lagrange::{ContactStep, LagrangeContacts};
 pub use law::{contact_frequencies, ContactFrequency, ContactLaw};
 pub use life::{bearing_life, dynamic_load_rating, BearingLife, LifeLoads, RatingSource};
+pub use power::Power;
 
 use crate::error::{Error, Result};
 use crate::fe::{dof, Direction};

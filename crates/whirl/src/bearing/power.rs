@@ -18,7 +18,7 @@ use std::sync::LazyLock;
 
 /// delta^n for one exponent n.
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Power {
+pub struct Power {
     exponent: f64,
     route: Route,
 }
@@ -31,7 +31,8 @@ enum Route {
 }
 
 impl Power {
-    pub(crate) fn new(exponent: f64) -> Power {
+    /// The power for exponent `exponent`, by the cheapest route that exponent has.
+    pub fn new(exponent: f64) -> Power {
         let route = if exponent == 10.0 / 9.0 {
             Route::TenNinths(&NINTH_ROOT)
         } else if exponent == 1.5 {
@@ -42,13 +43,14 @@ impl Power {
         Power { exponent, route }
     }
 
-    pub(crate) fn exponent(&self) -> f64 {
+    /// The exponent n.
+    pub fn exponent(&self) -> f64 {
         self.exponent
     }
 
     /// x^n for x > 0.
     #[inline(always)]
-    pub(crate) fn of(&self, x: f64) -> f64 {
+    pub fn of(&self, x: f64) -> f64 {
         match self.route {
             Route::TenNinths(root) if x.is_normal() => x * root.of(x),
             Route::ThreeHalves => x * x.sqrt(),

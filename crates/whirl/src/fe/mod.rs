@@ -15,10 +15,11 @@ mod assembly;
 pub mod beam;
 pub mod timoshenko;
 
+pub(crate) use assembly::stiffness_product;
 pub use assembly::{
-    assemble, assemble_banded, assemble_dense, element_matrices, gravity_force,
-    too_large_for_dense, unbalance_force, BandedSystem, Bearings, Matrices, SystemMatrices,
-    HALF_BANDWIDTH, MAX_DENSE_DOFS,
+    assemble, assemble_banded, assemble_dense, band_reach, element_forces, element_matrices,
+    gravity_force, too_large_for_dense, unbalance_force, BandedSystem, Bearings, Matrices,
+    SystemMatrices, HALF_BANDWIDTH, MAX_DENSE_DOFS,
 };
 
 use serde::Serialize;

@@ -30,14 +30,17 @@
 //! A window of the other verdict narrower than the spacing of the path's points shows in
 //! no point's verdict; where the largest real part reaches an extremum towards zero at a
 //! point, closer to zero than it varies to the neighbours, the stretch round it is probed
-//! for one, and both edges of a window found are located as above.
+//! for one, and where a lightly damped mode of the orbit meets half an odd multiple of the
+//! speed between two stable points, that stretch is sampled for a period-doubling tongue
+//! (whose multiplier need not set the largest real part); both edges of a window found are
+//! located as above.
 
 use super::balance::HbSolution;
 use super::continuation::{
     arclength_frame, correct, interpolated_orbit, on_threads, BranchPoint, Fold, Periodic,
 };
 use super::resolution::Resolution;
-use super::stability::{outside_circle, Stability};
+use super::stability::{outside_circle, OrbitMode, Stability};
 use crate::error::Result;
 use crate::linalg::{difference, norm};
 
@@ -137,23 +140,44 @@ pub(super) fn locate_bifurcations<H: Periodic + Send>(
             !(turns || boundaries.contains(&(i - 1)) || boundaries.contains(&i))
         })
         .map(Stretch::Window);
-    let stretches: Vec<Stretch> = changes.chain(windows).collect();
+    let tongues = points
+        .windows(2)
+        .enumerate()
+        .filter(|(i, pair)| {
+            let turns = folds.iter().any(|f| f.after == *i);
+            !(turns || boundaries.contains(i)) && may_double_between(&pair[0], &pair[1])
+        })
+        .map(|(i, _)| Stretch::Tongue(i));
+    let stretches: Vec<Stretch> = changes.chain(windows).chain(tongues).collect();
     let found = on_threads(problems, stretches.len(), |hb, k| match stretches[k] {
         Stretch::Change(i) => change_after(&mut **hb, points, folds, i),
         Stretch::Window(i) => window_round(&mut **hb, points, i),
+        Stretch::Tongue(i) => tongue_after(&mut **hb, points, i),
     })?;
     let mut found: Vec<Bifurcation> = found.into_iter().flatten().collect();
-    // A window lies between two points of the same verdict, where no other change is.
-    found.sort_by_key(|b| b.after);
+    // A window lies between two points of the same verdict, where no other change is;
+    // the two probes can find the same one.
+    found.sort_by(|a, b| {
+        a.after
+            .cmp(&b.after)
+            .then(a.frequency.total_cmp(&b.frequency))
+    });
+    found.dedup_by(|a, b| {
+        a.after == b.after
+            && a.loses_stability == b.loses_stability
+            && (a.frequency - b.frequency).abs() <= 10.0 * BRACKET * b.frequency
+    });
     Ok(found)
 }
 
 /// Where a change of stability is sought: between points i and i + 1 of different
-/// verdicts, or round point i ([`probe`]).
+/// verdicts, round point i ([`probe`]), or between stable points i and i + 1 where a
+/// multiplier near -1 may leave the circle ([`tongue_after`]).
 #[derive(Clone, Copy)]
 enum Stretch {
     Change(usize),
     Window(usize),
+    Tongue(usize),
 }
 
 /// The change of stability between points `i` and `i + 1` (of different verdicts). A +1
@@ -229,6 +253,142 @@ fn window(
 /// Trial points a window's probe spends at most on one extremum.
 const PROBE_TRIALS: usize = 8;
 
+/// A period-doubling tongue opens where a lightly damped mode of the orbit meets half an
+/// odd multiple of the speed, w_i = (m + 1/2) w (its multiplier exp(i w_i T) at -1): the
+/// parametric resonance the map also draws as a line. Its multiplier pair closes on -1
+/// like the square root of the distance to the collision, and the multiplier that leaves
+/// is not the least damped at the path's points, so neither the points' verdicts nor g's
+/// extremum show it (reference rotor, 28 um: a 0.3 Hz tongue at 34.9-35.2 Hz, w_1 = 1.5 w,
+/// between points at 34.6 and 36.6 Hz). The mode's frequency is that of the orbit's
+/// averaged linearisation ([`OrbitMode`]), not the exponent itself, so a meeting within
+/// this much of w_i / w either side of the stretch counts.
+const HALF_ORDER_MARGIN: f64 = 0.01;
+
+/// The highest w_i / w sought: a tongue at w_i = (m + 1/2) w is a parametric resonance
+/// of the bearings' stiffness harmonic 2 m + 1 along the orbit, and those above the 15th
+/// are too weak to open one (the reference rotor's highest found: w_i = 7.5 w).
+const MAX_HALF_ORDER: f64 = 8.0;
+
+/// The least modulus of the meeting mode's multiplier, exp(-zeta w_i T / sqrt(1 - zeta^2)):
+/// the two reals a pair of modulus r splits into keep their product near r^2, so the
+/// larger reaches 1 only if the smaller falls to about r^2; below a half that asks a
+/// split wider than the reference rotor's tongues show (pair 0.74, reals 0.5-1.35 at 28 um).
+const NEAR_MINUS_ONE: f64 = 0.5;
+
+/// Evenly spaced speeds sampled between two such points before the meeting mode's
+/// multiplier is followed by parabolas: a tongue 0.3 Hz wide in a split stretch 0.6 Hz
+/// wide, between points 2 Hz apart, falls on one of them.
+const TONGUE_SAMPLES: usize = 2;
+
+/// The largest modulus of a real negative multiplier: what leaves the circle at a period
+/// doubling, once its pair has met the axis.
+fn split_at_minus_one(s: &Stability) -> f64 {
+    s.multipliers
+        .iter()
+        .filter(|&&(re, im)| re < 0.0 && im.abs() <= ON_AXIS * re.abs())
+        .map(|(re, _)| -re)
+        .fold(0.0, f64::max)
+}
+
+/// Whether a period-doubling tongue may hide between two stable points: a mode of the
+/// orbit whose multiplier is at least [`NEAR_MINUS_ONE`] meets w_i = (m + 1/2) w there.
+fn may_double_between(a: &BranchPoint, b: &BranchPoint) -> bool {
+    let (Some(sa), Some(sb)) = (&a.stability, &b.stability) else {
+        return false;
+    };
+    if !(sa.stable && sb.stable) {
+        return false;
+    }
+    let (wa, wb) = (a.solution.frequency, b.solution.frequency);
+    let lively = |m: &OrbitMode, w: f64| {
+        let zeta = m.damping_ratio.clamp(0.0, 0.999);
+        let decay = zeta * m.frequency / (1.0 - zeta * zeta).sqrt();
+        (-decay * std::f64::consts::TAU / w).exp() >= NEAR_MINUS_ONE
+    };
+    sa.orbit_modes.iter().zip(&sb.orbit_modes).any(|(ma, mb)| {
+        let (ra, rb) = (ma.frequency / wa, mb.frequency / wb);
+        let margin = HALF_ORDER_MARGIN * ra.max(rb);
+        let meets = (ra.min(rb) - 0.5 - margin).ceil() <= (ra.max(rb) - 0.5 + margin).floor();
+        let low = ra.min(rb) <= MAX_HALF_ORDER;
+        meets && low && (lively(ma, wa) || lively(mb, wb))
+    })
+}
+
+/// The period-doubling tongue between stable points `i` and `i + 1`, if one is found: the
+/// g-probe ([`probe`]) misses it, because the multiplier that leaves the circle need not
+/// be the least damped one at the points (g is set by another, or is flat), and it leaves
+/// within a fraction of a hertz of where its pair met the axis. [`TONGUE_SAMPLES`] speeds
+/// between the points are solved (Newton at fixed speed: the stretch does not turn); where
+/// one of them or of the points holds a real negative multiplier of at least
+/// [`NEAR_MINUS_ONE`] (the pair has split), the largest is followed by successive
+/// parabolas round the best, at most [`PROBE_TRIALS`] more points. The first unstable
+/// point found is the inside of a window, whose edges are located as [`window`] does.
+fn tongue_after(
+    hb: &mut impl Periodic,
+    points: &[BranchPoint],
+    i: usize,
+) -> Result<Vec<Bifurcation>> {
+    let (before, after) = (&points[i], &points[i + 1]);
+    let (Some(sa), Some(sb)) = (&before.stability, &after.stability) else {
+        return Ok(Vec::new());
+    };
+    let level = |s: &Stability| split_at_minus_one(s).max(f64::MIN_POSITIVE).ln();
+    let mut ends = vec![
+        End::new(
+            before.solution.frequency,
+            level(sa),
+            before.solution.clone(),
+        ),
+        End::new(after.solution.frequency, level(sb), after.solution.clone()),
+    ];
+    let (wa, wb) = (ends[0].at, ends[1].at);
+    let inside = |point: HbSolution, verdict: Stability| BranchPoint {
+        solution: point,
+        frequency_slope: before.frequency_slope,
+        stability: Some(verdict),
+    };
+    for k in 1..=TONGUE_SAMPLES {
+        let w = wa + (wb - wa) * k as f64 / (TONGUE_SAMPLES + 1) as f64;
+        let Some((point, verdict)) = judged_at(hb, &ends[0], &ends[ends.len() - 1], w)? else {
+            return Ok(Vec::new());
+        };
+        if !verdict.stable {
+            return window(hb, before, &inside(point, verdict), after, i);
+        }
+        let end = End::new(w, level(&verdict), point);
+        ends.insert(ends.len() - 1, end);
+    }
+    if ends.iter().all(|e| e.max_real < NEAR_MINUS_ONE.ln()) {
+        return Ok(Vec::new());
+    }
+    // Ascending in speed whichever way the path went; the best interior end and its two
+    // neighbours bracket the largest.
+    ends.sort_by(|x, y| x.at.total_cmp(&y.at));
+    let best = (1..ends.len() - 1)
+        .max_by(|&x, &y| ends[x].max_real.total_cmp(&ends[y].max_real))
+        .unwrap_or(1);
+    let mut three = ends.drain(best - 1..=best + 1);
+    let (Some(mut lo), Some(mut mid), Some(mut hi)) = (three.next(), three.next(), three.next())
+    else {
+        return Ok(Vec::new());
+    };
+    for _ in 0..PROBE_TRIALS {
+        if hi.at - lo.at < BRACKET * mid.at.abs() {
+            break;
+        }
+        let w = vertex(&lo, &mid, &hi);
+        let Some((point, verdict)) = judged_within(hb, [&lo, &mid, &hi], w)? else {
+            break;
+        };
+        if !verdict.stable {
+            return window(hb, before, &inside(point, verdict), after, i);
+        }
+        let trial = End::new(w, level(&verdict), point);
+        (lo, mid, hi) = best_bracketed(lo, mid, hi, trial);
+    }
+    Ok(Vec::new())
+}
+
 /// A window of the other verdict narrower than the spacing of the path's points lies
 /// between two points of the same verdict, where g, the largest real part of the
 /// exponents, reaches an extremum towards zero. `three` are successive points of one
@@ -271,13 +431,9 @@ fn probe(hb: &mut impl Periodic, three: &[BranchPoint]) -> Result<Option<(usize,
             return Ok(None);
         }
         let w = vertex(&lo, &mid, &hi);
-        let (a, b) = if w < mid.at { (&lo, &mid) } else { (&mid, &hi) };
-        let Some(point) = at_speed(hb, a, b, w) else {
+        let Some((point, verdict)) = judged_within(hb, [&lo, &mid, &hi], w)? else {
             return Ok(None);
         };
-        let verdict = hb
-            .floquet_problem(&point.coefficients, point.frequency)?
-            .solve()?;
         if verdict.stable != stable {
             // Between the first two points when on the first's side of the middle one.
             let side = usize::from((w - centre) * (three[0].solution.frequency - centre) < 0.0);
@@ -289,15 +445,48 @@ fn probe(hb: &mut impl Periodic, three: &[BranchPoint]) -> Result<Option<(usize,
             return Ok(Some((side, inside)));
         }
         let trial = End::new(w, toward(verdict.max_real), point);
-        // Keep the best point bracketed by its two neighbours.
-        match (trial.max_real > mid.max_real, w < mid.at) {
-            (true, true) => (hi, mid) = (mid, trial),
-            (true, false) => (lo, mid) = (mid, trial),
-            (false, true) => lo = trial,
-            (false, false) => hi = trial,
-        }
+        (lo, mid, hi) = best_bracketed(lo, mid, hi, trial);
     }
     Ok(None)
+}
+
+/// The branch point at speed `w` within the bracket `[lo, mid, hi]` (Newton from the
+/// interpolation of the two ends round `w`) and its stability; `None` where Newton fails.
+fn judged_within(
+    hb: &mut impl Periodic,
+    [lo, mid, hi]: [&End; 3],
+    w: f64,
+) -> Result<Option<(HbSolution, Stability)>> {
+    let (a, b) = if w < mid.at { (lo, mid) } else { (mid, hi) };
+    judged_at(hb, a, b, w)
+}
+
+/// The branch point at speed `w` between `a` and `b` ([`at_speed`]) and its stability;
+/// `None` where Newton fails.
+fn judged_at(
+    hb: &mut impl Periodic,
+    a: &End,
+    b: &End,
+    w: f64,
+) -> Result<Option<(HbSolution, Stability)>> {
+    let Some(point) = at_speed(hb, a, b, w) else {
+        return Ok(None);
+    };
+    let verdict = hb
+        .floquet_problem(&point.coefficients, point.frequency)?
+        .solve()?;
+    Ok(Some((point, verdict)))
+}
+
+/// The bracket after `trial`: the largest value kept as the middle, bracketed by its two
+/// neighbours.
+fn best_bracketed(lo: End, mid: End, hi: End, trial: End) -> (End, End, End) {
+    match (trial.max_real > mid.max_real, trial.at < mid.at) {
+        (true, true) => (lo, trial, mid),
+        (true, false) => (mid, trial, hi),
+        (false, true) => (trial, mid, hi),
+        (false, false) => (lo, mid, trial),
+    }
 }
 
 /// The speed of the vertex of the parabola through the three ends (by speed, values

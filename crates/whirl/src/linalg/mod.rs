@@ -480,7 +480,8 @@ impl BandLu {
 }
 
 /// A square matrix factorised for repeated solves: a band LU without row swaps when a band
-/// is given and that is safe, else the dense inverse from a pivoting LU.
+/// is given and that is safe, else the dense inverse from a pivoting LU, or, for a band
+/// too large to hold dense ([`Factors::of_band`]), the band LU with row swaps.
 pub(crate) enum Factors {
     Banded {
         lu: BandLu,
@@ -488,6 +489,7 @@ pub(crate) enum Factors {
         padded: Vec<f64>,
     },
     Inverse(Columns),
+    Pivoted(banded::BandedLu),
 }
 
 impl Factors {
@@ -511,6 +513,20 @@ impl Factors {
         })))
     }
 
+    /// The band `a` factorised without ever holding it dense: without row swaps when that is
+    /// safe (as [`Factors::new`]), else with them (a band LU's memory and cost stay linear
+    /// in the size, where the dense inverse's grow as its square and cube). `None` when `a`
+    /// is singular.
+    pub fn of_band(a: &Band) -> Option<Factors> {
+        if let Some(lu) = banded_lu_of(a) {
+            let (before, after) = lu.padding();
+            let padded = vec![0.0; before + a.size() + after];
+            return Some(Factors::Banded { lu, padded });
+        }
+        let (lower, upper) = a.widths();
+        banded::BandedLu::new(a.size(), lower, upper, |i, j| a.get(i, j)).map(Factors::Pivoted)
+    }
+
     /// out = A^-1 rhs.
     #[inline(always)]
     pub fn solve(&mut self, rhs: &[f64], out: &mut [f64]) {
@@ -525,19 +541,28 @@ impl Factors {
                 out.iter_mut().for_each(|x| *x = 0.0);
                 inverse.mul_add(rhs, out);
             }
+            Factors::Pivoted(lu) => {
+                out.copy_from_slice(rhs);
+                lu.solve(out);
+            }
         }
     }
 }
 
 /// The band LU of `a` when its symmetric part has positive pivots, else `None`.
 fn banded_lu(a: &Mat<f64>, widths: (usize, usize)) -> Option<BandLu> {
-    let n = a.nrows();
-    let w = widths.0.max(widths.1);
-    let symmetric = Band::from_fn(n, (w, w), |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
+    banded_lu_of(&Band::from_fn(a.nrows(), widths, |i, j| a[(i, j)]))
+}
+
+/// [`banded_lu`] of a band.
+fn banded_lu_of(a: &Band) -> Option<BandLu> {
+    let (lower, upper) = a.widths();
+    let w = lower.max(upper);
+    let symmetric = Band::from_fn(a.size(), (w, w), |i, j| 0.5 * (a.get(i, j) + a.get(j, i)));
     if !BandLu::new(&symmetric)?.pivots_positive() {
         return None;
     }
-    BandLu::new(&Band::from_fn(n, widths, |i, j| a[(i, j)]))
+    BandLu::new(a)
 }
 
 #[cfg(test)]
@@ -607,6 +632,28 @@ mod tests {
         assert!(BandLu::new(&symmetric(&a)).unwrap().pivots_positive());
         a[(4, 4)] = -a[(4, 4)];
         assert!(!BandLu::new(&symmetric(&a)).unwrap().pivots_positive());
+    }
+
+    #[test]
+    fn a_band_factorised_as_a_band_solves_whether_or_not_it_is_definite() {
+        // Definite: the LU without row swaps; a pivot made negative: the one with them
+        // (where `Factors::new` would hold the dense inverse).
+        let n = 40;
+        let mut a = banded(n);
+        for definite in [true, false] {
+            if !definite {
+                a[(17, 17)] = -a[(17, 17)];
+            }
+            let band = Band::from_fn(n, (3, 2), |i, j| a[(i, j)]);
+            let mut factors = Factors::of_band(&band).expect("not singular");
+            assert_eq!(matches!(factors, Factors::Banded { .. }), definite);
+            let x: Vec<f64> = (0..n).map(|i| entry(i, 5)).collect();
+            let b = dense_product(&a, &x);
+            let mut solved = vec![0.0; n];
+            factors.solve(&b, &mut solved);
+            // Well conditioned (diagonally dominant either way): a few units of round-off.
+            assert!(close(&solved, &x) < 1e-13, "definite: {definite}");
+        }
     }
 
     #[test]

@@ -87,7 +87,8 @@ pub struct UnstableBand {
     /// (elsewhere along the path) gives a stable synchronous orbit too, Hz, ascending.
     pub coexisting_stable_hz: Vec<[f64; 2]>,
     /// What grows inside the band, stretch by stretch in path order: the leading Floquet
-    /// multiplier at its points. A band opened by period doubling can go on unstable
+    /// multiplier at its points (in a window between two points, with none inside, what
+    /// crossed where it opened). A band opened by period doubling can go on unstable
     /// through a complex pair at quite another frequency, which no edge shows.
     pub growing: Vec<Growing>,
 }
@@ -234,7 +235,8 @@ fn close(branch: &Branch, o: &Open, speed: f64, edge: Edge) -> UnstableBand {
         closes: edge,
         span_hz: [lo, hi],
         coexisting_stable_hz: stable_within(branch, lo, hi),
-        growing: growing(branch, &o.points),
+        growing: growing(branch, &o.points)
+            .unwrap_or_else(|| grows_by(&o.edge, lo, hi).into_iter().collect()),
     }
 }
 
@@ -263,9 +265,32 @@ fn leading(branch: &Branch, i: usize) -> Option<(Growth, f64)> {
     Some((growth, hz(s.exponents[k].1.abs())))
 }
 
+/// What grows in a window between two path points (`lo`-`hi` Hz, no point inside to read):
+/// what crossed at the bifurcation that opened it.
+fn grows_by(edge: &Edge, lo: f64, hi: f64) -> Option<Growing> {
+    let Edge::Bifurcation {
+        bifurcation,
+        emerging_hz,
+        ..
+    } = *edge
+    else {
+        return None;
+    };
+    let growth = match bifurcation {
+        BifurcationKind::PeriodDoubling => Growth::HalfSpeed,
+        BifurcationKind::NeimarkSacker => Growth::Complex,
+        BifurcationKind::Fold | BifurcationKind::SymmetryBreaking => Growth::Real,
+    };
+    Some(Growing {
+        growth,
+        speeds_hz: [lo, hi],
+        frequency_hz: [emerging_hz; 2],
+    })
+}
+
 /// The stretches of `points` (a band's, in path order) whose leading multiplier grows the
-/// same way.
-fn growing(branch: &Branch, points: &[usize]) -> Vec<Growing> {
+/// same way; `None` when no point lies inside.
+fn growing(branch: &Branch, points: &[usize]) -> Option<Vec<Growing>> {
     let mut out: Vec<Growing> = Vec::new();
     for &i in points {
         let Some((growth, f)) = leading(branch, i) else {
@@ -284,38 +309,59 @@ fn growing(branch: &Branch, points: &[usize]) -> Vec<Growing> {
             }),
         }
     }
-    out
+    (!points.is_empty()).then_some(out)
 }
 
 /// The speeds within [lo, hi] (Hz) that a stable stretch of `branch` covers: each segment
 /// between two successive stable points (not across a jump) covers the speeds between
 /// them; merged and ascending.
+/// A window between two stable points (its bifurcations both lie after the first) is not
+/// stable: it is left out of their segment.
 fn stable_within(branch: &Branch, lo: f64, hi: f64) -> Vec<[f64; 2]> {
     let points = &branch.points;
     let stable = |i: usize| points[i].stability.as_ref().is_some_and(|s| s.stable);
-    spans_where(branch, stable, lo, hi)
+    let window = |i: usize| {
+        let inside = branch.bifurcations.iter().filter(|b| b.after == i);
+        let (a, b) = inside.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(hz(x.frequency)), b.max(hz(x.frequency)))
+        });
+        (a < b).then_some([a, b])
+    };
+    spans_where(branch, stable, window, lo, hi)
 }
 
 /// The speeds (Hz) the branch was followed over: every segment between two successive
 /// points, not across a jump; merged and ascending. Outside them the sweep says nothing.
 pub fn followed_spans(branch: &Branch) -> Vec<[f64; 2]> {
-    spans_where(branch, |_| true, f64::NEG_INFINITY, f64::INFINITY)
+    spans_where(branch, |_| true, |_| None, f64::NEG_INFINITY, f64::INFINITY)
 }
 
 /// The speeds within [lo, hi] (Hz) covered by the segments between successive points that
-/// both satisfy `keep` (not across a jump), merged and ascending.
-fn spans_where(branch: &Branch, keep: impl Fn(usize) -> bool, lo: f64, hi: f64) -> Vec<[f64; 2]> {
+/// both satisfy `keep` (not across a jump), less each segment's `gap`, merged and
+/// ascending.
+fn spans_where(
+    branch: &Branch,
+    keep: impl Fn(usize) -> bool,
+    gap: impl Fn(usize) -> Option<[f64; 2]>,
+    lo: f64,
+    hi: f64,
+) -> Vec<[f64; 2]> {
     let points = &branch.points;
     let mut covered: Vec<[f64; 2]> = (0..points.len().saturating_sub(1))
         .filter(|&i| keep(i) && keep(i + 1) && !branch.jumped_after.contains(&i))
-        .filter_map(|i| {
+        .flat_map(|i| {
             let (a, b) = (
                 hz(points[i].solution.frequency),
                 hz(points[i + 1].solution.frequency),
             );
-            let (a, b) = (a.min(b).max(lo), a.max(b).min(hi));
-            (b > a).then_some([a, b])
+            let (a, b) = (a.min(b), a.max(b));
+            let parts = match gap(i) {
+                Some([g0, g1]) => [[a, g0], [g1, b]],
+                None => [[a, b], [b, b]],
+            };
+            parts.map(|[x, y]| [x.max(lo), y.min(hi)])
         })
+        .filter(|[a, b]| b > a)
         .collect();
     covered.sort_by(|x, y| x[0].total_cmp(&y[0]));
     let mut merged: Vec<[f64; 2]> = Vec::new();

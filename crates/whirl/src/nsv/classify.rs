@@ -5,9 +5,11 @@
 //! The evidence is gathered in [`super::trend`]: the slope `df/dOmega` of the NSV line over
 //! the settled neighbours within a window in hertz of speed, and its companions `k Omega -+
 //! f` in the point's own spectrum. The rotor-whirl classes carry the whirl direction from
-//! the full spectrum of x + i y (forward when the component at +f is the larger): whip is
-//! forward precession locked at a natural frequency, and a backward whirl locked the same
-//! way is `backward-whip`, never plain whip.
+//! the full spectrum of x + i y (forward when the component at +f is the larger, planar
+//! when the two are equal within [`PLANAR_FLATNESS`] or their measurement: a line orbit,
+//! whose direction round-off would decide): whip is forward precession locked at a natural
+//! frequency, and a backward or planar whirl locked the same way is `backward-whip` or
+//! `planar-whip`, never plain whip.
 //!
 //! A point whose run did not settle (see [`crate::nsv`]: its largest non-synchronous peak was
 //! still dying away at the longest settling time) is **unsettled**, whatever its frequency;
@@ -80,6 +82,10 @@ const MAX_SPEED_MULTIPLE: usize = 8;
 /// the slope would not tell them from a lock).
 const MAX_SUBHARMONIC: usize = 3;
 
+/// An orbit whose minor axis is under this fraction of its major one is planar: a line,
+/// not a whirl in either direction.
+pub const PLANAR_FLATNESS: f64 = 0.05;
+
 /// Whirl direction of a peak, from the full spectrum.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -88,14 +94,37 @@ pub enum WhirlDirection {
     Forward,
     /// Against the spin.
     Backward,
+    /// Neither: the two components are equal within the orbit's flatness limit or their
+    /// measurement, so the orbit is a line whose direction round-off would decide.
+    Planar,
 }
 
 impl WhirlDirection {
-    /// `forward` or `backward`.
+    /// `forward`, `backward` or `planar`.
     pub fn name(self) -> &'static str {
         match self {
             WhirlDirection::Forward => "forward",
             WhirlDirection::Backward => "backward",
+            WhirlDirection::Planar => "planar",
+        }
+    }
+
+    /// The direction of an orbit with circular components `forward` (at +f) and `backward`
+    /// (at -f), each known to `relative_error`. The orbit's minor axis over its major is
+    /// |F - B| / (F + B); below [`PLANAR_FLATNESS`], or below twice the standard error of
+    /// F - B (`relative_error` sqrt(F^2 + B^2)), the orbit is planar: the reference rotor's
+    /// locked whips on anisotropic contacts have orbits this flat, and their larger
+    /// component changed with the last bit of the contact solve.
+    pub fn of(forward: f64, backward: f64, relative_error: f64) -> Self {
+        let difference = forward - backward;
+        let undecided = (PLANAR_FLATNESS * (forward + backward))
+            .max(2.0 * relative_error * forward.hypot(backward));
+        if difference.abs() <= undecided {
+            WhirlDirection::Planar
+        } else if difference > 0.0 {
+            WhirlDirection::Forward
+        } else {
+            WhirlDirection::Backward
         }
     }
 }
@@ -122,14 +151,17 @@ pub enum NsvClass {
 
 impl NsvClass {
     /// Every class, in the order of the module documentation's list.
-    pub const ALL: [NsvClass; 10] = [
+    pub const ALL: [NsvClass; 13] = [
         NsvClass::Subharmonic(WhirlDirection::Forward),
         NsvClass::Subharmonic(WhirlDirection::Backward),
+        NsvClass::Subharmonic(WhirlDirection::Planar),
         NsvClass::VaryingCompliance,
         NsvClass::Whip(WhirlDirection::Forward),
         NsvClass::Whip(WhirlDirection::Backward),
+        NsvClass::Whip(WhirlDirection::Planar),
         NsvClass::CombinationResonance(WhirlDirection::Forward),
         NsvClass::CombinationResonance(WhirlDirection::Backward),
+        NsvClass::CombinationResonance(WhirlDirection::Planar),
         NsvClass::SuperHarmonic,
         NsvClass::Other,
         NsvClass::Unsettled,
@@ -137,14 +169,17 @@ impl NsvClass {
 
     /// Name as in tables: `forward-whip`, `backward-combination-resonance`, ...
     pub fn name(self) -> &'static str {
-        use WhirlDirection::{Backward, Forward};
+        use WhirlDirection::{Backward, Forward, Planar};
         match self {
             NsvClass::Subharmonic(Forward) => "forward-subharmonic",
             NsvClass::Subharmonic(Backward) => "backward-subharmonic",
+            NsvClass::Subharmonic(Planar) => "planar-subharmonic",
             NsvClass::Whip(Forward) => "forward-whip",
             NsvClass::Whip(Backward) => "backward-whip",
+            NsvClass::Whip(Planar) => "planar-whip",
             NsvClass::CombinationResonance(Forward) => "forward-combination-resonance",
             NsvClass::CombinationResonance(Backward) => "backward-combination-resonance",
+            NsvClass::CombinationResonance(Planar) => "planar-combination-resonance",
             NsvClass::VaryingCompliance => "varying-compliance",
             NsvClass::SuperHarmonic => "super-harmonic",
             NsvClass::Other => "other",
@@ -231,11 +266,11 @@ pub(super) fn classify(
         .enumerate()
         .map(|(i, p)| {
             let peak = p.peak?;
-            let direction = if peak.forward_m >= peak.backward_m {
-                WhirlDirection::Forward
-            } else {
-                WhirlDirection::Backward
-            };
+            let direction = WhirlDirection::of(
+                peak.forward_m,
+                peak.backward_m,
+                peak.standard_error_m / peak.amplitude_m,
+            );
             if !p.settled {
                 let why = format!(
                     "still dying away after {:.2} s: {:.2} of its amplitude per half record",
@@ -642,6 +677,33 @@ mod tests {
         assert_eq!(classes(&far), [NsvClass::Other]);
         let above = [point(300.0, (450.0, 1e-5), false, &[])];
         assert_eq!(classes(&above), [NsvClass::SuperHarmonic]);
+    }
+
+    #[test]
+    fn a_line_orbit_has_no_direction() {
+        use WhirlDirection::{Backward, Forward, Planar};
+        // The 32-roller locked whip whose larger component changed with round-off (um,
+        // relative standard error 0.6 %): planar both ways.
+        assert_eq!(WhirlDirection::of(46.09, 46.35, 0.006), Planar);
+        assert_eq!(WhirlDirection::of(46.58, 46.09, 0.006), Planar);
+        // Minor axis 2 % of the major, measured exactly: still a line.
+        assert_eq!(WhirlDirection::of(10.0, 9.6, 0.0), Planar);
+        // Minor axis 11 % of the major: a whirl when measured to 1 %, not when to 10 %
+        // (the difference, 2, is within twice its error 0.1 x 12.8).
+        assert_eq!(WhirlDirection::of(10.0, 8.0, 0.01), Forward);
+        assert_eq!(WhirlDirection::of(8.0, 10.0, 0.01), Backward);
+        assert_eq!(WhirlDirection::of(10.0, 8.0, 0.1), Planar);
+        // A circle each way.
+        assert_eq!(WhirlDirection::of(1.0, 0.0, 0.0), Forward);
+        assert_eq!(WhirlDirection::of(0.0, 1.0, 0.0), Backward);
+    }
+
+    #[test]
+    fn a_locked_line_orbit_is_planar_whip() {
+        let mut p = point(300.0, (47.0, 1e-5), false, &[]);
+        let peak = p.peak.as_mut().unwrap();
+        (peak.forward_m, peak.backward_m) = (5.0e-6, 5.1e-6);
+        assert_eq!(classes(&[p]), [NsvClass::Whip(WhirlDirection::Planar)]);
     }
 
     #[test]

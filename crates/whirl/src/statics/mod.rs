@@ -36,11 +36,11 @@ use serde::Serialize;
 
 use crate::bearing::hertz_bearings;
 use crate::error::{Error, Result};
-use crate::fe::{dof, too_large_for_dense, Bearings, Direction, MAX_DENSE_DOFS};
+use crate::fe::{band_reach, dof, stiffness_product, Bearings, Direction};
 use crate::force::{no_forces, ForceBuilder};
 use crate::model::Model;
-use crate::system::build;
-use crate::time::static_equilibrium;
+use crate::system::banded;
+use crate::time::statics::{equilibrium, Product, Structure};
 
 /// How roller bearings carry the load.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -93,29 +93,71 @@ impl StaticResult {
     }
 }
 
-/// Static response of `model` under its gravity, roller bearings carried as `rollers` says.
+/// Most bytes the static response's bands may take ([`fits_on_bands`]): a sixth of the 24 GB
+/// machine it was measured on. A plain mesh never comes near it (10,000 elements: 64 MB in
+/// all).
+const MAX_BAND_BYTES: f64 = 4e9;
+
+/// Bands of the model's size and width held at once: M, K, G and C and their parts
+/// ([`crate::fe::BandedSystem`]), K_ww, its symmetric part and their factors.
+const BANDS_HELD: f64 = 12.0;
+
+/// Refuses, before anything is allocated, a model whose bands would not fit: a bearing
+/// between the shaft and a housing widens them to reach the housing's DOFs, numbered after
+/// all the shaft's, so their memory grows as the square of the elements (330 MB measured at
+/// 500 elements of `examples/reference_rotor_sfd.toml` with linear rollers).
 ///
 /// # Errors
-/// [`Error::NotConverged`] or [`Error::Singular`] when the equilibrium cannot be found (a rotor not held by its
-/// bearings); [`Error::Unsupported`] above [`MAX_DENSE_DOFS`] DOFs.
-pub fn static_response(model: &Model, rollers: RollerSupport) -> Result<StaticResult> {
-    // The equilibrium is solved on the dense matrices and a static analysis has no
-    // reduction to offer: the refusal says so here, before `build` would suggest one.
-    let dofs = model.dof_count();
-    if dofs > MAX_DENSE_DOFS {
-        return Err(too_large_for_dense(
-            dofs,
-            "The static deflection converges with few elements (it is a smooth curve): \
-             use fewer, e.g. the model's mesh at 200 elements",
-        ));
+/// [`Error::Unsupported`] above [`MAX_BAND_BYTES`], naming the size and the fix.
+fn fits_on_bands(model: &Model, bearings: Bearings) -> Result<()> {
+    let (n, reach) = (model.dof_count(), band_reach(model, bearings));
+    let bytes = BANDS_HELD * 8.0 * n as f64 * (2 * reach + 1) as f64;
+    if bytes <= MAX_BAND_BYTES {
+        return Ok(());
     }
+    Err(Error::Unsupported(format!(
+        "the model has {n} DOFs and a bearing in a housing couples DOFs {reach} apart (the \
+         housing's follow all the shaft's): the static response's banded matrices would \
+         take about {:.1} GB, more than its {:.0} GB. Use fewer elements: the static \
+         deflection converges with few (it is a smooth curve), e.g. 200",
+        bytes / 1e9,
+        MAX_BAND_BYTES / 1e9
+    )))
+}
+
+/// Static response of `model` under its gravity, roller bearings carried as `rollers` says.
+///
+/// The structure is held on its bands and the balance condensed onto the contacts'
+/// coordinates ([`crate::time::static_equilibrium`]'s method), so memory and time grow
+/// linearly with the elements: every mesh a model may have is solved (but for a bearing in
+/// a housing, which widens the bands; see [`fits_on_bands`]).
+///
+/// # Errors
+/// [`Error::NotConverged`] or [`Error::Singular`] when the equilibrium cannot be found (a
+/// rotor not held by its bearings); [`Error::Unsupported`] when a bearing in a housing
+/// widens the bands past memory ([`fits_on_bands`]).
+pub fn static_response(model: &Model, rollers: RollerSupport) -> Result<StaticResult> {
     let (bearings, forces): (Bearings, ForceBuilder<'_>) = match rollers {
         RollerSupport::Hertz => (Bearings::NonlinearApart, &hertz_bearings),
         RollerSupport::Linear => (Bearings::Linearised, &no_forces),
     };
-    let mut problem = build(model, None, bearings, forces)?.system;
-    let n = problem.size();
-    let q = static_equilibrium(&mut problem, &vec![0.0; n], 0.0)?;
+    fits_on_bands(model, bearings)?;
+    let mut problem = banded(model, bearings, forces)?;
+    // K x element by element, from each element's deformation (see
+    // [`crate::fe::element_forces`]): a fine mesh's deflection keeps its digits.
+    let product = problem.matrices.parts.as_ref().map(|parts| {
+        move |x: &[f64], out: &mut [f64]| {
+            stiffness_product(model, &parts.support_stiffness, x, out);
+        }
+    });
+    let structure = Structure {
+        stiffness: &problem.matrices.stiffness,
+        mass: &problem.matrices.mass,
+        constant_force: &problem.constant_force,
+        product: product.as_ref().map(|p| p as &Product<'_>),
+    };
+    let rest = vec![0.0; problem.matrices.dofs()];
+    let q = equilibrium(&structure, &mut problem.nonlinear, &rest, 0.0)?;
     if q.iter().any(|v| !v.is_finite()) {
         return Err(Error::singular(
             "stiffness matrix",

@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 
-use crate::fe::{dof, element_matrices, Direction};
+use crate::fe::{dof, element_forces, element_matrices, Direction};
 use crate::model::Model;
 
 /// The state of the shaft at one end of an element.
@@ -33,17 +33,15 @@ pub fn station_forces(model: &Model, q: &[f64]) -> Vec<Station> {
     let mut element = 0;
     for section in &model.sections {
         let e = element_matrices(section);
-        let axial = model.options.axial_load;
+        let length = section.length / section.elements as f64;
         for _ in 0..section.elements {
             let first = 4 * element;
             let u = &q[first..first + 8];
+            let k = element_forces(&e, length, model.options.axial_load, u);
             // The element's own weight, consistent with its mass: -g times the uy columns.
             let f: Vec<f64> = (0..8)
                 .map(|i| {
-                    let k: f64 = (0..8)
-                        .map(|j| (e.stiffness[i][j] + axial * e.stiffness_axial[i][j]) * u[j])
-                        .sum();
-                    k + model.gravity * (e.mass_translational[i][1] + e.mass_translational[i][5])
+                    k[i] + model.gravity * (e.mass_translational[i][1] + e.mass_translational[i][5])
                 })
                 .collect();
             let at = |node: usize, sign: f64, base: usize| {

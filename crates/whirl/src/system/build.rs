@@ -5,10 +5,10 @@
 use super::System;
 use crate::error::{Error, Result};
 use crate::fe::{
-    assemble_banded, gravity_force, unbalance_force, Bearings, DofNames, SystemMatrices,
-    MAX_DENSE_DOFS,
+    assemble_banded, gravity_force, unbalance_force, BandedSystem, Bearings, DofNames,
+    SystemMatrices, MAX_DENSE_DOFS,
 };
-use crate::force::ForceBuilder;
+use crate::force::{ForceBuilder, NonlinearForce};
 use crate::linalg::dot;
 use crate::model::Model;
 use crate::reduce::{boundary_dofs, CraigBampton};
@@ -124,6 +124,49 @@ pub fn linear(model: &Model, reduction: Option<usize>, bearings: Bearings) -> Re
     })
 }
 
+/// The nonlinear forces of `model` in the coordinates `map` gives: those of `forces` and
+/// the squeeze-film dampers' (which the matrices leave out).
+fn nonlinear_forces(
+    model: &Model,
+    map: &dyn Fn(usize) -> Option<usize>,
+    forces: ForceBuilder<'_>,
+) -> Result<Vec<Box<dyn NonlinearForce>>> {
+    let mut nonlinear = forces(model, map)?;
+    nonlinear.extend(squeeze_film_forces(model, map)?);
+    Ok(nonlinear)
+}
+
+/// The full model as [`build`] makes it unreduced, but on its bands: for the solvers that
+/// work on bands (the static response), whose memory then grows linearly with the
+/// elements at any mesh.
+pub(crate) struct BandedModel {
+    /// M, K, G and C without the squeeze films, as [`linear`] assembles them.
+    pub(crate) matrices: BandedSystem,
+    /// Gravity, N.
+    pub(crate) constant_force: Vec<f64>,
+    /// The nonlinear forces, on the physical DOFs.
+    pub(crate) nonlinear: Vec<Box<dyn NonlinearForce>>,
+}
+
+/// [`build`] of the full model (`bearings`, `forces`) on its bands.
+///
+/// # Errors
+/// Those of `forces`.
+pub(crate) fn banded(
+    model: &Model,
+    bearings: Bearings,
+    forces: ForceBuilder<'_>,
+) -> Result<BandedModel> {
+    let matrices = assemble_banded(&without_films(model), bearings);
+    let constant_force = gravity_force(model, &matrices);
+    let nonlinear = nonlinear_forces(model, &Some, forces)?;
+    Ok(BandedModel {
+        matrices,
+        constant_force,
+        nonlinear,
+    })
+}
+
 /// `model` without its squeeze-film dampers (borrowed when it has none): the matrices of
 /// the nonlinear solvers, which take the films' force apart.
 fn without_films(model: &Model) -> std::borrow::Cow<'_, Model> {
@@ -160,8 +203,7 @@ impl Linear {
             ..
         } = self;
         let map = |physical: usize| coordinates.coordinate_of(physical);
-        let mut nonlinear = forces(model, &map)?;
-        nonlinear.extend(squeeze_film_forces(model, &map)?);
+        let nonlinear = nonlinear_forces(model, &map, forces)?;
         let system = System {
             constant_force,
             unbalance_re,

@@ -19,7 +19,7 @@
 mod build;
 mod speed;
 
-pub(crate) use build::RecoveryRow;
+pub(crate) use build::{banded, RecoveryRow};
 pub use build::{build, linear, Built, Coordinates, Linear};
 pub use speed::SpeedProfile;
 
@@ -141,14 +141,7 @@ impl System {
 
     /// The coordinates some nonlinear force acts on, ascending and without repeats.
     pub fn nonlinear_dofs(&self) -> Vec<usize> {
-        let mut dofs: Vec<usize> = self
-            .nonlinear
-            .iter()
-            .flat_map(|f| f.dofs().iter().copied())
-            .collect();
-        dofs.sort_unstable();
-        dofs.dedup();
-        dofs
+        forces_dofs(&self.nonlinear)
     }
 
     /// Adds the nonlinear forces at (q, v) into `out`; `scratch_*` hold one force's values.
@@ -160,13 +153,7 @@ impl System {
         out: &mut [f64],
         scratch: &mut NlScratch,
     ) {
-        for f in self.nonlinear.iter_mut() {
-            let m = scratch.gather(f.dofs(), q, v);
-            f.force(at, &scratch.q[..m], &scratch.v[..m], &mut scratch.f[..m]);
-            for a in 0..m {
-                out[scratch.idx[a]] += scratch.f[a];
-            }
-        }
+        add_forces(&mut self.nonlinear, at, q, v, out, scratch);
     }
 
     /// Total tangent stiffness bound of the nonlinear forces, as a dense matrix.
@@ -186,50 +173,129 @@ impl System {
         k
     }
 
-    /// Adds the nonlinear forces' tangent stiffness (-dF/dq) and damping (-dF/dv) at (q, v).
-    pub fn add_nonlinear_tangent(
+    /// The nonlinear forces' tangents at (q, v) into `block` (see [`TangentBlock`]).
+    pub fn nonlinear_tangent(
         &mut self,
         at: &Kinematics,
         q: &[f64],
         v: &[f64],
-        kt: &mut Mat<f64>,
-        ct: &mut Mat<f64>,
+        block: &mut TangentBlock,
         scratch: &mut NlScratch,
     ) {
-        for f in self.nonlinear.iter_mut() {
-            let m = scratch.gather(f.dofs(), q, v);
-            f.jacobian(
-                at,
-                &scratch.q[..m],
-                &scratch.v[..m],
-                &mut scratch.jq[..m * m],
-                &mut scratch.jv[..m * m],
-            );
-            for a in 0..m {
-                for c in 0..m {
-                    let (i, j) = (scratch.idx[a], scratch.idx[c]);
-                    kt[(i, j)] -= scratch.jq[a * m + c];
-                    ct[(i, j)] -= scratch.jv[a * m + c];
-                }
-            }
-        }
+        forces_tangent(&mut self.nonlinear, at, q, v, block, scratch);
     }
 
     /// Work buffers sized for the largest nonlinear force.
     pub fn scratch(&self) -> NlScratch {
-        let m = self
-            .nonlinear
+        NlScratch::new(&self.nonlinear)
+    }
+
+    /// A [`TangentBlock`] for this system's nonlinear forces.
+    pub fn tangent_block(&self) -> TangentBlock {
+        TangentBlock::new(&self.nonlinear)
+    }
+}
+
+/// The tangent stiffness -dF/dq and damping -dF/dv of the nonlinear forces, on the only
+/// coordinates where they are nonzero: the k that some force acts on (a bearing node's,
+/// a housing's). k x k each whatever the model's size, where the full n x n tangents of a
+/// 10,000-element rotor would take 12.8 GB each.
+#[derive(Debug, Clone)]
+pub struct TangentBlock {
+    /// The coordinates, ascending (those of [`System::nonlinear_dofs`]).
+    pub dofs: Vec<usize>,
+    /// -dF/dq, row-major k x k: entry (a, b) couples `dofs[a]` and `dofs[b]`.
+    pub stiffness: Vec<f64>,
+    /// -dF/dv, row-major k x k.
+    pub damping: Vec<f64>,
+    /// Per force, the position in `dofs` of each of its coordinates.
+    positions: Vec<Vec<usize>>,
+}
+
+impl TangentBlock {
+    /// The block of `forces`, zero.
+    pub(crate) fn new(forces: &[Box<dyn NonlinearForce>]) -> TangentBlock {
+        let dofs = forces_dofs(forces);
+        let positions = forces
             .iter()
-            .map(|f| f.dofs().len())
-            .max()
-            .unwrap_or(0);
-        NlScratch {
-            idx: vec![0; m],
-            q: vec![0.0; m],
-            v: vec![0.0; m],
-            f: vec![0.0; m],
-            jq: vec![0.0; m * m],
-            jv: vec![0.0; m * m],
+            .map(|f| {
+                f.dofs()
+                    .iter()
+                    .map(|d| dofs.binary_search(d).unwrap_or_default())
+                    .collect()
+            })
+            .collect();
+        let k = dofs.len();
+        TangentBlock {
+            dofs,
+            stiffness: vec![0.0; k * k],
+            damping: vec![0.0; k * k],
+            positions,
+        }
+    }
+
+    /// k, the number of coordinates.
+    pub fn size(&self) -> usize {
+        self.dofs.len()
+    }
+}
+
+/// The coordinates some of `forces` acts on, ascending and without repeats.
+pub(crate) fn forces_dofs(forces: &[Box<dyn NonlinearForce>]) -> Vec<usize> {
+    let mut dofs: Vec<usize> = forces
+        .iter()
+        .flat_map(|f| f.dofs().iter().copied())
+        .collect();
+    dofs.sort_unstable();
+    dofs.dedup();
+    dofs
+}
+
+/// Adds `forces` at (q, v) into `out` (full-size vectors of the coordinates).
+pub(crate) fn add_forces(
+    forces: &mut [Box<dyn NonlinearForce>],
+    at: &Kinematics,
+    q: &[f64],
+    v: &[f64],
+    out: &mut [f64],
+    scratch: &mut NlScratch,
+) {
+    for f in forces.iter_mut() {
+        let m = scratch.gather(f.dofs(), q, v);
+        f.force(at, &scratch.q[..m], &scratch.v[..m], &mut scratch.f[..m]);
+        for a in 0..m {
+            out[scratch.idx[a]] += scratch.f[a];
+        }
+    }
+}
+
+/// The tangents of `forces` at (q, v) into `block`, made for them ([`TangentBlock::new`]).
+pub(crate) fn forces_tangent(
+    forces: &mut [Box<dyn NonlinearForce>],
+    at: &Kinematics,
+    q: &[f64],
+    v: &[f64],
+    block: &mut TangentBlock,
+    scratch: &mut NlScratch,
+) {
+    block.stiffness.iter_mut().for_each(|x| *x = 0.0);
+    block.damping.iter_mut().for_each(|x| *x = 0.0);
+    let k = block.size();
+    for (f, positions) in forces.iter_mut().zip(&block.positions) {
+        let m = scratch.gather(f.dofs(), q, v);
+        f.jacobian(
+            at,
+            &scratch.q[..m],
+            &scratch.v[..m],
+            &mut scratch.jq[..m * m],
+            &mut scratch.jv[..m * m],
+        );
+        for a in 0..m {
+            for c in 0..m {
+                let at = positions[a] * k + positions[c];
+                block.stiffness[at] -= scratch.jq[a * m + c];
+                block.damping[at] -= scratch.jv[a * m + c];
+            }
         }
     }
 }
@@ -246,6 +312,19 @@ pub struct NlScratch {
 }
 
 impl NlScratch {
+    /// Buffers sized for the largest of `forces`.
+    pub(crate) fn new(forces: &[Box<dyn NonlinearForce>]) -> NlScratch {
+        let m = forces.iter().map(|f| f.dofs().len()).max().unwrap_or(0);
+        NlScratch {
+            idx: vec![0; m],
+            q: vec![0.0; m],
+            v: vec![0.0; m],
+            f: vec![0.0; m],
+            jq: vec![0.0; m * m],
+            jv: vec![0.0; m * m],
+        }
+    }
+
     /// Copies a force's coordinates and their displacements and velocities; returns the count.
     fn gather(&mut self, dofs: &[usize], q: &[f64], v: &[f64]) -> usize {
         for (a, &d) in dofs.iter().enumerate() {

@@ -25,7 +25,7 @@ mod rk;
 mod rollers;
 mod settled;
 mod simulate;
-mod statics;
+pub(crate) mod statics;
 
 use crate::system::SpeedProfile;
 pub use central::{central_difference, central_difference_constrained, central_difference_limit};

@@ -38,7 +38,7 @@ use super::{check_marchable, check_state, MarchOptions, Observer};
 use crate::error::{Error, InputError, Result};
 use crate::force::Kinematics;
 use crate::linalg::{axpy, solve_small, vectorised, Band, Columns, Factors, Layout};
-use crate::system::{NlScratch, SpeedProfile, System};
+use crate::system::{NlScratch, SpeedProfile, System, TangentBlock};
 
 /// Which member of the Newmark family.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -211,11 +211,8 @@ impl AtSpeed {
 /// with X = J0^-1 P (P the unit columns at the coordinates) and T the k x k tangent block,
 /// J^-1 r = y - X (I + T P^T X)^-1 T P^T y, y = J0^-1 r. Buffers sized once.
 struct Tangent {
-    dofs: Vec<usize>,
-    /// Full-size tangents for [`System::add_nonlinear_tangent`]; only the block on
-    /// `dofs` is ever nonzero.
-    kt: Mat<f64>,
-    ct: Mat<f64>,
+    /// K_t and C_t on the nonlinear forces' coordinates (its `dofs` are the P above).
+    block: TangentBlock,
     /// T, then the k x k system I + T P^T X, row-major.
     t: Vec<f64>,
     system: Vec<f64>,
@@ -223,12 +220,10 @@ struct Tangent {
 }
 
 impl Tangent {
-    fn new(n: usize, dofs: Vec<usize>) -> Tangent {
-        let k = dofs.len();
+    fn new(block: TangentBlock) -> Tangent {
+        let k = block.size();
         Tangent {
-            dofs,
-            kt: Mat::zeros(n, n),
-            ct: Mat::zeros(n, n),
+            block,
             t: vec![0.0; k * k],
             system: vec![0.0; k * k],
             z: vec![0.0; k],
@@ -248,23 +243,20 @@ impl Tangent {
         scratch: &mut NlScratch,
         y: &mut [f64],
     ) {
-        let (k, n) = (self.dofs.len(), y.len());
-        for &i in &self.dofs {
-            for &j in &self.dofs {
-                self.kt[(i, j)] = 0.0;
-                self.ct[(i, j)] = 0.0;
-            }
-        }
-        problem.add_nonlinear_tangent(at, q1, v1, &mut self.kt, &mut self.ct, scratch);
+        let (k, n) = (self.block.size(), y.len());
+        problem.nonlinear_tangent(at, q1, v1, &mut self.block, scratch);
         let damping_factor = c.gamma / (c.beta * c.h);
-        for (a, &i) in self.dofs.iter().enumerate() {
-            for (b, &j) in self.dofs.iter().enumerate() {
-                self.t[a * k + b] =
-                    (1.0 + c.alpha) * (self.ct[(i, j)] * damping_factor + self.kt[(i, j)]);
-            }
+        for ((t, kt), ct) in self
+            .t
+            .iter_mut()
+            .zip(&self.block.stiffness)
+            .zip(&self.block.damping)
+        {
+            *t = (1.0 + c.alpha) * (ct * damping_factor + kt);
         }
+        let dofs = &self.block.dofs;
         for a in 0..k {
-            self.z[a] = (0..k).map(|b| self.t[a * k + b] * y[self.dofs[b]]).sum();
+            self.z[a] = (0..k).map(|b| self.t[a * k + b] * y[dofs[b]]).sum();
             for b in 0..k {
                 let tx: f64 = (0..k)
                     .map(|e| self.t[a * k + e] * speed.block[e * k + b])
@@ -642,7 +634,7 @@ fn march(
     let mut stepper = Stepper {
         mass: Matrix::new(layout, n, |i, j| problem.matrices.mass[(i, j)]),
         stiffness,
-        tangent: Tangent::new(n, dofs.clone()),
+        tangent: Tangent::new(problem.tangent_block()),
         problem,
         profile: options.speed,
         dofs,
@@ -733,6 +725,29 @@ mod tests {
         history
     }
 
+    /// The nonlinear tangents K_t, C_t at (q, v) as full n x n matrices.
+    fn full_tangents(
+        problem: &mut System,
+        at: &Kinematics,
+        q: &[f64],
+        v: &[f64],
+        scratch: &mut NlScratch,
+    ) -> (Mat<f64>, Mat<f64>) {
+        let mut block = problem.tangent_block();
+        problem.nonlinear_tangent(at, q, v, &mut block, scratch);
+        let (n, k, dofs) = (q.len(), block.size(), &block.dofs);
+        let full = |entries: &[f64]| {
+            let mut m = Mat::<f64>::zeros(n, n);
+            for a in 0..k {
+                for b in 0..k {
+                    m[(dofs[a], dofs[b])] = entries[a * k + b];
+                }
+            }
+            m
+        };
+        (full(&block.stiffness), full(&block.damping))
+    }
+
     /// The balance of the module documentation solved as written: a dense residual and a
     /// dense Jacobian with the full tangent, factorised at every Newton iteration. The slow,
     /// obviously-correct reference.
@@ -782,8 +797,7 @@ mod tests {
                 for i in 0..n {
                     r[(i, 0)] += (1.0 + alpha) * (lin1[(i, 0)] - nl[i]) - known[i];
                 }
-                let (mut kt, mut ct) = (Mat::<f64>::zeros(n, n), Mat::<f64>::zeros(n, n));
-                problem.add_nonlinear_tangent(&at1, &q1, &v1, &mut kt, &mut ct, &mut scratch);
+                let (kt, ct) = full_tangents(problem, &at1, &q1, &v1, &mut scratch);
                 let j = &problem.matrices.mass * (1.0 / (beta * h * h))
                     + ((&d1 + &ct) * (gamma / (beta * h)) + &problem.matrices.stiffness + &kt)
                         * (1.0 + alpha);
@@ -899,11 +913,10 @@ mod tests {
             let mut y = vec![0.0; n];
             speed.factors.solve(&r, &mut y);
             let mut scratch = problem.scratch();
-            let mut tangent = Tangent::new(n, dofs.clone());
+            let mut tangent = Tangent::new(problem.tangent_block());
             tangent.correct(&mut problem, &at, &q, &v, c, &speed, &mut scratch, &mut y);
 
-            let (mut kt, mut ct) = (Mat::<f64>::zeros(n, n), Mat::<f64>::zeros(n, n));
-            problem.add_nonlinear_tangent(&at, &q, &v, &mut kt, &mut ct, &mut scratch);
+            let (kt, ct) = full_tangents(&mut problem, &at, &q, &v, &mut scratch);
             let j = effective_matrix(&problem, at.speed, c)
                 + (&ct * (c.gamma / (c.beta * c.h)) + &kt) * (1.0 + c.alpha);
             let mut x = Mat::<f64>::from_fn(n, 1, |i, _| r[i]);

@@ -705,15 +705,19 @@ fn march_and_record(
     check_step(options, step)?;
     let record_every = options.record_interval(step);
     let (q0, start_fallback) = starting_point(model, options, &mut problem, lagrange)?;
+    let rollers_law = law.filter(|_| options.record_rollers);
     let mut contacts = if lagrange {
-        Some(lagrange_contacts(model, &coords)?)
+        let mut c = lagrange_contacts(model, &coords)?;
+        if rollers_law.is_some() {
+            c.keep_history();
+        }
+        Some(c)
     } else {
         None
     };
     let v0 = vec![0.0; n];
 
     let bound = options.divergence_bound;
-    let rollers_law = law.filter(|_| options.record_rollers);
     // The nodes' translations, then every housing's (where the dampers act).
     let shaft_nodes = model.node_count();
     let names = DofNames::of(model);

@@ -24,13 +24,8 @@
 
 use std::fmt::Write;
 
-use whirl::model::Model;
 use whirl::post::SpectralPeak;
-use whirl::time::{BearingReport, FrequencyCheck, SimulationReport};
-use whirl_plot::{Colour, RefLine};
-
-use crate::output::Output;
-use crate::plots;
+use whirl::time::{FrequencyCheck, SimulationReport};
 
 /// The peak of a check with the largest amplitude over the node's channels.
 fn best(check: &FrequencyCheck) -> Option<(&str, SpectralPeak)> {
@@ -85,73 +80,4 @@ pub fn text(t: &mut String, report: &SimulationReport) {
             );
         }
     }
-}
-
-/// The contact line and zone plots of each bearing (its `contacts_<bearing>.csv` is a table
-/// of the report).
-pub fn plot(out: &mut Output, report: &SimulationReport) -> miette::Result<()> {
-    let result = &report.result;
-    for b in &report.bearings {
-        let r = report.record(b);
-        out.plot(&format!("contact_line_{}", b.stem), |stem| {
-            plots::contact_line(r, &result.time, b.line_window.clone()).save(stem)
-        })?;
-        out.plot(&format!("contact_zone_{}", b.stem), |stem| {
-            plots::contact_zone(r, b.settled_range.clone(), b.clearance).save(stem)
-        })?;
-        out.plot(&format!("load_zone_{}", b.stem), |stem| {
-            plots::load_zone(r, b.settled_range.clone()).save(stem)
-        })?;
-    }
-    Ok(())
-}
-
-/// (node, clearance in m at `speed`) of every roller bearing, for the orbit plot.
-pub fn clearance_circles(model: &Model, speed: f64) -> Vec<(usize, f64)> {
-    model
-        .roller_bearings
-        .iter()
-        .map(|b| (b.station.node, b.clearance.at_speed(speed)))
-        .collect()
-}
-
-/// Vertical lines at the characteristic frequencies (FTF, BPFO = N_b w_c, BPFI, BSF) and the
-/// waviness frequencies, one per distinct frequency.
-pub fn spectrum_markers(bearings: &[BearingReport]) -> Vec<RefLine> {
-    let mut lines: Vec<RefLine> = Vec::new();
-    for b in bearings {
-        let characteristic = b
-            .characteristic
-            .lines()
-            .map(|(name, f)| (name.to_string(), f));
-        // The waviness lines; N_b w_c is BPFO, already among the characteristic lines.
-        let waviness = b
-            .frequencies
-            .iter()
-            .filter(|f| f.predicted.source != "varying compliance")
-            .map(|f| {
-                let orders = f.predicted.cage_orders;
-                let label = if f.predicted.source.starts_with("ring-fixed") {
-                    format!("{orders:.4} w_c")
-                } else {
-                    format!("({}-1) w_c", orders + 1.0)
-                };
-                (label, f.predicted.frequency_hz)
-            });
-        for (label, value) in characteristic.into_iter().chain(waviness) {
-            let duplicate = lines
-                .iter()
-                .any(|l| (l.value - value).abs() <= 1e-9 * l.value.abs());
-            if duplicate || value.is_nan() || value <= 0.0 {
-                continue;
-            }
-            // Short labels: the lines sit among the order lines; the values are in
-            // summary.json.
-            lines.push(RefLine {
-                colour: Colour::Palette(1),
-                ..RefLine::new(value).label(label)
-            });
-        }
-    }
-    lines
 }

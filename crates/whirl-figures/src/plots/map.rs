@@ -7,7 +7,7 @@ use whirl::hbm::BifurcationKind;
 use whirl::map::{Edge, Excitation, MapEntry, MapReport};
 use whirl_plot::{Colour, Figure2d, LegendPosition, Marker, Series, Style};
 
-use crate::commands::hbm::kind_label;
+use crate::kind_label;
 
 /// Bar thickness of a band, px: thick enough to read its colour, thin enough that a dozen
 /// values stay apart on the default figure.

@@ -19,13 +19,17 @@ use whirl_plot::{
     Annotation, Colour, Figure2d, Grid, LegendPosition, Line, Marker, RefLine, Series, Style,
 };
 
-use crate::commands::campbell::order_name;
+use crate::order_name;
 
 mod cascade;
+pub mod fit;
 mod frf;
+pub mod map;
 mod reduce;
 mod runup;
 mod statics;
+pub mod stiffness;
+pub mod study;
 mod time;
 
 pub use cascade::{
@@ -35,8 +39,8 @@ pub use frf::{critical_speed_map, frf};
 pub use reduce::{reduction_error, stable_steps};
 pub use runup::{runup_amplitudes, runup_maps};
 pub use statics::{roller_loads, static_response};
+pub use time::{clearance_circles, orbits, spectrum, spectrum_markers, time_history};
 pub use time::{contact_line, contact_zone, load_zone};
-pub use time::{orbits, spectrum, time_history};
 
 /// At most this many panels of modes (a grid of 4 x 3).
 const MAX_PANELS: usize = 12;

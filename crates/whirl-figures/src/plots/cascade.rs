@@ -282,6 +282,7 @@ fn start_label(start: Initial) -> &'static str {
     }
 }
 
+/// The largest non-synchronous amplitude over speed, with the threshold that calls it NSV.
 pub fn nsv_amplitude(c: &Cascade, threshold: f64) -> Figure2d {
     let mut fig = Figure2d::new(
         format!(

@@ -10,8 +10,9 @@ use whirl_plot::{
 };
 
 use super::{grid_shape, um};
-use crate::commands::campbell::order_name;
-use whirl::time::SettledChannel;
+use crate::order_name;
+use whirl::model::Model;
+use whirl::time::{BearingReport, SettledChannel};
 
 /// A time history longer than this many pairs of points is drawn as its envelope: the
 /// smallest and largest value of each of this many stretches, about one per pixel column.
@@ -408,6 +409,56 @@ fn round_step(top: f64) -> f64 {
         .map(|m| m * decade)
         .find(|&s| top / s >= 2.0)
         .unwrap_or(decade)
+}
+
+/// (node, clearance in m at `speed`) of every roller bearing, for the orbit plot.
+pub fn clearance_circles(model: &Model, speed: f64) -> Vec<(usize, f64)> {
+    model
+        .roller_bearings
+        .iter()
+        .map(|b| (b.station.node, b.clearance.at_speed(speed)))
+        .collect()
+}
+
+/// Vertical lines at the characteristic frequencies (FTF, BPFO = N_b w_c, BPFI, BSF) and the
+/// waviness frequencies, one per distinct frequency.
+pub fn spectrum_markers(bearings: &[BearingReport]) -> Vec<RefLine> {
+    let mut lines: Vec<RefLine> = Vec::new();
+    for b in bearings {
+        let characteristic = b
+            .characteristic
+            .lines()
+            .map(|(name, f)| (name.to_string(), f));
+        // The waviness lines; N_b w_c is BPFO, already among the characteristic lines.
+        let waviness = b
+            .frequencies
+            .iter()
+            .filter(|f| f.predicted.source != "varying compliance")
+            .map(|f| {
+                let orders = f.predicted.cage_orders;
+                let label = if f.predicted.source.starts_with("ring-fixed") {
+                    format!("{orders:.4} w_c")
+                } else {
+                    format!("({}-1) w_c", orders + 1.0)
+                };
+                (label, f.predicted.frequency_hz)
+            });
+        for (label, value) in characteristic.into_iter().chain(waviness) {
+            let duplicate = lines
+                .iter()
+                .any(|l| (l.value - value).abs() <= 1e-9 * l.value.abs());
+            if duplicate || value.is_nan() || value <= 0.0 {
+                continue;
+            }
+            // Short labels: the lines sit among the order lines; the values are in
+            // summary.json.
+            lines.push(RefLine {
+                colour: Colour::Palette(1),
+                ..RefLine::new(value).label(label)
+            });
+        }
+    }
+    lines
 }
 
 #[cfg(test)]
