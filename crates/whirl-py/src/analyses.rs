@@ -12,8 +12,8 @@ use whirl::statics::static_response;
 use whirl::time::{fit_forcing as fit, ForcingFitOptions, ForcingFitReport};
 
 use crate::error::{keyword_lib, lib, option};
+use crate::given::choice;
 use crate::model::PyModel;
-use crate::nsv::choice;
 use crate::report::PyReport;
 use crate::watch::{fraction_progress, run_watched, stoppable};
 

@@ -11,6 +11,7 @@
 
 mod analyses;
 mod error;
+mod given;
 mod hbm;
 mod map;
 mod modal;
@@ -36,12 +37,7 @@ fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("BUILD_ID", whirl::BUILD_ID)?;
     error::register(m)?;
     // The command line's defaults, defined once in the library.
-    m.add("DEFAULT_MAX_ADDED", whirl::nsv::DEFAULT_MAX_ADDED)?;
     m.add("DEFAULT_SPEED_COUNT", whirl::nsv::DEFAULT_SPEED_COUNT)?;
-    m.add("DEFAULT_MAX_RECORDS", whirl::nsv::DEFAULT_MAX_RECORDS)?;
-    m.add("DEFAULT_RELATIVE_ERROR", whirl::nsv::DEFAULT_RELATIVE_ERROR)?;
-    m.add("DEFAULT_TOLERANCE_BINS", whirl::nsv::DEFAULT_TOLERANCE_BINS)?;
-    m.add("DEFAULT_THRESHOLD_M", whirl::nsv::DEFAULT_THRESHOLD_M)?;
     m.add("DEFAULT_MODES", whirl::time::DEFAULT_MODES)?;
     m.add("DEFAULT_CAGE_POSITIONS", whirl::hbm::DEFAULT_CAGE_POSITIONS)?;
     m.add("MAX_HARMONICS", whirl::hbm::MAX_HARMONICS)?;
@@ -92,12 +88,11 @@ fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(response::unbalance, m)?)?;
     m.add_function(wrap_pyfunction!(ross::ross_to_toml, m)?)?;
     m.add_function(wrap_pyfunction!(runup::runup, m)?)?;
-    m.add_function(wrap_pyfunction!(runup::parse_speed_range_text, m)?)?;
-    m.add_function(wrap_pyfunction!(runup::parse_rate, m)?)?;
     m.add_function(wrap_pyfunction!(nsv::cascade, m)?)?;
     m.add_function(wrap_pyfunction!(nsv::cascade_point, m)?)?;
     m.add_function(wrap_pyfunction!(nsv::cascade_checkpoint, m)?)?;
     m.add_function(wrap_pyfunction!(nsv::cascade_default_speeds, m)?)?;
+    m.add_function(wrap_pyfunction!(nsv::cascade_resolved, m)?)?;
     m.add_function(wrap_pyfunction!(nsv::other_start, m)?)?;
     m.add_function(wrap_pyfunction!(nsv::cascade_report, m)?)?;
     m.add_class::<nsv::RawCascade>()?;

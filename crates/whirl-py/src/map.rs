@@ -3,65 +3,43 @@
 //! options arrive as the library's request takes them: `None` is the library's default.
 
 use pyo3::prelude::*;
-use whirl::hbm::{CageKind, CageModel, SweepSettings};
+use pyo3::types::PyDict;
+use whirl::hbm::HbmRequest;
 use whirl::map::{map_with, MapRequest, Parallelism};
 
-use crate::error::to_py;
+use crate::error::{keyword_lib, to_py};
+use crate::given::fill;
 use crate::model::PyModel;
-use crate::nsv::choice;
 use crate::report::PyReport;
 use crate::watch::{fraction_progress, run_watched};
 
-/// The map's options from the Python package: speeds in rad/s, lengths in m, every
+/// The map's own options from the Python package: speeds in rad/s, lengths in m, every
 /// setting `None` for the library's default.
 #[derive(FromPyObject)]
 #[pyo3(from_item_all)]
 pub struct MapArgs {
     parameter: Option<String>,
     values: Vec<String>,
-    from: f64,
-    to: f64,
-    harmonics: Option<usize>,
-    samples: Option<usize>,
-    contact: Option<String>,
-    cage: Option<String>,
-    cage_positions: Option<usize>,
-    contact_smoothing: Option<f64>,
-    stability_modes: Option<usize>,
-    reduce: Option<usize>,
     clear_below: Option<f64>,
     check: Vec<String>,
     check_level: Option<f64>,
     confirm: bool,
 }
 
-/// The library's request for `model` with these options.
-fn request(model: &PyModel, a: MapArgs) -> PyResult<MapRequest> {
-    let cage = match (&a.cage, a.cage_positions) {
-        (None, None) => None,
-        (kind, positions) => Some(CageModel::new(
-            kind.as_deref()
-                .map_or(Ok(CageKind::Passage), |c| choice("cage", c))?,
-            positions,
-        )),
-    };
+/// The library's request for `model` with these options, the sweeps' speeds and settings
+/// read from the keywords `sweep` as `whirl.hbm` reads them ([`HbmRequest::set`]).
+fn request(model: &PyModel, a: MapArgs, sweep: &Bound<'_, PyDict>) -> PyResult<MapRequest> {
+    let mut hb = HbmRequest::default();
+    fill(sweep, &mut hb)?;
+    let range = keyword_lib(hb.sweep_options(&model.model, hb.settings.harmonics()))?;
     Ok(MapRequest {
         model_text: model.text().to_string(),
         model_file: model.source().cloned(),
         parameter: a.parameter,
         values: a.values,
-        from: a.from,
-        to: a.to,
-        settings: SweepSettings {
-            harmonics: a.harmonics,
-            samples: a.samples,
-            contact: a.contact.map(|c| choice("contact", &c)).transpose()?,
-            cage,
-            contact_smoothing: a.contact_smoothing,
-            stability: None,
-            stability_modes: a.stability_modes,
-            reduction: a.reduce,
-        },
+        from: range.from,
+        to: range.to,
+        settings: hb.sweep_settings(),
         clear_below: a.clear_below,
         check: a.check,
         check_level_m: a.check_level,
@@ -72,14 +50,15 @@ fn request(model: &PyModel, a: MapArgs) -> PyResult<MapRequest> {
 /// The map as `whirl map` makes it, its sweeps one per thread; `progress(done, 1000)` is
 /// told the share of the values done (a true return stops it, as Ctrl-C does).
 #[pyfunction]
-#[pyo3(signature = (model, options, progress = None))]
+#[pyo3(signature = (model, options, sweep, progress = None))]
 pub fn map(
     py: Python<'_>,
     model: &PyModel,
     options: MapArgs,
+    sweep: &Bound<'_, PyDict>,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<PyReport> {
-    let request = request(model, options)?;
+    let request = request(model, options, sweep)?;
     let report = run_watched(py, progress.as_ref(), |watch| {
         let progress = fraction_progress(watch);
         map_with(&request, Parallelism::default(), Some(&progress))

@@ -6,91 +6,45 @@ use std::ops::ControlFlow;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use clap::ValueEnum;
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use pythonize::pythonize;
+use whirl::given::Choice;
 use whirl::nsv::{
     checkpoint, compare_starts as compare, other_start_options, Cascade, CascadeOptions,
     CascadePoint, CascadeReport, CascadeRequest,
 };
 use whirl::progress::Progress;
 
-use crate::error::{lib, option, to_py};
+use crate::error::{keyword_lib, lib, to_py};
+use crate::given::fill;
 use crate::model::PyModel;
 use crate::report::PyReport;
 use crate::watch::run_watched;
 
-/// The cascade's options, resolved by the Python package from its keyword arguments (the
-/// command line's options and defaults; speeds in rad/s, times in s, frequencies in Hz).
-#[derive(FromPyObject)]
-#[pyo3(from_item_all)]
-pub struct CascadeArgs {
-    speeds: Vec<f64>,
-    settle: f64,
-    settle_max: f64,
-    start: String,
-    refine: bool,
-    refine_budget: usize,
-    refine_spacing_hz: f64,
-    record: f64,
-    max_records: usize,
-    average_tolerance: f64,
-    contact: Option<String>,
-    reduce: Option<usize>,
-    step: Option<f64>,
-    node: Option<usize>,
-    component: String,
-    window: String,
-    max_frequency_hz: Option<f64>,
-    tolerance: f64,
-    full: bool,
+/// The cascade's request from the keyword arguments, each read by the library by its
+/// name (the command line's options with `_` for `-`), those left None at its default.
+fn request(options: &Bound<'_, PyDict>) -> PyResult<CascadeRequest> {
+    let mut request = CascadeRequest::default();
+    fill(options, &mut request)?;
+    Ok(request)
 }
 
-/// An option enum by the name the command line gives it, e.g. `hertz`.
-pub fn choice<T: ValueEnum>(name: &str, value: &str) -> PyResult<T> {
-    T::from_str(value, true).map_err(|_| {
-        let names: Vec<String> = T::value_variants()
-            .iter()
-            .filter_map(|v| v.to_possible_value())
-            .map(|p| p.get_name().to_string())
-            .collect();
-        option(
-            name,
-            format!("`{value}` is not one of {}", names.join(", ")),
-        )
-    })
+/// The library's options for `model` from the keyword arguments.
+fn cascade_options(model: &PyModel, options: &Bound<'_, PyDict>) -> PyResult<CascadeOptions> {
+    keyword_lib(request(options)?.options(&model.model))
 }
 
-/// The library's options from the keyword arguments (as the command line's from its flags).
-fn cascade_options(model: &PyModel, a: &CascadeArgs) -> PyResult<CascadeOptions> {
-    let request = CascadeRequest {
-        speeds: Some(a.speeds.clone()),
-        settle: Some(a.settle),
-        settle_max: Some(a.settle_max),
-        start: Some(choice("start", &a.start)?),
-        refine: Some(a.refine),
-        refine_budget: Some(a.refine_budget),
-        refine_spacing_hz: Some(a.refine_spacing_hz),
-        record: Some(a.record),
-        max_records: Some(a.max_records),
-        average_tolerance: Some(a.average_tolerance),
-        contact: a
-            .contact
-            .as_deref()
-            .map(|c| choice("contact", c))
-            .transpose()?,
-        reduce: Some(a.reduce),
-        step: a.step,
-        node: a.node,
-        component: Some(choice("component", &a.component)?),
-        window: Some(choice("window", &a.window)?),
-        max_frequency_hz: a.max_frequency_hz,
-        tolerance_bins: Some(a.tolerance),
-        full: Some(a.full),
-    };
-    lib(request.options(&model.model))
+/// The cascade's options as the library resolves them for `model` (every default filled
+/// in): a dict of [`CascadeOptions`].
+#[pyfunction]
+pub fn cascade_resolved<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    options: &Bound<'py, PyDict>,
+) -> PyResult<Bound<'py, PyAny>> {
+    Ok(pythonize(py, &cascade_options(model, options)?)?)
 }
 
 /// The cascade's default speeds of `model`, rad/s: the library's (as on the command line and
@@ -107,10 +61,10 @@ pub fn cascade_default_speeds<'py>(
 #[pyfunction]
 pub fn cascade_checkpoint(
     model: &PyModel,
-    options: CascadeArgs,
+    options: &Bound<'_, PyDict>,
     parent: PathBuf,
 ) -> PyResult<PathBuf> {
-    let o = cascade_options(model, &options)?;
+    let o = cascade_options(model, options)?;
     Ok(parent.join(lib(checkpoint::key(&model.model, &o))?))
 }
 
@@ -125,12 +79,13 @@ pub fn cascade_checkpoint(
 pub fn cascade<'py>(
     py: Python<'py>,
     model: &PyModel,
-    options: CascadeArgs,
+    options: &Bound<'py, PyDict>,
     checkpoint: Option<PathBuf>,
     progress: Option<Bound<'py, PyAny>>,
     runner: Option<Py<PyAny>>,
 ) -> PyResult<(Bound<'py, PyAny>, RawCascade)> {
-    let o = cascade_options(model, &options)?;
+    let request = request(options)?;
+    let o = keyword_lib(request.options(&model.model))?;
     let result = run_watched(py, progress.as_ref(), |watch| {
         let told = Arc::clone(watch);
         // Speeds computed of those to compute (the checkpoint's are in neither count).
@@ -154,36 +109,43 @@ pub fn cascade<'py>(
         }
     })?
     .map_err(to_py)?;
-    Ok((pythonize(py, &result)?, RawCascade(result)))
+    let threshold = request.threshold_m();
+    Ok((pythonize(py, &result)?, RawCascade(result, threshold)))
 }
 
-/// A computed cascade as the library holds it, kept to be compared with another.
+/// A computed cascade as the library holds it, and the threshold (m) its summary reads it
+/// at, kept to be reported and compared with another.
 #[pyclass(frozen, module = "whirl._whirl")]
-pub struct RawCascade(Cascade);
+pub struct RawCascade(Cascade, f64);
 
-/// What the cascade that tests `first` from the other start changes in `first`'s options:
-/// `speeds` (rad/s: exactly `first`'s, added ones too), `start` and `refine` (off).
+/// The keyword arguments of the cascade that tests `first` (computed with `options`) from
+/// the other start: `options` with exactly `first`'s speeds (rad/s, added ones too), the
+/// other start and no refinement.
 #[pyfunction]
-pub fn other_start<'py>(py: Python<'py>, first: &RawCascade) -> PyResult<Bound<'py, PyDict>> {
+pub fn other_start<'py>(
+    first: &RawCascade,
+    options: &Bound<'py, PyDict>,
+) -> PyResult<Bound<'py, PyDict>> {
     let o = other_start_options(&first.0);
-    let out = PyDict::new(py);
+    let out = options.copy()?;
+    out.del_item("no_refine").ok();
     out.set_item("speeds", o.speeds)?;
-    out.set_item("start", name(&o.initial))?;
+    out.set_item("start", o.initial.choice_name())?;
     out.set_item("refine", o.refine.enabled)?;
     Ok(out)
 }
 
-/// The library's report of cascade `first` read at `threshold` (m), kept in
-/// `checkpoint_folder`; with `second` (`first` from the other start, at its speeds) the two
-/// compared speed by speed: the summary and tables the command line writes.
+/// The library's report of cascade `first`, kept in `checkpoint_folder`; with `second`
+/// (`first` from the other start, at its speeds) the two compared speed by speed: the
+/// summary and tables the command line writes.
 #[pyfunction]
-#[pyo3(signature = (first, threshold, checkpoint_folder = None, second = None))]
+#[pyo3(signature = (first, checkpoint_folder = None, second = None))]
 pub fn cascade_report(
     first: &RawCascade,
-    threshold: f64,
     checkpoint_folder: Option<String>,
     second: Option<&RawCascade>,
 ) -> PyResult<PyReport> {
+    let threshold = first.1;
     let starts = second
         .map(|s| compare(&first.0, s.0.clone(), threshold))
         .transpose()
@@ -195,13 +157,6 @@ pub fn cascade_report(
         checkpoint_folder,
     };
     PyReport::with_figures(&report, whirl_figures::cascade(&report, None))
-}
-
-/// An option's value by the name the command line gives it, e.g. `static`.
-fn name<T: ValueEnum>(value: &T) -> String {
-    value
-        .to_possible_value()
-        .map_or_else(String::new, |v| v.get_name().to_string())
 }
 
 /// Hands a batch to the Python runner and each point it yields to `done`.
@@ -230,10 +185,10 @@ fn run_batch(
 pub fn cascade_point(
     py: Python<'_>,
     model: &PyModel,
-    options: CascadeArgs,
+    options: &Bound<'_, PyDict>,
     speed: f64,
 ) -> PyResult<String> {
-    let o = cascade_options(model, &options)?;
+    let o = cascade_options(model, options)?;
     let point = lib(py.detach(|| whirl::nsv::cascade_point(&model.model, &o, speed)))?;
     serde_json::to_string(&point).map_err(|e| {
         to_py(whirl::Error::Internal(format!(

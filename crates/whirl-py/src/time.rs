@@ -12,55 +12,19 @@ use whirl::time::{
 };
 
 use crate::error::{keyword_lib, lib, to_py, NumericalError};
+use crate::given::fill;
 use crate::model::PyModel;
-use crate::nsv::choice;
 use crate::report::PyReport;
 use crate::watch::run_watched;
 
 /// Progress steps reported per run.
 const STEPS: f64 = 1000.0;
 
-/// The run's settings, resolved by the Python package from its keyword arguments (the
-/// command line's options; speeds in rad/s, times in s).
-#[derive(FromPyObject)]
-#[pyo3(from_item_all)]
-pub struct SimulateArgs {
-    speed: f64,
-    duration: f64,
-    method: String,
-    hht_alpha: Option<f64>,
-    step: Option<f64>,
-    reduce: Option<usize>,
-    settle: Option<f64>,
-    nodes: Vec<usize>,
-    contact: Option<String>,
-    record_every: Option<usize>,
-    ramp_to: Option<f64>,
-    start: String,
-    divergence_bound: f64,
-}
-
-/// The library's settings from the keyword arguments (as the command line's from its flags).
-fn simulation_options(a: &SimulateArgs) -> PyResult<SimulationOptions> {
-    let request = SimulationRequest {
-        speed: a.speed,
-        ramp_to: a.ramp_to,
-        duration: Some(a.duration),
-        method: choice("method", &a.method)?,
-        hht_alpha: a.hht_alpha,
-        step: a.step,
-        reduce: a.reduce,
-        settle: a.settle,
-        nodes: Some(a.nodes.clone()),
-        contact: a
-            .contact
-            .as_deref()
-            .map(|c| choice("contact", c))
-            .transpose()?,
-        record_every: a.record_every,
-        start: Some(choice("start", &a.start)?),
-        divergence_bound: Some(a.divergence_bound),
-    };
+/// The library's settings from the keyword arguments, each read by the library by its
+/// name (the command line's options with `_` for `-`), those left None at its default.
+fn simulation_options(options: &Bound<'_, PyDict>) -> PyResult<SimulationOptions> {
+    let mut request = SimulationRequest::default();
+    fill(options, &mut request)?;
     keyword_lib(request.options())
 }
 
@@ -73,10 +37,10 @@ fn simulation_options(a: &SimulateArgs) -> PyResult<SimulationOptions> {
 pub fn simulate<'py>(
     py: Python<'py>,
     model: &PyModel,
-    options: SimulateArgs,
+    options: &Bound<'py, PyDict>,
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<(Bound<'py, PyDict>, PyReport)> {
-    let mut o = simulation_options(&options)?;
+    let mut o = simulation_options(options)?;
     let result = run_watched(py, progress.as_ref(), |watch| {
         let told = watch.clone();
         o.progress = Some(Progress::new(move |r| {
@@ -103,7 +67,7 @@ pub fn simulate<'py>(
         return Err(pyo3::exceptions::PyKeyboardInterrupt::new_err(format!(
             "the simulation was stopped at {} s of {} s",
             result.time.last().copied().unwrap_or(0.0),
-            options.duration
+            o.duration
         )));
     }
     let result = result

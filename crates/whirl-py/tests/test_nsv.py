@@ -120,3 +120,19 @@ def test_compare_starts_equals_the_command_line(run_cli):
     assert what(result.to_dict()) == what(cli.summary())
     for table in ("nsv", "starts"):
         assert_same_table(result.to_pandas(table), cli.table(table))
+
+
+def test_keywords_left_out_take_the_librarys_defaults_and_unknown_ones_are_named():
+    # The keywords pass through to the library's request as given: one left out is the
+    # library's default (its resolved options), one given is read with its unit, and a
+    # name the cascade does not have is refused by name, listing those it has.
+    model = whirl.Model.from_file(REFERENCE)
+    default = whirl.nsv.options(model, SPEEDS)
+    given = whirl.nsv.options(model, SPEEDS, settle="1s", window="flat-top")
+    assert given["settle"] == 1.0 and default["settle"] != 1.0
+    assert given["window"] == "flat-top" and default["window"] == "hann"
+    assert {k: v for k, v in given.items() if k not in ("settle", "window")} == {
+        k: v for k, v in default.items() if k not in ("settle", "window")
+    }
+    with pytest.raises(whirl.InputError, match="invalid `setle`: the cascade has no option `setle`"):
+        whirl.cascade(REFERENCE, SPEEDS, setle="1s")

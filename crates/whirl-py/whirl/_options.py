@@ -29,6 +29,14 @@ def speeds(given: Speeds, model: Model, start: float, count: int, name: str = "s
     return w
 
 
+def time(name: str, value: str | float) -> float:
+    """A time in s: text with a unit (``"0.5s"``) or a number in s; not negative."""
+    t = _whirl.parse_quantity(name, str(value), "time")
+    if t < 0:
+        raise _whirl.InputError(f"invalid `{name}`: `{value}`: a time must not be negative")
+    return t
+
+
 def mode_count(n: int, name: str = "modes") -> int:
     """A count of modes or branches, 1 to 200 (the command line's range)."""
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= 200:

@@ -12,7 +12,6 @@ import numpy as np
 
 from . import _options, _progress, _whirl
 from .model import Model, as_model
-from .nsv import _time
 from .report import Report
 from .response import report_nodes
 
@@ -267,7 +266,7 @@ def fit_forcing(
     w = [float(x) for x in _options.speeds(speeds, model, 0.0, 5)]
     with _progress.display(progress, "fit-forcing", "permille") as report:
         raw = _whirl.fit_forcing(
-            model._raw, w, int(bearing), _time("duration", duration), _time("settle", settle),
+            model._raw, w, int(bearing), _options.time("duration", duration), _options.time("settle", settle),
             _options.mode_count(reduce, "reduce"), report,
         )
     return Report("fit-forcing", model, raw)

@@ -4,15 +4,12 @@ bifurcations where it changes."""
 
 from __future__ import annotations
 
-import math
 import os
 from collections.abc import Sequence
 
 from . import _options, _progress, _whirl
 from .model import Model, as_model
-from .nsv import _time
 from .report import Report
-from .response import report_nodes
 
 #: Harmonics of the running speed at most (the stability matrix grows with 2H + 1, its
 #: cost with the cube of that): the library's limit, as on the command line.
@@ -23,74 +20,28 @@ MAX_HARMONICS = _whirl.MAX_HARMONICS
 MAX_SAMPLES = _whirl.MAX_AFT_SAMPLES
 
 
-def _harmonics(h: int, name: str = "harmonics") -> int:
-    if isinstance(h, bool) or not isinstance(h, int) or not 1 <= h <= MAX_HARMONICS:
-        raise _whirl.InputError(
-            f"invalid `{name}`: `{h}`: a harmonic count is a whole number from 1 to {MAX_HARMONICS}"
-        )
-    return h
-
-
-def _study(given: str | Sequence[int] | None) -> list[int]:
-    """Harmonic counts of the study: ``"1..5"``, ``"1,3,5"`` or a list."""
-    if given is None:
-        return []
-    if isinstance(given, str):
-        if ".." in given:
-            a, b = (int(x) for x in given.split("..", 1))
-            if b < a:
-                raise _whirl.InputError(f"invalid `harmonics_study`: `{given}`: the range must not run backwards")
-            given = range(a, b + 1)
-        else:
-            given = [int(x) for x in given.split(",")]
-    return [_harmonics(h, "harmonics_study") for h in given]
-
-
-def _smoothing(given: str | float) -> float:
-    """The contact smoothing length, m: 0 for the exact law, else positive."""
-    length = _whirl.parse_quantity("contact_smoothing", str(given), "length")
-    if not (math.isfinite(length) and length >= 0):
-        raise _whirl.InputError(
-            f"invalid `contact_smoothing`: `{given}`: the length must be positive, or 0 for the exact law"
-        )
-    return length
-
-
-def _span(speeds: _options.Speeds, model: Model) -> tuple[float, float]:
-    """First and last speed, rad/s: ``"1:750Hz"`` (a count, if given, is ignored), numbers,
-    or 1 Hz to 1.2 x the model's top operating speed."""
-    if isinstance(speeds, str) and speeds.count(":") == 1:
-        speeds += ":2"
-    w = _options.speeds(speeds, model, 2.0 * math.pi, 2)
-    if not (len(w) >= 2 and 0 < w[0] < w[-1]):
-        raise _whirl.InputError(
-            "invalid `speeds`: harmonic balance needs a rising range of positive speeds, e.g. \"1:750Hz\""
-        )
-    return float(w[0]), float(w[-1])
-
-
 def hbm(
     model: Model | str | os.PathLike[str],
     speeds: _options.Speeds = None,
     *,
-    harmonics: int = 5,
+    harmonics: int | None = None,
     nodes: Sequence[int] | None = None,
-    contact: str = "hertz",
-    cage: str = "passage",
-    cage_positions: int = _whirl.DEFAULT_CAGE_POSITIONS,
-    contact_smoothing: str | float = 0.0,
+    contact: str | None = None,
+    cage: str | None = None,
+    cage_positions: int | None = None,
+    contact_smoothing: str | float | None = None,
     samples: int | None = None,
     reduce: int | None = None,
-    no_stability: bool = False,
-    stability_modes: int = _whirl.DEFAULT_STABILITY_MODES,
-    compare_time: Sequence[str | float] = (),
-    settle: str | float = "0.5s",
-    record: str | float = "0.5s",
+    no_stability: bool | None = None,
+    stability_modes: int | None = None,
+    compare_time: Sequence[str | float] | None = None,
+    settle: str | float | None = None,
+    record: str | float | None = None,
     harmonics_study: str | Sequence[int] | None = None,
     progress: bool | _progress.Report = True,
 ) -> Report:
     """The periodic response by harmonic balance over speed (``whirl hbm``), with the
-    command line's options and defaults.
+    command line's options; every option left None takes the library's default.
 
     Args:
         model: a :class:`Model` or a model file path.
@@ -100,11 +51,11 @@ def hbm(
         harmonics: harmonics H of the running speed (1 to 50).
         nodes: nodes whose harmonics the ``branch`` table gives; the first is compared
             and studied; default every disk and bearing node, disks first.
-        contact: ``hertz`` or ``forcing`` (harmonic balance needs a force law of the
-            displacement).
+        contact: ``hertz`` (default) or ``forcing`` (harmonic balance needs a force law of
+            the displacement).
         cage: how the roller passage is made periodic (Hertz only): ``passage`` (the force
-            averaged over ``cage_positions`` cage positions per roller pitch) or
-            ``frozen``.
+            averaged over ``cage_positions`` cage positions per roller pitch; the
+            default) or ``frozen``.
         contact_smoothing: approach below which the Hertz law is blended to bounded
             curvature (harmonic balance only; docs/theory.md section 7), ``"0.01um"`` or
             metres; 0 (the default) for the exact law.
@@ -129,36 +80,9 @@ def hbm(
         u_y), ``bifurcations``, and ``compare_time`` and ``harmonics_study`` when asked.
     """
     model = as_model(model)
-    h = _harmonics(harmonics)
-    if samples is not None and not 2 * h < samples <= MAX_SAMPLES:
-        raise _whirl.InputError(
-            f"invalid `samples`: {samples} samples per period: the transform needs more than "
-            f"2 H = {2 * h} and at most {MAX_SAMPLES}\n  help: leave it out for the default (32 H, at least 64)"
-        )
-    chosen = report_nodes(model, nodes)
-    if not nodes:
-        # Disks first: the first node is the one compared and studied.
-        disks = {d["station"]["node"] for d in model.to_dict()["disks"]}
-        chosen.sort(key=lambda n: n not in disks)
-    start, stop = _span(speeds, model)
-    options = {
-        "from": start,
-        "to": stop,
-        "harmonics": h,
-        "nodes": chosen,
-        "contact": contact,
-        "cage": cage,
-        "cage_positions": _options.mode_count(cage_positions, "cage_positions"),
-        "contact_smoothing": _smoothing(contact_smoothing),
-        "samples": samples,
-        "reduce": None if reduce is None else _options.mode_count(reduce, "reduce"),
-        "stability": not no_stability,
-        "stability_modes": _options.mode_count(stability_modes, "stability_modes"),
-        "compare_time": [_whirl.parse_speed(str(w)) for w in compare_time],
-        "settle": _time("settle", settle),
-        "record": _time("record", record),
-        "harmonics_study": _study(harmonics_study),
-    }
+    # The keywords given (the parameters, read before any local is made), as the library
+    # reads them.
+    given = {k: v for k, v in locals().items() if k not in ("model", "progress") and v is not None}
     with _progress.display(progress, "hbm", "permille") as report:
-        raw = _whirl.hbm(model._raw, options, report)
+        raw = _whirl.hbm(model._raw, given, report)
     return Report("hbm", model, raw)

@@ -22,20 +22,6 @@ from .report import Report, Reported
 DEFAULT_SPEEDS = _whirl.DEFAULT_SPEED_COUNT
 
 
-def _time(name: str, value: str | float) -> float:
-    t = _whirl.parse_quantity(name, str(value), "time")
-    if t < 0:
-        raise _whirl.InputError(f"invalid `{name}`: `{value}`: a time must not be negative")
-    return t
-
-
-def _frequency_hz(name: str, value: str | float) -> float:
-    f = _whirl.parse_quantity(name, str(value), "frequency")
-    if not (math.isfinite(f) and f > 0):
-        raise _whirl.InputError(f"invalid `{name}`: `{value}`: the frequency must be positive")
-    return f
-
-
 def default_speeds(model: Model) -> np.ndarray:
     """The cascade's default speeds, rad/s: 150 over the model's ``[operating]`` range, from
     its low bound (or from top / 150 when it starts at rest) to its top; the library's, as
@@ -43,61 +29,19 @@ def default_speeds(model: Model) -> np.ndarray:
     return _whirl.cascade_default_speeds(model._raw)
 
 
-def options(
-    model: Model,
-    speeds: _options.Speeds = None,
-    *,
-    settle: str | float = "0.5s",
-    settle_max: str | float = "4s",
-    start: str = "static",
-    no_refine: bool = False,
-    refine_budget: int = _whirl.DEFAULT_MAX_ADDED,
-    refine_spacing: str | float = "0.5Hz",
-    record: str | float = "0.5s",
-    max_records: int = _whirl.DEFAULT_MAX_RECORDS,
-    average_tolerance: float = _whirl.DEFAULT_RELATIVE_ERROR,
-    contact: str | None = None,
-    reduce: int = _whirl.DEFAULT_MODES,
-    full_model: bool = False,
-    step: str | float | None = None,
-    node: int | None = None,
-    component: str = "uy",
-    window: str = "hann",
-    max_frequency: str | float | None = None,
-    tolerance: float = _whirl.DEFAULT_TOLERANCE_BINS,
-    full: bool = False,
-) -> dict[str, Any]:
-    """The cascade's options as the library takes them, from the command line's options
-    (same names, same defaults; times and frequencies as text with a unit or as SI numbers)."""
-    if speeds is None:
-        w = default_speeds(model)
-    else:
-        w = _options.speeds(speeds, model, 0.0, DEFAULT_SPEEDS)
-    if not (isinstance(tolerance, (int, float)) and math.isfinite(tolerance) and tolerance >= 0):
-        raise _whirl.InputError(
-            f"invalid `tolerance`: `{tolerance}` is not a number of bins (0 or more, e.g. 2)"
-        )
-    return {
-        "speeds": [float(x) for x in w],
-        "settle": _time("settle", settle),
-        "settle_max": _time("settle_max", settle_max),
-        "start": start,
-        "refine": not no_refine,
-        "refine_budget": int(refine_budget),
-        "refine_spacing_hz": _frequency_hz("refine_spacing", refine_spacing),
-        "record": _time("record", record),
-        "max_records": int(max_records),
-        "average_tolerance": float(average_tolerance),
-        "contact": contact,
-        "reduce": None if full_model else _options.mode_count(reduce, "reduce"),
-        "step": None if step is None else _time("step", step),
-        "node": node,
-        "component": component,
-        "window": window,
-        "max_frequency_hz": None if max_frequency is None else _frequency_hz("max_frequency", max_frequency),
-        "tolerance": float(tolerance),
-        "full": bool(full),
-    }
+def _given(speeds: _options.Speeds, options: dict[str, Any]) -> dict[str, Any]:
+    """The keyword arguments as the library reads them: those given, speeds as a list."""
+    if speeds is not None and not isinstance(speeds, str):
+        speeds = np.asarray(speeds, dtype=float).ravel().tolist()
+    return {k: v for k, v in {"speeds": speeds, **options}.items() if v is not None}
+
+
+def options(model: Model, speeds: _options.Speeds = None, **cascade_options: Any) -> dict[str, Any]:
+    """The cascade's options as the library resolves them for ``model`` from the command
+    line's options (same names; times and frequencies as text with a unit or as SI
+    numbers; every option left out at the library's default): speeds in rad/s, times in s,
+    frequencies in Hz."""
+    return _whirl.cascade_resolved(model._raw, _given(speeds, cascade_options))
 
 
 @dataclass(frozen=True, repr=False)
@@ -153,7 +97,7 @@ def cascade(
     model: Model | str | os.PathLike[str],
     speeds: _options.Speeds = None,
     *,
-    threshold: str | float = _whirl.DEFAULT_THRESHOLD_M,
+    threshold: str | float | None = None,
     checkpoint: str | os.PathLike[str] | None = None,
     restart: bool = False,
     compare_starts: bool = False,
@@ -168,7 +112,8 @@ def cascade(
         speeds: a range ``"1:750Hz:150"`` or speeds in rad/s; default 150 speeds over the
             model's operating range. Speeds are added where the NSV changes sharply unless
             ``no_refine=True``.
-        threshold: NSV amplitude (zero-to-peak) from which a speed counts in the summary.
+        threshold: NSV amplitude (zero-to-peak) from which a speed counts in the summary
+            (default 1 um).
         checkpoint: a folder (shared by the workers, with ``client``) in which each
             finished speed is kept, in ``<checkpoint>/<key>`` (one folder per model and
             options): a run started again computes only the missing speeds and gives the
@@ -188,20 +133,18 @@ def cascade(
             ``settle_max``, ``start``, ``no_refine``, ``refine_budget``, ``refine_spacing``,
             ``record``, ``max_records``, ``average_tolerance``, ``contact``, ``reduce``,
             ``full_model``, ``step``, ``node``, ``component``, ``window``,
-            ``max_frequency``, ``tolerance``, ``full``); see :func:`options`.
+            ``max_frequency``, ``tolerance``, ``full``), each left out or None at the
+            library's default (see :func:`options`).
     """
     model = as_model(model)
-    o = options(model, speeds, **cascade_options)
-    threshold_m = _whirl.parse_quantity("threshold", str(threshold), "length")
-    if not threshold_m > 0:
-        raise _whirl.InputError(f"invalid `threshold`: `{threshold}`: the length must be positive")
+    o = _given(speeds, {"threshold": threshold, **cascade_options})
     raw, first, folder = _run(model, o, checkpoint, restart, progress, client)
     second = None
     if compare_starts:
-        other = {**o, **_whirl.other_start(first)}
+        other = _whirl.other_start(first, o)
         second = _run(model, other, checkpoint, restart, progress, client)[1]
     folder = None if folder is None else str(folder)
-    report = _whirl.cascade_report(first, threshold_m, folder, second)
+    report = _whirl.cascade_report(first, folder, second)
     return _result(model, raw, Report("cascade", model, report))
 
 
@@ -213,7 +156,7 @@ def _run(
     progress: bool | Any,
     client: Any,
 ) -> tuple[dict[str, Any], Any, Path | None]:
-    """One cascade with the library's options ``o``, in its folder inside ``checkpoint``:
+    """One cascade with the keyword arguments ``o``, in its folder inside ``checkpoint``:
     the cascade as a dict and as the library holds it, and the folder."""
     folder = None
     if checkpoint is not None:

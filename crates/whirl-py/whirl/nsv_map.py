@@ -8,7 +8,6 @@ import os
 from collections.abc import Sequence
 
 from . import _progress, _whirl
-from .hbm import _harmonics, _smoothing, _span
 from .model import Model, as_model
 from .report import Report
 
@@ -73,20 +72,20 @@ def map(  # noqa: A001 - the command's name
         disagreements with each cascade speed by speed).
     """
     model = as_model(model)
-    start, stop = _span(speeds, model)
-    options = {
-        "parameter": parameter,
-        "values": _values(values),
-        "from": start,
-        "to": stop,
-        "harmonics": None if harmonics is None else _harmonics(harmonics),
+    sweep = {
+        "speeds": speeds,
+        "harmonics": harmonics,
         "samples": samples,
         "contact": contact,
         "cage": cage,
         "cage_positions": cage_positions,
-        "contact_smoothing": None if contact_smoothing is None else _smoothing(contact_smoothing),
+        "contact_smoothing": contact_smoothing,
         "stability_modes": stability_modes,
         "reduce": reduce,
+    }
+    options = {
+        "parameter": parameter,
+        "values": _values(values),
         "clear_below": None if clear_below is None else _whirl.parse_speed(str(clear_below)),
         "check": _values(check),
         "check_level": None
@@ -95,5 +94,5 @@ def map(  # noqa: A001 - the command's name
         "confirm": bool(confirm),
     }
     with _progress.display(progress, "map", "permille") as report:
-        raw = _whirl.map(model._raw, options, report)
+        raw = _whirl.map(model._raw, options, sweep, report)
     return Report("map", model, raw)

@@ -9,12 +9,7 @@ from collections.abc import Sequence
 
 from . import _whirl
 from .model import Model, as_model
-from .nsv import _frequency_hz, _time
 from .report import Report
-
-
-def _length(name: str, value: str | float) -> float:
-    return _whirl.parse_quantity(name, str(value), "length")
 
 
 def runup(
@@ -35,7 +30,7 @@ def runup(
     start: str | None = None,
     contact: str | None = None,
     reduce: int | None = None,
-    full_model: bool = False,
+    full_model: bool | None = None,
     step: str | float | None = None,
     node: int | None = None,
     component: str | None = None,
@@ -70,32 +65,5 @@ def runup(
         computed, ``steady``, ``hysteresis`` and ``bands``, as the command line writes them.
     """
     model = as_model(model)
-    if isinstance(speeds, str):
-        speeds = _whirl.parse_speed_range_text(speeds)
-    options = {
-        "speeds": None if speeds is None else tuple(float(w) for w in speeds),
-        "rate": _whirl.parse_rate(rate) if isinstance(rate, str) else rate,
-        "direction": direction,
-        "hold": None if hold is None else _time("hold", hold),
-        "window_length": None if window_length is None else _time("window_length", window_length),
-        "overlap": overlap,
-        "steady": steady,
-        "steady_speeds": steady_speeds,
-        "hysteresis_ratio": hysteresis_ratio,
-        "threshold": None if threshold is None else _length("threshold", threshold),
-        "smoothing": None if smoothing is None else _frequency_hz("smoothing", smoothing),
-        "steady_smoothing": None
-        if steady_smoothing is None
-        else _frequency_hz("steady_smoothing", steady_smoothing),
-        "start": start,
-        "contact": contact,
-        "reduce": reduce,
-        "full_model": full_model,
-        "step": None if step is None else _time("step", step),
-        "node": node,
-        "component": component,
-        "window": window,
-        "max_frequency": None if max_frequency is None else _frequency_hz("max_frequency", max_frequency),
-        "tolerance": tolerance,
-    }
-    return Report("runup", model, _whirl.runup(model._raw, options))
+    given = {k: v for k, v in locals().items() if k != "model" and v is not None}
+    return Report("runup", model, _whirl.runup(model._raw, given))

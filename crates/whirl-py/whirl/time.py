@@ -10,9 +10,8 @@ from typing import Any
 
 import numpy as np
 
-from . import _progress, _whirl
+from . import _options, _progress, _whirl
 from .model import Model, as_model
-from .nsv import _time
 from .report import Report, Reported
 from .response import report_nodes
 
@@ -52,8 +51,8 @@ def simulate(
     model: Model | str | os.PathLike[str],
     speed: str | float,
     *,
-    duration: str | float = "1s",
-    method: str = "cd",
+    duration: str | float | None = None,
+    method: str | None = None,
     hht_alpha: float | None = None,
     step: str | float | None = None,
     reduce: int | None = None,
@@ -62,11 +61,12 @@ def simulate(
     contact: str | None = None,
     record_every: int | None = None,
     ramp_to: str | float | None = None,
-    start: str = "static",
-    divergence_bound: str | float = 0.01,
+    start: str | None = None,
+    divergence_bound: str | float | None = None,
     progress: bool | Any = True,
 ) -> SimulationResult:
-    """The time response at a speed (``whirl simulate``), with the command line's options.
+    """The time response at a speed (``whirl simulate``), with the command line's options;
+    every option left None takes the library's default.
 
     Args:
         model: a :class:`Model` or a model file path.
@@ -94,21 +94,10 @@ def simulate(
         ``contacts_<bearing>``).
     """
     model = as_model(model)
-    options = {
-        "speed": _whirl.parse_speed(str(speed)),
-        "duration": _time("duration", duration),
-        "method": method,
-        "hht_alpha": hht_alpha,
-        "step": None if step is None else _time("step", step),
-        "reduce": reduce,
-        "settle": None if settle is None else _time("settle", settle),
-        "nodes": report_nodes(model, nodes),
-        "contact": contact,
-        "record_every": record_every,
-        "ramp_to": None if ramp_to is None else _whirl.parse_speed(str(ramp_to)),
-        "start": start,
-        "divergence_bound": _whirl.parse_quantity("divergence_bound", str(divergence_bound), "length"),
-    }
+    # The keywords given (the parameters, read before any local is made), the nodes
+    # resolved as every analysis reports them.
+    given = {k: v for k, v in locals().items() if k not in ("model", "progress") and v is not None}
+    given["nodes"] = report_nodes(model, nodes)
     with _progress.display(progress, "simulate", "permille") as report:
-        raw, summary = _whirl.simulate(model._raw, options, report)
+        raw, summary = _whirl.simulate(model._raw, given, report)
     return SimulationResult(model=model, report=Report("simulate", model, summary), **raw)

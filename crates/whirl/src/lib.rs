@@ -168,6 +168,7 @@ pub mod error;
 pub mod examples;
 pub mod fe;
 pub mod force;
+pub mod given;
 pub mod hbm;
 pub(crate) mod linalg;
 pub mod lock;

@@ -224,3 +224,26 @@ fn the_studys_own_set_reaches_every_point_and_a_sweeps_set_overrides_it() {
     );
     assert!(e.contains(": `set`: ") && !e.contains("values[0]"), "{e}");
 }
+
+#[test]
+fn the_cascade_table_reads_every_cascade_option_as_the_command_line_does() {
+    // One reader for the study file and the Python keywords (CascadeRequest::set): an
+    // option the table never listed before is read with its unit, into the same options
+    // the command line's flags give.
+    let s = study(
+        "[cascade]\nrefine_budget = 5\nrefine_spacing = \"2 Hz\"\nwindow = \"flat-top\"\n\
+         [[sweep]]\nparameter = \"roller_bearing[*].clearance\"\nvalues = [\"20 um\"]\n",
+    )
+    .unwrap();
+    let o = whirl::study::point::cascade_options(&s.points[0]).unwrap();
+    assert_eq!(o.refine.max_added, 5);
+    assert_eq!(o.refine.min_spacing_hz, 2.0);
+    assert_eq!(o.window, whirl::post::Window::FlatTop);
+    // A name the cascade does not have is refused at its field, listing the options.
+    let e = error(
+        "[cascade]\nrefine_budgte = 5\n\
+         [[sweep]]\nparameter = \"roller_bearing[*].clearance\"\nvalues = [\"20 um\"]\n",
+    );
+    assert!(e.contains("`cascade.refine_budgte`"), "{e}");
+    assert!(e.contains("refine_budget"), "{e}");
+}

@@ -29,21 +29,24 @@ use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
 use whirl::bearing::ContactLaw;
+use whirl::given::{Choice, Given};
 use whirl::model::Model;
 use whirl::nsv::{
     compare_starts, other_start_options, records_span, Cascade, CascadeOptions, CascadeReport,
-    CascadeRequest, Component, NsvSummary, PreparedCascade, StartComparison, DEFAULT_MAX_ADDED,
-    DEFAULT_MAX_RECORDS, DEFAULT_RELATIVE_ERROR, DEFAULT_THRESHOLD_M, DEFAULT_TOLERANCE_BINS,
-    STARTS_DIFFER_SIGMAS,
+    CascadeRequest, Component, NsvSummary, PreparedCascade, StartComparison, DEFAULT_COMPONENT,
+    DEFAULT_MAX_ADDED, DEFAULT_MAX_RECORDS, DEFAULT_MIN_SPACING_HZ, DEFAULT_RECORD,
+    DEFAULT_RELATIVE_ERROR, DEFAULT_SETTLE, DEFAULT_SETTLE_MAX, DEFAULT_START, DEFAULT_THRESHOLD_M,
+    DEFAULT_TOLERANCE_BINS, DEFAULT_WINDOW, STARTS_DIFFER_SIGMAS,
 };
 use whirl::post::Window;
 use whirl::report::Report;
 use whirl::time::Initial;
 use whirl::time::DEFAULT_MODES;
-use whirl::units::{parse_quantity, with_uncertainty, Dimension};
+use whirl::units::with_uncertainty;
 
 use super::{
-    finish, hz, load, mode_count, node_index, positive_length, report_summary, speeds, time,
+    default_is, finish, given, hertz, load, metres, mode_count, node_index, positive_length,
+    report_summary, seconds, speeds, time,
 };
 use super::{Common, Outcome, Speeds};
 use crate::error::{from_whirl, Diag};
@@ -51,7 +54,8 @@ use crate::interrupt;
 use crate::output::Output;
 use crate::progress::{duration_text, progress_line};
 
-/// `whirl cascade`
+/// `whirl cascade`: every option left out takes the library's default
+/// ([`whirl::nsv::CascadeOptions::new`]), which the help states from the library's constants.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     #[command(flatten)]
@@ -60,72 +64,39 @@ pub struct Args {
     /// [default: 150 speeds over the model's operating range].
     #[arg(long, value_name = "RANGE", value_parser = speeds)]
     pub speeds: Option<Speeds>,
-    /// Shortest time simulated and discarded at each speed before the record.
-    #[arg(long, value_name = "TIME", default_value = "0.5s", value_parser = time, allow_hyphen_values = true)]
-    pub settle: f64,
-    /// Longest settling time: each speed runs on (checked every half record) until its
-    /// start has died away, at most this long, else it is reported unsettled; give the
-    /// same as --settle for a fixed settling time.
-    #[arg(long, value_name = "TIME", default_value = "4s", value_parser = time, allow_hyphen_values = true)]
-    pub settle_max: f64,
-    /// Initial state of every run.
-    #[arg(long, value_enum, default_value = "static")]
-    pub start: Initial,
+    #[arg(long, value_name = "TIME", value_parser = time, allow_hyphen_values = true,
+          help = default_is("Shortest time simulated and discarded at each speed before the record.", seconds(DEFAULT_SETTLE)))]
+    pub settle: Option<f64>,
+    #[arg(long, value_name = "TIME", value_parser = time, allow_hyphen_values = true,
+          help = default_is("Longest settling time: each speed runs on (checked every half record) until its \
+start has died away, at most this long, else it is reported unsettled; give the same as --settle for a \
+fixed settling time.", seconds(DEFAULT_SETTLE_MAX)))]
+    pub settle_max: Option<f64>,
     /// Compute only the requested speeds: add none where the NSV changes sharply.
     #[arg(long)]
     pub no_refine: bool,
-    /// Most speeds the refinement adds.
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_ADDED)]
-    pub refine_budget: usize,
-    /// Smallest spacing of an added speed from its neighbours: `0.5Hz`, or a plain number
-    /// in rad/s.
-    #[arg(long, value_name = "FREQ", default_value = "0.5Hz", value_parser = frequency, allow_hyphen_values = true)]
-    pub refine_spacing: f64,
-    /// Time recorded at each speed; its inverse is the bin spacing (0.5 s: 2 Hz).
-    #[arg(long, value_name = "TIME", default_value = "0.5s", value_parser = time, allow_hyphen_values = true)]
-    pub record: f64,
-    /// Most records averaged at a settled speed (overlapping by half): records are added
-    /// until the NSV's standard error is within --average-tolerance, or within 20 % with
-    /// the NSV clear of every onset level (at least 4); 1 for a single record.
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_RECORDS)]
-    pub max_records: usize,
-    /// Averaging stops once the NSV's standard error is within this fraction of it (or
-    /// 0.05 um).
-    #[arg(long, value_name = "FRACTION", default_value_t = DEFAULT_RELATIVE_ERROR, allow_hyphen_values = true)]
-    pub average_tolerance: f64,
-    /// Contact law of the roller bearings [default: hertz when the model has roller
-    /// bearings, linear otherwise].
-    #[arg(long, value_name = "LAW", value_enum)]
-    pub contact: Option<ContactLaw>,
-    /// Craig-Bampton reduction keeping N fixed-interface modes.
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_MODES, value_parser = mode_count)]
-    pub reduce: usize,
-    /// Integrate the full model instead of the reduced one (about ten times slower).
-    #[arg(long, conflicts_with = "reduce")]
-    pub full_model: bool,
-    /// Central-difference time step [default: 0.9 x the stability limit].
-    #[arg(long, value_name = "TIME", value_parser = time, allow_hyphen_values = true)]
-    pub step: Option<f64>,
-    /// The node whose response is analysed [default: the first disk's node].
-    #[arg(long, value_name = "N", value_parser = node_index)]
-    pub node: Option<usize>,
-    /// Which displacement gives the one-sided spectrum (the full spectrum uses both).
-    #[arg(long, value_enum, default_value = "uy")]
-    pub component: Component,
-    /// Data window of the spectra.
-    #[arg(long, value_enum, default_value = "hann")]
-    pub window: Window,
-    /// Top of the frequency band kept and searched: `3000Hz`, or a plain number in rad/s
-    /// [default: 2.5 x the top speed or 1.25 x the highest contact frequency there].
-    #[arg(long, value_name = "FREQ", value_parser = frequency, allow_hyphen_values = true)]
-    pub max_frequency: Option<f64>,
-    /// A peak within this many bins of a multiple of the running speed is synchronous.
-    #[arg(long, value_name = "BINS", default_value_t = DEFAULT_TOLERANCE_BINS, value_parser = bins, allow_hyphen_values = true)]
-    pub tolerance: f64,
-    /// NSV amplitude (zero-to-peak) from which a speed counts in the summary: onset,
-    /// classes.
-    #[arg(long, value_name = "LENGTH", default_value_t = DEFAULT_THRESHOLD_M, value_parser = positive_length, allow_hyphen_values = true)]
-    pub threshold: f64,
+    #[arg(long, value_name = "N", help = default_is("Most speeds the refinement adds.", DEFAULT_MAX_ADDED))]
+    pub refine_budget: Option<usize>,
+    #[arg(long, value_name = "FREQ", value_parser = frequency, allow_hyphen_values = true,
+          help = default_is("Smallest spacing of an added speed from its neighbours: `0.5Hz`, or a plain number \
+in rad/s.", hertz(DEFAULT_MIN_SPACING_HZ)))]
+    pub refine_spacing: Option<f64>,
+    #[arg(long, value_name = "TIME", value_parser = time, allow_hyphen_values = true,
+          help = default_is("Time recorded at each speed; its inverse is the bin spacing.", seconds(DEFAULT_RECORD)))]
+    pub record: Option<f64>,
+    #[arg(long, value_name = "N", help = default_is("Most records averaged at a settled speed (overlapping by \
+half): records are added until the NSV's standard error is within --average-tolerance, or within 20 % with \
+the NSV clear of every onset level (at least 4); 1 for a single record.", DEFAULT_MAX_RECORDS))]
+    pub max_records: Option<usize>,
+    #[arg(long, value_name = "FRACTION", allow_hyphen_values = true, help = default_is("Averaging stops once \
+the NSV's standard error is within this fraction of it (or 0.05 um).", DEFAULT_RELATIVE_ERROR))]
+    pub average_tolerance: Option<f64>,
+    #[command(flatten)]
+    pub run: RunSettings,
+    #[arg(long, value_name = "LENGTH", value_parser = positive_length, allow_hyphen_values = true,
+          help = default_is("NSV amplitude (zero-to-peak) from which a speed counts in the summary: onset, \
+classes.", metres(DEFAULT_THRESHOLD_M)))]
+    pub threshold: Option<f64>,
     /// Top of the frequency axis of the plots `cascade_map` and `full_map` (the CSV files
     /// keep the whole band): `800Hz`, or a plain number in rad/s [default: 2 x the highest
     /// speed, so 1X and 2X and the sub-synchronous whirl below them fill the map].
@@ -146,15 +117,69 @@ pub struct Args {
     pub compare_starts: bool,
 }
 
+/// How each run of a cascade or a run-up is made and measured: the flags `whirl cascade`
+/// and `whirl runup` share, each left out at the library's default.
+#[derive(Debug, clap::Args)]
+pub struct RunSettings {
+    #[arg(long, value_enum, help = default_is("Initial state of every run.", DEFAULT_START.choice_name()))]
+    pub start: Option<Initial>,
+    /// Contact law of the roller bearings [default: hertz when the model has roller
+    /// bearings, linear otherwise].
+    #[arg(long, value_name = "LAW", value_enum)]
+    pub contact: Option<ContactLaw>,
+    #[arg(long, value_name = "N", value_parser = mode_count,
+          help = default_is("Craig-Bampton reduction keeping N fixed-interface modes.", DEFAULT_MODES))]
+    pub reduce: Option<usize>,
+    /// Integrate the full model instead of the reduced one (about ten times slower).
+    #[arg(long, conflicts_with = "reduce")]
+    pub full_model: bool,
+    /// Central-difference time step [default: 0.9 x the stability limit].
+    #[arg(long, value_name = "TIME", value_parser = time, allow_hyphen_values = true)]
+    pub step: Option<f64>,
+    /// The node whose response is analysed [default: the first disk's node].
+    #[arg(long, value_name = "N", value_parser = node_index)]
+    pub node: Option<usize>,
+    #[arg(long, value_enum, help = default_is("Which displacement gives the one-sided spectrum (the full \
+spectrum uses both).", DEFAULT_COMPONENT.choice_name()))]
+    pub component: Option<Component>,
+    #[arg(long, value_enum, help = default_is("Data window of the spectra.", DEFAULT_WINDOW.choice_name()))]
+    pub window: Option<Window>,
+    /// Top of the frequency band kept and searched: `3000Hz`, or a plain number in rad/s
+    /// [default: 2.5 x the top speed or 1.25 x the highest contact frequency there].
+    #[arg(long, value_name = "FREQ", value_parser = frequency, allow_hyphen_values = true)]
+    pub max_frequency: Option<f64>,
+    #[arg(long, value_name = "BINS", value_parser = bins, allow_hyphen_values = true,
+          help = default_is("A peak within this many bins of a multiple of the running speed is synchronous.",
+                            DEFAULT_TOLERANCE_BINS))]
+    pub tolerance: Option<f64>,
+}
+
+impl RunSettings {
+    /// The library's request with these settings, every other option left out.
+    pub fn request(&self) -> CascadeRequest {
+        CascadeRequest {
+            start: self.start,
+            contact: self.contact,
+            reduce: if self.full_model {
+                Some(None)
+            } else {
+                self.reduce.map(Some)
+            },
+            step: self.step,
+            node: self.node,
+            component: self.component,
+            window: self.window,
+            max_frequency_hz: self.max_frequency,
+            tolerance_bins: self.tolerance,
+            ..CascadeRequest::default()
+        }
+    }
+}
+
 /// Clap parser of a frequency: `3000Hz`, `180000rpm`, or a plain number in rad/s (the
 /// one rule for plain numbers on the command line); returned in Hz.
 pub(super) fn frequency(text: &str) -> Result<f64, String> {
-    let f = hz(parse_quantity(text, Dimension::AngularSpeed).map_err(|e| e.to_string())?);
-    if f.is_finite() && f > 0.0 {
-        Ok(f)
-    } else {
-        Err(format!("`{text}`: the frequency must be positive"))
-    }
+    given(text, Given::frequency_hz)
 }
 
 /// Clap parser of a tolerance in bins: a number, 0 or more.
@@ -170,7 +195,9 @@ pub(super) fn bins(text: &str) -> Result<f64, String> {
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     let model = &loaded.model;
-    let options = cascade_options(args, model)?;
+    let request = request(args);
+    let threshold = request.threshold_m();
+    let options = cascade_options(&request, model)?;
     let out_dir = args.common.out_dir("cascade");
     // Built once: the reduction serves the checkpoint's key, the step and every speed.
     let prepared = PreparedCascade::new(model, &options).map_err(|e| library_error(e, &out_dir))?;
@@ -188,9 +215,9 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     line.clear();
     let result = result.map_err(|e| library_error(e, &checkpoint))?;
     warn_of_divergence(&result);
-    let nsv = result.nsv_summary(args.threshold);
+    let nsv = result.nsv_summary(threshold);
     let starts = if args.compare_starts {
-        Some(other_start(model, &result, args.threshold, &out_dir)?)
+        Some(other_start(model, &result, threshold, &out_dir)?)
     } else {
         None
     };
@@ -198,7 +225,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let mut text = text(model, &result, &nsv, &checkpoint);
     let report = CascadeReport {
         cascade: result,
-        threshold_m: args.threshold,
+        threshold_m: threshold,
         starts,
         checkpoint_folder: Some(checkpoint.display().to_string()),
     };
@@ -337,31 +364,28 @@ fn warn_of_divergence(c: &Cascade) {
     );
 }
 
-/// The library's options from the command line.
-fn cascade_options(args: &Args, model: &Model) -> miette::Result<CascadeOptions> {
-    let request = CascadeRequest {
+/// The library's request from the command line: every option left out stays `None`.
+fn request(args: &Args) -> CascadeRequest {
+    CascadeRequest {
         speeds: args.speeds.as_ref().map(|s| s.0.clone()),
-        settle: Some(args.settle),
-        settle_max: Some(args.settle_max),
-        start: Some(args.start),
-        refine: Some(!args.no_refine),
-        refine_budget: Some(args.refine_budget),
-        refine_spacing_hz: Some(args.refine_spacing),
-        record: Some(args.record),
-        max_records: Some(args.max_records),
-        average_tolerance: Some(args.average_tolerance),
-        contact: args.contact,
-        reduce: Some((!args.full_model).then_some(args.reduce)),
-        step: args.step,
-        node: args.node,
-        component: Some(args.component),
-        window: Some(args.window),
-        max_frequency_hz: args.max_frequency,
-        tolerance_bins: Some(args.tolerance),
-        full: Some(args.full),
-    };
+        settle: args.settle,
+        settle_max: args.settle_max,
+        refine: args.no_refine.then_some(false),
+        refine_budget: args.refine_budget,
+        refine_spacing_hz: args.refine_spacing,
+        record: args.record,
+        max_records: args.max_records,
+        average_tolerance: args.average_tolerance,
+        full: args.full.then_some(true),
+        threshold: args.threshold,
+        ..args.run.request()
+    }
+}
+
+/// The library's options from the command line's request.
+fn cascade_options(request: &CascadeRequest, model: &Model) -> miette::Result<CascadeOptions> {
     let options = request.options(model).map_err(option_error)?;
-    if args.speeds.is_none() {
+    if request.speeds.is_none() {
         super::announce(None, "speeds", &options.speeds);
     }
     Ok(options)

@@ -24,16 +24,18 @@ use std::f64::consts::TAU;
 use std::fmt::Write;
 
 use whirl::bearing::ContactLaw;
+use whirl::given::Given;
 use whirl::hbm::{
-    settled_response, sweep_with_progress, CageKind, CageModel, MarchSettings, SettledResponse,
-    Sweep, SweepOptions, SweepReport, SweepSettings, DEFAULT_CAGE_POSITIONS, DEFAULT_HARMONICS,
-    DEFAULT_STABILITY_MODES, MAX_HARMONICS, RESOLUTION_TOLERANCE,
+    sweep_with_progress, CageKind, HbmRequest, Sweep, SweepOptions, SweepReport, SweepSettings,
+    DEFAULT_CAGE_POSITIONS, DEFAULT_HARMONICS, DEFAULT_STABILITY_MODES, MAX_HARMONICS,
+    RESOLUTION_TOLERANCE,
 };
 use whirl::model::Model;
+use whirl::nsv::{DEFAULT_RECORD, DEFAULT_SETTLE};
 
 use super::{
-    finish, hz, lib, load, mode_count, report_summary, speed, speeds, time, Common, Nodes, Outcome,
-    Speeds,
+    announce, default_is, finish, given, hz, lib, load, mode_count, option_error, report_summary,
+    seconds, speed, speeds, time, Common, Nodes, Outcome, Speeds,
 };
 use crate::error::Diag;
 use crate::output::Output;
@@ -41,26 +43,27 @@ use crate::progress::{duration_text, shown};
 use whirl::report::Report;
 
 /// The discretisation and bearing model of a harmonic-balance sweep, shared by `whirl hbm`
-/// and `whirl map`; [`HbFlags::settings`] hands them to the library.
+/// and `whirl map`, each left out at the library's default; [`HbFlags::settings`] hands
+/// them to the library.
 #[derive(Debug, clap::Args)]
 pub struct HbFlags {
-    /// Harmonics H of the running speed (1 to 50).
-    #[arg(long, value_name = "H", default_value_t = DEFAULT_HARMONICS, value_parser = harmonic_count)]
-    pub harmonics: usize,
+    #[arg(long, value_name = "H", value_parser = harmonic_count,
+          help = default_is("Harmonics H of the running speed (1 to 50).", DEFAULT_HARMONICS))]
+    pub harmonics: Option<usize>,
     /// Contact law of the roller bearings: hertz or forcing (harmonic balance needs a
-    /// force law of the displacement).
-    #[arg(long, value_enum, default_value = "hertz")]
-    pub contact: ContactLaw,
-    /// How the roller passage is made periodic (Hertz only).
-    #[arg(long, value_enum, default_value = "passage")]
-    pub cage: CageKind,
-    /// Cage positions per roller pitch of the passage average.
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_CAGE_POSITIONS, value_parser = mode_count)]
-    pub cage_positions: usize,
+    /// force law of the displacement) [default: hertz].
+    #[arg(long, value_enum)]
+    pub contact: Option<ContactLaw>,
+    /// How the roller passage is made periodic (Hertz only) [default: passage].
+    #[arg(long, value_enum)]
+    pub cage: Option<CageKind>,
+    #[arg(long, value_name = "N", value_parser = mode_count,
+          help = default_is("Cage positions per roller pitch of the passage average.", DEFAULT_CAGE_POSITIONS))]
+    pub cage_positions: Option<usize>,
     /// Approach below which the Hertz law is blended to bounded curvature (harmonic balance
-    /// only; docs/theory.md section 7), e.g. `0.01um`; 0 for the exact law.
-    #[arg(long, value_name = "LENGTH", default_value = "0", value_parser = smoothing_length)]
-    pub contact_smoothing: f64,
+    /// only; docs/theory.md section 7), e.g. `0.01um`; 0 for the exact law [default: 0].
+    #[arg(long, value_name = "LENGTH", value_parser = smoothing_length)]
+    pub contact_smoothing: Option<f64>,
     /// Time samples per period of the alternating frequency-time transform [default: 32 H,
     /// at least 64].
     #[arg(long, value_name = "N")]
@@ -69,24 +72,34 @@ pub struct HbFlags {
     /// do (faster; the condensation stays exact) [default: the full model].
     #[arg(long, value_name = "N", value_parser = mode_count)]
     pub reduce: Option<usize>,
-    /// Fixed-interface modes of the stability model.
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_STABILITY_MODES, value_parser = mode_count)]
-    pub stability_modes: usize,
+    #[arg(long, value_name = "N", value_parser = mode_count,
+          help = default_is("Fixed-interface modes of the stability model.", DEFAULT_STABILITY_MODES))]
+    pub stability_modes: Option<usize>,
 }
 
 impl HbFlags {
+    /// The library's request of a run with these flags, every other option left out.
+    pub fn request(&self) -> HbmRequest {
+        HbmRequest {
+            settings: SweepSettings {
+                harmonics: self.harmonics,
+                samples: self.samples,
+                contact: self.contact,
+                cage: None,
+                contact_smoothing: self.contact_smoothing,
+                stability: None,
+                stability_modes: self.stability_modes,
+                reduction: self.reduce,
+            },
+            cage: self.cage,
+            cage_positions: self.cage_positions,
+            ..HbmRequest::default()
+        }
+    }
+
     /// The library's settings of a sweep with these flags.
     pub fn settings(&self) -> SweepSettings {
-        SweepSettings {
-            harmonics: Some(self.harmonics),
-            samples: self.samples,
-            contact: Some(self.contact),
-            cage: Some(CageModel::new(self.cage, Some(self.cage_positions))),
-            contact_smoothing: Some(self.contact_smoothing),
-            stability: None,
-            stability_modes: Some(self.stability_modes),
-            reduction: self.reduce,
-        }
+        self.request().sweep_settings()
     }
 }
 
@@ -111,12 +124,12 @@ pub struct Args {
     /// comma-separated, e.g. `100Hz,330Hz`.
     #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = speed)]
     pub compare_time: Vec<f64>,
-    /// Settling time of the comparison runs.
-    #[arg(long, value_name = "TIME", default_value = "0.5s", value_parser = time)]
-    pub settle: f64,
-    /// Recorded (analysed) time of the comparison runs.
-    #[arg(long, value_name = "TIME", default_value = "0.5s", value_parser = time)]
-    pub record: f64,
+    #[arg(long, value_name = "TIME", value_parser = time,
+          help = default_is("Settling time of the comparison runs.", seconds(DEFAULT_SETTLE)))]
+    pub settle: Option<f64>,
+    #[arg(long, value_name = "TIME", value_parser = time,
+          help = default_is("Recorded (analysed) time of the comparison runs.", seconds(DEFAULT_RECORD)))]
+    pub record: Option<f64>,
     /// Repeat the sweep for these harmonic counts, e.g. `1..5` or `1,3,5` (thesis fig.
     /// 4.28).
     #[arg(long, value_name = "LIST", value_parser = harmonic_list)]
@@ -134,10 +147,7 @@ pub fn speed_span(text: &str) -> Result<Speeds, String> {
 
 /// Clap parser of the contact smoothing: a positive length, or 0 for the exact law.
 fn smoothing_length(text: &str) -> Result<f64, String> {
-    if text.trim().parse::<f64>() == Ok(0.0) {
-        return Ok(0.0);
-    }
-    super::positive_length(text)
+    given(text, Given::length_or_zero)
 }
 
 /// Harmonic counts of a study.
@@ -146,13 +156,9 @@ pub struct HarmonicList(pub Vec<usize>);
 
 /// Clap parser of a harmonic count, 1 to [`MAX_HARMONICS`].
 fn harmonic_count(text: &str) -> Result<usize, String> {
-    match text.trim().parse::<usize>() {
-        Ok(h) if (1..=MAX_HARMONICS).contains(&h) => Ok(h),
-        _ => Err(format!(
-            "`{text}`: a harmonic count is a whole number from 1 to {MAX_HARMONICS} (the \
-             stability matrix grows with 2H + 1 and its cost with the cube of that)"
-        )),
-    }
+    Given::Text(text.into())
+        .whole("", 1, MAX_HARMONICS)
+        .map_err(|e| e.message)
 }
 
 /// Computing time of one branch point of the reference rotor with H = 5 and stability on
@@ -185,61 +191,43 @@ fn warn_if_slow(harmonics: usize, stability: bool) {
 
 /// Clap parser of `a..b` or `a,b,c` (1 to 50 each).
 fn harmonic_list(text: &str) -> Result<HarmonicList, String> {
-    let parse = harmonic_count;
-    let list = match text.split_once("..") {
-        Some((a, b)) => {
-            let (a, b) = (parse(a)?, parse(b)?);
-            if b < a {
-                return Err(format!("`{text}`: the range must not run backwards"));
-            }
-            (a..=b).collect()
-        }
-        None => text.split(',').map(parse).collect::<Result<Vec<_>, _>>()?,
+    Given::Text(text.into())
+        .wholes("", 1, MAX_HARMONICS)
+        .map(HarmonicList)
+        .map_err(|e| e.message)
+}
+
+/// The library's request from the command line: every option left out stays `None`.
+fn request(args: &Args) -> HbmRequest {
+    let mut request = HbmRequest {
+        speeds: args.speeds.as_ref().map(|s| (s.0[0], s.0[s.0.len() - 1])),
+        nodes: (!args.nodes.is_default()).then(|| args.nodes.nodes.clone()),
+        compare_time: args.compare_time.clone(),
+        settle: args.settle,
+        record: args.record,
+        harmonics_study: args
+            .harmonics_study
+            .as_ref()
+            .map_or_else(Vec::new, |l| l.0.clone()),
+        ..args.hb.request()
     };
-    Ok(HarmonicList(list))
+    request.settings.stability = args.no_stability.then_some(false);
+    request
 }
 
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     let model = &loaded.model;
-    let mut nodes = args.nodes.resolve(model)?;
-    if args.nodes.is_default() {
-        // Disks first: the first node is plotted and compared.
-        nodes.sort_by_key(|n| !model.disks.iter().any(|d| d.station.node == *n));
+    let request = request(args);
+    // Checked, and the default range told, before the first sweep starts.
+    let options = request
+        .sweep_options(model, request.settings.harmonics())
+        .map_err(option_error)?;
+    if args.speeds.is_none() {
+        announce(None, "speeds", &[options.from, options.to]);
     }
-    let options = sweep_options(args, model, args.hb.harmonics)?;
-    let most = args
-        .harmonics_study
-        .iter()
-        .flat_map(|l| l.0.iter().copied())
-        .fold(args.hb.harmonics, usize::max);
-    warn_if_slow(most, options.stability);
-    let result = lib(sweep_shown(model, &options))?;
-    let comparisons = args
-        .compare_time
-        .iter()
-        .map(|&w| compare_at(model, args, w, nodes[0]))
-        .collect::<miette::Result<Vec<_>>>()?;
-    let study = match &args.harmonics_study {
-        Some(list) => list
-            .0
-            .iter()
-            .map(|&h| {
-                let mut o = sweep_options(args, model, h)?;
-                o.stability = false;
-                Ok((h, lib(sweep_shown(model, &o))?))
-            })
-            .collect::<miette::Result<Vec<_>>>()?,
-        None => Vec::new(),
-    };
-
-    let report = SweepReport {
-        options,
-        sweep: result,
-        nodes,
-        comparisons,
-        study,
-    };
+    warn_if_slow(request.most_harmonics(), options.stability);
+    let report = lib(request.run(model, &mut |o| sweep_shown(model, o)))?;
     let summary = report_summary("hbm", &loaded, &report)?;
     let text = text_summary(model, &report);
     let tables = report.tables();
@@ -263,16 +251,6 @@ fn sweep_shown(model: &Model, options: &SweepOptions) -> whirl::Result<Sweep> {
     })
 }
 
-fn sweep_options(args: &Args, model: &Model, harmonics: usize) -> miette::Result<SweepOptions> {
-    let (from, to) = rising_range(&args.speeds, model)?;
-    let mut settings = args.hb.settings();
-    settings.harmonics = Some(harmonics);
-    settings.stability = Some(!args.no_stability);
-    let mut options = settings.options(from, to);
-    options.exact_speeds = args.compare_time.clone();
-    Ok(options)
-}
-
 /// The first and last speed of `--speeds` (rad/s), or the model's default range: a rising
 /// range of positive speeds, as harmonic balance needs.
 pub fn rising_range(speeds: &Option<Speeds>, model: &Model) -> miette::Result<(f64, f64)> {
@@ -286,26 +264,6 @@ pub fn rising_range(speeds: &Option<Speeds>, model: &Model) -> miette::Result<(f
         .help("e.g. --speeds 1:750Hz")
         .into()),
     }
-}
-
-/// A time-marching comparison: the settled response at one speed, read against the
-/// harmonic-balance solutions at exactly that speed ([`Sweep::at_speeds`]).
-type Comparison = SettledResponse;
-
-fn compare_at(model: &Model, args: &Args, w: f64, node: usize) -> miette::Result<Comparison> {
-    let settings = MarchSettings {
-        settle: args.settle,
-        record: args.record,
-        contact: args.hb.contact,
-        ..MarchSettings::default()
-    };
-    lib(settled_response(
-        model,
-        w,
-        node,
-        args.hb.harmonics,
-        &settings,
-    ))
 }
 
 fn text_summary(model: &Model, report: &SweepReport) -> String {

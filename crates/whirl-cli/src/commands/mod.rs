@@ -24,6 +24,7 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 use serde_json::Value;
+use whirl::given::Given;
 use whirl::model::Model;
 use whirl::report::Report;
 use whirl::units::{parse_quantity, parse_range, Dimension};
@@ -295,22 +296,44 @@ pub fn announce(text: Option<&str>, what: &str, w: &[f64]) {
     }
 }
 
-/// Clap parser of a time: `0.5s`, `200ms`, or a plain number in s; not negative.
+/// Clap parser of a time: `0.5s`, `200ms`, or a plain number in s; not negative (read as
+/// the Python package and the study file read it).
 pub fn time(text: &str) -> Result<f64, String> {
-    let t = parse_quantity(text, Dimension::Time).map_err(|e| e.to_string())?;
-    if t < 0.0 {
-        return Err(format!("`{text}`: a time must not be negative"));
-    }
-    Ok(t)
+    given(text, Given::time)
 }
 
 /// Clap parser of a positive length: `1 mm`, or a plain number in m.
 pub fn positive_length(text: &str) -> Result<f64, String> {
-    let x = parse_quantity(text, Dimension::Length).map_err(|e| e.to_string())?;
-    if x <= 0.0 {
-        return Err(format!("`{text}`: the length must be positive"));
-    }
-    Ok(x)
+    given(text, Given::length)
+}
+
+/// `text` read by the library as `read` reads an option, its error as clap shows it.
+pub fn given<T>(
+    text: &str,
+    read: fn(&Given, &str) -> Result<T, whirl::error::InputError>,
+) -> Result<T, String> {
+    read(&Given::Text(text.to_string()), "").map_err(|e| format!("`{text}`: {}", e.message))
+}
+
+/// Help text ending in the library's default: clap states a default only for an option it
+/// fills itself, and these the library fills.
+pub fn default_is(text: &str, default: impl std::fmt::Display) -> String {
+    format!("{} [default: {default}]", text.trim_end_matches('.'))
+}
+
+/// A default time for the help, e.g. `0.5s`.
+pub fn seconds(t: f64) -> String {
+    format!("{t}s")
+}
+
+/// A default frequency for the help, e.g. `0.5Hz`.
+pub fn hertz(f: f64) -> String {
+    format!("{f}Hz")
+}
+
+/// A default length for the help, e.g. `1um`.
+pub fn metres(x: f64) -> String {
+    format!("{}um", 1e6 * x)
 }
 
 /// Clap parser of a node index.
@@ -406,4 +429,36 @@ pub fn mode_count(text: &str) -> Result<usize, String> {
 /// Speed in Hz from rad/s.
 pub fn hz(w: f64) -> f64 {
     whirl::units::rad_s_to_hz(w)
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::ValueEnum;
+    use whirl::given::Choice;
+
+    /// clap lists and reads the option enums by its own names; the library reads them for
+    /// Python and the study file by [`Choice::NAMES`]: the two must be the same names.
+    fn same_names<T: ValueEnum + Choice + std::fmt::Debug>() {
+        let clap: Vec<String> = T::value_variants()
+            .iter()
+            .filter_map(|v| v.to_possible_value())
+            .map(|p| p.get_name().to_string())
+            .collect();
+        let library: Vec<&str> = T::NAMES.iter().map(|(n, _)| *n).collect();
+        assert_eq!(clap, library, "{}", std::any::type_name::<T>());
+    }
+
+    #[test]
+    fn every_option_enum_has_the_same_names_on_the_command_line_and_in_the_library() {
+        same_names::<whirl::bearing::ContactLaw>();
+        same_names::<whirl::time::Initial>();
+        same_names::<whirl::nsv::Component>();
+        same_names::<whirl::post::Window>();
+        same_names::<whirl::runup::Direction>();
+        same_names::<whirl::runup::Steady>();
+        same_names::<whirl::hbm::CageKind>();
+        same_names::<whirl::statics::RollerSupport>();
+        same_names::<whirl::time::Integrator>();
+        same_names::<whirl::map::Parallelism>();
+    }
 }

@@ -12,20 +12,25 @@
 //! with both directions `hysteresis.csv` and `bands.csv`; the plots `runup_map` (each sweep's time-frequency
 //! cascade beside the steady cascade) and `runup_nsv` (1X and NSV over speed, both
 //! directions and steady, hysteresis bands and coexisting steady motions marked).
-//! Every option left out takes the library's default ([`whirl::runup::RunupOptions::new`]).
+//! Every option left out takes the library's default ([`whirl::runup::RunupOptions::new`]),
+//! which the help states from the library's constants.
 
 use std::fmt::Write;
 
-use whirl::bearing::ContactLaw;
-use whirl::nsv::{CascadeRequest, Component};
-use whirl::post::Window;
+use whirl::given::Choice;
+use whirl::nsv::DEFAULT_THRESHOLD_M;
 use whirl::report::Report;
-use whirl::runup::{runup, Direction, Quantity, Runup, RunupReport, RunupRequest, Steady};
-use whirl::time::Initial;
+use whirl::runup::{
+    runup, Direction, Quantity, Runup, RunupReport, RunupRequest, Steady, DEFAULT_DIRECTION,
+    DEFAULT_HOLD, DEFAULT_HYSTERESIS_RATIO, DEFAULT_OVERLAP, DEFAULT_RATE_HZ_PER_S,
+    DEFAULT_SMOOTHING_HZ, DEFAULT_STEADY, DEFAULT_STEADY_SMOOTHING_HZ, DEFAULT_STEADY_SPEEDS,
+};
 use whirl::units::{parse_angular_acceleration, parse_speed_range};
 
-use super::cascade::{bins, flagged_error, frequency};
-use super::{finish, load, mode_count, node_index, positive_length, report_summary, time};
+use super::cascade::{flagged_error, frequency, RunSettings};
+use super::{
+    default_is, finish, hertz, load, metres, positive_length, report_summary, seconds, time,
+};
 use super::{Common, Outcome};
 use crate::interrupt;
 use crate::output::Output;
@@ -40,77 +45,44 @@ pub struct Args {
     /// operating range].
     #[arg(long, value_name = "RANGE", value_parser = speed_range)]
     pub speeds: Option<(f64, f64)>,
-    /// Acceleration of the spin: `20Hz/s`, `1200rpm/s`, or a plain number in rad/s^2
-    /// [default: 20Hz/s].
-    #[arg(long, value_name = "RATE", value_parser = rate, allow_hyphen_values = true)]
+    #[arg(long, value_name = "RATE", value_parser = rate, allow_hyphen_values = true,
+          help = default_is("Acceleration of the spin: `20Hz/s`, `1200rpm/s`, or a plain number in rad/s^2",
+                            format!("{DEFAULT_RATE_HZ_PER_S}Hz/s")))]
     pub rate: Option<f64>,
-    /// Run-up (low to high), coast-down (high to low), or both [default: both].
-    #[arg(long, value_enum)]
+    #[arg(long, value_enum, help = default_is("Run-up (low to high), coast-down (high to low), or both",
+                                              DEFAULT_DIRECTION.choice_name()))]
     pub direction: Option<Direction>,
-    /// Time at the starting speed before the ramp [default: 1s].
-    #[arg(long, value_name = "TIME", value_parser = time, allow_hyphen_values = true)]
+    #[arg(long, value_name = "TIME", value_parser = time, allow_hyphen_values = true,
+          help = default_is("Time at the starting speed before the ramp", seconds(DEFAULT_HOLD)))]
     pub hold: Option<f64>,
     /// Length of one short-time window [default: 1 / sqrt(rate in Hz/s)].
     #[arg(long, value_name = "TIME", value_parser = time, allow_hyphen_values = true)]
     pub window_length: Option<f64>,
-    /// Overlap of consecutive windows, a fraction in [0, 1) [default: 0.75].
-    #[arg(long, value_name = "FRACTION", allow_hyphen_values = true)]
+    #[arg(long, value_name = "FRACTION", allow_hyphen_values = true,
+          help = default_is("Overlap of consecutive windows, a fraction in [0, 1)", DEFAULT_OVERLAP))]
     pub overlap: Option<f64>,
-    /// The steady cascade compared with: none, the cascade, or the cascade from both starts
-    /// (marks coexisting motions; twice the cost) [default: starts].
-    #[arg(long, value_enum)]
+    #[arg(long, value_enum, help = default_is("The steady cascade compared with: none, the cascade, or the \
+cascade from both starts (marks coexisting motions; twice the cost)", DEFAULT_STEADY.choice_name()))]
     pub steady: Option<Steady>,
-    /// Speeds of the steady cascade over the range [default: 60].
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N",
+          help = default_is("Speeds of the steady cascade over the range", DEFAULT_STEADY_SPEEDS))]
     pub steady_speeds: Option<usize>,
-    /// Run-up and coast-down differ where the larger amplitude exceeds the smaller by this
-    /// ratio [default: 2].
-    #[arg(long, value_name = "RATIO", allow_hyphen_values = true)]
+    #[arg(long, value_name = "RATIO", allow_hyphen_values = true, help = default_is("Run-up and coast-down \
+differ where the larger amplitude exceeds the smaller by this ratio", DEFAULT_HYSTERESIS_RATIO))]
     pub hysteresis_ratio: Option<f64>,
-    /// ... and reaches this amplitude (zero-to-peak) [default: 1um].
-    #[arg(long, value_name = "LENGTH", value_parser = positive_length, allow_hyphen_values = true)]
+    #[arg(long, value_name = "LENGTH", value_parser = positive_length, allow_hyphen_values = true,
+          help = default_is("... and reaches this amplitude (zero-to-peak)", metres(DEFAULT_THRESHOLD_M)))]
     pub threshold: Option<f64>,
-    /// Span of speed each direction is smoothed over before they are compared: `10Hz`, or a
-    /// plain number in rad/s [default: 10Hz].
-    #[arg(long, value_name = "FREQ", value_parser = frequency, allow_hyphen_values = true)]
+    #[arg(long, value_name = "FREQ", value_parser = frequency, allow_hyphen_values = true,
+          help = default_is("Span of speed each direction is smoothed over before they are compared: `10Hz`, \
+or a plain number in rad/s", hertz(DEFAULT_SMOOTHING_HZ)))]
     pub smoothing: Option<f64>,
-    /// Span of speed each sweep's NSV is smoothed over before it is compared with the
-    /// steady cascade [default: 2Hz].
-    #[arg(long, value_name = "FREQ", value_parser = frequency, allow_hyphen_values = true)]
+    #[arg(long, value_name = "FREQ", value_parser = frequency, allow_hyphen_values = true,
+          help = default_is("Span of speed each sweep's NSV is smoothed over before it is compared with the \
+steady cascade", hertz(DEFAULT_STEADY_SMOOTHING_HZ)))]
     pub steady_smoothing: Option<f64>,
-    /// Initial state of the sweeps and the steady cascade [default: static].
-    #[arg(long, value_enum)]
-    pub start: Option<Initial>,
-    /// Contact law of the roller bearings [default: hertz when the model has roller
-    /// bearings, linear otherwise].
-    #[arg(long, value_name = "LAW", value_enum)]
-    pub contact: Option<ContactLaw>,
-    /// Craig-Bampton reduction keeping N fixed-interface modes [default: 12].
-    #[arg(long, value_name = "N", value_parser = mode_count)]
-    pub reduce: Option<usize>,
-    /// Integrate the full model instead of the reduced one.
-    #[arg(long, conflicts_with = "reduce")]
-    pub full_model: bool,
-    /// Central-difference time step [default: 0.9 x the stability limit].
-    #[arg(long, value_name = "TIME", value_parser = time, allow_hyphen_values = true)]
-    pub step: Option<f64>,
-    /// The node whose response is analysed [default: the first disk's node].
-    #[arg(long, value_name = "N", value_parser = node_index)]
-    pub node: Option<usize>,
-    /// Which displacement is analysed [default: uy].
-    #[arg(long, value_enum)]
-    pub component: Option<Component>,
-    /// Data window of the spectra [default: hann].
-    #[arg(long, value_enum)]
-    pub window: Option<Window>,
-    /// Top of the frequency band searched: `3000Hz`, or a plain number in rad/s [default:
-    /// the steady cascade's].
-    #[arg(long, value_name = "FREQ", value_parser = frequency, allow_hyphen_values = true)]
-    pub max_frequency: Option<f64>,
-    /// A peak within this many bins of a multiple of the running speed is synchronous
-    /// [default: 2].
-    #[arg(long, value_name = "BINS", value_parser = bins, allow_hyphen_values = true)]
-    pub tolerance: Option<f64>,
+    #[command(flatten)]
+    pub run: RunSettings,
     /// Top of the maps' frequency axis (the CSV files keep the whole band) [default: 2 x
     /// the highest speed].
     #[arg(long, value_name = "FREQ", value_parser = frequency, allow_hyphen_values = true)]
@@ -164,22 +136,7 @@ fn request(args: &Args) -> RunupRequest {
         threshold_m: args.threshold,
         smoothing_hz: args.smoothing,
         steady_smoothing_hz: args.steady_smoothing,
-        cascade: CascadeRequest {
-            start: args.start,
-            contact: args.contact,
-            reduce: if args.full_model {
-                Some(None)
-            } else {
-                args.reduce.map(Some)
-            },
-            step: args.step,
-            node: args.node,
-            component: args.component,
-            window: args.window,
-            max_frequency_hz: args.max_frequency,
-            tolerance_bins: args.tolerance,
-            ..CascadeRequest::default()
-        },
+        cascade: args.run.request(),
     }
 }
 

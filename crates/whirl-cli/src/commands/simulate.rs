@@ -38,16 +38,17 @@ mod contacts;
 use std::fmt::Write;
 
 use whirl::bearing::ContactLaw;
+use whirl::given::Choice;
 use whirl::model::Model;
 use whirl::report::Report;
 use whirl::time::{
     simulate, Initial, Integrator, RunStatus, SettledChannel, SimulationReport, SimulationRequest,
-    SimulationResult,
+    SimulationResult, DEFAULT_DIVERGENCE_BOUND, DEFAULT_DURATION, DEFAULT_INITIAL,
 };
 
 use super::{
-    finish, lib, load, mode_count, option_error, positive_length, report_summary, speed, time,
-    Common, Nodes, Outcome,
+    default_is, finish, lib, load, mode_count, option_error, positive_length, report_summary,
+    seconds, speed, time, Common, Nodes, Outcome,
 };
 use crate::error::Diag;
 use crate::output::Output;
@@ -61,12 +62,11 @@ pub struct Args {
     /// Spin speed: `50Hz`, `3000rpm`, or a plain number in rad/s.
     #[arg(long, value_name = "SPEED", value_parser = speed, allow_hyphen_values = true)]
     pub speed: f64,
-    /// Simulated time: `1s`, `500ms`, or a plain number in s.
-    #[arg(long, value_name = "TIME", default_value = "1s", value_parser = time, allow_hyphen_values = true)]
-    pub duration: f64,
-    /// Time integrator.
-    #[arg(long, value_enum, default_value = "cd")]
-    pub method: Integrator,
+    #[arg(long, value_name = "TIME", value_parser = time, allow_hyphen_values = true,
+          help = default_is("Simulated time: `1s`, `500ms`, or a plain number in s", seconds(DEFAULT_DURATION)))]
+    pub duration: Option<f64>,
+    #[arg(long, value_enum, help = default_is("Time integrator", Integrator::default().choice_name()))]
+    pub method: Option<Integrator>,
     /// HHT-alpha of --method newmark, in [-1/3, 0]: below 0 damps the highest
     /// frequencies (Hilber-Hughes-Taylor) [default: 0, the average-acceleration rule].
     #[arg(long, value_name = "ALPHA", allow_hyphen_values = true)]
@@ -94,14 +94,13 @@ pub struct Args {
     /// Raise the speed linearly from --speed to this over the settling time, then hold it.
     #[arg(long, value_name = "SPEED", value_parser = speed, allow_hyphen_values = true)]
     pub ramp_to: Option<f64>,
-    /// Initial state.
-    #[arg(long, value_enum, default_value = "static")]
-    pub start: Initial,
-    /// A recorded displacement (ux or uy of a recorded node, bearing nodes included)
-    /// beyond this means the run diverged; any integrated coordinate beyond 1000 times it
-    /// (rotations and modal coordinates too) as well.
-    #[arg(long, value_name = "LENGTH", default_value = "0.01", value_parser = positive_length)]
-    pub divergence_bound: f64,
+    #[arg(long, value_enum, help = default_is("Initial state", DEFAULT_INITIAL.choice_name()))]
+    pub start: Option<Initial>,
+    #[arg(long, value_name = "LENGTH", value_parser = positive_length, help = default_is(
+        "A recorded displacement (ux or uy of a recorded node, bearing nodes included) beyond this \
+means the run diverged; any integrated coordinate beyond 1000 times it (rotations and modal \
+coordinates too) as well", DEFAULT_DIVERGENCE_BOUND))]
+    pub divergence_bound: Option<f64>,
 }
 
 /// Clap parser of `--record-every`: a whole number of steps, at least 1.
@@ -141,7 +140,14 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let result = &report.result;
 
     let summary = report_summary("simulate", &loaded, &report)?;
-    let mut text = text(model, args, result, running_hz, &report.channels);
+    let mut text = text(
+        model,
+        args,
+        options.duration,
+        result,
+        running_hz,
+        &report.channels,
+    );
     contacts::text(&mut text, &report);
     let mut out = Output::begin(&args.common.out_dir("simulate"))?;
     for table in report.tables() {
@@ -157,8 +163,8 @@ fn request(args: &Args, nodes: Vec<usize>) -> SimulationRequest {
     SimulationRequest {
         speed: args.speed,
         ramp_to: args.ramp_to,
-        duration: Some(args.duration),
-        method: args.method,
+        duration: args.duration,
+        method: args.method.unwrap_or_default(),
         hht_alpha: args.hht_alpha,
         step: args.step,
         reduce: args.reduce,
@@ -166,8 +172,8 @@ fn request(args: &Args, nodes: Vec<usize>) -> SimulationRequest {
         nodes: Some(nodes),
         contact: args.contact,
         record_every: args.record_every,
-        start: Some(args.start),
-        divergence_bound: Some(args.divergence_bound),
+        start: args.start,
+        divergence_bound: args.divergence_bound,
     }
 }
 
@@ -191,6 +197,7 @@ fn check_settled_part(result: &SimulationResult) -> miette::Result<()> {
 fn text(
     model: &Model,
     args: &Args,
+    duration: f64,
     result: &SimulationResult,
     running_hz: f64,
     reports: &[SettledChannel],
@@ -202,7 +209,7 @@ fn text(
          {} coordinates{}, {} samples in {:.2} s",
         model.name,
         result.method,
-        args.duration,
+        duration,
         result.step,
         result.stable_step,
         result.coordinates,

@@ -7,6 +7,7 @@ use serde::Serialize;
 use crate::bearing::ContactLaw;
 use crate::error::Result;
 use crate::model::Model;
+use crate::nsv::{DEFAULT_RECORD, DEFAULT_SETTLE};
 use crate::post::order_component;
 use crate::system::SpeedProfile;
 use crate::time::{simulate, SimulationOptions, DEFAULT_MODES};
@@ -25,12 +26,12 @@ pub struct MarchSettings {
 }
 
 impl Default for MarchSettings {
-    /// 0.5 s settling and 0.5 s recorded on the reduced model with 12 modes and Hertz
-    /// contacts: the thesis' cascade settings (section 5.1).
+    /// The cascade's settling and recorded times on the reduced model with 12 modes and
+    /// Hertz contacts: the thesis' cascade settings (section 5.1).
     fn default() -> Self {
         MarchSettings {
-            settle: 0.5,
-            record: 0.5,
+            settle: DEFAULT_SETTLE,
+            record: DEFAULT_RECORD,
             modes: DEFAULT_MODES,
             contact: ContactLaw::Hertz,
         }

@@ -19,7 +19,8 @@
 //! - [`compare`]: time marching read in the same terms, to check harmonic balance against.
 //! - [`sweep()`]: a model's periodic response over a speed range, as `whirl hbm` runs it;
 //!   [`SweepReport`]: what it reports (summary and tables); [`SweepSettings`]: its settings
-//!   as a request gives them, each with its default.
+//!   as a request gives them, each with its default; [`HbmRequest`]: the whole `whirl hbm`
+//!   run (sweep, time-marching comparisons, harmonic-count study) as one request.
 //! - [`stability`]: the Floquet multipliers of each periodic solution, from its monodromy
 //!   matrix; [`bifurcation`]: where and how stability changes, named by the crossing
 //!   multiplier (fold or symmetry breaking, period doubling, Neimark-Sacker);
@@ -36,6 +37,7 @@ mod condensation;
 pub mod continuation;
 pub mod fourier;
 pub mod report;
+pub mod request;
 pub mod resolution;
 pub mod settings;
 pub mod stability;
@@ -52,6 +54,7 @@ pub use continuation::{
 };
 pub use fourier::{aliasing_free_samples, check_counts, MAX_HARMONICS, MAX_SAMPLES};
 pub use report::SweepReport;
+pub use request::{HbmRequest, DEFAULT_LOW_SPEED, HBM_OPTIONS};
 pub use resolution::{Resolution, RESOLUTION_TOLERANCE};
 pub use settings::{SweepSettings, DEFAULT_HARMONICS};
 pub use stability::{FloquetProblem, OrbitMode, Stability};

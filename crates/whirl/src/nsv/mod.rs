@@ -76,10 +76,10 @@ pub use classify::{NamedFrequency, Nsv, NsvClass, WhirlDirection};
 pub(crate) use options::next_five_smooth;
 pub use options::{
     default_speeds, even_speeds, records_span, Averaging, CascadeOptions, Component, Refinement,
-    Resolved, DEFAULT_ABSOLUTE_ERROR_M, DEFAULT_DECIDED_ERROR, DEFAULT_MAX_ADDED,
-    DEFAULT_MAX_RECORDS, DEFAULT_MIN_RECORDS, DEFAULT_MIN_SPACING_HZ, DEFAULT_ONSET_LEVELS_M,
-    DEFAULT_RELATIVE_ERROR, DEFAULT_SETTLE, DEFAULT_SETTLE_MAX, DEFAULT_SPEED_COUNT,
-    DEFAULT_TOLERANCE_BINS,
+    Resolved, DEFAULT_ABSOLUTE_ERROR_M, DEFAULT_COMPONENT, DEFAULT_DECIDED_ERROR,
+    DEFAULT_MAX_ADDED, DEFAULT_MAX_RECORDS, DEFAULT_MIN_RECORDS, DEFAULT_MIN_SPACING_HZ,
+    DEFAULT_ONSET_LEVELS_M, DEFAULT_RECORD, DEFAULT_RELATIVE_ERROR, DEFAULT_SETTLE,
+    DEFAULT_SETTLE_MAX, DEFAULT_SPEED_COUNT, DEFAULT_START, DEFAULT_TOLERANCE_BINS, DEFAULT_WINDOW,
 };
 pub use point::{
     dies_away, measure, negligible, CascadePoint, Measured, NsvPeak, DECAY_PER_STRETCH,
@@ -87,7 +87,7 @@ pub use point::{
 };
 pub use refine::SHARP_RATIO;
 pub use report::{CascadeReport, CascadeSummary, StartsSummary};
-pub use request::CascadeRequest;
+pub use request::{CascadeRequest, CASCADE_OPTIONS, MAX_MODES, RUN_SETTINGS};
 pub use starts::{
     compare_starts, other_start, other_start_options, StartComparison, StartPair,
     STARTS_DIFFER_SIGMAS,

@@ -21,6 +21,20 @@ pub const DEFAULT_SPEED_COUNT: usize = 150;
 /// Default shortest settling time, s: the first record is taken after it.
 pub const DEFAULT_SETTLE: f64 = 0.5;
 
+/// Default time recorded at each speed, s: 2 Hz bins.
+pub const DEFAULT_RECORD: f64 = 0.5;
+
+/// Default initial state of every run: the static equilibrium under gravity, where the
+/// rotor runs in service.
+pub const DEFAULT_START: Initial = Initial::StaticEquilibrium;
+
+/// Default displacement of the one-sided spectrum: the vertical, as the thesis' cascades
+/// (figs. 5.x) show the disk's response.
+pub const DEFAULT_COMPONENT: Component = Component::Uy;
+
+/// Default data window of the spectra.
+pub const DEFAULT_WINDOW: Window = Window::Hann;
+
 /// Default longest settling time, s: a speed whose start has not died away by then is
 /// reported unsettled. The reference rotor's first mode (2 % damping, 50 Hz) loses a factor
 /// of 500 per second, so free vibration of tens of micrometres is gone well within it.
@@ -67,14 +81,13 @@ const BAND_ORDERS: f64 = 2.5;
 const BAND_MARGIN: f64 = 1.25;
 
 /// Which displacement of the response node the one-sided spectrum is taken of.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Component {
     /// Horizontal, u_x.
     Ux,
-    /// Vertical, u_y: the thesis' cascades (figs. 5.x) show the disk's vertical response.
-    #[default]
+    /// Vertical, u_y.
     Uy,
 }
 
@@ -235,16 +248,16 @@ impl CascadeOptions {
             speeds,
             settle: DEFAULT_SETTLE,
             settle_max: DEFAULT_SETTLE_MAX.max(DEFAULT_SETTLE),
-            initial: Initial::StaticEquilibrium,
+            initial: DEFAULT_START,
             refine: Refinement::default(),
-            record: 0.5,
+            record: DEFAULT_RECORD,
             averaging: Averaging::default(),
             law: ContactLaw::default_for(model),
             reduction: Some(DEFAULT_MODES),
             step: None,
             node,
-            component: Component::Uy,
-            window: Window::Hann,
+            component: DEFAULT_COMPONENT,
+            window: DEFAULT_WINDOW,
             max_frequency_hz: None,
             tolerance_bins: DEFAULT_TOLERANCE_BINS,
             full: false,

@@ -55,11 +55,12 @@ use serde::Serialize;
 
 pub use compare::{Band, FlaggedSpeed, Hysteresis, HysteresisPoint, Quantity, SteadyDifference};
 pub use options::{
-    steady_speeds, Direction, RunupOptions, Steady, Sweep, DEFAULT_HOLD, DEFAULT_HYSTERESIS_RATIO,
-    DEFAULT_OVERLAP, DEFAULT_SMOOTHING_HZ, DEFAULT_STEADY_SMOOTHING_HZ, DEFAULT_STEADY_SPEEDS,
+    steady_speeds, Direction, RunupOptions, Steady, Sweep, DEFAULT_DIRECTION, DEFAULT_HOLD,
+    DEFAULT_HYSTERESIS_RATIO, DEFAULT_OVERLAP, DEFAULT_SMOOTHING_HZ, DEFAULT_STEADY,
+    DEFAULT_STEADY_SMOOTHING_HZ, DEFAULT_STEADY_SPEEDS,
 };
 pub use report::{RunupReport, RunupSummary, SweepSummary};
-pub use request::RunupRequest;
+pub use request::{RunupRequest, DEFAULT_RATE_HZ_PER_S, RUNUP_OPTIONS};
 
 use crate::error::{Error, Result};
 use crate::model::Model;

@@ -44,6 +44,12 @@ pub const DEFAULT_SMOOTHING_HZ: f64 = 10.0;
 /// 10 Hz.
 pub const DEFAULT_STEADY_SMOOTHING_HZ: f64 = 2.0;
 
+/// Default sweeps: run-up and coast-down, so that the hysteresis between them is read.
+pub const DEFAULT_DIRECTION: Direction = Direction::Both;
+
+/// Default steady cascade compared with: from both starts, marking coexisting motions.
+pub const DEFAULT_STEADY: Steady = Steady::Starts;
+
 /// Which way the speed is swept.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
@@ -154,11 +160,11 @@ impl RunupOptions {
             low,
             high,
             rate,
-            direction: Direction::Both,
+            direction: DEFAULT_DIRECTION,
             hold: DEFAULT_HOLD,
             window: None,
             overlap: DEFAULT_OVERLAP,
-            steady: Steady::Starts,
+            steady: DEFAULT_STEADY,
             cascade: CascadeOptions::new(model, speeds),
             hysteresis_ratio: DEFAULT_HYSTERESIS_RATIO,
             threshold_m: DEFAULT_THRESHOLD_M,

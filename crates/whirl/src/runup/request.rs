@@ -1,10 +1,16 @@
-//! A run-up as `whirl runup` and `whirl.runup` ask for it; [`RunupRequest::options`] turns
-//! it into the library's [`RunupOptions`], so the command line and the Python package map
-//! their options in one place.
+//! A run-up as `whirl runup` and `whirl.runup` ask for it: the command line fills it from
+//! its flags, the Python package by name ([`RunupRequest::set`]);
+//! [`RunupRequest::options`] turns it into the library's [`RunupOptions`], every option
+//! left out (`None`) at the library's default.
+
+// Options are read once per request, as the study file reads its own; a large error type
+// on this cold path is fine.
+#![allow(clippy::result_large_err)]
 
 use super::options::steady_speeds;
 use super::{Direction, RunupOptions, Steady, DEFAULT_STEADY_SPEEDS};
 use crate::error::{InputError, Result};
+use crate::given::{Given, SetByName};
 use crate::model::Model;
 use crate::nsv::CascadeRequest;
 use crate::units::hz_to_rad_s;
@@ -45,6 +51,22 @@ pub struct RunupRequest {
     /// them); its speeds are not read: the steady speeds come from the sweep's range.
     pub cascade: CascadeRequest,
 }
+
+/// The run-up's own options by name; [`crate::nsv::RUN_SETTINGS`] are read as the cascade reads them.
+pub const RUNUP_OPTIONS: [&str; 12] = [
+    "speeds",
+    "rate",
+    "direction",
+    "hold",
+    "window_length",
+    "overlap",
+    "steady",
+    "steady_speeds",
+    "hysteresis_ratio",
+    "threshold",
+    "smoothing",
+    "steady_smoothing",
+];
 
 impl RunupRequest {
     /// The library's options for `model`: each option given replaces its default.
@@ -89,5 +111,36 @@ impl RunupRequest {
         o.smoothing_hz = self.smoothing_hz.unwrap_or(o.smoothing_hz);
         o.steady_smoothing_hz = self.steady_smoothing_hz.unwrap_or(o.steady_smoothing_hz);
         Ok(o)
+    }
+}
+
+impl SetByName for RunupRequest {
+    /// Sets the option named `name` (one of [`RUNUP_OPTIONS`] or [`crate::nsv::RUN_SETTINGS`]) to
+    /// `value`.
+    ///
+    /// # Errors
+    /// [`InputError`] naming `name` for a value it does not read, or an unknown name.
+    fn set(&mut self, name: &str, value: &Given) -> std::result::Result<(), InputError> {
+        let v = value;
+        match name {
+            "speeds" => self.speeds = Some(v.speed_range(name)?),
+            "rate" => self.rate = Some(v.acceleration(name)?),
+            "direction" => self.direction = Some(v.choice(name)?),
+            "hold" => self.hold = Some(v.time(name)?),
+            "window_length" => self.window_length = Some(v.time(name)?),
+            "overlap" => self.overlap = Some(v.number(name)?),
+            "steady" => self.steady = Some(v.choice(name)?),
+            "steady_speeds" => self.steady_speeds = Some(v.whole(name, 0, usize::MAX >> 1)?),
+            "hysteresis_ratio" => self.hysteresis_ratio = Some(v.number(name)?),
+            "threshold" => self.threshold_m = Some(v.length(name)?),
+            "smoothing" => self.smoothing_hz = Some(v.frequency_hz(name)?),
+            "steady_smoothing" => self.steady_smoothing_hz = Some(v.frequency_hz(name)?),
+            _ => {
+                return self
+                    .cascade
+                    .set_run_setting(name, v, &RUNUP_OPTIONS, "run-up")
+            }
+        }
+        Ok(())
     }
 }

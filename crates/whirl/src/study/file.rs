@@ -41,35 +41,3 @@ pub struct SweepFile {
     /// Fit of the largest NSV versus the parameter: `"linear"`, `"quadratic"`, `"cubic"`.
     pub fit: Option<Spanned<String>>,
 }
-
-/// `[cascade]`, after the sweeps' edits: every field optional.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct CascadeFile {
-    /// Speeds `start:stop:count`, e.g. `"1:750Hz:150"`.
-    pub speeds: Option<String>,
-    /// Settling time discarded at each speed, e.g. `"0.5 s"`.
-    pub settle: Option<toml::Value>,
-    /// Recorded time analysed at each speed, e.g. `"0.5 s"`.
-    pub record: Option<toml::Value>,
-    /// Bearing contact law: `"hertz"`, `"lagrange"`, `"forcing"` or `"linear"`.
-    pub contact: Option<String>,
-    /// Central-difference time step, e.g. `"5 us"` (default: 0.9 of the stability limit).
-    pub step: Option<toml::Value>,
-    /// Craig-Bampton modes; 0 for the full model.
-    pub reduce: Option<i64>,
-    /// The node whose response is analysed (default: the first disk's).
-    pub node: Option<i64>,
-    /// Its displacement analysed: `"uy"` (default) or `"ux"`.
-    pub component: Option<String>,
-    /// Top of the analysed band, e.g. `"1000 Hz"`.
-    pub max_frequency: Option<toml::Value>,
-    /// NSV below this does not count for the onset speed, e.g. `"1 um"`.
-    pub nsv_threshold: Option<toml::Value>,
-    /// Longest settling time, e.g. `"4 s"` (each speed settles until its start has died).
-    pub settle_max: Option<toml::Value>,
-    /// Initial state: `"static"` (default) or `"rest"`.
-    pub start: Option<String>,
-    /// Whether the speed grid is refined (default true).
-    pub refine: Option<bool>,
-}

@@ -37,11 +37,12 @@ use toml_edit::DocumentMut;
 
 use crate::error::{Error, InputError, Result};
 use crate::model::Model;
+use crate::nsv::CascadeRequest;
 use crate::units::{parse_quantity, Dimension};
 use file::{StudyFile, SweepFile};
 use path::{ParameterPath, PATH_HELP};
 use results::Metric;
-use settings::{cascade_settings, CascadeSettings};
+use settings::cascade_settings;
 
 /// The most points a study may have: each is a whole cascade.
 pub const MAX_POINTS: usize = 1000;
@@ -104,7 +105,7 @@ pub struct Point {
     /// The model file's text after the edits.
     pub model_text: String,
     /// The cascade settings.
-    pub cascade: CascadeSettings,
+    pub cascade: CascadeRequest,
 }
 
 impl Point {
@@ -369,8 +370,8 @@ impl Expander {
         let model_json = serde_json::to_string(&valid).unwrap_or_default();
         let cascade_json = serde_json::to_string(&settings).unwrap_or_default();
         let key = store::fingerprint(&[crate::BUILD_ID, &model_json, &cascade_json]);
-        let unread = CascadeSettings {
-            nsv_threshold: None,
+        let unread = CascadeRequest {
+            threshold: None,
             ..settings.clone()
         };
         let unread_json = serde_json::to_string(&unread).unwrap_or_default();

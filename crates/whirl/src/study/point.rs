@@ -6,14 +6,12 @@ use std::path::Path;
 use super::results::{CascadeMap, NsvSummary, PointResult};
 use super::Point;
 use crate::error::{InputError, Result};
-use crate::nsv::{
-    cascade, Cascade, CascadeOptions, CascadeRequest, Component, DEFAULT_THRESHOLD_M,
-};
+use crate::nsv::{cascade, Cascade, CascadeOptions};
 use crate::progress::Progress;
 
 /// The cascade options of a point: the cascade's defaults, changed where the study's
-/// `[cascade]` table says so ([`CascadeRequest`], as the command line and the Python
-/// package ask). Without speeds, the cascade's default speeds
+/// `[cascade]` table says so (its [`crate::nsv::CascadeRequest`], as the command line and
+/// the Python package ask). Without speeds, the cascade's default speeds
 /// ([`crate::nsv::default_speeds`]), as on the command line.
 ///
 /// # Errors
@@ -21,26 +19,7 @@ use crate::progress::Progress;
 /// its model (e.g. no speeds and no operating range).
 pub fn cascade_options(point: &Point) -> Result<CascadeOptions> {
     let s = &point.cascade;
-    let request = CascadeRequest {
-        speeds: s.speeds.clone(),
-        settle: s.settle,
-        settle_max: s.settle_max,
-        start: s.start,
-        refine: s.refine,
-        record: s.record,
-        contact: s.contact,
-        // 0 modes: the full model.
-        reduce: s.reduce.map(|modes| (modes > 0).then_some(modes)),
-        step: s.step,
-        node: s.node,
-        component: s.component.as_deref().map(|c| match c {
-            "ux" => Component::Ux,
-            _ => Component::Uy,
-        }),
-        max_frequency_hz: s.max_frequency_hz,
-        ..CascadeRequest::default()
-    };
-    request.options(&point.model).map_err(|e| match e {
+    s.options(&point.model).map_err(|e| match e {
         // The only way the request fails: no speeds and no range to take the default from;
         // named as the study file's field.
         crate::Error::Input(_) if s.speeds.is_none() => InputError::field(
@@ -66,7 +45,7 @@ pub fn compute(
 ) -> Result<PointResult> {
     let options = cascade_options(point)?;
     let c = cascade(&point.model, &options, checkpoint, progress)?;
-    let threshold = point.cascade.nsv_threshold.unwrap_or(DEFAULT_THRESHOLD_M);
+    let threshold = point.cascade.threshold_m();
     Ok(point_result(&point.key, &c, threshold))
 }
 

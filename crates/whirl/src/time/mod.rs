@@ -40,8 +40,8 @@ pub use simulate::{
     order_label, simulate, simulate_with, stable_step, stable_step_of, BearingReport, Channel,
     FrequencyCheck, Hooks, Initial, Integrator, Method, RunStatus, SimulationOptions,
     SimulationReport, SimulationRequest, SimulationResult, SimulationSummary, Until,
-    CONTACT_LINE_CAGE_TURNS, DEFAULT_DIVERGENCE_BOUND, DEFAULT_SAMPLE_INTERVAL, DEFAULT_STEP,
-    DIVERGENCE_NET, MATCH_BINS,
+    CONTACT_LINE_CAGE_TURNS, DEFAULT_DIVERGENCE_BOUND, DEFAULT_DURATION, DEFAULT_INITIAL,
+    DEFAULT_SAMPLE_INTERVAL, DEFAULT_STEP, DIVERGENCE_NET, MATCH_BINS, SIMULATE_OPTIONS,
 };
 pub use statics::static_equilibrium;
 

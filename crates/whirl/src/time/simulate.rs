@@ -45,7 +45,7 @@ pub use report::{
     order_label, BearingReport, FrequencyCheck, SimulationReport, SimulationSummary,
     CONTACT_LINE_CAGE_TURNS, MATCH_BINS,
 };
-pub use request::{Integrator, SimulationRequest};
+pub use request::{Integrator, SimulationRequest, SIMULATE_OPTIONS};
 
 use std::ops::ControlFlow;
 use std::time::Instant;
@@ -185,6 +185,13 @@ pub const DEFAULT_STEP: f64 = 1e-5;
 /// of MB for a second of motion.
 pub const DEFAULT_SAMPLE_INTERVAL: f64 = 1e-5;
 
+/// Simulated time when none is given, s.
+pub const DEFAULT_DURATION: f64 = 1.0;
+
+/// Initial state when none is given: the static equilibrium under gravity, where the rotor
+/// runs in service.
+pub const DEFAULT_INITIAL: Initial = Initial::StaticEquilibrium;
+
 /// Divergence bound when none is given, m: a centimetre, hundreds of times a bearing's
 /// clearance, so only a run that has left the physics reaches it.
 pub const DEFAULT_DIVERGENCE_BOUND: f64 = 0.01;
@@ -194,14 +201,14 @@ impl SimulationOptions {
     pub fn new(speed: SpeedProfile) -> Self {
         SimulationOptions {
             speed,
-            duration: 1.0,
+            duration: DEFAULT_DURATION,
             step: None,
             method: Method::CentralDifference,
             contact: None,
             reduction: None,
             settle: None,
             nodes: None,
-            initial: Initial::StaticEquilibrium,
+            initial: DEFAULT_INITIAL,
             divergence_bound: DEFAULT_DIVERGENCE_BOUND,
             record_every: None,
             record_rollers: true,

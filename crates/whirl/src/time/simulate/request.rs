@@ -8,9 +8,14 @@
 //! `settle`), so the command line can print `--hht-alpha` and Python `hht_alpha` from one
 //! check.
 
+// Options are read once per request; a large error type on this cold path is fine.
+#![allow(clippy::result_large_err)]
+
 use super::{Initial, Method, SimulationOptions};
 use crate::bearing::ContactLaw;
 use crate::error::{InputError, Result};
+use crate::given::{unknown_option, Given, SetByName};
+use crate::nsv::MAX_MODES;
 use crate::system::SpeedProfile;
 use crate::time::{NewmarkScheme, RkTolerances};
 
@@ -27,6 +32,24 @@ pub enum Integrator {
     /// interval.
     Rk,
 }
+
+/// The options [`SimulationRequest`] reads by name: the command line's flags with `_` for
+/// `-`.
+pub const SIMULATE_OPTIONS: [&str; 13] = [
+    "speed",
+    "duration",
+    "method",
+    "hht_alpha",
+    "step",
+    "reduce",
+    "settle",
+    "nodes",
+    "contact",
+    "record_every",
+    "ramp_to",
+    "start",
+    "divergence_bound",
+];
 
 /// One run's settings as given (`None`: the library's default, see [`SimulationOptions`]).
 #[derive(Debug, Clone, Default)]
@@ -118,5 +141,28 @@ impl SimulationRequest {
                 duration: settle,
             }),
         }
+    }
+}
+
+impl SetByName for SimulationRequest {
+    fn set(&mut self, name: &str, value: &Given) -> std::result::Result<(), InputError> {
+        let v = value;
+        match name {
+            "speed" => self.speed = v.speed(name)?,
+            "duration" => self.duration = Some(v.time(name)?),
+            "method" => self.method = v.choice(name)?,
+            "hht_alpha" => self.hht_alpha = Some(v.number(name)?),
+            "step" => self.step = Some(v.time(name)?),
+            "reduce" => self.reduce = Some(v.whole(name, 1, MAX_MODES)?),
+            "settle" => self.settle = Some(v.time(name)?),
+            "nodes" => self.nodes = Some(v.wholes(name, 0, usize::MAX >> 1)?),
+            "contact" => self.contact = Some(v.choice(name)?),
+            "record_every" => self.record_every = Some(v.whole(name, 1, usize::MAX >> 1)?),
+            "ramp_to" => self.ramp_to = Some(v.speed(name)?),
+            "start" => self.start = Some(v.choice(name)?),
+            "divergence_bound" => self.divergence_bound = Some(v.length(name)?),
+            _ => return Err(unknown_option(name, &SIMULATE_OPTIONS, "simulation")),
+        }
+        Ok(())
     }
 }
