@@ -50,11 +50,14 @@ fn two_clearances_through_the_first_resonance() {
     assert_eq!(summary["parameter"], "roller_bearing[*].clearance");
     for v in summary["values"].as_array().unwrap() {
         let first = v["first_stability_loss_hz"].as_f64().unwrap();
-        // The first resonance's instabilities (45.2 and 40.4 Hz at H = 5 on the full
-        // model); H = 2 on 12 modes moves them by about 1 Hz.
-        assert!((38.0..48.0).contains(&first), "{v}");
         let bands = v["bands"].as_array().unwrap();
         assert_eq!(bands[0]["opens_hz"].as_f64(), Some(first));
+        // The first resonance's instabilities (45.2 Hz at 20 um at H = 5 on the full model;
+        // H = 2 on 12 modes moves them by about 1 Hz), or below it a period-doubling tongue
+        // where the second mode's forward whirl meets 7.5 times the speed (32-36 Hz from 26
+        // to 60 um, docs/theory.md section 7).
+        let tongue = bands[0]["opens"] == "period doubling" && (32.0..37.0).contains(&first);
+        assert!(tongue || (38.0..48.0).contains(&first), "{v}");
     }
     assert_eq!(summary["clear_below"]["largest_clear"], "60um");
     let csv = std::fs::read_to_string(out.join("bands.csv")).unwrap();
