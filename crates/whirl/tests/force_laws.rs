@@ -219,8 +219,8 @@ fn smooth_states() -> Vec<State> {
     ]
 }
 
-/// Runs `check` on every force at each of its states (on its own coordinates), after
-/// asserting that the state loads the force: a zero force would pass with a zero Jacobian.
+/// Runs `check` on every force at each of its states (on its own coordinates), and asserts
+/// that the state loads the force: a zero force would pass with a zero Jacobian.
 fn at_every_loaded_state(mut check: impl FnMut(&mut dyn NonlinearForce, &[f64], &[f64])) {
     for Case { mut force, contact } in every_force() {
         let states = if contact {
@@ -231,13 +231,15 @@ fn at_every_loaded_state(mut check: impl FnMut(&mut dyn NonlinearForce, &[f64], 
         let m = force.dofs().len();
         for (q, v) in states {
             let (q, v) = (&q[..m], &v[..m]);
+            // The check first: its first call is the first at this state, so a force that
+            // kept the previous state's values would be caught.
+            check(force.as_mut(), q, v);
             let f = force_at(force.as_mut(), q, v);
             assert!(
                 f.iter().any(|x| x.abs() > 1e-3),
                 "{}: no force at q = {q:?}",
                 force.name()
             );
-            check(force.as_mut(), q, v);
         }
     }
 }
