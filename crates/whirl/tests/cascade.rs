@@ -314,3 +314,151 @@ fn a_speed_whose_static_start_fails_starts_from_rest_and_says_so() {
     assert_eq!(summary.started_from_rest_hz.len(), 1);
     assert!((summary.started_from_rest_hz[0] - 120.0).abs() < 1e-9);
 }
+
+/// The stored NSV of [`reference_cascade`], written by this file's
+/// `the_nsv_summary_matches_the_stored_one` when run with `WHIRL_STORE_NSV=1`.
+const STORED_NSV: &str = "tests/fixtures/nsv-reference-cascade.json";
+
+/// A cheap cascade of the reference rotor: 4 speeds, two below its first-mode NSV and two
+/// in it, on the default reduced model, 0.2 s records (5 Hz bins) after 0.2 s settling, no
+/// refinement. The whirl at 207.1 and 330 Hz is irregular: its standard error is 10-12 %
+/// after the 4 records the averaging stops at, and still 8-13 % after 32 (the records are
+/// correlated), so the default averaging is kept.
+fn reference_cascade() -> Cascade {
+    let model = reference_rotor();
+    let mut options = CascadeOptions::new(&model, rad_s(&[40.0, 100.0, 207.1, 330.0]));
+    options.settle = 0.2;
+    options.record = 0.2;
+    options.refine.enabled = false;
+    cascade(&model, &options, None, None).unwrap()
+}
+
+/// Each speed's NSV (amplitude, its standard error, frequency, class) and the summary at
+/// the default threshold, as JSON.
+fn nsv_record(c: &Cascade) -> serde_json::Value {
+    let speeds: Vec<serde_json::Value> = c
+        .points
+        .iter()
+        .zip(&c.nsv)
+        .map(|(p, n)| {
+            serde_json::json!({
+                "speed_hz": p.speed_hz,
+                "settled": p.settled,
+                "records": p.records,
+                "amplitude_m": n.as_ref().map_or(0.0, |n| n.peak.amplitude_m),
+                "standard_error_m": n.as_ref().map_or(0.0, |n| n.peak.standard_error_m),
+                "frequency_hz": n.as_ref().map(|n| n.peak.frequency_hz),
+                "class": n.as_ref().map(|n| n.class),
+            })
+        })
+        .collect();
+    serde_json::json!({
+        "resolution_hz": c.resolved.resolution_hz,
+        "speeds": speeds,
+        "summary": c.nsv_summary(DEFAULT_THRESHOLD_M),
+    })
+}
+
+/// One speed's NSV as stored.
+struct Level<'a>(&'a serde_json::Value);
+
+impl Level<'_> {
+    fn number(&self, key: &str) -> f64 {
+        self.0[key]
+            .as_f64()
+            .unwrap_or_else(|| panic!("{key} in {}", self.0))
+    }
+    fn amplitude(&self) -> f64 {
+        self.number("amplitude_m")
+    }
+    fn error(&self) -> f64 {
+        self.number("standard_error_m")
+    }
+}
+
+/// Whether the NSV at one speed, now and stored, stays within three standard errors of the
+/// two (`combined`): each is an estimate of the mean over the steady motion, so two
+/// estimates disagree by more in 0.3 % of cases; a code change that moves it by more has
+/// changed the motion, not the sampling of it.
+fn agrees(now: &Level, stored: &Level, combined: f64) -> bool {
+    (now.amplitude() - stored.amplitude()).abs() <= 3.0 * combined
+}
+
+/// Checks each speed against the stored one: settled alike, the NSV within three combined
+/// standard errors, its frequency within one bin (the peak is interpolated between bins),
+/// its class the same (a class that changes is another answer). Returns the largest
+/// allowed move over the speeds.
+fn check_speeds(now: &serde_json::Value, stored: &serde_json::Value) -> f64 {
+    let bin = stored["resolution_hz"].as_f64().unwrap();
+    let (now, stored) = (
+        now["speeds"].as_array().unwrap(),
+        stored["speeds"].as_array().unwrap(),
+    );
+    assert_eq!(now.len(), stored.len());
+    let mut widest = 0.0f64;
+    for (n, s) in now.iter().zip(stored) {
+        let speed = s["speed_hz"].as_f64().unwrap();
+        assert_eq!(n["settled"], s["settled"], "{speed} Hz");
+        let (a, b) = (Level(n), Level(s));
+        let combined = a.error().hypot(b.error());
+        assert!(
+            agrees(&a, &b, combined),
+            "{speed} Hz: NSV {:.3e} +- {:.1e} m, stored {:.3e} +- {:.1e} m",
+            a.amplitude(),
+            a.error(),
+            b.amplitude(),
+            b.error()
+        );
+        if let (Some(f), Some(g)) = (n["frequency_hz"].as_f64(), s["frequency_hz"].as_f64()) {
+            assert!(
+                (f - g).abs() <= bin,
+                "{speed} Hz: NSV at {f} Hz, stored {g} Hz"
+            );
+        }
+        assert_eq!(n["class"], s["class"], "{speed} Hz");
+        widest = widest.max(3.0 * combined);
+        // The counts above the threshold below are compared only if no speed's NSV may
+        // cross it within its tolerance.
+        assert!(
+            (b.amplitude() - DEFAULT_THRESHOLD_M).abs() > 3.0 * combined,
+            "{speed} Hz: the stored NSV {:.3e} m is within three standard errors of the \
+             threshold; choose other speeds and store again",
+            b.amplitude()
+        );
+    }
+    widest
+}
+
+/// A cheap cascade's NSV against the one stored in `STORED_NSV`: per speed within the
+/// cascade's own standard errors ([`check_speeds`]), and the summary's onset, count above
+/// the threshold, largest NSV and its speed, dominant class, and median and mean. The mean
+/// and median move by at most the largest move of a speed (both are 1-Lipschitz in the
+/// largest difference of the levels), so that is their tolerance. After a change that is
+/// meant to move the NSV, store it again: `WHIRL_STORE_NSV=1 cargo test -p
+/// whirl-rotordynamics --test cascade stored`.
+#[test]
+fn the_nsv_summary_matches_the_stored_one() {
+    faer::set_global_parallelism(faer::Par::Seq);
+    let now = nsv_record(&reference_cascade());
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(STORED_NSV);
+    if std::env::var_os("WHIRL_STORE_NSV").is_some() {
+        std::fs::write(&path, serde_json::to_string_pretty(&now).unwrap() + "\n").unwrap();
+    }
+    let stored: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let widest = check_speeds(&now, &stored);
+    let (n, s) = (&now["summary"], &stored["summary"]);
+    for key in ["onset_speed_hz", "speeds_above_threshold", "dominant_class"] {
+        assert_eq!(n[key], s[key], "{key}");
+    }
+    assert_eq!(n["largest"]["speed_hz"], s["largest"]["speed_hz"]);
+    let (a, b) = (Level(&n["largest"]), Level(&s["largest"]));
+    assert!(agrees(&a, &b, a.error().hypot(b.error())), "largest NSV");
+    for key in ["median_m", "mean_m"] {
+        let (x, y) = (
+            n["statistics"][key].as_f64().unwrap(),
+            s["statistics"][key].as_f64().unwrap(),
+        );
+        assert!((x - y).abs() <= widest, "{key}: {x:e} m, stored {y:e} m");
+    }
+}
