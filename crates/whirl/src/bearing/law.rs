@@ -174,3 +174,10 @@ fn waviness_cage_orders(bearing: &RollerBearing, w: &Waviness) -> Option<f64> {
         }
     }
 }
+
+crate::given::choice!(ContactLaw {
+    "hertz" => ContactLaw::Hertz,
+    "lagrange" => ContactLaw::Lagrange,
+    "forcing" => ContactLaw::Forcing,
+    "linear" => ContactLaw::Linear,
+});

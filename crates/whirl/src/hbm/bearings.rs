@@ -308,6 +308,8 @@ pub fn caged_bearings(
         .collect()
 }
 
+crate::given::choice!(CageKind { "passage" => CageKind::Passage, "frozen" => CageKind::Frozen });
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -17,9 +17,8 @@ use super::report::SweepReport;
 use super::settings::SweepSettings;
 use super::sweep::{Sweep, SweepOptions};
 use crate::error::{InputError, Result};
-use crate::given::{unknown_option, Given, SetByName};
+use crate::given::{unknown_option, Given, SetByName, MAX_MODES};
 use crate::model::Model;
-use crate::nsv::MAX_MODES;
 use crate::units::rad_s_to_hz;
 
 /// The lowest speed of the default range, rad/s (1 Hz): harmonic balance needs a running

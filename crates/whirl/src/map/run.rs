@@ -177,3 +177,5 @@ fn thread_cpu_seconds() -> Option<f64> {
     let ns: f64 = text.split_whitespace().next()?.parse().ok()?;
     (ns > 0.0).then_some(1e-9 * ns)
 }
+
+crate::given::choice!(Parallelism { "values" => Parallelism::Values, "within-sweeps" => Parallelism::WithinSweeps });

@@ -72,6 +72,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 use serde::Serialize;
 
+pub use crate::given::MAX_MODES;
 pub use classify::{NamedFrequency, Nsv, NsvClass, WhirlDirection};
 pub(crate) use options::next_five_smooth;
 pub use options::{
@@ -87,7 +88,7 @@ pub use point::{
 };
 pub use refine::SHARP_RATIO;
 pub use report::{CascadeReport, CascadeSummary, StartsSummary};
-pub use request::{CascadeRequest, CASCADE_OPTIONS, MAX_MODES, RUN_SETTINGS};
+pub use request::{CascadeRequest, CASCADE_OPTIONS, RUN_SETTINGS};
 pub use starts::{
     compare_starts, other_start, other_start_options, StartComparison, StartPair,
     STARTS_DIFFER_SIGMAS,

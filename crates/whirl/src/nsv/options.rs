@@ -586,6 +586,8 @@ pub(super) fn check_settings(model: &Model, o: &CascadeOptions) -> Result<()> {
     Ok(())
 }
 
+crate::given::choice!(Component { "ux" => Component::Ux, "uy" => Component::Uy });
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -14,13 +14,10 @@ use serde::Serialize;
 use super::{default_speeds, CascadeOptions, Component, DEFAULT_THRESHOLD_M};
 use crate::bearing::ContactLaw;
 use crate::error::{InputError, Result};
-use crate::given::{unknown_option, Given, SetByName};
+use crate::given::{unknown_option, Given, SetByName, MAX_MODES};
 use crate::model::Model;
 use crate::post::Window;
 use crate::time::Initial;
-
-/// Most fixed-interface modes a reduction may keep.
-pub const MAX_MODES: usize = 200;
 
 /// The options of a cascade as the user gives them; `None` leaves the library's default
 /// ([`CascadeOptions::new`], [`default_speeds`], [`DEFAULT_THRESHOLD_M`]). Serialised

@@ -333,3 +333,6 @@ pub(super) fn window_samples(o: &RunupOptions, sample_interval: f64) -> Result<u
     }
     Ok(samples)
 }
+
+crate::given::choice!(Direction { "up" => Direction::Up, "down" => Direction::Down, "both" => Direction::Both });
+crate::given::choice!(Steady { "none" => Steady::None, "cascade" => Steady::Cascade, "starts" => Steady::Starts });

@@ -191,3 +191,5 @@ pub fn static_response(model: &Model, rollers: RollerSupport) -> Result<StaticRe
         displacements: q,
     })
 }
+
+crate::given::choice!(RollerSupport { "hertz" => RollerSupport::Hertz, "linear" => RollerSupport::Linear });

@@ -917,3 +917,5 @@ fn starting_point(
         Err(e) => Err(e),
     }
 }
+
+crate::given::choice!(Initial { "static" => Initial::StaticEquilibrium, "rest" => Initial::Rest });

@@ -14,8 +14,7 @@
 use super::{Initial, Method, SimulationOptions};
 use crate::bearing::ContactLaw;
 use crate::error::{InputError, Result};
-use crate::given::{unknown_option, Given, SetByName};
-use crate::nsv::MAX_MODES;
+use crate::given::{unknown_option, Given, SetByName, MAX_MODES};
 use crate::system::SpeedProfile;
 use crate::time::{NewmarkScheme, RkTolerances};
 
@@ -166,3 +165,5 @@ impl SetByName for SimulationRequest {
         Ok(())
     }
 }
+
+crate::given::choice!(Integrator { "cd" => Integrator::Cd, "newmark" => Integrator::Newmark, "rk" => Integrator::Rk });
