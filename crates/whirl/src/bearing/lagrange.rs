@@ -359,10 +359,12 @@ impl LagrangeContacts {
         let c = self.coordinates.len();
         let w = &mut self.work;
         w.set.clear();
+        let mut deepest = f64::NEG_INFINITY;
         for j in 0..m {
             let (cs, sn, b) = w.rows[j];
             let (ix, iy) = (self.coordinates[2 * b], self.coordinates[2 * b + 1]);
             w.approach[j] = cs * q[ix] + sn * q[iy] + w.offsets[j];
+            deepest = deepest.max(w.approach[j]);
             if w.approach[j] > 0.0 {
                 w.set.push(j);
             }
@@ -372,15 +374,14 @@ impl LagrangeContacts {
             return Ok(ContactStep {
                 active: 0,
                 iterations: 0,
-                penetration: w.approach.iter().fold(f64::NEG_INFINITY, |a, &d| a.max(d)),
+                penetration: deepest,
             });
         }
         // Only the rollers that penetrate enter the problem (two to five of a bearing's,
         // against all of them): a roller the correction would push in joins, and the
         // problem is solved again, so the answer is that of the problem on every roller.
-        let depth = w.approach.iter().fold(0.0f64, |a, &d| a.max(d));
         let mut iterations = w.solve_set(s_block, c)?;
-        while w.add_pushed_in(s_block, c, PUSHED_IN * depth) {
+        while w.add_pushed_in(s_block, c, PUSHED_IN * deepest) {
             iterations += w.solve_set(s_block, c)?;
         }
         for (a, &j) in w.set.iter().enumerate() {
