@@ -6,7 +6,7 @@
 //! [`DECADES`] decades below the largest: on a linear one the 1X near a critical speed
 //! would flatten every non-synchronous peak into the baseline.
 
-use whirl::nsv::{Cascade, CascadePoint, Component, NsvClass, StartComparison};
+use whirl::nsv::{Cascade, CascadePoint, Component, NsvClass, StartComparison, WhirlDirection};
 use whirl::time::Initial;
 use whirl_plot::{Colour, Figure2d, HeatMap, LegendPosition, Marker, RefLine, Series, Style};
 
@@ -302,7 +302,7 @@ pub fn nsv_amplitude(c: &Cascade, threshold: f64) -> Figure2d {
         .label("1X")
         .style(Style::solid(Colour::GREY)),
     );
-    for (i, class) in NsvClass::ALL.iter().enumerate() {
+    for class in NsvClass::ALL.iter() {
         let (x, y): (Vec<f64>, Vec<f64>) = c
             .nsv
             .iter()
@@ -314,7 +314,7 @@ pub fn nsv_amplitude(c: &Cascade, threshold: f64) -> Figure2d {
             fig.series.push(
                 Series::new(x, y)
                     .label(class.name())
-                    .style(Style::markers(Colour::Palette(i), Marker::Circle).marker_size(4)),
+                    .style(class_style(*class)),
             );
         }
     }
@@ -326,4 +326,46 @@ pub fn nsv_amplitude(c: &Cascade, threshold: f64) -> Figure2d {
         .filter_map(|(p, n)| n.as_ref().map(|n| (p.speed_hz, 1e6 * n.peak.amplitude_m)))
         .unzip();
     rings_on_a_log_scale(fig, x, y, "added by refinement", threshold)
+}
+
+/// A class's markers: the colour names the mechanism (seven, one palette entry each), the
+/// symbol the whirl (circle forward or undirected, triangle backward, square planar), so
+/// no two of the thirteen classes look alike.
+fn class_style(class: NsvClass) -> Style {
+    let (mechanism, direction) = match class {
+        NsvClass::Subharmonic(d) => (0, Some(d)),
+        NsvClass::VaryingCompliance => (1, None),
+        NsvClass::Whip(d) => (2, Some(d)),
+        NsvClass::CombinationResonance(d) => (3, Some(d)),
+        NsvClass::SuperHarmonic => (4, None),
+        NsvClass::Other => (5, None),
+        NsvClass::Unsettled => (6, None),
+    };
+    let marker = match direction {
+        Some(WhirlDirection::Backward) => Marker::Triangle,
+        Some(WhirlDirection::Planar) => Marker::Square,
+        _ => Marker::Circle,
+    };
+    Style::markers(Colour::Palette(mechanism), marker).marker_size(4)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn no_two_classes_are_drawn_alike() {
+        let styles: Vec<Style> = NsvClass::ALL.iter().map(|&c| class_style(c)).collect();
+        for (i, a) in styles.iter().enumerate() {
+            for (j, b) in styles.iter().enumerate().skip(i + 1) {
+                assert_ne!(
+                    a,
+                    b,
+                    "{} and {}",
+                    NsvClass::ALL[i].name(),
+                    NsvClass::ALL[j].name()
+                );
+            }
+        }
+    }
 }
