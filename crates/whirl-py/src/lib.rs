@@ -10,6 +10,7 @@
 #![forbid(unsafe_code)]
 
 mod analyses;
+mod cluster;
 mod error;
 mod given;
 mod hbm;
@@ -70,6 +71,7 @@ fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("PALETTE", palette.collect::<Vec<_>>())?;
     m.add_function(wrap_pyfunction!(hbm::hbm, m)?)?;
     m.add_function(wrap_pyfunction!(map::map, m)?)?;
+    m.add_function(wrap_pyfunction!(map::map_value, m)?)?;
     m.add_function(wrap_pyfunction!(analyses::reduce, m)?)?;
     m.add_function(wrap_pyfunction!(analyses::statics, m)?)?;
     m.add_function(wrap_pyfunction!(analyses::stiffness, m)?)?;

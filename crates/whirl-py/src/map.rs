@@ -5,7 +5,9 @@
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use whirl::hbm::HbmRequest;
-use whirl::map::{map_with, MapRequest, Parallelism};
+use whirl::map::{
+    distributed_map, map_value as value_run, map_with, MapRequest, Parallelism, ValueRun,
+};
 
 use crate::error::{keyword_lib, to_py};
 use crate::given::fill;
@@ -48,21 +50,52 @@ fn request(model: &PyModel, a: MapArgs, sweep: &Bound<'_, PyDict>) -> PyResult<M
 }
 
 /// The map as `whirl map` makes it, its sweeps one per thread; `progress(done, 1000)` is
-/// told the share of the values done (a true return stops it, as Ctrl-C does).
+/// told the share of the values done (a true return stops it, as Ctrl-C does). With
+/// `runner`, the values' sweeps go to `runner(indices)`, a Python callable that yields
+/// `(index, run_json)` as each arrives (from [`map_value`] on a worker).
 #[pyfunction]
-#[pyo3(signature = (model, options, sweep, progress = None))]
+#[pyo3(signature = (model, options, sweep, progress = None, runner = None))]
 pub fn map(
     py: Python<'_>,
     model: &PyModel,
     options: MapArgs,
     sweep: &Bound<'_, PyDict>,
     progress: Option<Bound<'_, PyAny>>,
+    runner: Option<Py<PyAny>>,
 ) -> PyResult<PyReport> {
     let request = request(model, options, sweep)?;
     let report = run_watched(py, progress.as_ref(), |watch| {
         let progress = fraction_progress(watch);
-        map_with(&request, Parallelism::default(), Some(&progress))
+        match &runner {
+            None => map_with(&request, Parallelism::default(), Some(&progress)),
+            Some(runner) => {
+                let run = |indices: &[usize],
+                           done: &mut dyn FnMut(usize, ValueRun) -> whirl::Result<()>| {
+                    crate::cluster::run_on(runner, indices.to_vec(), "value", done)
+                };
+                distributed_map(&request, Some(&progress), &run)
+            }
+        }
     })?
     .map_err(to_py)?;
     PyReport::with_figures(&report, whirl_figures::map(&report))
+}
+
+/// Value `index`'s sweep of the map, as the map computes it, as exact JSON: what a
+/// cluster's worker runs.
+#[pyfunction]
+pub fn map_value(
+    py: Python<'_>,
+    model: &PyModel,
+    options: MapArgs,
+    sweep: &Bound<'_, PyDict>,
+    index: usize,
+) -> PyResult<String> {
+    let request = request(model, options, sweep)?;
+    let run = py.detach(|| value_run(&request, index)).map_err(to_py)?;
+    serde_json::to_string(&run).map_err(|e| {
+        to_py(whirl::Error::Internal(format!(
+            "cannot encode a value's run: {e}"
+        )))
+    })
 }

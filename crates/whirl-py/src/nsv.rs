@@ -102,7 +102,7 @@ pub fn cascade<'py>(
             Some(runner) => {
                 let run = |batch: &[(usize, f64)],
                            done: &mut dyn FnMut(usize, CascadePoint) -> whirl::Result<()>| {
-                    run_batch(runner, batch, done)
+                    crate::cluster::run_on(runner, batch.to_vec(), "point", done)
                 };
                 whirl::nsv::distributed_cascade(&model.model, &o, checkpoint, Some(&report), &run)
             }
@@ -157,26 +157,6 @@ pub fn cascade_report(
         checkpoint_folder,
     };
     PyReport::with_figures(&report, whirl_figures::cascade(&report, None))
-}
-
-/// Hands a batch to the Python runner and each point it yields to `done`.
-fn run_batch(
-    runner: &Py<PyAny>,
-    batch: &[(usize, f64)],
-    done: &mut dyn FnMut(usize, CascadePoint) -> whirl::Result<()>,
-) -> whirl::Result<()> {
-    let failed = |e: PyErr| whirl::Error::Internal(format!("the cluster's runner failed: {e}"));
-    Python::attach(|py| {
-        let points = runner.call1(py, (batch.to_vec(),)).map_err(failed)?;
-        for item in points.bind(py).try_iter().map_err(failed)? {
-            let (i, json): (usize, String) = item.and_then(|x| x.extract()).map_err(failed)?;
-            let point: CascadePoint = serde_json::from_str(&json).map_err(|e| {
-                whirl::Error::Internal(format!("a worker's point {i} does not read back: {e}"))
-            })?;
-            done(i, point)?;
-        }
-        Ok(())
-    })
 }
 
 /// One speed (rad/s) of the cascade, as the cascade computes it, as exact JSON: what a

@@ -95,12 +95,14 @@ pub fn study<'py>(
                 .filter(|&k| cascades.insert(study.points[k].cascade_key.clone()))
                 .collect();
             watch.tell(done, total);
-            run_remote(runner, &missing, |k, result| {
-                store.save(&study.points[k].key, &result)?;
-                done += 1;
-                watch.tell(done, total);
-                Ok(())
-            })?;
+            if !missing.is_empty() {
+                crate::cluster::run_on(runner, missing, "point", |k, result: PointResult| {
+                    store.save(&study.points[k].key, &result)?;
+                    done += 1;
+                    watch.tell(done, total);
+                    Ok(())
+                })?;
+            }
         }
         run_points(
             &study,
@@ -157,27 +159,4 @@ pub fn study<'py>(
     }
     out.set_item("figures", figures)?;
     Ok(out)
-}
-
-/// Hands the missing points to the Python runner and each result it yields to `save`.
-fn run_remote(
-    runner: &Py<PyAny>,
-    missing: &[usize],
-    mut save: impl FnMut(usize, PointResult) -> whirl::Result<()>,
-) -> whirl::Result<()> {
-    if missing.is_empty() {
-        return Ok(());
-    }
-    let failed = |e: PyErr| whirl::Error::Internal(format!("the cluster's runner failed: {e}"));
-    Python::attach(|py| {
-        let results = runner.call1(py, (missing.to_vec(),)).map_err(failed)?;
-        for item in results.bind(py).try_iter().map_err(failed)? {
-            let (k, json): (usize, String) = item.and_then(|x| x.extract()).map_err(failed)?;
-            let result: PointResult = serde_json::from_str(&json).map_err(|e| {
-                whirl::Error::Internal(format!("a worker's point {k} does not read back: {e}"))
-            })?;
-            save(k, result)?;
-        }
-        Ok(())
-    })
 }

@@ -10,7 +10,7 @@ import pytest
 from dask.distributed import Client, LocalCluster
 
 import whirl
-from conftest import REFERENCE
+from conftest import REFERENCE, timeless
 from test_nsv import OPTIONS, SPEEDS, assert_same_cascade
 
 
@@ -65,3 +65,17 @@ def test_a_study_on_the_cluster_is_the_local_one(client, tmp_path):
     strip = lambda r: [{**p, "result": {**p["result"], "wall_time_s": 0}} for p in r.points]  # noqa: E731
     assert strip(remote) == strip(local)
     assert (remote.sweeps, remote.ranking) == (local.sweeps, local.ranking)
+
+
+def test_a_map_on_the_cluster_is_the_local_one(client):
+    # Two values through the first resonance (seconds each), one task per value: the
+    # bands, lines and first losses come back as exact JSON, so the summary and every
+    # table are the local map's to the bit, computing times aside.
+    kwargs = dict(values=["20um", "60um"], speeds="1:30Hz", harmonics=2, reduce=12, progress=False)
+    local = whirl.map(REFERENCE, **kwargs)
+    remote = whirl.map(REFERENCE, client=client, **kwargs)
+    assert timeless(remote.to_dict()) == timeless(local.to_dict())
+    for table in local.tables:
+        times = ["cpu_s", "wall_s"] if table == "values" else []
+        assert remote.to_pandas(table).drop(columns=times).equals(local.to_pandas(table).drop(columns=times))
+    assert len(local.to_pandas("values")) == 2

@@ -1,8 +1,10 @@
-"""Studies and cascades on a Dask cluster.
+"""Studies, cascades and maps on a Dask cluster.
 
-``whirl.cascade(..., client=client)`` and ``whirl.study(..., client=client)`` send the
-work to the workers of a ``dask.distributed.Client`` and gather it: each speed of a cascade
-(every round of the refinement) or each point of a study is one task. A worker computes
+``whirl.cascade(..., client=client)``, ``whirl.study(..., client=client)`` and
+``whirl.map(..., client=client)`` send the work to the workers of a
+``dask.distributed.Client`` and gather it: each speed of a cascade (every round of the
+refinement), each point of a study or each value of a map is one task (a map's checks and
+confirmation, a few cascades, run on this machine). A worker computes
 exactly what this machine would (the same library call on the same model text and options),
 and results come back as exact JSON, so the result is the same to the bit wherever a task
 ran. A worker that dies mid-task has its task run again on another by Dask; the client
@@ -43,6 +45,23 @@ def point_runner(client: Any, model: Model, options: dict[str, Any]) -> Callable
         futures = {
             client.submit(_cascade_point, model, options, speed, pure=False, retries=3): index
             for index, speed in batch
+        }
+        yield from _as_finished(client, futures)
+
+    return run
+
+
+def _map_value(model: Model, options: dict[str, Any], sweep: dict[str, Any], index: int) -> str:
+    """On a worker: value ``index``'s sweep of the map, as exact JSON."""
+    return _whirl.map_value(model._raw, options, sweep, index)
+
+
+def value_runner(client: Any, model: Model, options: dict[str, Any], sweep: dict[str, Any]) -> Callable[[list[int]], Iterator[tuple[int, str]]]:
+    """The runner the library's distributed map calls with the values' indices: one task
+    per value, yielded as each finishes."""
+    def run(indices: list[int]) -> Iterator[tuple[int, str]]:
+        futures = {
+            client.submit(_map_value, model, options, sweep, j, pure=False, retries=3): j for j in indices
         }
         yield from _as_finished(client, futures)
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
+from typing import Any
 
 from . import _progress, _whirl
 from .model import Model, as_model
@@ -38,6 +39,7 @@ def map(  # noqa: A001 - the command's name
     check_level: str | float | None = None,
     confirm: bool = False,
     progress: bool | _progress.Report = True,
+    client: Any = None,
 ) -> Report:
     """The NSV map (``whirl map``): one harmonic-balance sweep with Floquet stability per
     value of a model parameter. Every option left ``None`` takes the library's default, the
@@ -64,6 +66,9 @@ def map(  # noqa: A001 - the command's name
             check level (the summary's ``confirmation``).
         progress: True for a tqdm bar when tqdm is installed, False, or ``progress(done,
             1000)`` told the share of the values done (a true return stops it).
+        client: a ``dask.distributed.Client``: each value's sweep is one task on its
+            workers (the checks' and the confirmation's cascades run here); the map is
+            the same to the bit as on this machine.
 
     Returns:
         A :class:`whirl.Report` with the tables ``bands`` (one row per unstable band),
@@ -93,6 +98,11 @@ def map(  # noqa: A001 - the command's name
         else _whirl.parse_quantity("check_level", str(check_level), "length"),
         "confirm": bool(confirm),
     }
+    runner = None
+    if client is not None:
+        from .dask import value_runner
+
+        runner = value_runner(client, model, options, sweep)
     with _progress.display(progress, "map", "permille") as report:
-        raw = _whirl.map(model._raw, options, sweep, report)
+        raw = _whirl.map(model._raw, options, sweep, report, runner)
     return Report("map", model, raw)

@@ -4,7 +4,10 @@
 use std::f64::consts::TAU;
 
 use whirl::hbm::{sweep, BifurcationKind, SweepSettings};
-use whirl::map::{map, map_with, Clearance, Edge, Growth, MapRequest, Parallelism, UnstableBand};
+use whirl::map::{
+    distributed_map, map, map_value, map_with, Clearance, Edge, Growth, MapRequest, Parallelism,
+    UnstableBand, ValueRun,
+};
 use whirl::model::Model;
 use whirl::units::rad_s_to_hz as hz;
 
@@ -55,7 +58,7 @@ fn first_loss_of_stability_is_the_single_sweeps_at_each_value() {
             "{clearance}: the branch loses stability"
         );
         // The first band opens at the first loss.
-        assert_eq!(entry.bands.first().map(|b| b.opens_hz), got.map(hz));
+        assert_eq!(entry.run.bands.first().map(|b| b.opens_hz), got.map(hz));
         // Each band's edges are the sweep's bifurcations, none re-located.
         let speeds: Vec<f64> = single
             .branch
@@ -63,7 +66,7 @@ fn first_loss_of_stability_is_the_single_sweeps_at_each_value() {
             .iter()
             .map(|b| hz(b.frequency))
             .collect();
-        for band in &entry.bands {
+        for band in &entry.run.bands {
             assert!(speeds.contains(&band.opens_hz), "{clearance}: {band:?}");
             check_growing(band);
         }
@@ -80,7 +83,38 @@ fn both_ways_of_spreading_the_sweeps_give_the_same_map() {
     let request = request(&["60 um"]);
     let a = map_with(&request, Parallelism::Values, None).unwrap();
     let b = map_with(&request, Parallelism::WithinSweeps, None).unwrap();
-    assert_eq!(a.entries[0].bands, b.entries[0].bands);
+    assert_eq!(a.entries[0].run.bands, b.entries[0].run.bands);
+}
+
+#[test]
+fn a_map_whose_values_ran_elsewhere_is_the_local_map() {
+    // Each value's run crosses to and from the runner as JSON, as it does to a cluster's
+    // worker: the report must be the local one to the bit (serde_json's float_roundtrip
+    // reads back every f64 exactly).
+    let request = request(&["20 um", "60um"]);
+    let local = map(&request).unwrap();
+    let runner = |indices: &[usize], done: &mut dyn FnMut(usize, ValueRun) -> whirl::Result<()>| {
+        for &j in indices.iter().rev() {
+            let json = serde_json::to_string(&map_value(&request, j)?).unwrap();
+            done(j, serde_json::from_str(&json).unwrap())?;
+        }
+        Ok(())
+    };
+    let remote = distributed_map(&request, None, &runner).unwrap();
+    for (a, b) in local.entries.iter().zip(&remote.entries) {
+        let cost = |r: &ValueRun| ValueRun {
+            cpu_s: None,
+            wall_s: 0.0,
+            ..r.clone()
+        };
+        assert_eq!(cost(&a.run), cost(&b.run), "{}", a.value.text);
+    }
+    // A runner that leaves a value out is an error, not a map with a hole.
+    let lazy = |_: &[usize], _: &mut dyn FnMut(usize, ValueRun) -> whirl::Result<()>| Ok(());
+    let message = distributed_map(&request, None, &lazy)
+        .unwrap_err()
+        .to_string();
+    assert!(message.contains("left value 0 out"), "{message}");
 }
 
 #[test]
@@ -118,8 +152,9 @@ fn the_varying_compliance_resonance_is_a_line_that_explains_the_cascade_below_th
     request.check = vec!["20 um".into()];
     let report = map(&request).unwrap();
     let entry = &report.entries[0];
-    assert!(entry.bands.is_empty(), "{:?}", entry.bands);
+    assert!(entry.run.bands.is_empty(), "{:?}", entry.run.bands);
     let line = entry
+        .run
         .lines
         .iter()
         .find(|l| l.excitation.name() == "1x varying compliance" && l.on_stable_orbit)

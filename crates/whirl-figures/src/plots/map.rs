@@ -46,7 +46,7 @@ pub fn map_plot(report: &MapReport) -> Figure2d {
         figure.series.push(
             Series::new(vec![from, to], vec![y, y]).style(Style::solid(Colour::GREY).width(1)),
         );
-        for band in &entry.bands {
+        for band in &entry.run.bands {
             let colour = colour_of(&band.opens);
             figure.series.push(
                 Series::new(vec![band.span_hz[0], band.span_hz[1]], vec![y, y])
@@ -88,6 +88,7 @@ const ORBIT_LINE: (Colour, Marker) = (Colour::Palette(5), Marker::Cross);
 fn draw_lines(figure: &mut Figure2d, entry: &MapEntry, y: f64) {
     for (contact, (colour, marker)) in [(true, CONTACT_LINE), (false, ORBIT_LINE)] {
         let speeds: Vec<f64> = entry
+            .run
             .lines
             .iter()
             .filter(|l| l.on_stable_orbit)
@@ -104,7 +105,7 @@ fn draw_lines(figure: &mut Figure2d, entry: &MapEntry, y: f64) {
 /// Legend entries for the kinds that open a band here, and the first-loss marker.
 fn legend(figure: &mut Figure2d, report: &MapReport) {
     let mut kinds: Vec<Edge> = Vec::new();
-    for band in report.entries.iter().flat_map(|e| &e.bands) {
+    for band in report.entries.iter().flat_map(|e| &e.run.bands) {
         if !kinds.iter().any(|k| k.name() == band.opens.name()) {
             kinds.push(band.opens);
         }
@@ -127,7 +128,7 @@ fn legend(figure: &mut Figure2d, report: &MapReport) {
             .label("first loss of stability")
             .style(Style::markers(Colour::BLACK, Marker::Triangle)),
     );
-    let lines = report.entries.iter().flat_map(|e| &e.lines);
+    let lines = report.entries.iter().flat_map(|e| &e.run.lines);
     let (contact, orbit) = lines
         .filter(|l| l.on_stable_orbit)
         .fold((false, false), |(c, o), l| match l.excitation {

@@ -45,7 +45,7 @@ use crate::error::Result;
 use crate::linalg::{difference, norm};
 
 /// How a periodic solution loses (or regains) stability.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum BifurcationKind {
     /// A real multiplier crosses +1 where the branch turns.
     Fold,

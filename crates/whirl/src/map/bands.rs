@@ -12,13 +12,13 @@
 //! cover, and the stable stretches of the branch elsewhere that cover some of its speeds
 //! are reported: there a stable synchronous orbit coexists with the unstable one.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::hbm::{Bifurcation, BifurcationKind, Branch};
 use crate::units::rad_s_to_hz as hz;
 
 /// What opens or closes an unstable band.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum Edge {
     /// A change of stability located by the sweep.
@@ -71,7 +71,7 @@ impl Edge {
 }
 
 /// A stretch of the branch, in path order, where the synchronous orbit is unstable.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct UnstableBand {
     /// Speed where it opens, Hz.
     pub opens_hz: f64,
@@ -94,7 +94,7 @@ pub struct UnstableBand {
 }
 
 /// How the leading multiplier (the largest modulus) leaves the unit circle.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Growth {
     /// Real and negative: a component at w/2 grows (period doubling).
@@ -117,7 +117,7 @@ impl Growth {
 }
 
 /// A stretch of a band's points whose leading multiplier grows the same way.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Growing {
     /// How.
     pub growth: Growth,

@@ -20,7 +20,7 @@
 //! multipliers already show it as an unstable band; a line says where it can appear while
 //! the orbit stays stable (a forced resonance, or one held down by damping).
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::bearing::contact_frequencies;
 use crate::hbm::{Branch, OrbitMode};
@@ -38,7 +38,7 @@ const CONTACT_ORDERS: [f64; 2] = [1.0, 2.0];
 const SUM_ORDERS: [f64; 2] = [1.0, 2.0];
 
 /// What meets a natural frequency at a line.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "kebab-case")]
 pub enum Excitation {
     /// k times a contact frequency (`source`, c cage orders) plus `sideband` times the
@@ -92,7 +92,7 @@ impl Excitation {
 }
 
 /// Where an excitation meets a natural frequency of the orbit.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ResonanceLine {
     /// Running speed of the crossing, Hz (linear between the two branch points).
     pub speed_hz: f64,

@@ -17,7 +17,8 @@
 //! - [`check`]: the map against default cascades at a few values.
 //! - [`report`]: the summary, the tables and the design query (which values keep the orbit
 //!   stable below a speed).
-//! - [`Parallelism`]: the sweeps one per thread, or each on every thread.
+//! - [`Parallelism`]: the sweeps one per thread, or each on every thread;
+//!   [`distributed_map`]: each value's sweep on a cluster's worker ([`map_value`]).
 
 pub mod bands;
 pub mod check;
@@ -33,9 +34,9 @@ pub use check::{CascadeCheck, Disagreement};
 pub use lines::{resonance_lines, Excitation, ResonanceLine};
 pub use report::{growing_text, ClearBelow, Clearance, MapEntry, MapReport, MapSummary};
 pub use request::{MapRequest, MapValue, DEFAULT_PARAMETER, MAX_VALUES};
-pub use run::{Parallelism, ValueRun};
+pub use run::{FirstLoss, Parallelism, ValueRun};
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::nsv::{cascade, even_speeds, CascadeOptions, DEFAULT_SPEED_COUNT};
 use crate::progress::Progress;
 
@@ -62,19 +63,111 @@ pub fn map_with(
     let options = request.sweep_options();
     let (start, cpu_start) = (Instant::now(), run::process_cpu_seconds());
     let runs = run::run_sweeps(&values, &options, parallelism, progress)?;
-    let entries = values
+    let clock = Clock {
+        start,
+        cpu_start,
+        remote_cpu_s: 0.0,
+    };
+    assemble(request, values, runs, parallelism, clock, progress)
+}
+
+/// Computes the sweeps of the values given by index, handing each value's run to the
+/// callback as it arrives (in any order): the map's work sent elsewhere, such as to a
+/// cluster's workers, each of which runs [`map_value`].
+pub type ValueRunner<'a> =
+    &'a dyn Fn(&[usize], &mut dyn FnMut(usize, ValueRun) -> Result<()>) -> Result<()>;
+
+/// [`map`] with every value's sweep computed by `runner` (on a cluster's workers) instead
+/// of on this machine's threads: the same report, to the bit. The checks' and the
+/// confirmation's cascades run here. The report's processor time adds the workers' sweeps
+/// to this process's.
+///
+/// # Errors
+/// Those of [`map`], the runner's, and [`Error::Internal`] when the runner leaves a value
+/// out or gives one twice.
+pub fn distributed_map(
+    request: &MapRequest,
+    progress: Option<&Progress>,
+    runner: ValueRunner<'_>,
+) -> Result<MapReport> {
+    let values = request.values()?;
+    let (start, cpu_start) = (Instant::now(), run::process_cpu_seconds());
+    let mut slots: Vec<Option<ValueRun>> = vec![None; values.len()];
+    let indices: Vec<usize> = (0..values.len()).collect();
+    let mut done = 0usize;
+    runner(&indices, &mut |j, run| {
+        let slot = slots.get_mut(j).ok_or_else(|| {
+            Error::Internal(format!("the runner gave value {j} of {}", indices.len()))
+        })?;
+        if slot.replace(run).is_some() {
+            return Err(Error::Internal(format!("the runner gave value {j} twice")));
+        }
+        done += 1;
+        let total = indices.len();
+        let told = crate::progress::tell(progress, done as f64, total as f64, || {
+            format!("{done}/{total} values")
+        });
+        if told.is_break() {
+            return Err(Error::Interrupted(format!(
+                "the map was stopped after {done} of {total} values"
+            )));
+        }
+        Ok(())
+    })?;
+    let runs = slots
+        .into_iter()
+        .enumerate()
+        .map(|(j, r)| r.ok_or_else(|| Error::Internal(format!("the runner left value {j} out"))))
+        .collect::<Result<Vec<_>>>()?;
+    let clock = Clock {
+        start,
+        cpu_start,
+        remote_cpu_s: runs.iter().filter_map(|r| r.cpu_s).sum(),
+    };
+    assemble(request, values, runs, Parallelism::Values, clock, progress)
+}
+
+/// Value `index`'s sweep (of [`MapRequest::values`]), on one thread, as the map computes
+/// it: what a [`ValueRunner`]'s workers compute.
+///
+/// # Errors
+/// As [`MapRequest::values`]; [`Error::InvalidOption`] for an index past the values.
+pub fn map_value(request: &MapRequest, index: usize) -> Result<ValueRun> {
+    let values = request.values()?;
+    let value = values.get(index).ok_or_else(|| {
+        Error::InvalidOption(format!(
+            "the map has {} values; there is no value {index}",
+            values.len()
+        ))
+    })?;
+    run::value_run(value, &request.sweep_options())
+}
+
+/// When a map started, and the processor time its sweeps took elsewhere.
+struct Clock {
+    start: Instant,
+    cpu_start: Option<f64>,
+    remote_cpu_s: f64,
+}
+
+/// The report of `values` and their runs: the checks and the confirmation run, the cost
+/// read off `clock`.
+///
+/// # Errors
+/// As [`check_value`] and [`confirm_query`].
+fn assemble(
+    request: &MapRequest,
+    values: Vec<MapValue>,
+    runs: Vec<ValueRun>,
+    parallelism: Parallelism,
+    clock: Clock,
+    progress: Option<&Progress>,
+) -> Result<MapReport> {
+    let entries: Vec<MapEntry> = values
         .into_iter()
         .zip(runs)
-        .map(|(value, run)| {
-            let sweep = run.sweep.as_ref().ok();
-            MapEntry {
-                bands: sweep.map_or(Vec::new(), |s| unstable_bands(&s.branch)),
-                lines: sweep.map_or(Vec::new(), |s| resonance_lines(&s.branch, &value.model)),
-                value,
-                run,
-            }
-        })
-        .collect::<Vec<MapEntry>>();
+        .map(|(value, run)| MapEntry { value, run })
+        .collect();
     let checks = request
         .check
         .iter()
@@ -82,21 +175,23 @@ pub fn map_with(
         .collect::<Result<_>>()?;
     let mut report = MapReport {
         parameter: request.parameter().to_string(),
-        options,
+        options: request.sweep_options(),
         entries,
         checks,
         confirmation: None,
         clear_below: request.clear_below,
         parallelism,
         threads: rayon::current_num_threads(),
-        cpu_s: run::process_cpu_seconds()
-            .zip(cpu_start)
-            .map(|(b, a)| b - a),
-        wall_s: start.elapsed().as_secs_f64(),
+        cpu_s: None,
+        wall_s: 0.0,
     };
     if let (true, Some(speed)) = (request.confirm, request.clear_below) {
         report.confirmation = confirm_query(&report, speed, request, progress)?;
     }
+    report.cpu_s = run::process_cpu_seconds()
+        .zip(clock.cpu_start)
+        .map(|(b, a)| b - a + clock.remote_cpu_s);
+    report.wall_s = clock.start.elapsed().as_secs_f64();
     Ok(report)
 }
 
@@ -151,15 +246,10 @@ fn check_value(
     let speeds = even_speeds(request.from, request.to, DEFAULT_SPEED_COUNT);
     let options = CascadeOptions::new(model, speeds);
     let cascade = cascade(model, &options, None, progress)?;
-    let followed = entry
-        .run
-        .sweep
-        .as_ref()
-        .map_or(Vec::new(), |s| bands::followed_spans(&s.branch));
     let predicted = check::Predicted {
-        followed: &followed,
-        bands: &entry.bands,
-        lines: &entry.lines,
+        followed: &entry.run.followed_hz,
+        bands: &entry.run.bands,
+        lines: &entry.run.lines,
     };
     Ok(check::check(
         &entry.value.text,

@@ -8,22 +8,18 @@ use super::bands::{Edge, Growing, UnstableBand};
 use super::check::{CascadeCheck, Confirmation};
 use super::lines::{Excitation, ResonanceLine};
 use super::request::MapValue;
-use super::run::{Parallelism, ValueRun};
-use crate::hbm::{Bifurcation, SweepOptions};
+use super::run::{FirstLoss, Parallelism, ValueRun};
+use crate::hbm::SweepOptions;
 use crate::report::{Report, Table};
 use crate::units::rad_s_to_hz as hz;
 
-/// One value of a map: its sweep and the bands read off it.
+/// One value of a map: the value and what its sweep left (its bands, lines and cost).
 #[derive(Debug)]
 pub struct MapEntry {
     /// The value and its model.
     pub value: MapValue,
-    /// Its sweep and what it cost.
+    /// What its sweep left, and what it cost.
     pub run: ValueRun,
-    /// The unstable bands of its branch, in path order (empty when the sweep failed).
-    pub bands: Vec<UnstableBand>,
-    /// The resonance lines of its branch, in path order.
-    pub lines: Vec<ResonanceLine>,
 }
 
 /// A map of the synchronous orbit's stability over speed and one parameter.
@@ -68,15 +64,14 @@ impl MapEntry {
     /// Whether this value keeps the orbit stable below `speed` (rad/s).
     pub fn clearance(&self, speed: f64) -> Clearance {
         let below = hz(speed);
-        if self.bands.iter().any(|b| b.span_hz[0] < below) {
+        if self.run.bands.iter().any(|b| b.span_hz[0] < below) {
             return Clearance::Unstable;
         }
-        let Ok(sweep) = &self.run.sweep else {
+        if self.run.failed() {
             return Clearance::Undecided;
-        };
-        let branch = &sweep.branch;
-        let reached = branch.speed_span().1 >= speed;
-        let jumped = branch.jumps.iter().any(|&(from, _)| from < speed);
+        }
+        let reached = self.run.reached >= speed;
+        let jumped = self.run.jumps.iter().any(|&(from, _)| from < speed);
         if reached && !jumped {
             Clearance::Clear
         } else {
@@ -85,8 +80,8 @@ impl MapEntry {
     }
 
     /// The sweep's first loss of stability, the same as `whirl hbm` reports.
-    pub fn first_loss(&self) -> Option<&Bifurcation> {
-        self.run.sweep.as_ref().ok()?.branch.first_stability_loss()
+    pub fn first_loss(&self) -> Option<&FirstLoss> {
+        self.run.first_loss.as_ref()
     }
 }
 
@@ -231,33 +226,21 @@ impl MapReport {
     }
 
     fn value_summary(e: &MapEntry) -> ValueSummary {
-        let (points, end, jumps_hz) = match &e.run.sweep {
-            Ok(s) => (
-                s.branch.points.len(),
-                s.branch.end.reason(),
-                s.branch
-                    .jumps
-                    .iter()
-                    .map(|&(a, b)| [hz(a), hz(b)])
-                    .collect(),
-            ),
-            Err(err) => (0, err.to_string(), Vec::new()),
-        };
         let first = e.first_loss();
         ValueSummary {
             value: e.value.text.clone(),
             si: e.value.si,
             first_stability_loss_hz: first.map(|b| hz(b.frequency)),
             first_loss_kind: first.map(|b| b.kind.name()),
-            bands: e.bands.iter().map(band_summary).collect(),
-            lines: e.lines.len(),
-            lines_on_stable_orbit: e.lines.iter().filter(|l| l.on_stable_orbit).count(),
-            points,
-            end,
-            jumps_hz,
+            bands: e.run.bands.iter().map(band_summary).collect(),
+            lines: e.run.lines.len(),
+            lines_on_stable_orbit: e.run.lines.iter().filter(|l| l.on_stable_orbit).count(),
+            points: e.run.points,
+            end: e.run.end.clone(),
+            jumps_hz: e.run.jumps_hz(),
             cpu_s: e.run.cpu_s,
             wall_s: e.run.wall_s,
-            failed: e.run.sweep.is_err(),
+            failed: e.run.failed(),
         }
     }
 }
@@ -345,7 +328,7 @@ impl MapReport {
         let rows: Vec<(&MapEntry, &UnstableBand)> = self
             .entries
             .iter()
-            .flat_map(|e| e.bands.iter().map(move |b| (e, b)))
+            .flat_map(|e| e.run.bands.iter().map(move |b| (e, b)))
             .collect();
         let mut t = Table::new("bands");
         t.text("value", rows.iter().map(|(e, _)| e.value.text.clone()))
@@ -406,7 +389,7 @@ impl MapReport {
         let rows: Vec<(&MapEntry, &ResonanceLine)> = self
             .entries
             .iter()
-            .flat_map(|e| e.lines.iter().map(move |l| (e, l)))
+            .flat_map(|e| e.run.lines.iter().map(move |l| (e, l)))
             .collect();
         let other = |l: &ResonanceLine| match l.excitation {
             Excitation::Sum { other_hz, .. } | Excitation::Difference { other_hz } => {
@@ -434,7 +417,13 @@ impl MapReport {
     fn values_table(&self) -> Table {
         let e = &self.entries;
         let first = |x: &MapEntry| x.first_loss().map(|b| hz(b.frequency));
-        let lowest = |x: &MapEntry| x.bands.iter().map(|b| b.span_hz[0]).min_by(f64::total_cmp);
+        let lowest = |x: &MapEntry| {
+            x.run
+                .bands
+                .iter()
+                .map(|b| b.span_hz[0])
+                .min_by(f64::total_cmp)
+        };
         let mut t = Table::new("values");
         t.text("value", e.iter().map(|x| x.value.text.clone()))
             .optional("value_si", e.iter().map(|x| x.value.si))
@@ -444,11 +433,11 @@ impl MapReport {
                 e.iter()
                     .map(|x| x.first_loss().map_or("", |b| b.kind.name())),
             )
-            .counts("bands", e.iter().map(|x| x.bands.len()))
+            .counts("bands", e.iter().map(|x| x.run.bands.len()))
             .optional("lowest_unstable_hz", e.iter().map(lowest))
             .optional("cpu_s", e.iter().map(|x| x.run.cpu_s))
             .numbers("wall_s", e.iter().map(|x| x.run.wall_s))
-            .bits("failed", e.iter().map(|x| x.run.sweep.is_err()));
+            .bits("failed", e.iter().map(|x| x.run.failed()));
         t
     }
 }
