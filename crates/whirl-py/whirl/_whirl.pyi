@@ -2,11 +2,67 @@
 
 import os
 from pathlib import Path
-from typing import Any
+from typing import Any, final
 
 import numpy as np
 import numpy.typing as npt
 
+# What the compiled module exports (pyo3 lists every function, class and constant added).
+__all__ = [
+    "BUILD_ID",
+    "DEFAULT_CAGE_POSITIONS",
+    "DEFAULT_CAGE_STEPS",
+    "DEFAULT_GRID",
+    "DEFAULT_LOAD_ANGLE_DEG",
+    "DEFAULT_MODES",
+    "DEFAULT_SPEED_COUNT",
+    "DEFAULT_STABILITY_MODES",
+    "DEFAULT_STIFFNESS_CLEARANCES",
+    "DEFAULT_SURFACE_CLEARANCES",
+    "InputError",
+    "MAX_AFT_SAMPLES",
+    "MAX_HARMONICS",
+    "Model",
+    "NumericalError",
+    "PALETTE",
+    "RawCascade",
+    "Report",
+    "WhirlError",
+    "__version__",
+    "campbell",
+    "cascade",
+    "cascade_checkpoint",
+    "cascade_default_speeds",
+    "cascade_point",
+    "cascade_report",
+    "cascade_resolved",
+    "check",
+    "convergence",
+    "fit_forcing",
+    "frf",
+    "hbm",
+    "map",
+    "map_value",
+    "modal",
+    "other_start",
+    "parse_quantity",
+    "parse_range",
+    "parse_speed",
+    "parse_speeds",
+    "reduce",
+    "ross_to_toml",
+    "runup",
+    "save_figures",
+    "simulate",
+    "statics",
+    "stiffness",
+    "study",
+    "study_point",
+    "ucs",
+    "ucs_default_stiffnesses",
+    "ucs_stiffnesses",
+    "unbalance",
+]
 __version__: str
 BUILD_ID: str
 
@@ -14,12 +70,12 @@ class WhirlError(Exception): ...
 class InputError(WhirlError): ...
 class NumericalError(WhirlError): ...
 
+@final
 class Model:
     @staticmethod
     def from_file(path: str) -> Model: ...
     @staticmethod
     def from_toml(text: str, file: str | None = None) -> Model: ...
-    @staticmethod
     def with_values(self, edits: list[tuple[str, Any]]) -> Model: ...
     @property
     def name(self) -> str: ...
@@ -86,6 +142,7 @@ def cascade(
 ) -> tuple[dict[str, Any], RawCascade]: ...
 def cascade_point(model: Model, options: dict[str, Any], speed: float) -> str: ...
 
+@final
 class RawCascade:
     """A computed cascade as the library holds it (``cascade(...)[1]``)."""
 
@@ -108,6 +165,7 @@ DEFAULT_STABILITY_MODES: int
 MAX_HARMONICS: int
 MAX_AFT_SAMPLES: int
 
+@final
 class Report:
     """A library report: its summary and its named tables."""
 
