@@ -2,11 +2,10 @@
 //! diagram and the modes at a speed, each with the library's report (its summary and
 //! tables, as the command line writes them) beside its arrays.
 
-use numpy::IntoPyArray;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::PyDict;
 use pythonize::pythonize;
-use whirl::fe::{assemble_banded, dof, Bearings, Direction, DOFS_PER_NODE};
+use whirl::fe::{assemble_banded, Bearings};
 use whirl::modal::{check_model, modal_report, CampbellOptions};
 
 use crate::error::{keyword_lib, lib};
@@ -23,7 +22,8 @@ pub fn check(py: Python<'_>, model: &PyModel) -> PyResult<PyReport> {
 }
 
 /// The Campbell diagram over `speeds` (rad/s): `modes` branches, critical speeds at the
-/// excitation `orders`, on a basis of 2 x modes + 8 undamped modes unless `full`.
+/// excitation `orders`, on a basis of 2 x modes + 8 undamped modes unless `full`. The
+/// library's result as a dict, with the branches' `labels` and its `report`.
 #[pyfunction]
 pub fn campbell<'py>(
     py: Python<'py>,
@@ -45,38 +45,8 @@ pub fn campbell<'py>(
         whirl::modal::campbell(&system, &options, Some(progress))
     })?)?;
     let report = PyReport::with_figures(&result, whirl_figures::campbell(&model.model, &result))?;
-    let labels = result.labels();
-    let branches = PyList::empty(py);
-    for (b, label) in result.branches.into_iter().zip(labels) {
-        let d = PyDict::new(py);
-        d.set_item("label", label)?;
-        d.set_item("index", b.index)?;
-        d.set_item("whirl", b.whirl.name())?;
-        d.set_item("frequency_hz", b.frequency_hz.into_pyarray(py))?;
-        d.set_item("damping_ratio", b.damping_ratio.into_pyarray(py))?;
-        d.set_item("log_decrement", b.log_decrement.into_pyarray(py))?;
-        let whirl_at: Vec<&str> = b.whirl_at.iter().map(|w| w.name()).collect();
-        d.set_item("whirl_at", whirl_at)?;
-        branches.append(d)?;
-    }
-    let critical = PyList::empty(py);
-    for c in &result.critical_speeds {
-        let d = PyDict::new(py);
-        d.set_item("speed_hz", c.speed_hz)?;
-        d.set_item("speed_rpm", c.speed_rpm)?;
-        d.set_item("frequency_hz", c.frequency_hz)?;
-        d.set_item("order", c.order)?;
-        d.set_item("branch", c.branch)?;
-        d.set_item("whirl", c.whirl.name())?;
-        d.set_item("damping_ratio", c.damping_ratio)?;
-        critical.append(d)?;
-    }
-    let out = PyDict::new(py);
-    out.set_item("speeds_hz", result.speeds_hz.into_pyarray(py))?;
-    out.set_item("orders", result.orders)?;
-    out.set_item("basis_size", result.basis_size)?;
-    out.set_item("branches", branches)?;
-    out.set_item("critical_speeds", critical)?;
+    let out = pythonize(py, &result)?.cast_into::<PyDict>()?;
+    out.set_item("labels", result.labels())?;
     out.set_item("report", report)?;
     Ok(out)
 }
@@ -100,65 +70,12 @@ pub fn convergence<'py>(
     ))
 }
 
-/// The `modes` undamped modes (frequencies, mass-normalised shapes `[dof, mode]`) and the
-/// first `modes` damped modes at `speed` (rad/s) with their labels and, per node, the
-/// amplitude and phase of ux and uy and the forward and backward orbit radii; with the
-/// library's report (`whirl modal`).
+/// The `modes` undamped modes and the first `modes` damped modes at `speed` (rad/s), as the
+/// library reports them (`whirl modal`): its tables hold the frequencies, shapes and orbits
+/// the Python result is read from.
 #[pyfunction]
-pub fn modal<'py>(
-    py: Python<'py>,
-    model: &PyModel,
-    speed: f64,
-    modes: usize,
-) -> PyResult<Bound<'py, PyDict>> {
+pub fn modal(py: Python<'_>, model: &PyModel, speed: f64, modes: usize) -> PyResult<PyReport> {
     let report = lib(py.detach(|| modal_report(&model.model, speed, modes, None)))?;
-    let (undamped, damped) = (&report.undamped, &report.damped);
-    let nodes = model.model.node_count();
-    let shapes = &undamped.shapes;
-    let count = undamped.frequencies_hz.len();
-    let flat: Vec<f64> = (0..DOFS_PER_NODE * nodes)
-        .flat_map(|i| (0..count).map(move |j| shapes[(i, j)]))
-        .collect();
-    let shapes = numpy::ndarray::Array2::from_shape_vec((DOFS_PER_NODE * nodes, count), flat)
-        .map_err(|e| crate::error::to_py(whirl::Error::Internal(e.to_string())))?;
-    let list = PyList::empty(py);
-    for (m, label) in damped.iter().zip(&report.labels) {
-        let d = PyDict::new(py);
-        d.set_item("label", label)?;
-        d.set_item("damped_frequency_hz", m.damped_frequency_hz)?;
-        d.set_item("natural_frequency_hz", m.natural_frequency_hz)?;
-        d.set_item("damping_ratio", m.damping_ratio)?;
-        d.set_item("log_decrement", m.log_decrement)?;
-        d.set_item("whirl", m.whirl.name())?;
-        d.set_item("eigenvalue", m.eigenvalue)?;
-        let at = |n: usize, dir| m.shape[dof(n, dir)];
-        let column =
-            |f: &dyn Fn(usize) -> f64| (0..nodes).map(f).collect::<Vec<f64>>().into_pyarray(py);
-        d.set_item("ux_amplitude", column(&|n| at(n, Direction::Ux).norm()))?;
-        d.set_item(
-            "ux_phase_deg",
-            column(&|n| at(n, Direction::Ux).arg().to_degrees()),
-        )?;
-        d.set_item("uy_amplitude", column(&|n| at(n, Direction::Uy).norm()))?;
-        d.set_item(
-            "uy_phase_deg",
-            column(&|n| at(n, Direction::Uy).arg().to_degrees()),
-        )?;
-        d.set_item("forward_radius", column(&|n| m.orbit_radii(n).0))?;
-        d.set_item("backward_radius", column(&|n| m.orbit_radii(n).1))?;
-        list.append(d)?;
-    }
-    let out = PyDict::new(py);
-    out.set_item(
-        "undamped_frequencies_hz",
-        undamped.frequencies_hz.clone().into_pyarray(py),
-    )?;
-    out.set_item(
-        "undamped_shapes",
-        numpy::PyArray2::from_owned_array(py, shapes),
-    )?;
-    out.set_item("damped", list)?;
     let figures = whirl_figures::modal(&model.model, &report);
-    out.set_item("report", PyReport::with_figures(&report, figures)?)?;
-    Ok(out)
+    PyReport::with_figures(&report, figures)
 }

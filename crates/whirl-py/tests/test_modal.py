@@ -137,3 +137,19 @@ def test_ctrl_c_stops_a_long_linear_analysis(call):
     assert child.returncode != 0
     assert "KeyboardInterrupt" in err, err[-2000:]
     assert took < 20, f"stopped {took:.1f} s after Ctrl-C"
+
+
+def test_the_modes_are_read_from_the_librarys_tables_in_their_layout():
+    # The result is read off the report's tables (the numbers cross from Rust once): the
+    # undamped shapes as [dof, mode] with the DOFs node by node, and each damped mode's
+    # orbit per node scaled so that its largest translation is 1.
+    result = whirl.modal(REFERENCE, "300Hz", modes=4)
+    nodes = result.model.node_count
+    assert result.undamped_shapes.shape == (4 * nodes, 4)
+    table = result.to_pandas("undamped_shapes")
+    second = table[table["mode"] == 2]
+    np.testing.assert_array_equal(result.undamped_shapes[1::4, 1], second["uy"].to_numpy())
+    for mode in result.damped:
+        assert len(mode["ux_amplitude"]) == nodes
+        largest = max(mode["ux_amplitude"].max(), mode["uy_amplitude"].max())
+        assert abs(largest - 1.0) < 1e-12, mode["label"]

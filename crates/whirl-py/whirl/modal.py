@@ -123,7 +123,10 @@ def campbell(
         _options.orders(orders),
         bool(full),
     )
-    branches = [Branch(**b) for b in raw["branches"]]
+    branches = [
+        Branch(**{**b, "label": label, **_arrays(b, "frequency_hz", "damping_ratio", "log_decrement")})
+        for b, label in zip(raw["branches"], raw["labels"])
+    ]
     label = {b.index: b.label for b in branches}
     critical = [
         CriticalSpeed(**{**c, "branch": label.get(c["branch"], f"branch {c['branch']}")})
@@ -131,13 +134,18 @@ def campbell(
     ]
     return CampbellResult(
         model=model,
-        speeds_hz=raw["speeds_hz"],
+        speeds_hz=np.asarray(raw["speeds_hz"], dtype=float),
         branches=branches,
         orders=raw["orders"],
         critical_speeds=critical,
         basis_size=raw["basis_size"],
         report=Report("campbell", model, raw["report"]),
     )
+
+
+def _arrays(raw: dict[str, Any], *names: str) -> dict[str, np.ndarray]:
+    """The library's lists ``names`` of ``raw`` as float arrays."""
+    return {name: np.asarray(raw[name], dtype=float) for name in names}
 
 
 @dataclass(frozen=True, repr=False)
@@ -243,5 +251,46 @@ def modal(model: Model | str | os.PathLike[str], speed: str | float = 0.0, *, mo
     """
     model = as_model(model)
     w = _whirl.parse_speed(str(speed))
-    raw = _whirl.modal(model._raw, w, _options.mode_count(modes))
-    return ModalResult(model=model, speed=w, report=Report("modal", model, raw.pop("report")), **raw)
+    report = Report("modal", model, _whirl.modal(model._raw, w, _options.mode_count(modes)))
+    frequencies = report.columns("undamped_modes")["frequency_hz"]
+    return ModalResult(
+        model=model,
+        speed=w,
+        undamped_frequencies_hz=frequencies,
+        undamped_shapes=_undamped_shapes(report, len(frequencies)),
+        damped=_damped_modes(report),
+        report=report,
+    )
+
+
+#: The per-node columns of a damped mode, in the report's ``damped_shapes``.
+_ORBIT_COLUMNS = ("ux_amplitude", "ux_phase_deg", "uy_amplitude", "uy_phase_deg", "forward_radius", "backward_radius")
+
+
+def _undamped_shapes(report: Report, count: int) -> np.ndarray:
+    """The report's ``undamped_shapes`` (a row per mode and node) as ``[dof, mode]``, the
+    DOFs node by node (ux, uy, tx, ty)."""
+    table = report.columns("undamped_shapes")
+    by_row = np.stack([table[d] for d in ("ux", "uy", "tx", "ty")], axis=-1)
+    return by_row.reshape(count, -1).T.copy()
+
+
+def _damped_modes(report: Report) -> list[dict[str, Any]]:
+    """Each damped mode of the report's ``damped_modes`` with its rows of ``damped_shapes``."""
+    modes, shapes = report.columns("damped_modes"), report.columns("damped_shapes")
+    out = []
+    for i, mode in enumerate(modes["mode"]):
+        rows = shapes["mode"] == mode
+        out.append(
+            {
+                "label": modes["label"][i],
+                "damped_frequency_hz": float(modes["damped_frequency_hz"][i]),
+                "natural_frequency_hz": float(modes["natural_frequency_hz"][i]),
+                "damping_ratio": float(modes["damping_ratio"][i]),
+                "log_decrement": float(modes["log_decrement"][i]),
+                "whirl": modes["whirl"][i],
+                "eigenvalue": (float(modes["eigenvalue_real_per_s"][i]), float(modes["eigenvalue_imag_rad_per_s"][i])),
+                **{name: shapes[name][rows] for name in _ORBIT_COLUMNS},
+            }
+        )
+    return out
