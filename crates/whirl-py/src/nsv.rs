@@ -4,16 +4,17 @@
 
 use std::ops::ControlFlow;
 use std::path::PathBuf;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use pythonize::pythonize;
 use whirl::given::Choice;
+use whirl::model::Model;
 use whirl::nsv::{
-    checkpoint, compare_starts as compare, other_start_options, Cascade, CascadeOptions,
-    CascadePoint, CascadeReport, CascadeRequest,
+    compare_starts as compare, other_start_options, Cascade, CascadeOptions, CascadePoint,
+    CascadeReport, CascadeRequest, PreparedCascade,
 };
 use whirl::progress::Progress;
 
@@ -57,15 +58,38 @@ pub fn cascade_default_speeds<'py>(
     Ok(lib(whirl::nsv::default_speeds(&model.model))?.into_pyarray(py))
 }
 
+/// The last cascade prepared in this process (its model reduced, its step worked out), kept
+/// for the next call on the same model and options: a cluster's worker computes many speeds
+/// of one cascade, and a checkpointed run names its folder and then runs.
+static PREPARED: Mutex<Option<Arc<PreparedCascade<'static>>>> = Mutex::new(None);
+
+/// The cascade of `model` with `options` prepared, or the one kept when it is the same.
+fn prepared(
+    model: &Model,
+    options: &CascadeOptions,
+) -> whirl::Result<Arc<PreparedCascade<'static>>> {
+    let mut kept = PREPARED
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner());
+    if let Some(p) = kept.as_ref().filter(|p| p.is_of(model, options)) {
+        return Ok(Arc::clone(p));
+    }
+    let fresh = Arc::new(PreparedCascade::owned(model.clone(), options.clone())?);
+    *kept = Some(Arc::clone(&fresh));
+    Ok(fresh)
+}
+
 /// The checkpoint folder of this cascade inside `parent`: one folder per model and options.
 #[pyfunction]
 pub fn cascade_checkpoint(
+    py: Python<'_>,
     model: &PyModel,
     options: &Bound<'_, PyDict>,
     parent: PathBuf,
 ) -> PyResult<PathBuf> {
     let o = cascade_options(model, options)?;
-    Ok(parent.join(lib(checkpoint::key(&model.model, &o))?))
+    let key = py.detach(|| prepared(&model.model, &o)?.checkpoint_key());
+    Ok(parent.join(lib(key)?))
 }
 
 /// Computes the cascade (resuming from and saving to `checkpoint` when given), telling
@@ -98,13 +122,13 @@ pub fn cascade<'py>(
         });
         let checkpoint = checkpoint.as_deref();
         match &runner {
-            None => whirl::nsv::cascade(&model.model, &o, checkpoint, Some(&report)),
+            None => prepared(&model.model, &o)?.run(checkpoint, Some(&report)),
             Some(runner) => {
                 let run = |batch: &[(usize, f64)],
                            done: &mut dyn FnMut(usize, CascadePoint) -> whirl::Result<()>| {
                     crate::cluster::run_on(runner, batch.to_vec(), "point", done)
                 };
-                whirl::nsv::distributed_cascade(&model.model, &o, checkpoint, Some(&report), &run)
+                prepared(&model.model, &o)?.run_distributed(checkpoint, Some(&report), &run)
             }
         }
     })?
@@ -169,7 +193,7 @@ pub fn cascade_point(
     speed: f64,
 ) -> PyResult<String> {
     let o = cascade_options(model, options)?;
-    let point = lib(py.detach(|| whirl::nsv::cascade_point(&model.model, &o, speed)))?;
+    let point = lib(py.detach(|| prepared(&model.model, &o)?.point(speed)))?;
     serde_json::to_string(&point).map_err(|e| {
         to_py(whirl::Error::Internal(format!(
             "cannot encode a point: {e}"

@@ -65,6 +65,7 @@ mod starts;
 mod summary;
 pub mod trend;
 
+use std::borrow::Cow;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
@@ -211,16 +212,7 @@ pub fn distributed_cascade(
 /// # Errors
 /// [`Error::Input`] for bad options; what the simulation reports for a model it cannot run.
 pub fn cascade_point(model: &Model, options: &CascadeOptions, speed: f64) -> Result<CascadePoint> {
-    let prepared = PreparedCascade::new(model, options)?;
-    let mut planners = point::Planners::new(options, &prepared.resolved)?;
-    point::compute(
-        model,
-        options,
-        &prepared.resolved,
-        &prepared.linear,
-        speed,
-        &mut planners,
-    )
+    PreparedCascade::new(model, options)?.point(speed)
 }
 
 /// A cascade ready to run: its options checked, the model's linear system assembled and
@@ -229,10 +221,11 @@ pub fn cascade_point(model: &Model, options: &CascadeOptions, speed: f64) -> Res
 /// does not) and depends on no speed, so it is made once here and serves the stability
 /// limit that sets the step, the checkpoint's key and every speed. [`cascade`] prepares and
 /// runs; a caller that needs the checkpoint's key before running (to name the folder)
-/// prepares once and does both.
+/// prepares once and does both, and a cluster's worker that computes many speeds of one
+/// cascade prepares it once ([`PreparedCascade::owned`], [`PreparedCascade::point`]).
 pub struct PreparedCascade<'a> {
-    model: &'a Model,
-    options: &'a CascadeOptions,
+    model: Cow<'a, Model>,
+    options: Cow<'a, CascadeOptions>,
     /// The model's linear system, shared by every speed.
     linear: Linear,
     resolved: Resolved,
@@ -247,19 +240,52 @@ impl<'a> PreparedCascade<'a> {
     /// handle.
     pub fn new(model: &'a Model, options: &'a CascadeOptions) -> Result<Self> {
         options::check(model, options)?;
-        Self::build(model, options)
+        Self::build(Cow::Borrowed(model), Cow::Borrowed(options))
+    }
+
+    /// As [`PreparedCascade::new`], owning the model and the options: kept by a caller
+    /// between calls (a cluster's worker, between its speeds of one cascade).
+    ///
+    /// # Errors
+    /// As [`PreparedCascade::new`].
+    pub fn owned(model: Model, options: CascadeOptions) -> Result<PreparedCascade<'static>> {
+        options::check(&model, &options)?;
+        PreparedCascade::build(Cow::Owned(model), Cow::Owned(options))
+    }
+
+    /// Whether this is the cascade of `model` with `options`.
+    pub fn is_of(&self, model: &Model, options: &CascadeOptions) -> bool {
+        let json = |m: &Model, o: &CascadeOptions| serde_json::to_string(&(m, o)).ok();
+        let mine = json(&self.model, &self.options);
+        mine.is_some() && mine == json(model, options)
+    }
+
+    /// One speed (rad/s), as the cascade computes it ([`cascade_point`]).
+    ///
+    /// # Errors
+    /// As [`cascade_point`].
+    pub fn point(&self, speed: f64) -> Result<CascadePoint> {
+        let mut planners = point::Planners::new(&self.options, &self.resolved)?;
+        point::compute(
+            &self.model,
+            &self.options,
+            &self.resolved,
+            &self.linear,
+            speed,
+            &mut planners,
+        )
     }
 
     /// As [`PreparedCascade::new`], for transients marched with the cascade's settings (a
     /// run-up): a linear model is not refused, its speeds are never computed as a cascade.
     pub(crate) fn for_transient(model: &'a Model, options: &'a CascadeOptions) -> Result<Self> {
         options::check_settings(model, options)?;
-        Self::build(model, options)
+        Self::build(Cow::Borrowed(model), Cow::Borrowed(options))
     }
 
-    fn build(model: &'a Model, options: &'a CascadeOptions) -> Result<Self> {
-        let linear = point::linear_system(model, options)?;
-        let resolved = options::resolve(model, options, &linear)?;
+    fn build(model: Cow<'a, Model>, options: Cow<'a, CascadeOptions>) -> Result<Self> {
+        let linear = point::linear_system(&model, &options)?;
+        let resolved = options::resolve(&model, &options, &linear)?;
         Ok(PreparedCascade {
             model,
             options,
@@ -284,7 +310,7 @@ impl<'a> PreparedCascade<'a> {
     /// # Errors
     /// [`Error::Encode`] when the model cannot be hashed.
     pub fn checkpoint_key(&self) -> Result<String> {
-        checkpoint::key_of(self.model, self.options, &self.resolved)
+        checkpoint::key_of(&self.model, &self.options, &self.resolved)
     }
 
     /// Computes the cascade, as [`cascade`] does.
@@ -295,6 +321,20 @@ impl<'a> PreparedCascade<'a> {
         self.run_on(checkpoint, progress, None)
     }
 
+    /// Computes the cascade as [`PreparedCascade::run`] does, its speeds by `runner` (on a
+    /// cluster's workers) instead of on this machine's threads ([`distributed_cascade`]).
+    ///
+    /// # Errors
+    /// As [`distributed_cascade`].
+    pub fn run_distributed(
+        &self,
+        checkpoint: Option<&Path>,
+        progress: Option<&Progress>,
+        runner: PointRunner<'_>,
+    ) -> Result<Cascade> {
+        self.run_on(checkpoint, progress, Some(runner))
+    }
+
     fn run_on(
         &self,
         checkpoint: Option<&Path>,
@@ -302,7 +342,7 @@ impl<'a> PreparedCascade<'a> {
         runner: Option<PointRunner<'_>>,
     ) -> Result<Cascade> {
         let start = Instant::now();
-        let (model, options) = (self.model, self.options);
+        let (model, options): (&Model, &CascadeOptions) = (&self.model, &self.options);
         let resolved = self.resolved;
         let store = checkpoint
             .map(|dir| Checkpoint::open(dir, model, options, &resolved))
