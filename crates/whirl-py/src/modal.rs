@@ -6,9 +6,10 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use pythonize::pythonize;
 use whirl::fe::{assemble_banded, Bearings};
-use whirl::modal::{check_model, modal_report, CampbellOptions};
+use whirl::modal::{check_model, modal_report, CampbellRequest};
 
 use crate::error::{keyword_lib, lib};
+use crate::given::{fill, keyword_error};
 use crate::model::PyModel;
 use crate::report::PyReport;
 use crate::watch::stoppable;
@@ -21,25 +22,18 @@ pub fn check(py: Python<'_>, model: &PyModel) -> PyResult<PyReport> {
     PyReport::with_figures(&check, whirl_figures::check(&check))
 }
 
-/// The Campbell diagram over `speeds` (rad/s): `modes` branches, critical speeds at the
-/// excitation `orders`, on a basis of 2 x modes + 8 undamped modes unless `full`. The
-/// library's result as a dict, with the branches' `labels` and its `report`.
+/// The Campbell diagram with the keyword arguments `options` (each read by the library by
+/// its name, those left None at its default). The library's result as a dict, with the
+/// branches' `labels` and its `report`.
 #[pyfunction]
 pub fn campbell<'py>(
     py: Python<'py>,
     model: &PyModel,
-    speeds: Vec<f64>,
-    modes: usize,
-    orders: Vec<f64>,
-    full: bool,
+    options: &Bound<'py, PyDict>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let options = CampbellOptions {
-        speeds,
-        modes,
-        orders,
-        basis_size: (!full).then(|| CampbellOptions::default_basis(modes)),
-        ..CampbellOptions::new(Vec::new())
-    };
+    let mut request = CampbellRequest::default();
+    fill(options, &mut request)?;
+    let options = request.options(&model.model).map_err(keyword_error)?;
     let result = lib(stoppable(py, |progress| {
         let system = assemble_banded(&model.model, Bearings::Linearised);
         whirl::modal::campbell(&system, &options, Some(progress))

@@ -42,14 +42,3 @@ def mode_count(n: int, name: str = "modes") -> int:
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= 200:
         raise _whirl.InputError(f"invalid `{name}`: `{n}` is not a whole number from 1 to 200")
     return int(n)
-
-
-def orders(given: Sequence[float] | float) -> list[float]:
-    """Excitation orders, each above 0 and at most 100 (1 = synchronous)."""
-    values = [given] if isinstance(given, (int, float)) else list(given)
-    for k in values:
-        if not (isinstance(k, (int, float)) and np.isfinite(k) and 0 < k <= 100):
-            raise _whirl.InputError(
-                f"invalid `orders`: `{k}` is not an order between 0 and 100 (e.g. 1 or 0.5)"
-            )
-    return [float(k) for k in values]

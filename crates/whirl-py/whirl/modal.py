@@ -99,30 +99,27 @@ def campbell(
     model: Model | str | os.PathLike[str],
     speeds: _options.Speeds = None,
     *,
-    modes: int = 8,
-    orders: Sequence[float] | float = (1.0,),
-    full: bool = False,
+    modes: int | None = None,
+    orders: Sequence[float] | float | None = None,
+    full: bool | None = None,
 ) -> CampbellResult:
-    """The Campbell diagram (``whirl campbell``).
+    """The Campbell diagram (``whirl campbell``). Every option left ``None`` takes the
+    library's default, the same as the command line's.
 
     Args:
         model: a :class:`Model` or a model file path.
         speeds: spin speeds: a range ``"0:800Hz:161"`` (``rpm`` too), or numbers in rad/s;
             default 161 speeds from rest to 1.2 x the model's top operating speed (800 Hz
             when it states none).
-        modes: number of whirl branches to follow (1-200).
-        orders: excitation orders whose crossings are critical speeds (1 = synchronous).
+        modes: number of whirl branches to follow (1-200; default 8).
+        orders: excitation orders whose crossings are critical speeds (1 = synchronous,
+            the default), each above 0 and at most 100.
         full: solve the full system at every speed instead of a basis of 2 x modes + 8
             undamped modes (slower; the basis keeps branches within 2e-4 of the full solve).
     """
     model = as_model(model)
-    raw = _whirl.campbell(
-        model._raw,
-        _options.speeds(speeds, model, 0.0, 161),
-        _options.mode_count(modes),
-        _options.orders(orders),
-        bool(full),
-    )
+    options = {"speeds": speeds, "modes": modes, "orders": orders, "full": full}
+    raw = _whirl.campbell(model._raw, options)
     branches = [
         Branch(**{**b, "label": label, **_arrays(b, "frequency_hz", "damping_ratio", "log_decrement")})
         for b, label in zip(raw["branches"], raw["labels"])

@@ -294,7 +294,30 @@ impl Given {
     /// # Errors
     /// [`InputError`] naming `field` for anything else.
     pub fn speeds(&self, field: &str) -> Result<Vec<f64>, InputError> {
-        let help = "give a range such as \"1:750Hz:150\", or positive speeds in rad/s";
+        self.speeds_above(field, false)
+    }
+
+    /// Spin speeds, rad/s, each 0 or more (a linear analysis may start from rest): a range
+    /// (`"0:800Hz:161"`) or numbers in rad/s.
+    ///
+    /// # Errors
+    /// [`InputError`] naming `field` for anything else.
+    pub fn spin_speeds(&self, field: &str) -> Result<Vec<f64>, InputError> {
+        self.speeds_above(field, true)
+    }
+
+    /// Speeds, each positive, or 0 or more with `rest`.
+    fn speeds_above(&self, field: &str, rest: bool) -> Result<Vec<f64>, InputError> {
+        let (help, which) = match rest {
+            true => (
+                "give a range such as \"0:800Hz:161\", or speeds of 0 or more in rad/s",
+                "must not be negative",
+            ),
+            false => (
+                "give a range such as \"1:750Hz:150\", or positive speeds in rad/s",
+                "must be positive",
+            ),
+        };
         let w = match self {
             Given::Text(t) => parse_range(t, Dimension::AngularSpeed)
                 .map_err(|e| bad(field, e.to_string(), help))?,
@@ -310,12 +333,9 @@ impl Given {
                 ))
             }
         };
-        if w.is_empty() || w.iter().any(|x| !(x.is_finite() && *x > 0.0)) {
-            return Err(bad(
-                field,
-                format!("{}: speeds must be positive", self.kind()),
-                help,
-            ));
+        let allowed = |x: f64| x.is_finite() && (x > 0.0 || (rest && x == 0.0));
+        if w.is_empty() || w.iter().any(|&x| !allowed(x)) {
+            return Err(bad(field, format!("{}: speeds {which}", self.kind()), help));
         }
         Ok(w)
     }

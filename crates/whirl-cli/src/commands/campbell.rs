@@ -11,11 +11,13 @@
 use std::fmt::Write;
 
 use whirl::fe::{assemble_banded, Bearings};
-use whirl::modal::{campbell, CampbellOptions, CampbellResult};
+use whirl::modal::{campbell, CampbellRequest, CampbellResult, DEFAULT_BRANCHES, DEFAULT_ORDER};
 use whirl::model::Model;
 use whirl::report::Report;
 
-use super::{finish, lib, load, mode_count, report_summary, speeds, Common, Outcome, Speeds};
+use super::{
+    announce, default_is, finish, lib, load, report_summary, speeds, Common, Outcome, Speeds,
+};
 use crate::output::Output;
 use crate::progress::shown;
 
@@ -29,26 +31,17 @@ pub struct Args {
     /// operating speed].
     #[arg(long, value_name = "RANGE", value_parser = speeds)]
     pub speeds: Option<Speeds>,
-    /// Number of whirl branches to follow.
-    #[arg(long, value_name = "N", default_value = "8", value_parser = mode_count)]
-    pub modes: usize,
-    /// Excitation orders whose crossings are critical speeds (1 = synchronous).
-    #[arg(long, value_name = "LIST", value_delimiter = ',', default_value = "1", value_parser = order)]
-    pub orders: Vec<f64>,
+    #[arg(long, value_name = "N",
+          help = default_is("Number of whirl branches to follow (1 to 200).", DEFAULT_BRANCHES))]
+    pub modes: Option<usize>,
+    #[arg(long, value_name = "LIST", value_delimiter = ',', allow_hyphen_values = true,
+          help = default_is("Excitation orders whose crossings are critical speeds (1 = synchronous), \
+                             each above 0 and at most 100.", DEFAULT_ORDER))]
+    pub orders: Option<Vec<f64>>,
     /// Solve the full system at every speed instead of a basis of 2N + 8 undamped modes
     /// (slower; the basis keeps branches within 2e-4 of the full solve).
     #[arg(long)]
     pub full: bool,
-}
-
-/// Clap parser of an excitation order: a positive finite number.
-fn order(text: &str) -> Result<f64, String> {
-    match text.trim().parse::<f64>() {
-        Ok(k) if k.is_finite() && k > 0.0 && k <= 100.0 => Ok(k),
-        _ => Err(format!(
-            "`{text}` is not an order between 0 and 100 (e.g. 1 or 0.5)"
-        )),
-    }
 }
 
 pub fn run(args: &Args) -> miette::Result<Outcome> {
@@ -69,14 +62,17 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
 
 /// The Campbell diagram of the linearised model over the speeds asked for.
 fn solve(model: &Model, args: &Args) -> miette::Result<CampbellResult> {
-    let system = assemble_banded(model, Bearings::Linearised);
-    let options = CampbellOptions {
-        speeds: Speeds::or_default(&args.speeds, model, 0.0, 161),
+    let request = CampbellRequest {
+        speeds: args.speeds.as_ref().map(|s| s.0.clone()),
         modes: args.modes,
         orders: args.orders.clone(),
-        basis_size: (!args.full).then(|| CampbellOptions::default_basis(args.modes)),
-        max_damping_ratio: 0.9,
+        full: args.full,
     };
+    let options = lib(request.options(model).map_err(whirl::Error::from))?;
+    if args.speeds.is_none() {
+        announce(None, "speeds", &options.speeds);
+    }
+    let system = assemble_banded(model, Bearings::Linearised);
     lib(shown("campbell", |p| campbell(&system, &options, p)))
 }
 

@@ -14,8 +14,12 @@
 //! a sign change between two speeds and linear interpolation.
 
 mod report;
+mod request;
 
 pub use report::CampbellSummary;
+pub use request::{
+    CampbellRequest, DEFAULT_BRANCHES, DEFAULT_CAMPBELL_SPEEDS, DEFAULT_ORDER, MAX_ORDER,
+};
 
 use serde::Serialize;
 
@@ -45,9 +49,9 @@ impl CampbellOptions {
     pub fn new(speeds: Vec<f64>) -> Self {
         CampbellOptions {
             speeds,
-            modes: 8,
-            orders: vec![1.0],
-            basis_size: Some(Self::default_basis(8)),
+            modes: DEFAULT_BRANCHES,
+            orders: vec![DEFAULT_ORDER],
+            basis_size: Some(Self::default_basis(DEFAULT_BRANCHES)),
             max_damping_ratio: 0.9,
         }
     }

@@ -22,7 +22,8 @@ mod ucs;
 mod undamped;
 
 pub use campbell::{
-    campbell, CampbellOptions, CampbellResult, CampbellSummary, CriticalSpeed, ModeBranch,
+    campbell, CampbellOptions, CampbellRequest, CampbellResult, CampbellSummary, CriticalSpeed,
+    ModeBranch, DEFAULT_BRANCHES, DEFAULT_CAMPBELL_SPEEDS, DEFAULT_ORDER, MAX_ORDER,
 };
 pub use check::{check_model, CheckSummary, ClearanceCurve, ModelCheck};
 pub use complex::{branch_labels, complex_modes, ComplexMode, ModalBasis, Whirl, FULL_LIMIT};
