@@ -6,7 +6,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use pythonize::pythonize;
 use whirl::fe::{assemble_banded, Bearings};
-use whirl::modal::{check_model, modal_report, CampbellRequest};
+use whirl::modal::{check_model, modal_report, CampbellRequest, ModalRequest};
 
 use crate::error::{keyword_lib, lib};
 use crate::given::{fill, keyword_error};
@@ -64,12 +64,20 @@ pub fn convergence<'py>(
     ))
 }
 
-/// The `modes` undamped modes and the first `modes` damped modes at `speed` (rad/s), as the
-/// library reports them (`whirl modal`): its tables hold the frequencies, shapes and orbits
+/// The undamped modes and the damped modes at a speed with the keyword arguments
+/// `options` (`speed`, `modes`; None at the library's default), as the library reports them
+/// (`whirl modal`), and the speed, rad/s: its tables hold the frequencies, shapes and orbits
 /// the Python result is read from.
 #[pyfunction]
-pub fn modal(py: Python<'_>, model: &PyModel, speed: f64, modes: usize) -> PyResult<PyReport> {
+pub fn modal(
+    py: Python<'_>,
+    model: &PyModel,
+    options: &Bound<'_, PyDict>,
+) -> PyResult<(PyReport, f64)> {
+    let mut request = ModalRequest::default();
+    fill(options, &mut request)?;
+    let (speed, modes) = request.resolved().map_err(keyword_error)?;
     let report = lib(py.detach(|| modal_report(&model.model, speed, modes, None)))?;
     let figures = whirl_figures::modal(&model.model, &report);
-    PyReport::with_figures(&report, figures)
+    Ok((PyReport::with_figures(&report, figures)?, speed))
 }

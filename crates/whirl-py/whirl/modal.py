@@ -237,18 +237,22 @@ class ModalResult(Reported):
     report: Report
 
 
-def modal(model: Model | str | os.PathLike[str], speed: str | float = 0.0, *, modes: int = 6) -> ModalResult:
-    """Undamped modes and damped whirl modes at a speed (``whirl modal``).
+def modal(
+    model: Model | str | os.PathLike[str], speed: str | float | None = None, *, modes: int | None = None
+) -> ModalResult:
+    """Undamped modes and damped whirl modes at a speed (``whirl modal``). Every option left
+    ``None`` takes the library's default, the same as the command line's.
 
     Args:
         model: a :class:`Model` or a model file path.
-        speed: spin speed of the damped modes, ``"300Hz"``, ``"3000rpm"`` or rad/s (a speed
-            below 1e-3 rad/s is solved at 1e-3 rad/s, where forward and backward separate).
-        modes: number of modes, undamped and damped (1-200).
+        speed: spin speed of the damped modes, ``"300Hz"``, ``"3000rpm"`` or rad/s (default
+            rest; a speed below 1e-3 rad/s is solved at 1e-3 rad/s, where forward and
+            backward separate).
+        modes: number of modes, undamped and damped (1-200; default 6).
     """
     model = as_model(model)
-    w = _whirl.parse_speed(str(speed))
-    report = Report("modal", model, _whirl.modal(model._raw, w, _options.mode_count(modes)))
+    raw, w = _whirl.modal(model._raw, {"speed": speed, "modes": modes})
+    report = Report("modal", model, raw)
     frequencies = report.columns("undamped_modes")["frequency_hz"]
     return ModalResult(
         model=model,

@@ -10,11 +10,11 @@
 
 use std::fmt::Write;
 
-use whirl::modal::{modal_report, ModalReport};
+use whirl::modal::{modal_report, ModalReport, ModalRequest, DEFAULT_MODAL_MODES};
 use whirl::model::Model;
 use whirl::report::Report;
 
-use super::{finish, hz, lib, load, mode_count, report_summary, speed, Common, Outcome};
+use super::{default_is, finish, hz, lib, load, report_summary, speed, Common, Outcome};
 use crate::output::Output;
 use crate::progress::shown;
 
@@ -23,25 +23,31 @@ use crate::progress::shown;
 pub struct Args {
     #[command(flatten)]
     pub common: Common,
-    /// Spin speed of the damped modes: `3000rpm`, `50Hz`, or a plain number in rad/s.
-    #[arg(long, value_name = "SPEED", default_value = "0", value_parser = speed)]
-    pub speed: f64,
-    /// Number of modes (undamped and damped).
-    #[arg(long, value_name = "N", default_value = "6", value_parser = mode_count)]
-    pub modes: usize,
+    /// Spin speed of the damped modes: `3000rpm`, `50Hz`, or a plain number in rad/s
+    /// [default: 0, at rest].
+    #[arg(long, value_name = "SPEED", value_parser = speed)]
+    pub speed: Option<f64>,
+    #[arg(long, value_name = "N",
+          help = default_is("Number of modes, undamped and damped (1 to 200).", DEFAULT_MODAL_MODES))]
+    pub modes: Option<usize>,
 }
 
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
+    let request = ModalRequest {
+        speed: args.speed,
+        modes: args.modes,
+    };
+    let (speed, count) = lib(request.resolved().map_err(whirl::Error::from))?;
     let modes = lib(shown("modal", |p| {
-        modal_report(&loaded.model, args.speed, args.modes, p)
+        modal_report(&loaded.model, speed, count, p)
     }))?;
     let mut out = Output::begin(&args.common.out_dir("modal"))?;
     for table in modes.tables() {
         out.table(&table)?;
     }
     out.figures(whirl_figures::modal(&loaded.model, &modes), args.common.rpm)?;
-    let text = text(&loaded.model, &modes, args.speed);
+    let text = text(&loaded.model, &modes, speed);
     let summary = report_summary("modal", &loaded, &modes)?;
     finish(out, summary, text, &args.common)
 }

@@ -16,6 +16,7 @@ mod check;
 mod complex;
 mod convergence;
 mod report;
+mod request;
 mod sound;
 mod subspace;
 mod ucs;
@@ -29,6 +30,7 @@ pub use check::{check_model, CheckSummary, ClearanceCurve, ModelCheck};
 pub use complex::{branch_labels, complex_modes, ComplexMode, ModalBasis, Whirl, FULL_LIMIT};
 pub use convergence::{check_element_count, convergence, ConvergenceResult, ConvergenceSummary};
 pub use report::{modal_report, DampedSummary, ModalReport, ModalSummary};
+pub use request::{ModalRequest, DEFAULT_MODAL_MODES};
 pub use sound::trusted_modes;
 pub(crate) use subspace::largest_eigenvalue;
 pub use ucs::{
