@@ -398,6 +398,15 @@ pub trait SetByName {
 /// Most fixed-interface modes a reduction may keep (the bound of every mode-count option).
 pub const MAX_MODES: usize = 200;
 
+/// `n` when it is a count of modes, 1 to [`MAX_MODES`], with the message every mode count
+/// gives otherwise.
+///
+/// # Errors
+/// [`InputError`] naming `field`.
+pub fn mode_count(field: &str, n: usize) -> Result<usize, InputError> {
+    Given::Whole(i64::try_from(n).unwrap_or(i64::MAX)).whole(field, 1, MAX_MODES)
+}
+
 /// The error for an option `name` that `analysis` does not have, listing those it has.
 pub fn unknown_option(name: &str, known: &[&str], analysis: &str) -> InputError {
     InputError::field(name, format!("the {analysis} has no option `{name}`"))

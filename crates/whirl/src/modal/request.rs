@@ -5,7 +5,7 @@
 #![allow(clippy::result_large_err)]
 
 use crate::error::InputError;
-use crate::given::{unknown_option, Given, SetByName, MAX_MODES};
+use crate::given::{mode_count, unknown_option, Given, SetByName, MAX_MODES};
 
 /// Modes found, undamped and damped, when none are asked for.
 pub const DEFAULT_MODAL_MODES: usize = 6;
@@ -36,14 +36,7 @@ impl ModalRequest {
             )
             .help("e.g. 300Hz or 3000rpm"));
         }
-        let modes = self.modes.unwrap_or(DEFAULT_MODAL_MODES);
-        if !(1..=MAX_MODES).contains(&modes) {
-            return Err(InputError::field(
-                "modes",
-                format!("{modes} is not a whole number from 1 to {MAX_MODES}"),
-            )
-            .help("e.g. 6"));
-        }
+        let modes = mode_count("modes", self.modes.unwrap_or(DEFAULT_MODAL_MODES))?;
         Ok((speed, modes))
     }
 }

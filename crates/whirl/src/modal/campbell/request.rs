@@ -6,7 +6,7 @@
 
 use super::CampbellOptions;
 use crate::error::InputError;
-use crate::given::{unknown_option, Given, SetByName, MAX_MODES};
+use crate::given::{mode_count, unknown_option, Given, SetByName, MAX_MODES};
 use crate::model::Model;
 
 /// Speeds of a diagram when none are given: from rest to 1.2 x the model's top operating
@@ -46,14 +46,7 @@ impl CampbellRequest {
     /// # Errors
     /// [`InputError`] naming `modes` or `orders` for a value out of range.
     pub fn options(&self, model: &Model) -> Result<CampbellOptions, InputError> {
-        let modes = self.modes.unwrap_or(DEFAULT_BRANCHES);
-        if !(1..=MAX_MODES).contains(&modes) {
-            return Err(InputError::field(
-                "modes",
-                format!("{modes} is not a whole number from 1 to {MAX_MODES}"),
-            )
-            .help("e.g. 8"));
-        }
+        let modes = mode_count("modes", self.modes.unwrap_or(DEFAULT_BRANCHES))?;
         let orders = self.orders.clone().unwrap_or_else(|| vec![DEFAULT_ORDER]);
         check_orders(&orders)?;
         Ok(CampbellOptions {
