@@ -1,18 +1,18 @@
 //! The analyses the library reports whole ([`whirl::report::Report`]): each a thin call
 //! with the command line's options, its report wrapped as the one result type.
 
-use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 use whirl::bearing::stiffness::{stiffness_report, GivenLoad, StiffnessRequest};
 use whirl::fe::{assemble_banded, dof, Bearings, Direction};
-use whirl::modal::{critical_speed_map, default_stiffnesses, log_space};
+use whirl::modal::{critical_speed_map, UcsRequest};
 use whirl::reduce::reduction_report;
 use whirl::response::{default_frequencies, frf_refined as receptances, FrfReport};
 use whirl::statics::static_response;
 use whirl::time::{fit_forcing as fit, ForcingFitOptions, ForcingFitReport};
 
 use crate::error::{keyword_lib, lib, option};
-use crate::given::choice;
+use crate::given::{choice, fill, keyword_error};
 use crate::model::PyModel;
 use crate::report::PyReport;
 use crate::watch::{fraction_progress, run_watched, stoppable};
@@ -75,38 +75,18 @@ pub fn statics(py: Python<'_>, model: &PyModel, rollers: &str) -> PyResult<PyRep
     PyReport::with_figures(&result, whirl_figures::statics(&model.model, &result))
 }
 
-/// The undamped critical-speed map (`whirl ucs`) over the bearing stiffnesses `stiffness`
-/// (N/m), `modes` curves, synchronous forward whirl or at rest.
+/// The undamped critical-speed map with the keyword arguments `options` (`stiffness`,
+/// `modes`, `at_rest`; each read by the library by its name, None at its default).
 #[pyfunction]
-pub fn ucs(
-    py: Python<'_>,
-    model: &PyModel,
-    stiffness: Vec<f64>,
-    modes: usize,
-    synchronous: bool,
-) -> PyResult<PyReport> {
+pub fn ucs(py: Python<'_>, model: &PyModel, options: &Bound<'_, PyDict>) -> PyResult<PyReport> {
+    let mut request = UcsRequest::default();
+    fill(options, &mut request)?;
+    let (stiffness, modes) = request.resolved(&model.model).map_err(keyword_error)?;
+    let synchronous = !request.at_rest;
     let map = lib(stoppable(py, |progress| {
         critical_speed_map(&model.model, &stiffness, modes, synchronous, Some(progress))
     })?)?;
     PyReport::with_figures(&map, whirl_figures::ucs(&model.model, &map))
-}
-
-/// The stiffnesses of a critical-speed map when none are given (N/m).
-#[pyfunction]
-pub fn ucs_default_stiffnesses<'py>(py: Python<'py>, model: &PyModel) -> Bound<'py, PyArray1<f64>> {
-    default_stiffnesses(&model.model).into_pyarray(py)
-}
-
-/// `count` stiffnesses from `low` to `high` (N/m), spaced logarithmically, as the map's
-/// ranges are.
-#[pyfunction]
-pub fn ucs_stiffnesses<'py>(
-    py: Python<'py>,
-    low: f64,
-    high: f64,
-    count: usize,
-) -> Bound<'py, PyArray1<f64>> {
-    log_space(low, high, count).into_pyarray(py)
 }
 
 /// The global DOF of `(node, direction)`, the direction named `ux`, `uy`, `tx` or `ty`.

@@ -76,8 +76,6 @@ fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analyses::statics, m)?)?;
     m.add_function(wrap_pyfunction!(analyses::stiffness, m)?)?;
     m.add_function(wrap_pyfunction!(analyses::ucs, m)?)?;
-    m.add_function(wrap_pyfunction!(analyses::ucs_default_stiffnesses, m)?)?;
-    m.add_function(wrap_pyfunction!(analyses::ucs_stiffnesses, m)?)?;
     m.add_function(wrap_pyfunction!(analyses::frf, m)?)?;
     m.add_function(wrap_pyfunction!(analyses::fit_forcing, m)?)?;
     m.add_class::<model::PyModel>()?;

@@ -4,7 +4,6 @@ summary.json and CSV tables."""
 
 from __future__ import annotations
 
-import math
 import os
 from collections.abc import Sequence
 
@@ -127,44 +126,24 @@ def stiffness(
     return Report("stiffness", model, raw)
 
 
-def _stiffnesses(given: str | Sequence[float]) -> np.ndarray:
-    """Stiffnesses in N/m: ``"1e5:1e10:51"`` (spaced logarithmically) or the values."""
-    if isinstance(given, str):
-        parts = [p.strip().removesuffix("N/m").strip() for p in given.split(":")]
-        try:
-            low, high, count = float(parts[0]), float(parts[1]), int(parts[2])
-        except (ValueError, IndexError):
-            raise _whirl.InputError(
-                f"invalid `stiffness`: `{given}`: expected start:stop:count in N/m, e.g. 1e5:1e10:51"
-            ) from None
-        if len(parts) != 3 or not (0 < low < high and math.isfinite(high) and 2 <= count <= 10_000):
-            raise _whirl.InputError(
-                f"invalid `stiffness`: `{given}`: give 0 < start < stop and a count from 2 to 10000"
-            )
-        return _whirl.ucs_stiffnesses(low, high, count)
-    k = np.asarray(given, dtype=float).ravel()
-    if k.size == 0 or not np.all(np.isfinite(k) & (k > 0)):
-        raise _whirl.InputError("invalid `stiffness`: give positive stiffnesses in N/m")
-    return k
-
-
 def ucs(
     model: Model | str | os.PathLike[str],
     *,
     stiffness: str | Sequence[float] | None = None,
-    modes: int = 4,
-    at_rest: bool = False,
+    modes: int | None = None,
+    at_rest: bool | None = None,
 ) -> Report:
     """The undamped critical-speed map (``whirl ucs``, API 684): the lowest critical speeds
     against a stiffness every bearing shares, and where the bearings' own stiffness cuts
-    them.
+    them. Every option left ``None`` takes the library's default, the same as the command
+    line's.
 
     Args:
         model: a :class:`Model` or a model file path.
         stiffness: ``"1e5:1e10:51"`` (N/m, spaced logarithmically) or the values; default
             61 values from 1/100 of the softest bearing's stiffness to 100 times the
             stiffest's, widened to whole decades.
-        modes: number of critical speeds (curves), 1-200.
+        modes: number of critical speeds (curves), 1-200 (default 4).
         at_rest: natural frequencies at rest instead of synchronous critical speeds (no
             gyroscopic moments).
 
@@ -172,9 +151,8 @@ def ucs(
         A :class:`whirl.Report` with the tables ``ucs`` and ``bearings``.
     """
     model = as_model(model)
-    k = _whirl.ucs_default_stiffnesses(model._raw) if stiffness is None else _stiffnesses(stiffness)
-    raw = _whirl.ucs(model._raw, [float(x) for x in k], _options.mode_count(modes), not at_rest)
-    return Report("ucs", model, raw)
+    options = {"stiffness": stiffness, "modes": modes, "at_rest": at_rest}
+    return Report("ucs", model, _whirl.ucs(model._raw, options))
 
 
 def _dof(name: str, spec: str | tuple[int, str], model: Model) -> tuple[int, str]:

@@ -16,7 +16,8 @@ use whirl::model::Model;
 use whirl::report::Report;
 
 use super::{
-    announce, default_is, finish, lib, load, report_summary, speeds, Common, Outcome, Speeds,
+    announce, default_is, finish, lib, load, option_error, report_summary, speeds, Common, Outcome,
+    Speeds,
 };
 use crate::output::Output;
 use crate::progress::shown;
@@ -68,7 +69,7 @@ fn solve(model: &Model, args: &Args) -> miette::Result<CampbellResult> {
         orders: args.orders.clone(),
         full: args.full,
     };
-    let options = lib(request.options(model).map_err(whirl::Error::from))?;
+    let options = request.options(model).map_err(|e| option_error(e.into()))?;
     if args.speeds.is_none() {
         announce(None, "speeds", &options.speeds);
     }

@@ -14,7 +14,9 @@ use whirl::modal::{modal_report, ModalReport, ModalRequest, DEFAULT_MODAL_MODES}
 use whirl::model::Model;
 use whirl::report::Report;
 
-use super::{default_is, finish, hz, lib, load, report_summary, speed, Common, Outcome};
+use super::{
+    default_is, finish, hz, lib, load, option_error, report_summary, speed, Common, Outcome,
+};
 use crate::output::Output;
 use crate::progress::shown;
 
@@ -38,7 +40,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         speed: args.speed,
         modes: args.modes,
     };
-    let (speed, count) = lib(request.resolved().map_err(whirl::Error::from))?;
+    let (speed, count) = request.resolved().map_err(|e| option_error(e.into()))?;
     let modes = lib(shown("modal", |p| {
         modal_report(&loaded.model, speed, count, p)
     }))?;

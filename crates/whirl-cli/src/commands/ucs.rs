@@ -9,10 +9,10 @@
 
 use std::fmt::Write;
 
-use whirl::modal::{critical_speed_map, default_stiffnesses, log_space};
+use whirl::modal::{critical_speed_map, UcsRequest, DEFAULT_UCS_MODES};
 use whirl::report::Report;
 
-use super::{finish, lib, load, mode_count, report_summary, Common, Outcome};
+use super::{default_is, finish, lib, load, option_error, report_summary, Common, Outcome};
 use crate::output::Output;
 use crate::progress::shown;
 
@@ -26,9 +26,9 @@ pub struct Args {
     /// 100 times the stiffest's, widened to whole decades].
     #[arg(long, value_name = "RANGE", value_parser = stiffness_range)]
     pub stiffness: Option<StiffnessRange>,
-    /// Number of critical speeds (curves).
-    #[arg(long, value_name = "N", value_parser = mode_count, default_value = "4")]
-    pub modes: usize,
+    #[arg(long, value_name = "N",
+          help = default_is("Number of critical speeds (curves), 1 to 200.", DEFAULT_UCS_MODES))]
+    pub modes: Option<usize>,
     /// Natural frequencies at rest instead of synchronous critical speeds (no gyroscopic
     /// moments), as some codes draw the map.
     #[arg(long)]
@@ -39,51 +39,26 @@ pub struct Args {
 #[derive(Debug, Clone)]
 pub struct StiffnessRange(pub Vec<f64>);
 
-/// Clap parser of `start:stop:count` stiffnesses (N/m), logarithmically spaced.
+/// Clap parser of `start:stop:count` stiffnesses (N/m), as the library reads them.
 fn stiffness_range(text: &str) -> Result<StiffnessRange, String> {
-    let parts: Vec<&str> = text.split(':').collect();
-    let [a, b, n] = parts[..] else {
-        return Err(format!(
-            "`{text}`: expected start:stop:count in N/m, e.g. 1e5:1e10:51"
-        ));
-    };
-    let bound = |s: &str, name: &str| -> Result<f64, String> {
-        let v: f64 = s
-            .trim()
-            .trim_end_matches("N/m")
-            .trim()
-            .parse()
-            .map_err(|_| format!("`{text}`: the {name} `{s}` is not a number of N/m"))?;
-        if v.is_finite() && v > 0.0 {
-            Ok(v)
-        } else {
-            Err(format!(
-                "`{text}`: the {name} `{s}` must be a positive stiffness"
-            ))
-        }
-    };
-    let (lo, hi) = (bound(a, "start")?, bound(b, "stop")?);
-    let count: usize = n
-        .trim()
-        .parse()
-        .map_err(|_| format!("`{text}`: the count `{n}` is not a whole number"))?;
-    if !(2..=10_000).contains(&count) || hi <= lo {
-        return Err(format!(
-            "`{text}`: give stop above start and a count from 2 to 10000"
-        ));
-    }
-    Ok(StiffnessRange(log_space(lo, hi, count)))
+    whirl::modal::stiffness_range(text)
+        .map(StiffnessRange)
+        .map_err(|e| e.message)
 }
 
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     let model = &loaded.model;
-    let stiffness = match &args.stiffness {
-        Some(s) => s.0.clone(),
-        None => default_stiffnesses(model),
+    let request = UcsRequest {
+        stiffness: args.stiffness.as_ref().map(|s| s.0.clone()),
+        modes: args.modes,
+        at_rest: args.at_rest,
     };
+    let (stiffness, modes) = request
+        .resolved(model)
+        .map_err(|e| option_error(e.into()))?;
     let map = lib(shown("ucs", |p| {
-        critical_speed_map(model, &stiffness, args.modes, !args.at_rest, p)
+        critical_speed_map(model, &stiffness, modes, !args.at_rest, p)
     }))?;
     let (k0, k1) = (stiffness[0], stiffness[stiffness.len() - 1]);
 
@@ -97,7 +72,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         stiffness.len(),
         k0,
         k1,
-        args.modes,
+        modes,
         if map.synchronous {
             "synchronous forward whirl"
         } else {

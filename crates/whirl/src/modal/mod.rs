@@ -34,8 +34,9 @@ pub use request::{ModalRequest, DEFAULT_MODAL_MODES};
 pub use sound::trusted_modes;
 pub(crate) use subspace::largest_eigenvalue;
 pub use ucs::{
-    critical_speed_map, default_stiffnesses, log_space, BearingCut, BearingStiffness,
-    CriticalSpeedMap, CriticalSpeedSummary,
+    critical_speed_map, default_stiffnesses, log_space, stiffness_range, BearingCut,
+    BearingStiffness, CriticalSpeedMap, CriticalSpeedSummary, UcsRequest, DEFAULT_UCS_MODES,
+    MAX_STIFFNESSES,
 };
 pub(crate) use undamped::{lowest_modes, symmetric_modes};
 pub use undamped::{solves_dense, undamped_modes, UndampedModes, DENSE_LIMIT};

@@ -25,8 +25,10 @@
 //! cost linear in the elements.
 
 mod report;
+mod request;
 
 pub use report::{BearingCut, CriticalSpeedSummary};
+pub use request::{stiffness_range, UcsRequest, DEFAULT_UCS_MODES, MAX_STIFFNESSES};
 
 use serde::Serialize;
 
