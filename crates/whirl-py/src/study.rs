@@ -6,8 +6,6 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
-use pythonize::pythonize;
 use whirl::progress::Progress;
 use whirl::study::report::StudyReport;
 use whirl::study::results::{analyse, run_points, PointResult};
@@ -15,6 +13,7 @@ use whirl::study::store::Store;
 use whirl::study::{point, Point, Study};
 
 use crate::error::{lib, to_py};
+use crate::report::PyReport;
 use crate::watch::{run_watched, Watch};
 
 /// A point's cascade, its finished speeds kept in [`Point::partial_dir`] until the study
@@ -63,7 +62,8 @@ pub fn study_point(
 /// Runs the study file `path`, keeping finished points in `checkpoint` (`restart` empties
 /// it first). With `runner`, the points not yet in the checkpoint go to `runner(indices)`,
 /// which yields `(index, point_json)` as each arrives (from [`study_point`] on a worker).
-/// Returns the study's points, outcomes and analysis as a dict.
+/// Returns the library's report of the study (its summary, tables and figures, as the
+/// command line writes them) and the checkpoint folder.
 #[pyfunction]
 #[pyo3(signature = (path, checkpoint, restart, progress = None, runner = None))]
 pub fn study<'py>(
@@ -73,7 +73,7 @@ pub fn study<'py>(
     restart: bool,
     progress: Option<Bound<'py, PyAny>>,
     runner: Option<Py<PyAny>>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<(PyReport, PathBuf)> {
     let study = lib(Study::from_file(&path))?;
     let store = lib(Store::open(&checkpoint, &study.fingerprint, &path, restart))?;
     let total = study.points.len();
@@ -128,35 +128,14 @@ pub fn study<'py>(
         )));
     }
     let analysis = analyse(&study, &outcomes);
-    let points = PyList::empty(py);
-    for (p, o) in study.points.iter().zip(&outcomes) {
-        let d = PyDict::new(py);
-        d.set_item("key", &p.key)?;
-        d.set_item("label", p.label())?;
-        d.set_item("changes", &p.changes)?;
-        match o {
-            Ok(r) => d.set_item("result", pythonize(py, r)?)?,
-            Err(e) => d.set_item("error", e)?,
-        }
-        points.append(d)?;
-    }
-    let out = PyDict::new(py);
-    out.set_item("title", &study.title)?;
-    out.set_item("model_file", &study.model_file)?;
-    out.set_item("metric", pythonize(py, &study.metric)?)?;
-    out.set_item("metric_description", study.metric.describe())?;
-    out.set_item("checkpoint", store.dir())?;
-    out.set_item("points", points)?;
-    out.set_item("analysis", pythonize(py, &analysis)?)?;
     let report = StudyReport {
         study,
         results: outcomes,
         outcome: analysis,
     };
-    let figures = PyList::empty(py);
-    for figure in whirl_figures::study(&report) {
-        figures.append(pythonize(py, &figure)?)?;
-    }
-    out.set_item("figures", figures)?;
-    Ok(out)
+    let figures = whirl_figures::study(&report);
+    Ok((
+        PyReport::with_figures(&report, figures)?,
+        store.dir().to_path_buf(),
+    ))
 }
