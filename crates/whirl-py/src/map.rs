@@ -15,38 +15,27 @@ use crate::model::PyModel;
 use crate::report::PyReport;
 use crate::watch::{fraction_progress, run_watched};
 
-/// The map's own options from the Python package: speeds in rad/s, lengths in m, every
-/// setting `None` for the library's default.
-#[derive(FromPyObject)]
-#[pyo3(from_item_all)]
-pub struct MapArgs {
-    parameter: Option<String>,
-    values: Vec<String>,
-    clear_below: Option<f64>,
-    check: Vec<String>,
-    check_level: Option<f64>,
-    confirm: bool,
-}
-
-/// The library's request for `model` with these options, the sweeps' speeds and settings
-/// read from the keywords `sweep` as `whirl.hbm` reads them ([`HbmRequest::set`]).
-fn request(model: &PyModel, a: MapArgs, sweep: &Bound<'_, PyDict>) -> PyResult<MapRequest> {
+/// The library's request for `model`: the map's own keywords `options` and the sweeps'
+/// speeds and settings `sweep` (as `whirl.hbm` reads them, [`HbmRequest::set`]), each read
+/// by the library by its name, those left None at its default.
+fn request(
+    model: &PyModel,
+    options: &Bound<'_, PyDict>,
+    sweep: &Bound<'_, PyDict>,
+) -> PyResult<MapRequest> {
     let mut hb = HbmRequest::default();
     fill(sweep, &mut hb)?;
     let range = keyword_lib(hb.sweep_options(&model.model, hb.settings.harmonics()))?;
-    Ok(MapRequest {
+    let mut request = MapRequest {
         model_text: model.text().to_string(),
         model_file: model.source().cloned(),
-        parameter: a.parameter,
-        values: a.values,
         from: range.from,
         to: range.to,
         settings: hb.sweep_settings(),
-        clear_below: a.clear_below,
-        check: a.check,
-        check_level_m: a.check_level,
-        confirm: a.confirm,
-    })
+        ..MapRequest::default()
+    };
+    fill(options, &mut request)?;
+    Ok(request)
 }
 
 /// The map as `whirl map` makes it, its sweeps one per thread; `progress(done, 1000)` is
@@ -58,7 +47,7 @@ fn request(model: &PyModel, a: MapArgs, sweep: &Bound<'_, PyDict>) -> PyResult<M
 pub fn map(
     py: Python<'_>,
     model: &PyModel,
-    options: MapArgs,
+    options: &Bound<'_, PyDict>,
     sweep: &Bound<'_, PyDict>,
     progress: Option<Bound<'_, PyAny>>,
     runner: Option<Py<PyAny>>,
@@ -87,7 +76,7 @@ pub fn map(
 pub fn map_value(
     py: Python<'_>,
     model: &PyModel,
-    options: MapArgs,
+    options: &Bound<'_, PyDict>,
     sweep: &Bound<'_, PyDict>,
     index: usize,
 ) -> PyResult<String> {

@@ -13,13 +13,6 @@ from .model import Model, as_model
 from .report import Report
 
 
-def _values(given: str | Sequence[str | float]) -> list[str]:
-    """Values as the model file writes them: ``"10um,20um"`` or a list."""
-    if isinstance(given, str):
-        given = [v for v in given.split(",") if v.strip()]
-    return [str(v).strip() for v in given]
-
-
 def map(  # noqa: A001 - the command's name
     model: Model | str | os.PathLike[str],
     values: str | Sequence[str | float],
@@ -35,15 +28,15 @@ def map(  # noqa: A001 - the command's name
     stability_modes: int | None = None,
     reduce: int | None = None,
     clear_below: str | float | None = None,
-    check: str | Sequence[str | float] = (),
+    check: str | Sequence[str | float] | None = None,
     check_level: str | float | None = None,
-    confirm: bool = False,
+    confirm: bool | None = None,
     progress: bool | _progress.Report = True,
     client: Any = None,
 ) -> Report:
     """The NSV map (``whirl map``): one harmonic-balance sweep with Floquet stability per
     value of a model parameter. Every option left ``None`` takes the library's default, the
-    same as the command line's.
+    same as the command line's; the library reads each, as the command line's flags.
 
     Args:
         model: a :class:`Model` or a model file path.
@@ -90,13 +83,11 @@ def map(  # noqa: A001 - the command's name
     }
     options = {
         "parameter": parameter,
-        "values": _values(values),
-        "clear_below": None if clear_below is None else _whirl.parse_speed(str(clear_below)),
-        "check": _values(check),
-        "check_level": None
-        if check_level is None
-        else _whirl.parse_quantity("check_level", str(check_level), "length"),
-        "confirm": bool(confirm),
+        "values": values,
+        "clear_below": clear_below,
+        "check": check,
+        "check_level": check_level,
+        "confirm": confirm,
     }
     runner = None
     if client is not None:

@@ -12,6 +12,7 @@ use serde::Serialize;
 use toml_edit::DocumentMut;
 
 use crate::error::{Error, InputError, Result};
+use crate::given::{unknown_option, Given, SetByName};
 use crate::hbm::{SweepOptions, SweepSettings};
 use crate::model::Model;
 use crate::study::path::{ParameterPath, PATH_HELP};
@@ -28,7 +29,7 @@ pub const DEFAULT_PARAMETER: &str = "roller_bearing[*].clearance";
 pub const MAX_VALUES: usize = 200;
 
 /// A map of the synchronous orbit's stability over speed and one model parameter.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default)]
 pub struct MapRequest {
     /// The model file's text.
     pub model_text: String,
@@ -180,6 +181,45 @@ impl MapRequest {
             .into()),
             _ => Ok(()),
         }
+    }
+}
+
+/// The map's own options that [`MapRequest::set`] knows (the sweeps' are
+/// [`crate::hbm::HbmRequest`]'s).
+const MAP_OPTIONS: [&str; 6] = [
+    "parameter",
+    "values",
+    "clear_below",
+    "check",
+    "check_level",
+    "confirm",
+];
+
+impl SetByName for MapRequest {
+    /// Sets the map's option `name`: the parameter's path, its values (each as the model
+    /// file writes it), the design query's speed, the values to check and the check's level.
+    fn set(&mut self, name: &str, value: &Given) -> std::result::Result<(), InputError> {
+        match name {
+            "parameter" => self.parameter = Some(written(value)),
+            "values" => self.values = value.items().iter().map(written).collect(),
+            "clear_below" => self.clear_below = Some(value.speed(name)?),
+            "check" => self.check = value.items().iter().map(written).collect(),
+            "check_level" => self.check_level_m = Some(value.length(name)?),
+            "confirm" => self.confirm = value.flag(name)?,
+            _ => return Err(unknown_option(name, &MAP_OPTIONS, "map")),
+        }
+        Ok(())
+    }
+}
+
+/// A value as written: text as given, a number as Rust writes it (which TOML reads back).
+fn written(value: &Given) -> String {
+    match value {
+        Given::Text(t) => t.trim().to_string(),
+        Given::Whole(n) => n.to_string(),
+        Given::Number(x) => x.to_string(),
+        Given::Flag(b) => b.to_string(),
+        Given::List(items) => items.iter().map(written).collect::<Vec<_>>().join(","),
     }
 }
 
