@@ -3,7 +3,7 @@
 
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use whirl::bearing::stiffness::{stiffness_report, GivenLoad, StiffnessRequest};
+use whirl::bearing::stiffness::{stiffness_report, StiffnessRequest};
 use whirl::fe::{assemble_banded, dof, Bearings, Direction};
 use whirl::modal::{critical_speed_map, UcsRequest};
 use whirl::reduce::reduction_report;
@@ -31,37 +31,16 @@ pub fn reduce(
     PyReport::with_figures(&report, whirl_figures::reduce(&report))
 }
 
-/// The stiffness of roller bearing `bearing` versus clearance (`whirl stiffness`): at the
-/// clearances `clearances` (m) under `load` (N, at `load_angle` degrees; None for the
-/// bearing's share of the weight), the cage at `cage_angle` degrees (None: on the load
-/// line) or over `cage_steps` positions, and the force-deflection surfaces at
-/// `surface_clearances` (m) on a `grid` x `grid` grid.
+/// The stiffness study (`whirl stiffness`) with the keyword arguments `options`, each read
+/// by the library by its name, those left None at its default.
 #[pyfunction]
-#[allow(clippy::too_many_arguments)]
 pub fn stiffness(
     py: Python<'_>,
     model: &PyModel,
-    bearing: usize,
-    clearances: Vec<f64>,
-    load: Option<f64>,
-    load_angle: f64,
-    cage_angle: Option<f64>,
-    cage_steps: usize,
-    surface_clearances: Vec<f64>,
-    grid: usize,
+    options: &Bound<'_, PyDict>,
 ) -> PyResult<PyReport> {
-    let request = StiffnessRequest {
-        bearing,
-        clearances,
-        load: load.map(|magnitude| GivenLoad {
-            magnitude,
-            angle_deg: load_angle,
-        }),
-        cage_angle_deg: cage_angle,
-        cage_steps,
-        surface_clearances,
-        grid,
-    };
+    let mut request = StiffnessRequest::default();
+    fill(options, &mut request)?;
     let report = keyword_lib(py.detach(|| stiffness_report(&model.model, &request)))?;
     PyReport::with_figures(&report, whirl_figures::stiffness(&report))
 }

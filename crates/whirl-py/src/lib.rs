@@ -47,23 +47,6 @@ fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
         "DEFAULT_STABILITY_MODES",
         whirl::hbm::DEFAULT_STABILITY_MODES,
     )?;
-    m.add(
-        "DEFAULT_STIFFNESS_CLEARANCES",
-        whirl::bearing::stiffness::DEFAULT_CLEARANCES,
-    )?;
-    m.add(
-        "DEFAULT_SURFACE_CLEARANCES",
-        whirl::bearing::stiffness::DEFAULT_SURFACE_CLEARANCES,
-    )?;
-    m.add(
-        "DEFAULT_LOAD_ANGLE_DEG",
-        whirl::bearing::stiffness::DEFAULT_LOAD_ANGLE_DEG,
-    )?;
-    m.add(
-        "DEFAULT_CAGE_STEPS",
-        whirl::bearing::stiffness::DEFAULT_CAGE_STEPS,
-    )?;
-    m.add("DEFAULT_GRID", whirl::bearing::stiffness::DEFAULT_GRID)?;
     m.add_class::<report::PyReport>()?;
     m.add_function(wrap_pyfunction!(report::save_figures, m)?)?;
     // The colours of a figure's series that name none, by index (`whirl.plot.draw`).

@@ -11,14 +11,9 @@ import numpy.typing as npt
 __all__ = [
     "BUILD_ID",
     "DEFAULT_CAGE_POSITIONS",
-    "DEFAULT_CAGE_STEPS",
-    "DEFAULT_GRID",
-    "DEFAULT_LOAD_ANGLE_DEG",
     "DEFAULT_MODES",
     "DEFAULT_SPEED_COUNT",
     "DEFAULT_STABILITY_MODES",
-    "DEFAULT_STIFFNESS_CLEARANCES",
-    "DEFAULT_SURFACE_CLEARANCES",
     "InputError",
     "MAX_AFT_SAMPLES",
     "MAX_HARMONICS",
@@ -108,23 +103,8 @@ DEFAULT_CAGE_POSITIONS: int
 def parse_quantity(name: str, text: str, dimension: str) -> float: ...
 def parse_range(name: str, text: str, dimension: str) -> npt.NDArray[np.float64]: ...
 
-DEFAULT_STIFFNESS_CLEARANCES: str
-DEFAULT_SURFACE_CLEARANCES: str
-DEFAULT_LOAD_ANGLE_DEG: float
-DEFAULT_CAGE_STEPS: int
-DEFAULT_GRID: int
 
-def stiffness(
-    model: Model,
-    bearing: int,
-    clearances: list[float],
-    load: float | None,
-    load_angle: float,
-    cage_angle: float | None,
-    cage_steps: int,
-    surface_clearances: list[float],
-    grid: int,
-) -> Report: ...
+def stiffness(model: Model, options: dict[str, Any]) -> Report: ...
 def runup(model: Model, options: dict[str, Any]) -> Report: ...
 def cascade_default_speeds(model: Model) -> npt.NDArray[np.float64]: ...
 def cascade_resolved(model: Model, options: dict[str, Any]) -> dict[str, Any]: ...

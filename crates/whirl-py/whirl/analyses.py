@@ -58,33 +58,23 @@ def static(model: Model | str | os.PathLike[str], *, rollers: str = "hertz") -> 
     return Report("static", model, _whirl.statics(model._raw, rollers))
 
 
-def _lengths(name: str, given: str | float | Sequence[float | str]) -> list[float]:
-    """Lengths in m: a range ``"10um:120um:12"``, a comma-separated list ``"20um,60um"``,
-    or the values (plain numbers are m)."""
-    if isinstance(given, str):
-        if given.count(":") == 2:
-            return [float(x) for x in _whirl.parse_range(name, given, "length")]
-        given = given.split(",")
-    values = [given] if isinstance(given, (int, float)) else list(given)
-    return [_whirl.parse_quantity(name, str(v), "length") for v in values]
-
-
 def stiffness(
     model: Model | str | os.PathLike[str],
     *,
-    bearing: int = 0,
-    clearances: str | Sequence[float | str] = _whirl.DEFAULT_STIFFNESS_CLEARANCES,
+    bearing: int | None = None,
+    clearances: str | Sequence[float | str] | None = None,
     load: str | float | None = None,
-    load_angle: float = _whirl.DEFAULT_LOAD_ANGLE_DEG,
+    load_angle: float | None = None,
     cage_angle: float | None = None,
-    cage_steps: int = _whirl.DEFAULT_CAGE_STEPS,
-    surface_clearances: str | Sequence[float | str] = _whirl.DEFAULT_SURFACE_CLEARANCES,
-    grid: int = _whirl.DEFAULT_GRID,
+    cage_steps: int | None = None,
+    surface_clearances: str | Sequence[float | str] | None = None,
+    grid: int | None = None,
 ) -> Report:
     """The equivalent stiffness of a roller bearing versus clearance and its
     force-deflection surfaces (``whirl stiffness``): per clearance the tangent at the
     frozen-cage equilibrium under the load, its average over one roller passage, and the
-    tangent at one fixed journal displacement.
+    tangent at one fixed journal displacement. Every option left ``None`` takes the
+    library's default, the same as the command line's.
 
     Args:
         model: a :class:`Model` or a model file path.
@@ -108,22 +98,17 @@ def stiffness(
         F_y, F_r on the grid), as the command line writes them.
     """
     model = as_model(model)
-    given = None if load is None else _whirl.parse_quantity("load", str(load), "force")
-    for name, n in (("bearing", bearing), ("cage_steps", cage_steps), ("grid", grid)):
-        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
-            raise _whirl.InputError(f"invalid `{name}`: `{n}` is not a whole number")
-    raw = _whirl.stiffness(
-        model._raw,
-        int(bearing),
-        _lengths("clearances", clearances),
-        given,
-        float(load_angle),
-        None if cage_angle is None else float(cage_angle),
-        int(cage_steps),
-        _lengths("surface_clearances", surface_clearances),
-        int(grid),
-    )
-    return Report("stiffness", model, raw)
+    options = {
+        "bearing": bearing,
+        "clearances": clearances,
+        "load": load,
+        "load_angle": load_angle,
+        "cage_angle": cage_angle,
+        "cage_steps": cage_steps,
+        "surface_clearances": surface_clearances,
+        "grid": grid,
+    }
+    return Report("stiffness", model, _whirl.stiffness(model._raw, options))
 
 
 def ucs(

@@ -98,6 +98,38 @@ impl Given {
         ))
     }
 
+    /// A force, N, positive.
+    ///
+    /// # Errors
+    /// [`InputError`] naming `field` for anything but a positive force.
+    pub fn force(&self, field: &str) -> Result<f64, InputError> {
+        self.signed(
+            field,
+            Dimension::Force,
+            "\"60N\"",
+            ("the force", "N"),
+            false,
+        )
+    }
+
+    /// Lengths, m, each 0 or more: a range `start:stop:count` (`"10um:120um:12"`), text
+    /// separated by commas (`"20um,60um"`), or numbers in m.
+    ///
+    /// # Errors
+    /// [`InputError`] naming `field` for anything else.
+    pub fn lengths(&self, field: &str) -> Result<Vec<f64>, InputError> {
+        if let Given::Text(t) = self {
+            if t.matches(':').count() == 2 {
+                return parse_range(t, Dimension::Length)
+                    .map_err(|e| bad(field, e.to_string(), "e.g. 10um:120um:12"));
+            }
+        }
+        self.items()
+            .iter()
+            .map(|x| x.length_or_zero(field))
+            .collect()
+    }
+
     /// A time, s, 0 or more (the ranges particular to an option are the analysis's).
     ///
     /// # Errors

@@ -25,13 +25,13 @@
 use std::fmt::Write;
 
 use whirl::bearing::stiffness::{
-    clearance_label, stiffness_report, GivenLoad, StiffnessReport, StiffnessRequest,
-    DEFAULT_CAGE_STEPS, DEFAULT_CLEARANCES, DEFAULT_GRID, DEFAULT_SURFACE_CLEARANCES,
+    clearance_label, stiffness_report, StiffnessReport, StiffnessRequest, DEFAULT_CAGE_STEPS,
+    DEFAULT_CLEARANCES, DEFAULT_GRID, DEFAULT_LOAD_ANGLE_DEG, DEFAULT_SURFACE_CLEARANCES,
 };
 use whirl::report::{index_list, Report};
 use whirl::units::{parse_quantity, parse_range, Dimension};
 
-use super::{finish, load, option_error, report_summary, Common, Outcome};
+use super::{default_is, finish, load, option_error, report_summary, Common, Outcome};
 use crate::output::Output;
 
 /// `whirl stiffness`
@@ -39,32 +39,32 @@ use crate::output::Output;
 pub struct Args {
     #[command(flatten)]
     pub common: Common,
-    /// Which roller bearing, by its order in the model file (0 = the first).
-    #[arg(long, value_name = "INDEX", default_value = "0")]
-    pub bearing: usize,
-    /// Clearances `start:stop:count`, e.g. `10um:120um:12`; plain numbers are m.
-    #[arg(long, value_name = "RANGE", default_value = DEFAULT_CLEARANCES, value_parser = clearance_range)]
-    pub clearances: Clearances,
+    /// Which roller bearing, by its order in the model file [default: 0, the first].
+    #[arg(long, value_name = "INDEX")]
+    pub bearing: Option<usize>,
+    #[arg(long, value_name = "RANGE", value_parser = clearance_range,
+          help = default_is("Clearances `start:stop:count`, e.g. `10um:120um:12`; plain numbers are m.", DEFAULT_CLEARANCES))]
+    pub clearances: Option<Clearances>,
     /// Load the rotor puts on the bearing, e.g. `60N` or `2kN` [default: the bearing's share
     /// of the rotor weight, from a linear static solve with gravity].
     #[arg(long, value_name = "FORCE", value_parser = force)]
     pub load: Option<f64>,
-    /// Direction of `--load`, degrees from +x towards +y (-90 = down, along gravity).
-    #[arg(long, value_name = "DEG", default_value = "-90", requires = "load", value_parser = degrees, allow_hyphen_values = true)]
-    pub load_angle: f64,
+    #[arg(long, value_name = "DEG", requires = "load", value_parser = degrees, allow_hyphen_values = true,
+          help = default_is("Direction of `--load`, degrees from +x towards +y (-90 = down, along gravity).", DEFAULT_LOAD_ANGLE_DEG))]
+    pub load_angle: Option<f64>,
     /// Angle of roller 0 for the frozen cage, degrees from +x towards +y [default: on the
     /// load line].
     #[arg(long, value_name = "DEG", value_parser = degrees, allow_hyphen_values = true)]
     pub cage_angle: Option<f64>,
-    /// Cage positions across one roller passage for the averaged stiffness (1 to 1000).
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_CAGE_STEPS)]
-    pub cage_steps: usize,
-    /// Clearances of the force-deflection surfaces, comma-separated.
-    #[arg(long, value_name = "LIST", value_delimiter = ',', default_value = DEFAULT_SURFACE_CLEARANCES, value_parser = clearance)]
-    pub surface_clearances: Vec<f64>,
-    /// Points per side of the surfaces' displacement grid (2 to 401).
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_GRID)]
-    pub grid: usize,
+    #[arg(long, value_name = "N",
+          help = default_is("Cage positions across one roller passage for the averaged stiffness (1 to 1000).", DEFAULT_CAGE_STEPS))]
+    pub cage_steps: Option<usize>,
+    #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = clearance,
+          help = default_is("Clearances of the force-deflection surfaces, comma-separated.", DEFAULT_SURFACE_CLEARANCES))]
+    pub surface_clearances: Option<Vec<f64>>,
+    #[arg(long, value_name = "N",
+          help = default_is("Points per side of the surfaces' displacement grid (2 to 401).", DEFAULT_GRID))]
+    pub grid: Option<usize>,
 }
 
 /// Clearances in m from `start:stop:count`.
@@ -96,19 +96,21 @@ fn degrees(text: &str) -> Result<f64, String> {
     }
 }
 
-/// The library's request from the command line.
+/// The library's request from the command line: its defaults, and the flags given.
 fn request(args: &Args) -> StiffnessRequest {
+    let d = StiffnessRequest::default();
     StiffnessRequest {
-        bearing: args.bearing,
-        clearances: args.clearances.0.clone(),
-        load: args.load.map(|magnitude| GivenLoad {
-            magnitude,
-            angle_deg: args.load_angle,
-        }),
+        bearing: args.bearing.unwrap_or(d.bearing),
+        clearances: args.clearances.clone().map_or(d.clearances, |c| c.0),
+        load: args.load,
+        load_angle_deg: args.load_angle.unwrap_or(d.load_angle_deg),
         cage_angle_deg: args.cage_angle,
-        cage_steps: args.cage_steps,
-        surface_clearances: args.surface_clearances.clone(),
-        grid: args.grid,
+        cage_steps: args.cage_steps.unwrap_or(d.cage_steps),
+        surface_clearances: args
+            .surface_clearances
+            .clone()
+            .unwrap_or(d.surface_clearances),
+        grid: args.grid.unwrap_or(d.grid),
     }
 }
 

@@ -42,8 +42,8 @@ mod request;
 
 pub use report::{clearance_label, StiffnessReport, StiffnessSummary};
 pub use request::{
-    stiffness_report, GivenLoad, StiffnessRequest, DEFAULT_CAGE_STEPS, DEFAULT_CLEARANCES,
-    DEFAULT_GRID, DEFAULT_LOAD_ANGLE_DEG, DEFAULT_SURFACE_CLEARANCES,
+    stiffness_report, StiffnessRequest, DEFAULT_CAGE_STEPS, DEFAULT_CLEARANCES, DEFAULT_GRID,
+    DEFAULT_LOAD_ANGLE_DEG, DEFAULT_SURFACE_CLEARANCES,
 };
 
 use std::f64::consts::PI;

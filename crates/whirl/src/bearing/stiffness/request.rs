@@ -9,6 +9,7 @@ use super::{
     StiffnessReport,
 };
 use crate::error::{Error, InputError, Result};
+use crate::given::{unknown_option, Given, SetByName};
 use crate::model::{Model, RollerBearing};
 
 /// The clearances studied by default, as a range `start:stop:count`.
@@ -42,26 +43,19 @@ const WEIGHT_SOURCE: &str = "share of the rotor weight: the bearing's reaction i
 /// Where a given load comes from.
 const GIVEN_SOURCE: &str = "given";
 
-/// A load the rotor puts on the bearing, given by the user.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct GivenLoad {
-    /// Magnitude, N.
-    pub magnitude: f64,
-    /// Direction, degrees from +x towards +y (-90 = down).
-    pub angle_deg: f64,
-}
-
-/// What a stiffness study asks for; [`StiffnessRequest::new`] gives the command line's
-/// defaults but the clearances, which come from text ([`DEFAULT_CLEARANCES`] and
-/// [`DEFAULT_SURFACE_CLEARANCES`], read by the unit parser as the user's would be).
+/// What a stiffness study asks for; [`StiffnessRequest::default`] is every default, the
+/// clearances read from [`DEFAULT_CLEARANCES`] and [`DEFAULT_SURFACE_CLEARANCES`] as a
+/// user's text would be. The command line, the Python package and a study fill it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StiffnessRequest {
     /// The roller bearing, by its order in the model file.
     pub bearing: usize,
     /// Clearances studied, m.
     pub clearances: Vec<f64>,
-    /// The load; `None` for the bearing's share of the rotor weight.
-    pub load: Option<GivenLoad>,
+    /// The load's magnitude, N; `None` for the bearing's share of the rotor weight.
+    pub load: Option<f64>,
+    /// Direction of a given load, degrees from +x towards +y (-90 = down).
+    pub load_angle_deg: f64,
     /// Angle of roller 0 of the frozen cage, degrees; `None` for on the load line.
     pub cage_angle_deg: Option<f64>,
     /// Cage positions across one roller passage.
@@ -72,18 +66,50 @@ pub struct StiffnessRequest {
     pub grid: usize,
 }
 
-impl StiffnessRequest {
-    /// The command line's defaults with `clearances` and `surface_clearances` (m).
-    pub fn new(clearances: Vec<f64>, surface_clearances: Vec<f64>) -> StiffnessRequest {
+impl Default for StiffnessRequest {
+    fn default() -> StiffnessRequest {
+        // The default texts are constants the unit parser reads (a test checks they do).
+        let lengths = |text: &str| Given::Text(text.into()).lengths("").unwrap_or_default();
         StiffnessRequest {
             bearing: 0,
-            clearances,
+            clearances: lengths(DEFAULT_CLEARANCES),
             load: None,
+            load_angle_deg: DEFAULT_LOAD_ANGLE_DEG,
             cage_angle_deg: None,
             cage_steps: DEFAULT_CAGE_STEPS,
-            surface_clearances,
+            surface_clearances: lengths(DEFAULT_SURFACE_CLEARANCES),
             grid: DEFAULT_GRID,
         }
+    }
+}
+
+/// The options [`StiffnessRequest::set`] knows.
+const OPTIONS: [&str; 8] = [
+    "bearing",
+    "clearances",
+    "load",
+    "load_angle",
+    "cage_angle",
+    "cage_steps",
+    "surface_clearances",
+    "grid",
+];
+
+impl SetByName for StiffnessRequest {
+    fn set(&mut self, name: &str, value: &Given) -> std::result::Result<(), InputError> {
+        let v = value;
+        match name {
+            "bearing" => self.bearing = v.whole(name, 0, usize::MAX >> 1)?,
+            "clearances" => self.clearances = v.lengths(name)?,
+            "load" => self.load = Some(v.force(name)?),
+            "load_angle" => self.load_angle_deg = v.number(name)?,
+            "cage_angle" => self.cage_angle_deg = Some(v.number(name)?),
+            "cage_steps" => self.cage_steps = v.whole(name, 1, MAX_CAGE_STEPS)?,
+            "surface_clearances" => self.surface_clearances = v.lengths(name)?,
+            "grid" => self.grid = v.whole(name, 2, MAX_GRID)?,
+            _ => return Err(unknown_option(name, &OPTIONS, "stiffness study")),
+        }
+        Ok(())
     }
 }
 
@@ -159,18 +185,18 @@ fn check_request(r: &StiffnessRequest) -> Result<()> {
     lengths("clearances", &r.clearances)?;
     lengths("surface_clearances", &r.surface_clearances)?;
     if let Some(load) = r.load {
-        if !(load.magnitude.is_finite() && load.magnitude > 0.0) {
+        if !(load.is_finite() && load > 0.0) {
             return Err(invalid(
                 "load",
-                format!("{} N: the load must be positive", load.magnitude),
+                format!("{load} N: the load must be positive"),
             ));
         }
-        if !load.angle_deg.is_finite() {
-            return Err(invalid(
-                "load_angle",
-                format!("{} is not an angle in degrees", load.angle_deg),
-            ));
-        }
+    }
+    if !r.load_angle_deg.is_finite() {
+        return Err(invalid(
+            "load_angle",
+            format!("{} is not an angle in degrees", r.load_angle_deg),
+        ));
     }
     if r.cage_angle_deg.is_some_and(|a| !a.is_finite()) {
         return Err(invalid(
@@ -225,12 +251,9 @@ fn pick_bearing(model: &Model, index: usize) -> Result<&RollerBearing> {
 
 /// The load vector (N) and where it came from.
 fn bearing_load(model: &Model, request: &StiffnessRequest) -> Result<([f64; 2], &'static str)> {
-    if let Some(given) = request.load {
-        let a = given.angle_deg.to_radians();
-        return Ok((
-            [given.magnitude * a.cos(), given.magnitude * a.sin()],
-            GIVEN_SOURCE,
-        ));
+    if let Some(magnitude) = request.load {
+        let a = request.load_angle_deg.to_radians();
+        return Ok(([magnitude * a.cos(), magnitude * a.sin()], GIVEN_SOURCE));
     }
     let w = gravity_load(model, request.bearing)?;
     if norm(w) > 0.0 {
@@ -285,5 +308,41 @@ impl StiffnessReport {
     /// True when the load is the bearing's share of the rotor weight, false when given.
     pub fn load_from_weight(&self) -> bool {
         self.load_source == WEIGHT_SOURCE
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_default_texts_read_as_a_users_would() {
+        let r = StiffnessRequest::default();
+        assert_eq!(r.clearances.len(), 12);
+        assert!(
+            (r.clearances[0] - 10e-6).abs() < 1e-18 && (r.clearances[11] - 120e-6).abs() < 1e-18
+        );
+        assert_eq!(r.surface_clearances, vec![20e-6, 60e-6]);
+    }
+
+    #[test]
+    fn options_are_read_by_name_in_any_order() {
+        let mut r = StiffnessRequest::default();
+        r.set("load_angle", &Given::Number(0.0)).unwrap();
+        r.set("load", &Given::Text("2 kN".into())).unwrap();
+        r.set("clearances", &Given::Text("20um,60um".into()))
+            .unwrap();
+        assert_eq!((r.load, r.load_angle_deg), (Some(2000.0), 0.0));
+        assert_eq!(r.clearances, vec![20e-6, 60e-6]);
+        let e = r.set("load", &Given::Number(-1.0)).unwrap_err();
+        assert_eq!(e.field.as_deref(), Some("load"));
+        let e = r.set("grid", &Given::Whole(1)).unwrap_err();
+        assert_eq!(e.field.as_deref(), Some("grid"));
+        assert!(r
+            .set("loads", &Given::Number(1.0))
+            .unwrap_err()
+            .help
+            .unwrap()
+            .contains("load_angle"));
     }
 }
