@@ -9,7 +9,7 @@ use whirl::modal::{critical_speed_map, UcsRequest};
 use whirl::reduce::reduction_report;
 use whirl::response::{default_frequencies, frf_refined as receptances, FrfReport};
 use whirl::statics::static_response;
-use whirl::time::{fit_forcing as fit, ForcingFitOptions, ForcingFitReport};
+use whirl::time::{fit_forcing as fit, FitForcingRequest, ForcingFitReport};
 
 use crate::error::{keyword_lib, lib, option};
 use crate::given::{choice, fill, keyword_error};
@@ -120,29 +120,21 @@ pub fn frf(
     PyReport::with_figures(&FrfReport { result, force }, figures)
 }
 
-/// The forcing-function fit (`whirl fit-forcing`) of roller bearing `bearing` at `speeds`
-/// (rad/s), each simulated for `duration` s with the first `settle` s discarded, on a
-/// Craig-Bampton model with `reduce` modes; `progress(done, 1000)` is told the share of the
-/// simulated time done, and Ctrl-C or a true return stops it.
+/// The forcing-function law fitted to a roller bearing's Hertz response over speed
+/// (`whirl fit-forcing`) with the keyword arguments `options`, each read by the library by
+/// its name, those left None at its default; `progress(done, 1000)` is told the share of
+/// the simulated time done, and Ctrl-C or a true return stops it.
 #[pyfunction]
-#[pyo3(signature = (model, speeds, bearing, duration, settle, reduce, progress = None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (model, options, progress = None))]
 pub fn fit_forcing(
     py: Python<'_>,
     model: &PyModel,
-    speeds: Vec<f64>,
-    bearing: usize,
-    duration: f64,
-    settle: f64,
-    reduce: usize,
+    options: &Bound<'_, PyDict>,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<PyReport> {
-    let options = ForcingFitOptions {
-        duration,
-        settle,
-        reduction: Some(reduce),
-        ..ForcingFitOptions::default()
-    };
+    let mut request = FitForcingRequest::default();
+    fill(options, &mut request)?;
+    let (speeds, bearing, options) = request.resolved().map_err(keyword_error)?;
     let model = &model.model;
     let result = run_watched(py, progress.as_ref(), |watch| {
         let progress = fraction_progress(watch);

@@ -1,4 +1,4 @@
-"""Options as the command line reads them: speeds with units, counts, orders."""
+"""Options as the command line reads them: speeds with units, counts."""
 
 from __future__ import annotations
 
@@ -27,14 +27,6 @@ def speeds(given: Speeds, model: Model, start: float, count: int, name: str = "s
             "speeds in rad/s"
         )
     return w
-
-
-def time(name: str, value: str | float) -> float:
-    """A time in s: text with a unit (``"0.5s"``) or a number in s; not negative."""
-    t = _whirl.parse_quantity(name, str(value), "time")
-    if t < 0:
-        raise _whirl.InputError(f"invalid `{name}`: `{value}`: a time must not be negative")
-    return t
 
 
 def mode_count(n: int, name: str = "modes") -> int:

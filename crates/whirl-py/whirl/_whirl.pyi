@@ -175,12 +175,4 @@ def frf(
     frequencies: list[float] | None,
     force: float,
 ) -> Report: ...
-def fit_forcing(
-    model: Model,
-    speeds: list[float],
-    bearing: int,
-    duration: float,
-    settle: float,
-    reduce: int,
-    progress: Any = None,
-) -> Report: ...
+def fit_forcing(model: Model, options: dict[str, Any], progress: Any = None) -> Report: ...

@@ -201,10 +201,10 @@ def fit_forcing(
     model: Model | str | os.PathLike[str],
     speeds: _options.Speeds,
     *,
-    bearing: int = 0,
-    duration: str | float = "0.3s",
-    settle: str | float = "0.2s",
-    reduce: int = _whirl.DEFAULT_MODES,
+    bearing: int | None = None,
+    duration: str | float | None = None,
+    settle: str | float | None = None,
+    reduce: int | None = None,
     progress: bool | _progress.Report = True,
 ) -> Report:
     """The forcing-function law (thesis eq. 3.12) fitted to a roller bearing's Hertz
@@ -214,9 +214,9 @@ def fit_forcing(
         model: a :class:`Model` or a model file path.
         speeds: spin speeds to fit at, ``"100Hz:500Hz:5"`` or rad/s; the law is meant for
             speeds inside this range.
-        bearing: the roller bearing, numbered from 0 in file order.
-        duration: simulated time per speed.
-        settle: time discarded before sampling.
+        bearing: the roller bearing, numbered from 0 in file order (default the first).
+        duration: simulated time per speed (default 0.3 s).
+        settle: time discarded before sampling (default 0.2 s).
         reduce: Craig-Bampton fixed-interface modes (the bearing nodes are the boundary).
         progress: True for a tqdm bar when tqdm is installed, False, or ``progress(done,
             1000)`` told the share of the simulated time done (a true return stops it).
@@ -226,10 +226,7 @@ def fit_forcing(
         ``fit`` (the samples and the law's force at each).
     """
     model = as_model(model)
-    w = [float(x) for x in _options.speeds(speeds, model, 0.0, 5)]
+    options = {"speeds": speeds, "bearing": bearing, "duration": duration, "settle": settle, "reduce": reduce}
     with _progress.display(progress, "fit-forcing", "permille") as report:
-        raw = _whirl.fit_forcing(
-            model._raw, w, int(bearing), _options.time("duration", duration), _options.time("settle", settle),
-            _options.mode_count(reduce, "reduce"), report,
-        )
+        raw = _whirl.fit_forcing(model._raw, options, report)
     return Report("fit-forcing", model, raw)

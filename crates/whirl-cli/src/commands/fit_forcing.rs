@@ -16,13 +16,17 @@ use std::path::{Path, PathBuf};
 
 use whirl::model::Model;
 use whirl::report::Report;
-use whirl::time::{fit_forcing, ForcingFit, ForcingFitOptions, ForcingFitReport, DEFAULT_MODES};
+use whirl::time::{
+    fit_forcing, FitForcingRequest, ForcingFit, ForcingFitReport, DEFAULT_FIT_DURATION,
+    DEFAULT_FIT_SETTLE, DEFAULT_MODES,
+};
 
 use crate::progress::shown;
 use whirl_plot::PlotError;
 
 use super::{
-    finish, hz, lib, load, mode_count, report_summary, speeds, time, Common, Outcome, Speeds,
+    default_is, finish, hz, lib, load, option_error, report_summary, seconds, speeds, time, Common,
+    Outcome, Speeds,
 };
 use crate::error::Diag;
 use crate::output::Output;
@@ -36,35 +40,36 @@ pub struct Args {
     /// rad/s. The law is meant for speeds inside this range.
     #[arg(long, value_name = "RANGE", value_parser = speeds)]
     pub speeds: Speeds,
-    /// The roller bearing to fit, numbered from 0 in file order.
-    #[arg(long, value_name = "INDEX", default_value_t = 0)]
-    pub bearing: usize,
-    /// Simulated time per speed: `0.3s`, `300ms`, or a plain number in s.
-    #[arg(long, value_name = "TIME", default_value = "0.3s", value_parser = time)]
-    pub duration: f64,
-    /// Time discarded before sampling.
-    #[arg(long, value_name = "TIME", default_value = "0.2s", value_parser = time)]
-    pub settle: f64,
-    /// Craig-Bampton reduction keeping N fixed-interface modes (bearing nodes are the
-    /// boundary).
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_MODES, value_parser = mode_count)]
-    pub reduce: usize,
+    /// The roller bearing to fit, numbered from 0 in file order [default: 0, the first].
+    #[arg(long, value_name = "INDEX")]
+    pub bearing: Option<usize>,
+    #[arg(long, value_name = "TIME", value_parser = time,
+          help = default_is("Simulated time per speed: `0.3s`, `300ms`, or a plain number in s.", seconds(DEFAULT_FIT_DURATION)))]
+    pub duration: Option<f64>,
+    #[arg(long, value_name = "TIME", value_parser = time,
+          help = default_is("Time discarded before sampling.", seconds(DEFAULT_FIT_SETTLE)))]
+    pub settle: Option<f64>,
+    #[arg(long, value_name = "N",
+          help = default_is("Craig-Bampton reduction keeping N fixed-interface modes (bearing nodes are the boundary).", DEFAULT_MODES))]
+    pub reduce: Option<usize>,
 }
 
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     let model = &loaded.model;
-    check_bearing(model, args.bearing)?;
-    let options = ForcingFitOptions {
+    let request = FitForcingRequest {
+        speeds: Some(args.speeds.0.clone()),
+        bearing: args.bearing,
         duration: args.duration,
         settle: args.settle,
-        reduction: Some(args.reduce),
-        ..ForcingFitOptions::default()
+        reduce: args.reduce,
     };
+    let (speeds, bearing, options) = request.resolved().map_err(|e| option_error(e.into()))?;
+    check_bearing(model, bearing)?;
     let fit = lib(shown("fit-forcing", |p| {
-        fit_forcing(model, args.bearing, &args.speeds.0, &options, p)
+        fit_forcing(model, bearing, &speeds, &options, p)
     }))?;
-    let report = ForcingFitReport::new(model, args.bearing, fit);
+    let report = ForcingFitReport::new(model, bearing, fit);
     let summary = report_summary("fit-forcing", &loaded, &report)?;
     let text = summary_text(model, &report.fit, report.warning.as_deref());
     let mut out = Output::begin(&args.common.out_dir("fit-forcing"))?;

@@ -35,8 +35,9 @@ use serde::Serialize;
 use crate::bearing::forcing_regression::{fit_forcing_law, law_force, own_power_law, quality};
 use crate::bearing::forcing_regression::{in_contact, ForcingPoint};
 use crate::bearing::{ContactLaw, HertzBearing};
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::force::NonlinearForce;
+use crate::given::{mode_count, unknown_option, Given, SetByName, MAX_MODES};
 use crate::model::{Clearance, ForcingFunction, Model, RollerBearing};
 use crate::progress::Progress;
 use crate::system::SpeedProfile;
@@ -59,15 +60,81 @@ pub struct ForcingFitOptions {
     pub samples_per_speed: usize,
 }
 
+/// Simulated time per speed by default, s.
+pub const DEFAULT_FIT_DURATION: f64 = 0.3;
+/// Time discarded before sampling by default, s.
+pub const DEFAULT_FIT_SETTLE: f64 = 0.2;
+
 impl Default for ForcingFitOptions {
     fn default() -> Self {
         ForcingFitOptions {
-            duration: 0.3,
-            settle: 0.2,
+            duration: DEFAULT_FIT_DURATION,
+            settle: DEFAULT_FIT_SETTLE,
             reduction: Some(DEFAULT_MODES),
             step: None,
             samples_per_speed: 2000,
         }
+    }
+}
+
+/// A forcing-function fit as asked for (`whirl fit-forcing`, `whirl.fit_forcing`); `None`
+/// is the library's default.
+#[derive(Debug, Clone, Default)]
+pub struct FitForcingRequest {
+    /// Spin speeds to fit at, rad/s (no default: the law is meant for these speeds).
+    pub speeds: Option<Vec<f64>>,
+    /// The roller bearing, by its order in the model file; `None` for the first.
+    pub bearing: Option<usize>,
+    /// Simulated time per speed, s; `None` for [`DEFAULT_FIT_DURATION`].
+    pub duration: Option<f64>,
+    /// Time discarded before sampling, s; `None` for [`DEFAULT_FIT_SETTLE`].
+    pub settle: Option<f64>,
+    /// Craig-Bampton fixed-interface modes; `None` for [`DEFAULT_MODES`].
+    pub reduce: Option<usize>,
+}
+
+/// The options [`FitForcingRequest::set`] knows.
+const FIT_OPTIONS: [&str; 5] = ["speeds", "bearing", "duration", "settle", "reduce"];
+
+impl FitForcingRequest {
+    /// The speeds (rad/s), the bearing and the fit's options, every default filled in.
+    ///
+    /// # Errors
+    /// [`InputError`] naming `speeds` when none were given, `reduce` for a mode count out
+    /// of range.
+    // Read once per fit; a large error type on this cold path is fine.
+    #[allow(clippy::result_large_err)]
+    pub fn resolved(
+        &self,
+    ) -> std::result::Result<(Vec<f64>, usize, ForcingFitOptions), InputError> {
+        let speeds = self.speeds.clone().ok_or_else(|| {
+            InputError::field("speeds", "the speeds to fit at are needed")
+                .help("e.g. 100Hz:500Hz:5: the law is meant for speeds inside this range")
+        })?;
+        let d = ForcingFitOptions::default();
+        let options = ForcingFitOptions {
+            duration: self.duration.unwrap_or(d.duration),
+            settle: self.settle.unwrap_or(d.settle),
+            reduction: Some(mode_count("reduce", self.reduce.unwrap_or(DEFAULT_MODES))?),
+            ..d
+        };
+        Ok((speeds, self.bearing.unwrap_or(0), options))
+    }
+}
+
+#[allow(clippy::result_large_err)]
+impl SetByName for FitForcingRequest {
+    fn set(&mut self, name: &str, value: &Given) -> std::result::Result<(), InputError> {
+        let v = value;
+        match name {
+            "speeds" => self.speeds = Some(v.speeds(name)?),
+            "bearing" => self.bearing = Some(v.whole(name, 0, usize::MAX >> 1)?),
+            "duration" => self.duration = Some(v.time(name)?),
+            "settle" => self.settle = Some(v.time(name)?),
+            "reduce" => self.reduce = Some(v.whole(name, 1, MAX_MODES)?),
+            _ => return Err(unknown_option(name, &FIT_OPTIONS, "forcing-function fit")),
+        }
+        Ok(())
     }
 }
 

@@ -30,7 +30,8 @@ pub(crate) mod statics;
 use crate::system::SpeedProfile;
 pub use central::{central_difference, central_difference_constrained, central_difference_limit};
 pub use forcing_fit::{
-    fit_forcing, ForcingFit, ForcingFitOptions, ForcingFitReport, SpeedFit, MAX_SAMPLES_PER_SPEED,
+    fit_forcing, FitForcingRequest, ForcingFit, ForcingFitOptions, ForcingFitReport, SpeedFit,
+    DEFAULT_FIT_DURATION, DEFAULT_FIT_SETTLE, MAX_SAMPLES_PER_SPEED,
 };
 pub use newmark::{newmark, NewmarkScheme};
 pub use rk::{runge_kutta, RkStats, RkTolerances};
