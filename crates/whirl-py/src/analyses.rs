@@ -4,14 +4,14 @@
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use whirl::bearing::stiffness::{stiffness_report, StiffnessRequest};
-use whirl::fe::{assemble_banded, dof, Bearings, Direction};
+use whirl::fe::{assemble_banded, Bearings};
 use whirl::modal::{critical_speed_map, UcsRequest};
 use whirl::reduce::reduction_report;
-use whirl::response::{default_frequencies, frf_refined as receptances, FrfReport};
+use whirl::response::{frf_refined as receptances, FrfReport, FrfRequest};
 use whirl::statics::static_response;
 use whirl::time::{fit_forcing as fit, FitForcingRequest, ForcingFitReport};
 
-use crate::error::{keyword_lib, lib, option};
+use crate::error::{keyword_lib, lib};
 use crate::given::{choice, fill, keyword_error};
 use crate::model::PyModel;
 use crate::report::PyReport;
@@ -68,45 +68,16 @@ pub fn ucs(py: Python<'_>, model: &PyModel, options: &Bound<'_, PyDict>) -> PyRe
     PyReport::with_figures(&map, whirl_figures::ucs(&model.model, &map))
 }
 
-/// The global DOF of `(node, direction)`, the direction named `ux`, `uy`, `tx` or `ty`.
-fn global_dof(name: &str, (node, direction): (usize, String)) -> PyResult<usize> {
-    let d = Direction::ALL
-        .into_iter()
-        .find(|d| d.name() == direction)
-        .ok_or_else(|| {
-            option(
-                name,
-                format!("the direction `{direction}` is not one of ux, uy, tx, ty"),
-            )
-        })?;
-    Ok(dof(node, d))
-}
-
-/// Frequency response functions (`whirl frf`): from a harmonic force of `force` N at
-/// `input` to each of `outputs`, `(node, direction)` pairs, at spin speed `speed` over the
-/// circular frequencies `frequencies` (rad/s; default the library's).
+/// Frequency response functions (`whirl frf`) with the keyword arguments `options` (input,
+/// output, speed, frequencies, force), each read by the library by its name, those left
+/// None at its default.
 #[pyfunction]
-#[pyo3(signature = (model, input, outputs, speed, frequencies, force))]
-pub fn frf(
-    py: Python<'_>,
-    model: &PyModel,
-    input: (usize, String),
-    outputs: Vec<(usize, String)>,
-    speed: f64,
-    frequencies: Option<Vec<f64>>,
-    force: f64,
-) -> PyResult<PyReport> {
-    let input = global_dof("input", input)?;
-    let outputs = outputs
-        .into_iter()
-        .map(|o| global_dof("output", o))
-        .collect::<PyResult<Vec<_>>>()?;
+pub fn frf(py: Python<'_>, model: &PyModel, options: &Bound<'_, PyDict>) -> PyResult<PyReport> {
+    let mut request = FrfRequest::default();
+    fill(options, &mut request)?;
     let model = &model.model;
+    let (input, outputs, speed, w, force) = keyword_lib(request.resolved(model))?;
     let result = lib(stoppable(py, |progress| {
-        let w = match frequencies {
-            Some(w) => w,
-            None => default_frequencies(model)?,
-        };
         receptances(
             &assemble_banded(model, Bearings::Linearised),
             speed,

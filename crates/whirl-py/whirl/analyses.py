@@ -7,7 +7,6 @@ from __future__ import annotations
 import os
 from collections.abc import Sequence
 
-import numpy as np
 
 from . import _options, _progress, _whirl
 from .model import Model, as_model
@@ -140,31 +139,14 @@ def ucs(
     return Report("ucs", model, _whirl.ucs(model._raw, options))
 
 
-def _dof(name: str, spec: str | tuple[int, str], model: Model) -> tuple[int, str]:
-    """``"10:uy"`` or ``(10, "uy")`` as (node, direction), the node checked."""
-    if isinstance(spec, str):
-        node, sep, direction = spec.partition(":")
-        if not sep or not node.strip().isdigit():
-            raise _whirl.InputError(f"invalid `{name}`: `{spec}`: expected NODE:DIR, e.g. 10:uy")
-        spec = (int(node), direction.strip())
-    node, direction = spec
-    last = model.node_count - 1
-    if isinstance(node, bool) or not isinstance(node, (int, np.integer)) or not 0 <= node <= last:
-        raise _whirl.InputError(
-            f"invalid `{name}`: node {node} is not on the shaft\n"
-            f"  help: nodes are numbered 0 (z = 0) to {last} (z = {model.length} m)"
-        )
-    return int(node), str(direction)
-
-
 def frf(
     model: Model | str | os.PathLike[str],
     input: str | tuple[int, str],
     *,
-    output: Sequence[str | tuple[int, str]] = (),
-    speed: str | float = 0.0,
+    output: str | Sequence[str | tuple[int, str]] | tuple[int, str] | None = None,
+    speed: str | float | None = None,
     frequencies: _options.Speeds = None,
-    force: str | float = 1.0,
+    force: str | float | None = None,
 ) -> Report:
     """Frequency response functions (``whirl frf``): receptance, mobility and accelerance
     from a harmonic force to displacements, at a spin speed.
@@ -173,27 +155,18 @@ def frf(
         model: a :class:`Model` or a model file path.
         input: where the force acts, ``"10:uy"`` or ``(10, "uy")`` (ux, uy, tx, ty).
         output: where the response is read; default the input DOF.
-        speed: spin speed, ``"50Hz"``, ``"3000rpm"`` or rad/s.
+        speed: spin speed, ``"50Hz"``, ``"3000rpm"`` or rad/s (default rest).
         frequencies: excitation frequencies ``"0:500Hz:1001"`` or rad/s; default 1001 from
             0 to 1.5 x the sixth undamped natural frequency.
-        force: amplitude of the harmonic force (``100``, ``"2kN"``), for the response
-            columns.
+        force: amplitude of the harmonic force (``100``, ``"2kN"``; default 1 N), for the
+            response columns.
 
     Returns:
         A :class:`whirl.Report` with the tables ``frf`` and ``peaks``.
     """
     model = as_model(model)
-    source = _dof("input", input, model)
-    outputs = [_dof("output", o, model) for o in output] or [source]
-    w = None if frequencies is None else [float(x) for x in _options.speeds(frequencies, model, 0.0, 1001, "frequencies")]
-    raw = _whirl.frf(
-        model._raw,
-        source,
-        outputs,
-        _whirl.parse_speed(str(speed)),
-        w,
-        _whirl.parse_quantity("force", str(force), "force"),
-    )
+    options = {"input": input, "output": output, "speed": speed, "frequencies": frequencies, "force": force}
+    raw = _whirl.frf(model._raw, options)
     return Report("frf", model, raw)
 
 

@@ -14,8 +14,10 @@
 //! frequency, frequencies in parallel.
 
 mod report;
+mod request;
 
 pub use report::{FrfReport, FrfSummary};
+pub use request::{dof_spec, DofSpec, FrfRequest, ResolvedFrf, DEFAULT_FRF_FORCE};
 
 use faer::{c64, Mat};
 use serde::Serialize;

@@ -12,8 +12,8 @@ mod peaks;
 mod unbalance;
 
 pub use frf::{
-    default_frequencies, frf, frf_refined, harmonic_response, FrfChannel, FrfKind, FrfReport,
-    FrfResult, FrfSummary,
+    default_frequencies, dof_spec, frf, frf_refined, harmonic_response, DofSpec, FrfChannel,
+    FrfKind, FrfReport, FrfRequest, FrfResult, FrfSummary, ResolvedFrf, DEFAULT_FRF_FORCE,
 };
 pub use peaks::{
     margins_not_applicable, separation_margin, ResponsePeak, API617_MIN_SPEED_RATIO, BAND_SAMPLES,
