@@ -24,10 +24,10 @@ use crate::watch::{fraction_progress, run_watched, stoppable};
 pub fn reduce(
     py: Python<'_>,
     model: &PyModel,
-    modes: usize,
+    modes: Option<usize>,
     nodes: Vec<usize>,
 ) -> PyResult<PyReport> {
-    let report = lib(py.detach(|| reduction_report(&model.model, modes, &nodes, None)))?;
+    let report = keyword_lib(py.detach(|| reduction_report(&model.model, modes, &nodes, None)))?;
     PyReport::with_figures(&report, whirl_figures::reduce(&report))
 }
 
@@ -46,10 +46,15 @@ pub fn stiffness(
 }
 
 /// The static response under gravity (`whirl static`), the roller bearings carrying the
-/// load by Hertz contact or by their linear stiffness (`rollers`).
+/// load by Hertz contact or by their linear stiffness (`rollers`; None for the library's
+/// default).
 #[pyfunction]
-pub fn statics(py: Python<'_>, model: &PyModel, rollers: &str) -> PyResult<PyReport> {
-    let rollers = choice("rollers", rollers)?;
+#[pyo3(signature = (model, rollers = None))]
+pub fn statics(py: Python<'_>, model: &PyModel, rollers: Option<&str>) -> PyResult<PyReport> {
+    let rollers = rollers
+        .map(|r| choice("rollers", r))
+        .transpose()?
+        .unwrap_or_default();
     let result = lib(py.detach(|| static_response(&model.model, rollers)))?;
     PyReport::with_figures(&result, whirl_figures::statics(&model.model, &result))
 }

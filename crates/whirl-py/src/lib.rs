@@ -39,8 +39,6 @@ fn _whirl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     error::register(m)?;
     // The command line's defaults, defined once in the library.
     m.add("DEFAULT_SPEED_COUNT", whirl::nsv::DEFAULT_SPEED_COUNT)?;
-    m.add("DEFAULT_MODES", whirl::time::DEFAULT_MODES)?;
-    m.add("DEFAULT_CAGE_POSITIONS", whirl::hbm::DEFAULT_CAGE_POSITIONS)?;
     m.add("MAX_HARMONICS", whirl::hbm::MAX_HARMONICS)?;
     m.add("MAX_AFT_SAMPLES", whirl::hbm::MAX_SAMPLES)?;
     m.add(

@@ -52,7 +52,7 @@ pub fn convergence<'py>(
     py: Python<'py>,
     model: &PyModel,
     counts: Vec<usize>,
-    modes: usize,
+    modes: Option<usize>,
 ) -> PyResult<(Bound<'py, PyAny>, PyReport)> {
     let result = keyword_lib(stoppable(py, |progress| {
         whirl::modal::convergence(&model.model, &counts, modes, Some(progress))

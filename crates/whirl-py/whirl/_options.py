@@ -27,10 +27,3 @@ def speeds(given: Speeds, model: Model, start: float, count: int, name: str = "s
             "speeds in rad/s"
         )
     return w
-
-
-def mode_count(n: int, name: str = "modes") -> int:
-    """A count of modes or branches, 1 to 200 (the command line's range)."""
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= 200:
-        raise _whirl.InputError(f"invalid `{name}`: `{n}` is not a whole number from 1 to 200")
-    return int(n)

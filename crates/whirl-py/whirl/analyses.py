@@ -17,7 +17,7 @@ from .response import report_nodes
 def reduce(
     model: Model | str | os.PathLike[str],
     *,
-    modes: int = _whirl.DEFAULT_MODES,
+    modes: int | None = None,
     nodes: Sequence[int] = (),
 ) -> Report:
     """The Craig-Bampton reduction (``whirl reduce``): the reduced model with ``modes``
@@ -26,7 +26,7 @@ def reduce(
 
     Args:
         model: a :class:`Model` or a model file path.
-        modes: fixed-interface modes of the reduced model reported (1-200).
+        modes: fixed-interface modes of the reduced model reported (1-200; default 12).
         nodes: nodes added to the boundary besides the bearing nodes.
 
     Returns:
@@ -36,18 +36,18 @@ def reduce(
     """
     model = as_model(model)
     boundary = report_nodes(model, nodes) if nodes else []
-    raw = _whirl.reduce(model._raw, _options.mode_count(modes), boundary)
+    raw = _whirl.reduce(model._raw, modes, boundary)
     return Report("reduce", model, raw)
 
 
-def static(model: Model | str | os.PathLike[str], *, rollers: str = "hertz") -> Report:
+def static(model: Model | str | os.PathLike[str], *, rollers: str | None = None) -> Report:
     """The static response under gravity (``whirl static``): deflection, slope, bending
     moment and shear along the shaft, the bearing reactions and the roller loads.
 
     Args:
         model: a :class:`Model` or a model file path.
-        rollers: how roller bearings carry the load: ``hertz`` (their contacts) or
-            ``linear`` (their linear stiffness).
+        rollers: how roller bearings carry the load: ``hertz`` (their contacts, the
+            default) or ``linear`` (their linear stiffness).
 
     Returns:
         A :class:`whirl.Report` with the command line's tables ``stations`` (per node),

@@ -179,32 +179,21 @@ def convergence(
     model: Model | str | os.PathLike[str],
     counts: Sequence[int] | None = None,
     *,
-    modes: int = 6,
+    modes: int | None = None,
 ) -> ConvergenceResult:
     """Natural frequencies versus the number of elements (``whirl convergence``, thesis
-    fig. 2.8).
+    fig. 2.8). Every option left ``None`` takes the library's default, the same as the
+    command line's.
 
     Args:
         model: a :class:`Model` or a model file path.
         counts: total element counts, each shared among the sections in proportion to their
             lengths (1-10,000); default 2, 4, ..., 40. A mesh on which a disk or bearing would
             fall between nodes is skipped (``skipped``).
-        modes: number of modes to follow (1-200).
+        modes: number of modes to follow (1-200; default 6).
     """
     model = as_model(model)
-    counts = list(range(2, 41, 2)) if not counts else list(counts)
-    for n in counts:
-        # The range (1 to 10,000) is the library's to check and explain.
-        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
-            raise _whirl.InputError(f"invalid `counts`: `{n}` is not a whole number of elements")
-    modes = _options.mode_count(modes)
-    raw, report = _whirl.convergence(model._raw, [int(n) for n in counts], modes)
-    if not raw["element_counts"]:
-        raise _whirl.InputError(
-            f"invalid `counts`: on none of the meshes {raw['skipped']} do all disks, bearings "
-            "and unbalances sit on a node\n  help: choose element counts that put a node at "
-            "every feature, e.g. multiples of the model's own count"
-        )
+    raw, report = _whirl.convergence(model._raw, _counts(counts), modes)
     return ConvergenceResult(
         model=model,
         element_counts=raw["element_counts"],
@@ -212,9 +201,19 @@ def convergence(
         relative_change=np.asarray(raw["relative_change"], dtype=float),
         modes_found=raw["modes_found"],
         skipped=raw["skipped"],
-        modes_requested=modes,
+        modes_requested=raw["modes_requested"],
         report=Report("convergence", model, report),
     )
+
+
+def _counts(given: Sequence[int] | None) -> list[int]:
+    """Element counts as whole numbers (the library checks their range; none for its
+    default)."""
+    counts = list(given or [])
+    for n in counts:
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
+            raise _whirl.InputError(f"invalid `counts`: `{n}` is not a whole number of elements")
+    return [int(n) for n in counts]
 
 
 @dataclass(frozen=True, repr=False)

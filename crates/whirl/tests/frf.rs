@@ -289,8 +289,8 @@ fn coarse_and_fine() -> (Model, Model) {
 #[test]
 fn the_reduction_of_a_fine_mesh_on_the_bands_agrees_with_a_coarse_one() {
     let (coarse, fine) = coarse_and_fine();
-    let a = reduction_report(&coarse, 12, &[], None).unwrap();
-    let b = reduction_report(&fine, 12, &[], None).unwrap();
+    let a = reduction_report(&coarse, Some(12), &[], None).unwrap();
+    let b = reduction_report(&fine, Some(12), &[], None).unwrap();
     let (a, b) = (&a.study, &b.study);
     assert_eq!(b.full_dofs, 8004);
     for (x, y) in a.full_frequencies_hz.iter().zip(&b.full_frequencies_hz) {

@@ -11,11 +11,10 @@
 
 use std::fmt::Write;
 
-use whirl::modal::{check_element_count, convergence};
+use whirl::modal::{check_element_count, convergence, DEFAULT_CONVERGENCE_MODES};
 use whirl::report::Report;
 
-use super::{finish, lib, load, mode_count, report_summary, Common, Outcome};
-use crate::error::Diag;
+use super::{default_is, finish, load, option_error, report_summary, Common, Outcome};
 use crate::output::Output;
 use crate::progress::shown;
 
@@ -27,9 +26,9 @@ pub struct Args {
     /// Total element counts, comma-separated [default: 2,4,6,...,40].
     #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = element_count)]
     pub counts: Vec<usize>,
-    /// Number of modes to follow.
-    #[arg(long, value_name = "N", default_value = "6", value_parser = mode_count)]
-    pub modes: usize,
+    #[arg(long, value_name = "N",
+          help = default_is("Number of modes to follow (1 to 200).", DEFAULT_CONVERGENCE_MODES))]
+    pub modes: Option<usize>,
 }
 
 /// Clap parser of an element count: a whole number, in the range the library takes
@@ -49,29 +48,14 @@ fn element_count(text: &str) -> Result<usize, String> {
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     let model = &loaded.model;
-    let counts: Vec<usize> = if args.counts.is_empty() {
-        (1..=20).map(|i| 2 * i).collect()
-    } else {
-        args.counts.clone()
-    };
-    let result = lib(shown("convergence", |p| {
-        convergence(model, &counts, args.modes, p)
-    }))?;
-    if result.element_counts.is_empty() {
-        return Err(Diag::option(
-            "--counts",
-            format!(
-                "on none of the meshes {:?} do all disks, bearings and unbalances sit on a node",
-                result.skipped
-            ),
-        )
-        .help("choose element counts that put a node at every feature, e.g. multiples of the model's own count")
-        .into());
-    }
+    let result = shown("convergence", |p| {
+        convergence(model, &args.counts, args.modes, p)
+    })
+    .map_err(option_error)?;
 
     let short = result.meshes_with_fewer_modes();
     if !short.is_empty() {
-        eprintln!("note: {}", fewer_modes_note(&short, args.modes));
+        eprintln!("note: {}", fewer_modes_note(&short, result.modes_requested));
     }
     let summary = report_summary("convergence", &loaded, &result)?;
 
@@ -95,7 +79,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         let _ = writeln!(text, "  {n:5} {}", list.join(" "));
     }
     if !short.is_empty() {
-        let _ = writeln!(text, "{}", fewer_modes_note(&short, args.modes));
+        let _ = writeln!(text, "{}", fewer_modes_note(&short, result.modes_requested));
     }
     if !result.skipped.is_empty() {
         let _ = writeln!(

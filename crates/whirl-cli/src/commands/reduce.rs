@@ -19,7 +19,8 @@ use whirl::report::Report;
 use whirl::time::DEFAULT_MODES;
 
 use super::{
-    check_nodes, finish, lib, load, mode_count, node_index, report_summary, Common, Outcome,
+    check_nodes, default_is, finish, load, node_index, option_error, report_summary, Common,
+    Outcome,
 };
 use crate::output::Output;
 use crate::progress::shown;
@@ -29,9 +30,9 @@ use crate::progress::shown;
 pub struct Args {
     #[command(flatten)]
     pub common: Common,
-    /// Fixed-interface modes of the reduced model reported.
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_MODES, value_parser = mode_count)]
-    pub modes: usize,
+    #[arg(long, value_name = "N",
+          help = default_is("Fixed-interface modes of the reduced model reported (1 to 200).", DEFAULT_MODES))]
+    pub modes: Option<usize>,
     /// Nodes added to the boundary besides the bearing nodes, comma-separated.
     #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = node_index)]
     pub nodes: Vec<usize>,
@@ -40,9 +41,10 @@ pub struct Args {
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     check_nodes(&loaded.model, "--nodes", &args.nodes)?;
-    let report = lib(shown("reduce", |p| {
+    let report = shown("reduce", |p| {
         reduction_report(&loaded.model, args.modes, &args.nodes, p)
-    }))?;
+    })
+    .map_err(option_error)?;
     let summary = report_summary("reduce", &loaded, &report)?;
     let text = text(&loaded.model.name, &report.study, report.chosen());
     let mut out = Output::begin(&args.common.out_dir("reduce"))?;

@@ -10,10 +10,11 @@
 use std::fmt::Write;
 
 use whirl::bearing::RatingSource;
+use whirl::given::Choice;
 use whirl::report::Report;
 use whirl::statics::{static_response, RollerSupport};
 
-use super::{finish, lib, load, report_summary, Common, Outcome};
+use super::{default_is, finish, lib, load, report_summary, Common, Outcome};
 use crate::output::Output;
 
 /// `whirl static`
@@ -21,15 +22,16 @@ use crate::output::Output;
 pub struct Args {
     #[command(flatten)]
     pub common: Common,
-    /// How roller bearings carry the load.
-    #[arg(long, value_enum, default_value = "hertz")]
-    pub rollers: RollerSupport,
+    #[arg(long, value_enum,
+          help = default_is("How roller bearings carry the load.", RollerSupport::default().choice_name()))]
+    pub rollers: Option<RollerSupport>,
 }
 
 pub fn run(args: &Args) -> miette::Result<Outcome> {
     let loaded = load(&args.common.model)?;
     let model = &loaded.model;
-    let result = lib(static_response(model, args.rollers))?;
+    let rollers = args.rollers.unwrap_or_default();
+    let result = lib(static_response(model, rollers))?;
     let total = result.total_reaction();
     let (ms, vs) = (result.largest_moment().1, result.largest_shear().1);
     let summary = report_summary("static", &loaded, &result)?;
@@ -40,7 +42,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
         "{}: static response under gravity ({} m/s^2), roller bearings {}",
         model.name,
         model.gravity,
-        match args.rollers {
+        match rollers {
             RollerSupport::Hertz => "by Hertz contact",
             RollerSupport::Linear => "by their linear stiffness",
         }

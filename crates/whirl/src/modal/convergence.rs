@@ -14,6 +14,7 @@ use serde::Serialize;
 use super::undamped::undamped_modes;
 use crate::error::{InputError, Result};
 use crate::fe::{assemble_banded, Bearings};
+use crate::given::mode_count;
 use crate::model::{Model, MAX_ELEMENTS};
 use crate::progress::{map_told, Progress};
 
@@ -75,21 +76,35 @@ fn change(current: f64, previous: f64) -> f64 {
     }
 }
 
-/// Undamped frequencies of the first `modes` modes for each total element count (the
-/// meshes in parallel), telling `progress` after every mesh.
+/// Modes followed when none are asked for.
+pub const DEFAULT_CONVERGENCE_MODES: usize = 6;
+
+/// The element counts meshed when none are given: 2, 4, ..., 40.
+pub fn default_element_counts() -> Vec<usize> {
+    (1..=20).map(|i| 2 * i).collect()
+}
+
+/// Undamped frequencies of the first `modes` modes (`None` for
+/// [`DEFAULT_CONVERGENCE_MODES`]) for each total element count (none for
+/// [`default_element_counts`]; the meshes in parallel), telling `progress` after every mesh.
 ///
 /// # Errors
-/// Those of [`check_element_count`] for any count, before anything is meshed; then the
-/// errors of [`undamped_modes`]; [`Error::Interrupted`](crate::Error::Interrupted) when
-/// `progress` stopped it.
+/// Those of [`check_element_count`] for any count and an error naming `modes` for a count
+/// of modes out of range, before anything is meshed; an error naming `counts` when no mesh
+/// puts every feature on a node; then the errors of [`undamped_modes`];
+/// [`Error::Interrupted`](crate::Error::Interrupted) when `progress` stopped it.
 pub fn convergence(
     model: &Model,
     counts: &[usize],
-    modes: usize,
+    modes: Option<usize>,
     progress: Option<&Progress>,
 ) -> Result<ConvergenceResult> {
+    let modes = mode_count("modes", modes.unwrap_or(DEFAULT_CONVERGENCE_MODES))?;
     counts.iter().try_for_each(|&n| check_element_count(n))?;
-    let mut counts = counts.to_vec();
+    let mut counts = match counts.is_empty() {
+        true => default_element_counts(),
+        false => counts.to_vec(),
+    };
     counts.sort_unstable();
     counts.dedup();
     // Per mesh its frequencies, or None for a mesh that would move a feature off a node.
@@ -132,6 +147,17 @@ pub fn convergence(
         out.frequencies_hz.push(f);
         out.relative_change.push(change);
     }
+    if out.element_counts.is_empty() {
+        return Err(InputError::field(
+            "counts",
+            format!(
+                "on none of the meshes {:?} do all disks, bearings and unbalances sit on a node",
+                out.skipped
+            ),
+        )
+        .help("choose element counts that put a node at every feature, e.g. multiples of the model's own count")
+        .into());
+    }
     // No column that no mesh can fill.
     let columns = out.modes_found.iter().copied().max().unwrap_or(0);
     for row in out
@@ -153,7 +179,7 @@ mod tests {
         let model = Model::from_toml_str(crate::examples::REFERENCE_ROTOR, None).unwrap();
         for bad in [0, MAX_ELEMENTS + 1, usize::MAX] {
             // A good count beside the bad one: the whole request is refused, none is meshed.
-            let e = convergence(&model, &[20, bad], 2, None).unwrap_err();
+            let e = convergence(&model, &[20, bad], Some(2), None).unwrap_err();
             let text = e.to_string();
             assert!(
                 text.starts_with(&format!("`counts`: {bad} elements"))
@@ -163,7 +189,7 @@ mod tests {
         }
         // Both ends of the range are taken: 1 element (the mesh's nodes miss the disk, so it
         // is skipped) and the limit, which the reference rotor's features fall on.
-        let r = convergence(&model, &[1, MAX_ELEMENTS], 1, None).unwrap();
+        let r = convergence(&model, &[1, MAX_ELEMENTS], Some(1), None).unwrap();
         assert_eq!(r.skipped, vec![1]);
         assert_eq!(r.element_counts, vec![MAX_ELEMENTS]);
     }

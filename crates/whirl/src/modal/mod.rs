@@ -28,7 +28,10 @@ pub use campbell::{
 };
 pub use check::{check_model, CheckSummary, ClearanceCurve, ModelCheck};
 pub use complex::{branch_labels, complex_modes, ComplexMode, ModalBasis, Whirl, FULL_LIMIT};
-pub use convergence::{check_element_count, convergence, ConvergenceResult, ConvergenceSummary};
+pub use convergence::{
+    check_element_count, convergence, default_element_counts, ConvergenceResult,
+    ConvergenceSummary, DEFAULT_CONVERGENCE_MODES,
+};
 pub use report::{modal_report, DampedSummary, ModalReport, ModalSummary};
 pub use request::{ModalRequest, DEFAULT_MODAL_MODES};
 pub use sound::trusted_modes;

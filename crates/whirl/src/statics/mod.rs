@@ -42,13 +42,14 @@ use crate::model::Model;
 use crate::system::banded;
 use crate::time::statics::{equilibrium, Product, Structure};
 
-/// How roller bearings carry the load.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+/// How roller bearings carry the load; by default by their contacts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
 #[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum RollerSupport {
     /// Hertz line contact per roller, with the clearance: the rotor drops through its
     /// clearance onto the rollers below.
+    #[default]
     Hertz,
     /// The bearing's `linear_stiffness`, as in the linear analyses.
     Linear,
