@@ -24,11 +24,11 @@ use std::f64::consts::TAU;
 use std::fmt::Write;
 
 use whirl::bearing::ContactLaw;
-use whirl::given::Given;
+use whirl::given::{Choice, Given};
 use whirl::hbm::{
-    sweep_with_progress, CageKind, HbmRequest, Sweep, SweepOptions, SweepReport, SweepSettings,
-    DEFAULT_CAGE_POSITIONS, DEFAULT_HARMONICS, DEFAULT_STABILITY_MODES, MAX_HARMONICS,
-    RESOLUTION_TOLERANCE,
+    sweep_with_progress, CageKind, CageModel, HbmRequest, Sweep, SweepOptions, SweepReport,
+    SweepSettings, DEFAULT_CAGE_POSITIONS, DEFAULT_CONTACT, DEFAULT_CONTACT_SMOOTHING,
+    DEFAULT_HARMONICS, DEFAULT_STABILITY_MODES, MAX_HARMONICS, RESOLUTION_TOLERANCE,
 };
 use whirl::model::Model;
 use whirl::nsv::{DEFAULT_RECORD, DEFAULT_SETTLE};
@@ -50,19 +50,20 @@ pub struct HbFlags {
     #[arg(long, value_name = "H", value_parser = harmonic_count,
           help = default_is("Harmonics H of the running speed (1 to 50).", DEFAULT_HARMONICS))]
     pub harmonics: Option<usize>,
-    /// Contact law of the roller bearings: hertz or forcing (harmonic balance needs a
-    /// force law of the displacement) [default: hertz].
-    #[arg(long, value_enum)]
+    #[arg(long, value_enum,
+          help = default_is("Contact law of the roller bearings: hertz or forcing (harmonic balance needs a \
+                             force law of the displacement).", DEFAULT_CONTACT.choice_name()))]
     pub contact: Option<ContactLaw>,
-    /// How the roller passage is made periodic (Hertz only) [default: passage].
-    #[arg(long, value_enum)]
+    #[arg(long, value_enum,
+          help = default_is("How the roller passage is made periodic (Hertz only).", CageModel::DEFAULT.kind().choice_name()))]
     pub cage: Option<CageKind>,
     #[arg(long, value_name = "N", value_parser = mode_count,
           help = default_is("Cage positions per roller pitch of the passage average.", DEFAULT_CAGE_POSITIONS))]
     pub cage_positions: Option<usize>,
-    /// Approach below which the Hertz law is blended to bounded curvature (harmonic balance
-    /// only; docs/theory.md section 7), e.g. `0.01um`; 0 for the exact law [default: 0].
-    #[arg(long, value_name = "LENGTH", value_parser = smoothing_length)]
+    #[arg(long, value_name = "LENGTH", value_parser = smoothing_length,
+          help = default_is("Approach below which the Hertz law is blended to bounded curvature (harmonic \
+                             balance only; docs/theory.md section 7), e.g. `0.01um`; 0 for the exact law.",
+                            DEFAULT_CONTACT_SMOOTHING))]
     pub contact_smoothing: Option<f64>,
     /// Time samples per period of the alternating frequency-time transform [default: 32 H,
     /// at least 64].

@@ -74,6 +74,14 @@ impl CageModel {
         }
     }
 
+    /// Its kind, by the name every front end gives it.
+    pub fn kind(&self) -> CageKind {
+        match self {
+            CageModel::PassageAveraged { .. } => CageKind::Passage,
+            CageModel::Frozen => CageKind::Frozen,
+        }
+    }
+
     /// A sentence for outputs saying which approximation was used.
     pub fn describe(&self) -> String {
         match self {

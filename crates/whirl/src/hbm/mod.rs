@@ -58,7 +58,10 @@ pub use request::{HbmRequest, DEFAULT_LOW_SPEED, HBM_OPTIONS};
 pub use resolution::{Resolution, RESOLUTION_TOLERANCE};
 pub use settings::{SweepSettings, DEFAULT_HARMONICS};
 pub use stability::{FloquetProblem, OrbitMode, Stability};
-pub use sweep::{sweep, sweep_with_progress, AtSpeed, Sweep, SweepOptions};
+pub use sweep::{
+    sweep, sweep_with_progress, AtSpeed, Sweep, SweepOptions, DEFAULT_CONTACT,
+    DEFAULT_CONTACT_SMOOTHING,
+};
 
 /// Discretisation and Newton-Raphson settings.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]

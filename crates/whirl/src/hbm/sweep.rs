@@ -70,6 +70,14 @@ pub struct SweepOptions {
     pub exact_speeds: Vec<f64>,
 }
 
+/// The roller bearings' contact law of a sweep by default: harmonic balance needs a force
+/// law of the displacement.
+pub const DEFAULT_CONTACT: ContactLaw = ContactLaw::Hertz;
+
+/// The approach below which the Hertz law is blended to bounded curvature, by default, m:
+/// none, the exact law.
+pub const DEFAULT_CONTACT_SMOOTHING: f64 = 0.0;
+
 impl SweepOptions {
     /// From `from` to `to` (rad/s) with `harmonics` harmonics, Hertz bearings averaged over
     /// the roller passage, with stability.
@@ -79,9 +87,9 @@ impl SweepOptions {
             to,
             harmonics,
             samples: None,
-            contact: ContactLaw::Hertz,
+            contact: DEFAULT_CONTACT,
             cage: CageModel::DEFAULT,
-            contact_smoothing: 0.0,
+            contact_smoothing: DEFAULT_CONTACT_SMOOTHING,
             stability: true,
             stability_modes: DEFAULT_STABILITY_MODES,
             reduction: None,
