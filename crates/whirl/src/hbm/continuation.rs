@@ -21,140 +21,20 @@
 //! as accurate as the corrector, whatever the step. Should a corrector fail there, the
 //! extremum of the cubic Hermite interpolant of w(s) between the two points stands in.
 
-use super::balance::{
-    line_search, relative, GiveUp, HarmonicBalance, HbSolution, Residual, FULL_STEPS,
-    LINE_SEARCH_HALVINGS,
+use super::arclength::{
+    arclength_frame, correct, land_on, newton_on_arclength, rescaled, unit_tangent, Scaling,
 };
-use super::bifurcation::{locate_bifurcations, Bifurcation};
-use super::condensation::CondensedBalance;
-use super::stability::{outside_circle, FloquetModel, FloquetProblem, Stability};
-use super::HbOptions;
+use super::balance::{HbSolution, FULL_STEPS};
+use super::bifurcation::locate_bifurcations;
+use super::branch::Path;
+use super::parallel::on_threads;
+use super::stability::{outside_circle, FloquetProblem, Stability};
 use crate::error::{Error, Result};
-use crate::linalg::{difference, dot_in_order as dot, norm, solve_dense};
-use faer::Mat;
-use rayon::prelude::*;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use crate::linalg::{difference, dot_in_order as dot, norm};
 use std::sync::{mpsc, Mutex, PoisonError};
 
-/// What continuation asks of a harmonic balance, so that the full ([`HarmonicBalance`]) and
-/// the condensed ([`CondensedBalance`]) problem are followed by the same path code.
-pub trait Periodic {
-    /// The discretisation and Newton settings.
-    fn options(&self) -> &HbOptions;
-    /// Newton-Raphson at one frequency; never returns an unconverged point.
-    fn solve(&mut self, frequency: f64, guess: &[f64]) -> Result<HbSolution>;
-    /// R(x, w) and |terms that cancel in it|; not finite where it cannot be evaluated.
-    fn residual_at(&mut self, x: &[f64], frequency: f64) -> (Vec<f64>, f64);
-    /// dR/dx and dR/dw at (x, w).
-    fn derivatives(&mut self, x: &[f64], frequency: f64) -> Derivatives;
-    /// The Floquet problem (monodromy matrix) of the periodic solution (x, w).
-    fn floquet_problem(&mut self, x: &[f64], frequency: f64) -> Result<FloquetProblem>;
-    /// Whether the caller asked the path to stop (asked before each step).
-    fn stop_requested(&self) -> bool {
-        false
-    }
-    /// Lets [`Self::residual_at`] compute residuals as exactly but more cheaply, with other
-    /// round-off (the condensed problem refines them from a condensation at a nearby
-    /// frequency). On only while folds and bifurcations are located between the points of
-    /// a path already followed: the path itself keeps its arithmetic, because where it
-    /// goes on the non-smooth reference branches hangs on round-off (with refined
-    /// residuals throughout, the 60 um sweep stopped at 45.96 Hz instead of reaching
-    /// 750 Hz).
-    fn refine_residuals(&mut self, _on: bool) {}
-    /// Told of each point of the path once it is on the path for good, just after it was
-    /// solved or reached, so that what the point's frequency made can be kept for it (the
-    /// condensed problem keeps the point's full coefficients from its condensation, which
-    /// recovering them later would make again).
-    fn on_path(&mut self, _solution: &HbSolution) {}
-}
-
-/// dR/dx and dR/dw.
-pub struct Derivatives {
-    /// dR/dx.
-    pub jacobian: Mat<f64>,
-    /// dR/dw at fixed x.
-    pub frequency_derivative: Vec<f64>,
-}
-
-impl Periodic for HarmonicBalance {
-    fn options(&self) -> &HbOptions {
-        HarmonicBalance::options(self)
-    }
-    fn solve(&mut self, frequency: f64, guess: &[f64]) -> Result<HbSolution> {
-        HarmonicBalance::solve(self, frequency, guess)
-    }
-    fn residual_at(&mut self, x: &[f64], frequency: f64) -> (Vec<f64>, f64) {
-        let r = self.residual(x, frequency);
-        (r.values, r.scale)
-    }
-    fn derivatives(&mut self, x: &[f64], frequency: f64) -> Derivatives {
-        let lin = self.linearise(x, frequency);
-        Derivatives {
-            jacobian: lin.jacobian,
-            frequency_derivative: lin.frequency_derivative,
-        }
-    }
-    /// The monodromy matrix of the whole model (2n states): for small models; a large
-    /// one is condensed ([`CondensedBalance`]).
-    fn floquet_problem(&mut self, x: &[f64], frequency: f64) -> Result<FloquetProblem> {
-        self.check_arguments(frequency, x)?;
-        let tangents = self.sampled_tangents(x, frequency);
-        Ok(FloquetModel::new(&self.problem().matrices)?.problem(frequency, &tangents))
-    }
-}
-
-/// The condensed problem is condensed at every frequency the corrector tries (the Schur
-/// complement depends on w); while refining ([`Periodic::refine_residuals`]) a residual
-/// alone (the line search's trial points, the predictor) is refined from the last
-/// condensation instead, exact to round-off. Where condensation fails (a resonance of the
-/// condensed coordinates) the residual is NaN, which the corrector treats as a failed
-/// step.
-impl Periodic for CondensedBalance {
-    fn options(&self) -> &HbOptions {
-        CondensedBalance::options(self)
-    }
-    fn solve(&mut self, frequency: f64, guess: &[f64]) -> Result<HbSolution> {
-        CondensedBalance::solve(self, frequency, guess)
-    }
-    fn residual_at(&mut self, x: &[f64], frequency: f64) -> (Vec<f64>, f64) {
-        if !self.refining() {
-            return self
-                .with_condensed(frequency, |hb, condensed| hb.residual(condensed, x))
-                .unwrap_or_else(|_| (vec![f64::NAN; x.len()], f64::NAN));
-        }
-        self.with_nearby(
-            frequency,
-            |hb, condensed| hb.residual_near(condensed, x, frequency),
-            |hb, condensed| hb.residual(condensed, x),
-        )
-        .unwrap_or_else(|_| (vec![f64::NAN; x.len()], f64::NAN))
-    }
-    fn derivatives(&mut self, x: &[f64], frequency: f64) -> Derivatives {
-        let (jacobian, frequency_derivative) = self
-            .with_condensed(frequency, |hb, condensed| hb.linearise(condensed, x))
-            .unwrap_or_else(|_| {
-                (
-                    Mat::from_fn(x.len(), x.len(), |_, _| f64::NAN),
-                    vec![f64::NAN; x.len()],
-                )
-            });
-        Derivatives {
-            jacobian,
-            frequency_derivative,
-        }
-    }
-    /// The monodromy matrix of a Craig-Bampton model of the linear part
-    /// ([`CondensedBalance::stability`]).
-    fn floquet_problem(&mut self, x: &[f64], frequency: f64) -> Result<FloquetProblem> {
-        CondensedBalance::floquet_problem(self, x, frequency)
-    }
-    fn refine_residuals(&mut self, on: bool) {
-        self.set_refining(on);
-    }
-    fn on_path(&mut self, solution: &HbSolution) {
-        self.keep_recovered(solution);
-    }
-}
+pub use super::branch::{Branch, BranchEnd, BranchPoint, Fold};
+pub use super::periodic::{Derivatives, Periodic};
 
 /// Step control of the continuation; lengths are in scaled arclength (relative changes:
 /// a step of 0.1 moves the speed or the orbit's largest coefficient by up to 10 %).
@@ -199,149 +79,6 @@ impl Default for ContinuationOptions {
             stability: true,
             stall_points: 100,
         }
-    }
-}
-
-/// A converged point of a branch.
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct BranchPoint {
-    /// The periodic solution.
-    pub solution: HbSolution,
-    /// dw/ds, rad/s per unit of scaled arclength: negative between two folds of a
-    /// hardening overhang.
-    pub frequency_slope: f64,
-    /// Floquet stability, when asked for.
-    pub stability: Option<Stability>,
-}
-
-/// A turning point (saddle-node) of the branch.
-#[derive(Debug, Clone, Copy, serde::Serialize)]
-pub struct Fold {
-    /// Frequency of the fold, rad/s.
-    pub frequency: f64,
-    /// True when located on the branch (regula falsi), false for the Hermite estimate.
-    pub refined: bool,
-    /// Index of the branch point before it.
-    pub after: usize,
-}
-
-/// Why a branch stopped.
-#[derive(Debug, Clone, serde::Serialize)]
-pub enum BranchEnd {
-    /// The end frequency was reached (the last point lies on it).
-    Reached,
-    /// The branch turned back past the start frequency.
-    LeftRange,
-    /// The point limit was reached.
-    PointLimit,
-    /// The path passed the end frequency but the solution exactly on it did not converge;
-    /// the last point is the one before.
-    EndNotConverged {
-        /// What failed.
-        message: String,
-    },
-    /// The corrector failed with the smallest step: the path ends at the last point.
-    StepTooSmall {
-        /// Frequency of the last converged point, rad/s.
-        frequency: f64,
-        /// What failed.
-        message: String,
-    },
-}
-
-/// A continued branch of periodic solutions.
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct Branch {
-    /// Discretisation used.
-    pub options: HbOptions,
-    /// Converged points in path order; no unconverged point is ever stored.
-    pub points: Vec<BranchPoint>,
-    /// Folds, in path order.
-    pub folds: Vec<Fold>,
-    /// Frequencies (rad/s) of corners, which non-smooth forces (contacts that open and
-    /// close) produce: points where the tangent turned by more than `max_turn` and halving
-    /// the step did not shrink the turn, or that were reached by stepping over a point where the corrector
-    /// failed at every step (Newton at fixed frequency just ahead).
-    pub corners: Vec<f64>,
-    /// Restarts (from, to) in rad/s where the path stalled (a non-smooth stretch wiggling
-    /// on the spot for `stall_points` points), turned back out of the range, walked back
-    /// over what it followed, or where the
-    /// corrector failed even at the smallest step: Newton at fixed frequency ahead of the
-    /// furthest point (or, where nothing converges there, ahead of the last point of a leg
-    /// that climbs below it). What lies between is not followed, as in a
-    /// sweep experiment that jumps.
-    pub jumps: Vec<(f64, f64)>,
-    /// Indices of the points after which the path jumped ([`Branch::jumps`]): what lies
-    /// between such a point and the next was not followed.
-    pub jumped_after: Vec<usize>,
-    /// Changes of stability, in path order (empty without stability).
-    pub bifurcations: Vec<Bifurcation>,
-    /// Folds (their speeds, rad/s) across which no real Floquet multiplier crosses +1:
-    /// the stability verdicts contradict the balance's own turning points, as they do where
-    /// the harmonics are too few for the linearisation about the truncated orbit to be the
-    /// balance's (docs/theory.md section 7). Empty without stability, and when every fold
-    /// shows its crossing.
-    pub folds_without_crossing: Vec<f64>,
-    /// Why the branch ended.
-    pub end: BranchEnd,
-}
-
-impl Branch {
-    /// The first change of stability along the path that loses it: where the synchronous
-    /// orbit followed from the first speed first gives way (to a jump, a subharmonic or a
-    /// non-synchronous component, by its kind); `None` when stability is never lost.
-    pub fn first_stability_loss(&self) -> Option<&Bifurcation> {
-        self.bifurcations.iter().find(|b| b.loses_stability)
-    }
-
-    /// The lowest and the highest speed of the points, rad/s: the range followed, wider
-    /// than the sweep's where the branch turned back out of it and came back.
-    pub fn speed_span(&self) -> (f64, f64) {
-        self.points
-            .iter()
-            .map(|p| p.solution.frequency)
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), w| {
-                (lo.min(w), hi.max(w))
-            })
-    }
-}
-
-/// Scales of the coefficients and of the frequency in the arclength.
-#[derive(Debug, Clone, Copy)]
-pub(super) struct Scaling {
-    coefficients: f64,
-    frequency: f64,
-}
-
-impl Scaling {
-    /// The scales at `s`: its largest coefficient (1 for the zero solution) and its
-    /// frequency. Neither depends on the first point or on the range, so a step is the
-    /// same relative change of the orbit and of the speed anywhere on the branch.
-    fn at(s: &HbSolution) -> Scaling {
-        let largest = s.coefficients.iter().fold(0.0f64, |m, c| m.max(c.abs()));
-        Scaling {
-            coefficients: if largest > 0.0 { largest } else { 1.0 },
-            frequency: s.frequency.abs(),
-        }
-    }
-
-    fn scaled(&self, s: &HbSolution) -> Vec<f64> {
-        let mut y: Vec<f64> = s
-            .coefficients
-            .iter()
-            .map(|c| c / self.coefficients)
-            .collect();
-        y.push(s.frequency / self.frequency);
-        y
-    }
-
-    /// (coefficients, frequency) of a scaled point.
-    fn unscaled(&self, y: &[f64]) -> (Vec<f64>, f64) {
-        let (x, w) = y.split_at(y.len() - 1);
-        (
-            x.iter().map(|c| c * self.coefficients).collect(),
-            w[0] * self.frequency,
-        )
     }
 }
 
@@ -534,16 +271,6 @@ fn stability_contradicts_folds(
 /// Folds within this fraction of their speed of each other are one overhang for
 /// [`stability_contradicts_folds`].
 const FOLD_CLUSTER: f64 = 1e-3;
-
-/// A followed path before its folds and bifurcations are located.
-struct Path {
-    points: Vec<BranchPoint>,
-    corners: Vec<f64>,
-    jumps: Vec<(f64, f64)>,
-    /// Indices of the points after which the path jumped.
-    boundaries: Vec<usize>,
-    end: BranchEnd,
-}
 
 /// Floquet problems queued for the second thread at most: each holds N matrices of
 /// (2 n)^2 entries, and the path's thread blocks when it is this far ahead.
@@ -925,20 +652,6 @@ impl SolutionsAt {
     }
 }
 
-/// The scaling at the newly accepted point `s`, and the tangent `t` (unit in `scaling`)
-/// expressed as a unit vector in it: the same direction in (x, w).
-fn rescaled(scaling: &Scaling, t: &[f64], s: &HbSolution) -> (Scaling, Vec<f64>) {
-    let next = Scaling::at(s);
-    let last = t.len() - 1;
-    let mut direction: Vec<f64> = t[..last]
-        .iter()
-        .map(|v| v * scaling.coefficients / next.coefficients)
-        .collect();
-    direction.push(t[last] * scaling.frequency / next.frequency);
-    let length = norm(&direction);
-    (next, direction.iter().map(|v| v / length).collect())
-}
-
 /// Past a point where the arclength corrector fails at every step (a non-smooth corner
 /// where Newton on the augmented system cycles): Newton at fixed frequency a little ahead
 /// in the direction of travel, 1e-5, 1e-4 then 1e-3 of its frequency, from `last`. The new point
@@ -1144,60 +857,6 @@ fn branch_point(solution: HbSolution, tangent: &[f64], scaling: &Scaling) -> Bra
     }
 }
 
-/// The augmented Jacobian [dR/dx s_x, dR/dw s_w; c^T] in scaled variables at `s`.
-fn augmented(hb: &mut impl Periodic, s: &HbSolution, scaling: &Scaling, c: &[f64]) -> Mat<f64> {
-    let lin = hb.derivatives(&s.coefficients, s.frequency);
-    let size = s.coefficients.len();
-    Mat::from_fn(size + 1, size + 1, |i, j| {
-        if i == size {
-            c[j]
-        } else if j == size {
-            lin.frequency_derivative[i] * scaling.frequency
-        } else {
-            lin.jacobian[(i, j)] * scaling.coefficients
-        }
-    })
-}
-
-/// The unit tangent at `s` oriented along `previous` (positive projection on it).
-fn unit_tangent(
-    hb: &mut impl Periodic,
-    s: &HbSolution,
-    scaling: &Scaling,
-    previous: &[f64],
-) -> Result<Vec<f64>> {
-    let a = augmented(hb, s, scaling, previous);
-    let mut rhs = vec![0.0; previous.len()];
-    rhs[previous.len() - 1] = 1.0;
-    let t = solve_dense(&a, &rhs).ok_or_else(|| {
-        Error::singular(
-            "continuation Jacobian",
-            format!(
-                "the branch's tangent is undefined at {} rad/s (a branch point?)",
-                s.frequency
-            ),
-        )
-    })?;
-    let length = norm(&t);
-    Ok(t.iter().map(|v| v / length).collect())
-}
-
-/// Pseudo-arclength corrector from the predictor y_0 + h t_0: plain Newton, then, should
-/// it fail, Newton with a line search ([`line_search`]), which converges where full steps
-/// cycle between contact states. Plain Newton first keeps every point it reaches as it was
-/// and costs no extra residuals where it converges; either run stops early once it shows
-/// it cannot converge ([`GiveUp`]).
-pub(super) fn correct(
-    hb: &mut impl Periodic,
-    y0: &[f64],
-    t0: &[f64],
-    step: f64,
-    scaling: &Scaling,
-) -> Result<HbSolution> {
-    newton_on_arclength(hb, y0, t0, step, scaling, FULL_STEPS)
-        .or_else(|_| newton_on_arclength(hb, y0, t0, step, scaling, LINE_SEARCH_HALVINGS))
-}
-
 /// The path's corrector: plain Newton while the step can still be halved, and [`correct`]
 /// (plain, then with a line search) only at the smallest step, before the path steps over
 /// or jumps. A line search costs a condensation per trial length, and on the path a
@@ -1218,140 +877,6 @@ fn correct_on_path(
     } else {
         newton_on_arclength(hb, y0, t0, step, scaling, FULL_STEPS)
     }
-}
-
-/// Newton on the residual and the arclength equation from y_0 + h t_0, each step
-/// shortened up to `halvings` times.
-fn newton_on_arclength(
-    hb: &mut impl Periodic,
-    y0: &[f64],
-    t0: &[f64],
-    step: f64,
-    scaling: &Scaling,
-    halvings: usize,
-) -> Result<HbSolution> {
-    let mut y: Vec<f64> = y0.iter().zip(t0).map(|(a, t)| a + step * t).collect();
-    let max_iterations = hb.options().max_iterations;
-    let tolerance = hb.options().tolerance;
-    let mut give_up = GiveUp::new(halvings);
-    let mut residual = scaled_residual(hb, &y, scaling);
-    for iteration in 0..=max_iterations {
-        let r = relative(&residual);
-        // The arclength equation is linear: the predictor and every Newton step (whole or
-        // shortened) satisfy it.
-        if r <= tolerance {
-            let (x, w) = scaling.unscaled(&y);
-            return Ok(HbSolution {
-                frequency: w,
-                coefficients: x,
-                iterations: iteration,
-                relative_residual: r,
-            });
-        }
-        if !r.is_finite() || iteration == max_iterations || give_up.now(r) {
-            break;
-        }
-        let (x, w) = scaling.unscaled(&y);
-        let current = HbSolution {
-            frequency: w,
-            coefficients: x,
-            iterations: iteration,
-            relative_residual: r,
-        };
-        let a = augmented(hb, &current, scaling, t0);
-        let mut rhs = residual.values.clone();
-        rhs.push(0.0);
-        let Some(delta) = solve_dense(&a, &rhs) else {
-            break;
-        };
-        (y, residual) = line_search(&y, &delta, &residual, halvings, |trial| {
-            scaled_residual(hb, trial, scaling)
-        });
-    }
-    Err(Error::not_converged(
-        "continuation corrector",
-        None,
-        None,
-        format!(
-            "the continuation corrector did not converge with step {step:e} from {} rad/s",
-            y0[y0.len() - 1] * scaling.frequency
-        ),
-    ))
-}
-
-/// R at the scaled point y (its arclength row, satisfied by every corrector iterate, left
-/// out); not finite where the frequency is not positive.
-fn scaled_residual(hb: &mut impl Periodic, y: &[f64], scaling: &Scaling) -> Residual {
-    let (x, w) = scaling.unscaled(y);
-    if !(w.is_finite() && w > 0.0) {
-        return Residual {
-            values: vec![f64::NAN; x.len()],
-            scale: f64::NAN,
-        };
-    }
-    let (values, scale) = hb.residual_at(&x, w);
-    Residual { values, scale }
-}
-
-/// The solution at exactly `to`, between `before` and `after`, by Newton at fixed
-/// frequency from their linear interpolation.
-fn land_on(
-    hb: &mut impl Periodic,
-    before: &HbSolution,
-    after: &HbSolution,
-    to: f64,
-) -> Result<HbSolution> {
-    hb.solve(to, &interpolated_orbit(before, after, to))
-}
-
-/// The coefficients at frequency `to` linearly interpolated (or extrapolated) between the
-/// orbits `before` and `after`: Newton's start at a fixed frequency between two points.
-pub(super) fn interpolated_orbit(before: &HbSolution, after: &HbSolution, to: f64) -> Vec<f64> {
-    let u = (to - before.frequency) / (after.frequency - before.frequency);
-    before
-        .coefficients
-        .iter()
-        .zip(&after.coefficients)
-        .map(|(a, b)| a + u * (b - a))
-        .collect()
-}
-
-/// Runs `job(problem, k)` for every k in 0..`count` on rayon's threads, each thread with
-/// one of `problems` (copies of the same problem: a job must give the same bits on any of
-/// them, whatever they ran before), and returns the results in order of k. A thread takes
-/// the next k in turn, and none starts a job once one has failed: every job before a
-/// failed one was taken before it and so finished, and the error returned is the first in
-/// order, the one a single thread running the jobs in turn would stop at.
-///
-/// # Errors
-/// The first job's error in order of k.
-pub(super) fn on_threads<P: Send, T: Send>(
-    problems: &mut [P],
-    count: usize,
-    job: impl Fn(&mut P, usize) -> Result<T> + Sync,
-) -> Result<Vec<T>> {
-    let next = AtomicUsize::new(0);
-    let failed = AtomicBool::new(false);
-    let mut done: Vec<(usize, Result<T>)> = problems
-        .par_iter_mut()
-        .flat_map_iter(|problem| {
-            let mut mine = Vec::new();
-            while !failed.load(Ordering::Relaxed) {
-                let k = next.fetch_add(1, Ordering::Relaxed);
-                if k >= count {
-                    break;
-                }
-                let result = job(problem, k);
-                if result.is_err() {
-                    failed.store(true, Ordering::Relaxed);
-                }
-                mine.push((k, result));
-            }
-            mine
-        })
-        .collect();
-    done.sort_by_key(|&(k, _)| k);
-    done.into_iter().map(|(_, result)| result).collect()
 }
 
 /// Folds between successive points whose frequency slopes differ in sign, located on
@@ -1460,23 +985,6 @@ fn refine_fold(hb: &mut impl Periodic, before: &HbSolution, after: &HbSolution) 
         }
     }
     Ok(frequency)
-}
-
-/// What a search between two successive points `before` and `after` works in: the scaled
-/// `before` y_0, its unit tangent t_0 oriented along the chord to `after` (the direction
-/// of travel), the arclength of `after` along t_0, and the scaling (at `before`). Trial
-/// points at arclength sigma are `correct(hb, y_0, t_0, sigma, scaling)`.
-pub(super) fn arclength_frame(
-    hb: &mut impl Periodic,
-    before: &HbSolution,
-    after: &HbSolution,
-) -> Result<(Vec<f64>, Vec<f64>, f64, Scaling)> {
-    let scaling = Scaling::at(before);
-    let y0 = scaling.scaled(before);
-    let chord = difference(&scaling.scaled(after), &y0);
-    let t0 = unit_tangent(hb, before, &scaling, &chord)?;
-    let length = dot(&t0, &chord);
-    Ok((y0, t0, length, scaling))
 }
 
 /// The extreme value of the cubic Hermite interpolant on [0, h] with end values w0, w1 and

@@ -29,13 +29,17 @@
 //! Nonlinear forces are seen only through [`crate::force::NonlinearForce`], the interface the
 //! time integrators use, so every contact law works in both.
 
+mod arclength;
 mod balance;
 pub mod bearings;
 pub mod bifurcation;
+mod branch;
 pub mod compare;
 mod condensation;
 pub mod continuation;
 pub mod fourier;
+mod parallel;
+mod periodic;
 pub mod report;
 pub mod request;
 pub mod resolution;

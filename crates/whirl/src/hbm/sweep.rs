@@ -9,12 +9,12 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::bearings::{caged_bearings, CageModel};
+use super::branch::{Branch, BranchEnd};
 use super::condensation::DEFAULT_STABILITY_MODES;
-use super::continuation::{
-    continuation, continuation_sharing, on_threads, solutions_at, Branch, BranchEnd,
-    ContinuationOptions, Derivatives, Periodic,
-};
+use super::continuation::{continuation, continuation_sharing, solutions_at, ContinuationOptions};
 use super::fourier::{check_counts, cos_slot, sin_slot, MAX_SAMPLES};
+use super::parallel::on_threads;
+use super::periodic::{Derivatives, Periodic};
 use super::resolution;
 use super::stability::{FloquetProblem, Stability};
 use super::{default_samples, CondensedBalance, HbOptions, HbSolution};
