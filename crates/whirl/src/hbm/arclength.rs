@@ -184,7 +184,7 @@ pub(super) fn newton_on_arclength(
 
 /// R at the scaled point y (its arclength row, satisfied by every corrector iterate, left
 /// out); not finite where the frequency is not positive.
-pub(super) fn scaled_residual(hb: &mut impl Periodic, y: &[f64], scaling: &Scaling) -> Residual {
+fn scaled_residual(hb: &mut impl Periodic, y: &[f64], scaling: &Scaling) -> Residual {
     let (x, w) = scaling.unscaled(y);
     if !(w.is_finite() && w > 0.0) {
         return Residual {
