@@ -1,7 +1,8 @@
 //! Scaled arclength along a branch of periodic solutions: the scales of a point
 //! ([`Scaling`]), the unit tangent, the pseudo-arclength corrector, and Newton at a fixed
-//! frequency between two points. The path follower ([`super::continuation`]) and the
-//! searches between its points (folds, [`super::bifurcation`]) share them.
+//! frequency between two points. The path follower
+//! ([`continuation`](mod@super::continuation)) and the searches between its points (folds,
+//! [`bifurcation`](super::bifurcation)) share them.
 
 use super::balance::{
     line_search, relative, GiveUp, HbSolution, Residual, FULL_STEPS, LINE_SEARCH_HALVINGS,

@@ -1,8 +1,8 @@
 //! What following a branch gives: its points, folds and changes of stability, and why it
 //! ended ([`Branch`]); the path as the follower leaves it, before folds and bifurcations
-//! are located ([`Path`]). Types only: [`super::continuation`] follows the path,
-//! [`super::bifurcation`] locates its changes of stability and [`super::resolution`]
-//! checks them, each reading and writing these.
+//! are located ([`Path`]). Types only: [`continuation`](mod@super::continuation) follows
+//! the path, [`bifurcation`](super::bifurcation) locates its changes of stability and
+//! [`resolution`](super::resolution) checks them, each reading and writing these.
 
 use super::balance::HbSolution;
 use super::stability::Stability;
@@ -172,9 +172,9 @@ pub struct Resolution {
     /// AFT samples per period of the check (twice the branch's in a sweep).
     pub samples: usize,
     /// Speeds of the orbits checked before and after the bifurcation along the path, rad/s:
-    /// [`RESOLUTION_TOLERANCE`](super::RESOLUTION_TOLERANCE) of its speed away (or 0.8-1.4 times that where Newton
-    /// stalled at it), or the last point before a jump or the branch's end when the path
-    /// stops closer.
+    /// [`RESOLUTION_TOLERANCE`](super::RESOLUTION_TOLERANCE) of its speed away (or 0.8-1.4
+    /// times that where Newton stalled at it), or the last point before a jump or the
+    /// branch's end when the path stops closer.
     pub speeds: [f64; 2],
     /// Their stability at `samples`; `None` where Newton did not converge.
     pub stable: [Option<bool>; 2],

@@ -81,206 +81,349 @@ pub(super) fn trace<H: Periodic>(
     hb: &mut H,
     first: HbSolution,
     orientation: f64,
-    (from, to): (f64, f64),
+    range: (f64, f64),
     options: &ContinuationOptions,
     on_point: &mut dyn FnMut(&mut H, usize, &BranchPoint) -> Result<()>,
 ) -> Result<Path> {
-    let direction = (to - from).signum();
-    let mut scaling = Scaling::at(&first);
-    let mut start_direction = vec![0.0; first.coefficients.len() + 1];
-    start_direction[first.coefficients.len()] = orientation;
-    let mut tangent = unit_tangent(hb, &first, &scaling, &start_direction)?;
-    let first_frequency = first.frequency;
-    let mut points = vec![branch_point(first, &tangent, &scaling)];
-    // Scaled arclength travelled to each point (chords; a restart counts its jump).
-    let mut travelled = vec![0.0];
-    let mut step = options.initial_step;
-    let mut corners = Vec::new();
-    let mut jumps = Vec::new();
-    let (mut furthest, mut furthest_index) = (direction * first_frequency, 0);
-    // Indices of the points after which the path jumped: no fold or bifurcation is looked
-    // for across them.
-    let mut boundaries: Vec<usize> = Vec::new();
-    // The turn of the last attempt rejected for turning too much.
-    let mut rejected_turn: Option<f64> = None;
-    let mut told = 0;
-    // Whether the stall and retrace tests are on: off after a restart ahead failed, until
-    // the path passes its furthest point.
-    let mut armed = true;
+    let mut path = Follower::start(hb, first, orientation, range, options)?;
     let end = loop {
-        for (index, point) in points.iter().enumerate().skip(told) {
-            hb.on_path(&point.solution);
-            on_point(hb, index, point)?;
+        path.tell(on_point)?;
+        if let Some(end) = path.advance()? {
+            break end;
         }
-        told = points.len();
-        if points.len() >= options.max_points {
-            break BranchEnd::PointLimit;
+    };
+    path.tell(on_point)?;
+    Ok(path.finish(end))
+}
+
+/// A path being followed: where it is, how it got there, and how it goes on. Each
+/// [`Follower::advance`] predicts along the tangent and corrects onto the branch
+/// ([`Follower::attempt`]), judges the tangent's turn ([`Follower::next_point`]), gets past
+/// a corner or restarts where the corrector fails at the smallest step
+/// ([`Follower::get_past`]), lands on the range's end ([`Follower::land`]), takes the point
+/// and adapts the step ([`Follower::accept`]), and restarts ahead where the path stalls,
+/// retraces itself or leaves the range too far ([`Follower::restart_ahead`]).
+struct Follower<'a, H> {
+    hb: &'a mut H,
+    options: &'a ContinuationOptions,
+    /// The range, rad/s, and the sign of `to - from`.
+    from: f64,
+    to: f64,
+    direction: f64,
+    /// The scales at the last point, and the unit tangent there in them.
+    scaling: Scaling,
+    tangent: Vec<f64>,
+    points: Vec<BranchPoint>,
+    /// Scaled arclength travelled to each point (chords; a restart counts its jump).
+    travelled: Vec<f64>,
+    step: f64,
+    corners: Vec<f64>,
+    jumps: Vec<(f64, f64)>,
+    /// Indices of the points after which the path jumped: no fold or bifurcation is looked
+    /// for across them.
+    boundaries: Vec<usize>,
+    /// The furthest speed reached, times `direction`, and its point.
+    furthest: f64,
+    furthest_index: usize,
+    /// The turn of the last attempt rejected for turning too much.
+    rejected_turn: Option<f64>,
+    /// How many points `on_point` was told of.
+    told: usize,
+    /// Whether the stall and retrace tests are on: off after a restart ahead failed, until
+    /// the path passes its furthest point.
+    armed: bool,
+}
+
+/// What an attempt at the next point gives.
+enum Next {
+    /// A point to take, with its unit tangent (in the scales of the last point).
+    Point(Vec<f64>, HbSolution),
+    /// Nothing yet: try again with half the step.
+    Halve,
+    /// Nothing gets past the last point.
+    End(BranchEnd),
+}
+
+impl<'a, H: Periodic> Follower<'a, H> {
+    /// The path at its first point, its tangent oriented by `orientation` in frequency.
+    fn start(
+        hb: &'a mut H,
+        first: HbSolution,
+        orientation: f64,
+        (from, to): (f64, f64),
+        options: &'a ContinuationOptions,
+    ) -> Result<Self> {
+        let scaling = Scaling::at(&first);
+        let mut start_direction = vec![0.0; first.coefficients.len() + 1];
+        start_direction[first.coefficients.len()] = orientation;
+        let tangent = unit_tangent(hb, &first, &scaling, &start_direction)?;
+        let direction = (to - from).signum();
+        let furthest = direction * first.frequency;
+        let points = vec![branch_point(first, &tangent, &scaling)];
+        Ok(Follower {
+            hb,
+            options,
+            from,
+            to,
+            direction,
+            scaling,
+            tangent,
+            points,
+            travelled: vec![0.0],
+            step: options.initial_step,
+            corners: Vec::new(),
+            jumps: Vec::new(),
+            boundaries: Vec::new(),
+            furthest,
+            furthest_index: 0,
+            rejected_turn: None,
+            told: 0,
+            armed: true,
+        })
+    }
+
+    /// Tells the problem and `on_point` of the points not yet told of.
+    fn tell(
+        &mut self,
+        on_point: &mut dyn FnMut(&mut H, usize, &BranchPoint) -> Result<()>,
+    ) -> Result<()> {
+        for (index, point) in self.points.iter().enumerate().skip(self.told) {
+            self.hb.on_path(&point.solution);
+            on_point(self.hb, index, point)?;
         }
-        let last = &points[points.len() - 1].solution;
-        if hb.stop_requested() {
-            return Err(Error::Interrupted(format!(
-                "the harmonic-balance path was stopped at {:.1} Hz",
-                last.frequency / std::f64::consts::TAU
-            )));
+        self.told = self.points.len();
+        Ok(())
+    }
+
+    /// One step of the path: a new point, a shorter step, or the end (`Some`).
+    fn advance(&mut self) -> Result<Option<BranchEnd>> {
+        if self.points.len() >= self.options.max_points {
+            return Ok(Some(BranchEnd::PointLimit));
         }
-        let y0 = scaling.scaled(last);
-        let attempt = correct_on_path(hb, &y0, &tangent, step, &scaling, options)
-            .and_then(|s| Ok((unit_tangent(hb, &s, &scaling, &tangent)?, s)));
-        let turn = attempt
-            .as_ref()
-            .map_or(f64::NAN, |(t, _)| dot(t, &tangent).clamp(-1.0, 1.0).acos());
-        let rejected_before = rejected_turn.take();
-        let accepted = match attempt {
-            Ok((next_tangent, s)) if turn <= options.max_turn => Some((next_tangent, s)),
-            // On a smooth branch the turn halves with the step. One that does not shrink
-            // (by less than a quarter), or persists at the smallest step, is a corner of a
-            // non-smooth branch (a contact opening or closing), not an unresolved fold:
-            // accept it.
-            Ok((next_tangent, s))
-                if step / 2.0 < options.min_step
-                    || rejected_before.is_some_and(|before| turn > 0.75 * before) =>
-            {
-                corners.push(s.frequency);
-                Some((next_tangent, s))
+        self.check_stop()?;
+        let (tangent, solution) = match self.next_point() {
+            Next::Point(tangent, solution) => (tangent, solution),
+            Next::Halve => {
+                self.step /= 2.0;
+                return Ok(None);
             }
-            Ok(_) => {
-                rejected_turn = Some(turn);
-                None
-            }
-            Err(e) if step / 2.0 < options.min_step => {
-                let past = step_over(hb, last, &tangent, &scaling)
-                    .or_else(|| turn_at_corner(hb, last, &tangent, &scaling));
-                match past {
-                    Some((next_tangent, s)) => {
-                        corners.push(s.frequency);
-                        step = options.initial_step;
-                        Some((next_tangent, s))
-                    }
-                    None => {
-                        let guesses = [last, &points[0].solution];
-                        let ahead = (direction * furthest, to);
-                        let restart =
-                            jump_ahead(hb, &guesses, ahead, direction, &scaling).or_else(|| {
-                                climb_on(hb, last, &tangent, furthest, to, direction, &scaling)
-                            });
-                        match restart {
-                            Some((next_tangent, s)) => {
-                                jumps.push((last.frequency, s.frequency));
-                                boundaries.push(points.len() - 1);
-                                step = options.initial_step;
-                                Some((next_tangent, s))
-                            }
-                            None => {
-                                break BranchEnd::StepTooSmall {
-                                    frequency: last.frequency,
-                                    message: e.to_string(),
-                                }
-                            }
-                        }
-                    }
-                }
-            }
-            Err(_) => None,
+            Next::End(end) => return Ok(Some(end)),
         };
-        let Some((next_tangent, solution)) = accepted else {
-            step /= 2.0;
-            continue;
-        };
-        if direction * (solution.frequency - to) >= 0.0 {
-            match land_on(hb, last, &solution, to).and_then(|p| {
-                let t = unit_tangent(hb, &p, &scaling, &next_tangent)?;
-                Ok(branch_point(p, &t, &scaling))
-            }) {
-                Ok(end_point) => {
-                    points.push(end_point);
-                    break BranchEnd::Reached;
-                }
-                Err(e) => {
-                    break BranchEnd::EndNotConverged {
-                        message: e.to_string(),
-                    }
-                }
-            }
+        if self.direction * (solution.frequency - self.to) >= 0.0 {
+            return Ok(Some(self.land(&tangent, solution)));
         }
-        let outside = direction * (solution.frequency - from) < 0.0;
-        if outside && options.stall_points == 0 {
-            break BranchEnd::LeftRange;
+        let outside = self.direction * (solution.frequency - self.from) < 0.0;
+        if outside && self.options.stall_points == 0 {
+            return Ok(Some(BranchEnd::LeftRange));
         }
         // A leg that turns back out of the range is followed out there, where it may turn
         // again and come back: the branch a sweep from further down follows. Restarted
         // ahead instead, the path skipped what that leg leads to (on the reference rotor
         // with 120 um, from 425 Hz, the leg below the fold at 436.9 Hz, which returns at
         // 384 Hz, and all its solutions up to 568 Hz).
-        let beyond =
-            outside && direction * (solution.frequency - from * EXCURSION.powf(direction)) < 0.0;
+        let excursion = self.from * EXCURSION.powf(self.direction);
+        let beyond = outside && self.direction * (solution.frequency - excursion) < 0.0;
         if !beyond {
-            step = next_step(step, solution.iterations, options);
-            if direction * solution.frequency > furthest {
-                (furthest, furthest_index) = (direction * solution.frequency, points.len());
-                armed = true;
-            }
-            (scaling, tangent) = rescaled(&scaling, &next_tangent, &solution);
-            travelled.push(travelled[travelled.len() - 1] + chord(&scaling, &points, &solution));
-            points.push(branch_point(solution, &tangent, &scaling));
+            self.accept(&tangent, solution);
         }
         // A path that goes that far out of the range, wiggles on the spot, or retraces
         // what it followed is restarted ahead of the furthest point, from it.
-        if beyond
-            || (armed
-                && (stalled(&points, options.stall_points)
-                    || retraced(&points, &travelled, options.stall_points)))
-        {
-            let base = &points[furthest_index].solution;
-            let ahead = (direction * furthest, to);
-            // The last point too: after a retrace it lies on another stretch of the
-            // branch than the furthest, and Newton ahead may converge from it alone.
-            let guesses = [
-                base,
-                &points[points.len() - 1].solution,
-                &points[0].solution,
-            ];
-            let Some((t, s)) = jump_ahead(hb, &guesses, ahead, direction, &scaling) else {
-                if !beyond {
-                    // Nothing converges ahead (the furthest point is a fold whose other
-                    // leg lies far off), but the path itself can go on, and round an
-                    // overhang it comes back past the furthest point on another leg:
-                    // follow it, the tests off until it does. Ending here made the
-                    // outcome hang on round-off (on the reference rotor with 60 um, a
-                    // 1e-12 change of the disk mass stopped the sweep at 154 Hz).
-                    armed = false;
-                    continue;
-                }
-                break BranchEnd::StepTooSmall {
-                    frequency: base.frequency,
-                    message:
-                        "the path turned back, stalled or retraced itself; no restart converged"
-                            .into(),
-                };
-            };
-            jumps.push((base.frequency, s.frequency));
-            boundaries.push(points.len() - 1);
-            (furthest, furthest_index, step) =
-                (direction * s.frequency, points.len(), options.initial_step);
-            let reached = s.frequency == to;
-            (scaling, tangent) = rescaled(&scaling, &t, &s);
-            travelled.push(travelled[travelled.len() - 1] + chord(&scaling, &points, &s));
-            points.push(branch_point(s, &tangent, &scaling));
-            if reached {
-                break BranchEnd::Reached;
-            }
+        if beyond || self.wandering() {
+            return Ok(self.restart_ahead(beyond));
         }
-    };
-    for (index, point) in points.iter().enumerate().skip(told) {
-        hb.on_path(&point.solution);
-        on_point(hb, index, point)?;
+        Ok(None)
     }
-    Ok(Path {
-        points,
-        corners,
-        jumps,
-        boundaries,
-        end,
-    })
+
+    /// [`Error::Interrupted`] when the caller asked the path to stop.
+    fn check_stop(&self) -> Result<()> {
+        if !self.hb.stop_requested() {
+            return Ok(());
+        }
+        let last = &self.points[self.points.len() - 1].solution;
+        Err(Error::Interrupted(format!(
+            "the harmonic-balance path was stopped at {:.1} Hz",
+            last.frequency / std::f64::consts::TAU
+        )))
+    }
+
+    /// Predicts along the tangent by the step and corrects onto the branch
+    /// ([`correct_on_path`]): the point, with its unit tangent.
+    fn attempt(&mut self) -> Result<(Vec<f64>, HbSolution)> {
+        let last = &self.points[self.points.len() - 1].solution;
+        let y0 = self.scaling.scaled(last);
+        let (scaling, options) = (&self.scaling, self.options);
+        let s = correct_on_path(self.hb, &y0, &self.tangent, self.step, scaling, options)?;
+        Ok((unit_tangent(self.hb, &s, scaling, &self.tangent)?, s))
+    }
+
+    /// The next point, judged by how far the tangent turned: taken when it turned less
+    /// than `max_turn`, or at a corner; otherwise tried again with half the step. Where the
+    /// corrector fails at the smallest step, [`Follower::get_past`].
+    fn next_point(&mut self) -> Next {
+        let attempt = self.attempt();
+        let turn = attempt.as_ref().map_or(f64::NAN, |(t, _)| {
+            dot(t, &self.tangent).clamp(-1.0, 1.0).acos()
+        });
+        let rejected_before = self.rejected_turn.take();
+        let smallest = self.step / 2.0 < self.options.min_step;
+        match attempt {
+            Ok((tangent, s)) if turn <= self.options.max_turn => Next::Point(tangent, s),
+            // On a smooth branch the turn halves with the step. One that does not shrink
+            // (by less than a quarter), or persists at the smallest step, is a corner of a
+            // non-smooth branch (a contact opening or closing), not an unresolved fold:
+            // accept it.
+            Ok((tangent, s))
+                if smallest || rejected_before.is_some_and(|before| turn > 0.75 * before) =>
+            {
+                self.corners.push(s.frequency);
+                Next::Point(tangent, s)
+            }
+            Ok(_) => {
+                self.rejected_turn = Some(turn);
+                Next::Halve
+            }
+            Err(e) if smallest => self.get_past(&e),
+            Err(_) => Next::Halve,
+        }
+    }
+
+    /// Where the corrector failed at the smallest step: past a corner by Newton at a fixed
+    /// frequency ([`step_over`], [`turn_at_corner`]), else restarted ahead ([`jump_ahead`],
+    /// [`climb_on`]); the path ends where none converges.
+    fn get_past(&mut self, error: &Error) -> Next {
+        let last = &self.points[self.points.len() - 1].solution;
+        let (tangent, scaling) = (&self.tangent, &self.scaling);
+        let past = step_over(self.hb, last, tangent, scaling)
+            .or_else(|| turn_at_corner(self.hb, last, tangent, scaling));
+        if let Some((t, s)) = past {
+            self.corners.push(s.frequency);
+            self.step = self.options.initial_step;
+            return Next::Point(t, s);
+        }
+        let guesses = [last, &self.points[0].solution];
+        let (furthest, to, direction) = (self.furthest, self.to, self.direction);
+        let restart = jump_ahead(
+            self.hb,
+            &guesses,
+            (direction * furthest, to),
+            direction,
+            scaling,
+        )
+        .or_else(|| climb_on(self.hb, last, tangent, furthest, to, direction, scaling));
+        let Some((t, s)) = restart else {
+            return Next::End(BranchEnd::StepTooSmall {
+                frequency: last.frequency,
+                message: error.to_string(),
+            });
+        };
+        self.jumps.push((last.frequency, s.frequency));
+        self.boundaries.push(self.points.len() - 1);
+        self.step = self.options.initial_step;
+        Next::Point(t, s)
+    }
+
+    /// The path passed the range's end with `solution` (`tangent` its tangent): the point
+    /// exactly on the end closes it.
+    fn land(&mut self, tangent: &[f64], solution: HbSolution) -> BranchEnd {
+        let last = &self.points[self.points.len() - 1].solution;
+        let scaling = &self.scaling;
+        let end_point = land_on(self.hb, last, &solution, self.to).and_then(|p| {
+            let t = unit_tangent(self.hb, &p, scaling, tangent)?;
+            Ok(branch_point(p, &t, scaling))
+        });
+        match end_point {
+            Ok(point) => {
+                self.points.push(point);
+                BranchEnd::Reached
+            }
+            Err(e) => BranchEnd::EndNotConverged {
+                message: e.to_string(),
+            },
+        }
+    }
+
+    /// Takes `solution` onto the path, and lengthens or shortens the step by how quickly
+    /// it converged ([`next_step`]).
+    fn accept(&mut self, tangent: &[f64], solution: HbSolution) {
+        self.step = next_step(self.step, solution.iterations, self.options);
+        if self.direction * solution.frequency > self.furthest {
+            self.furthest = self.direction * solution.frequency;
+            self.furthest_index = self.points.len();
+            self.armed = true;
+        }
+        self.push(tangent, solution);
+    }
+
+    /// Appends `solution`, moving the scales to it and `tangent` with them.
+    fn push(&mut self, tangent: &[f64], solution: HbSolution) {
+        (self.scaling, self.tangent) = rescaled(&self.scaling, tangent, &solution);
+        let along = chord(&self.scaling, &self.points, &solution);
+        self.travelled
+            .push(self.travelled[self.travelled.len() - 1] + along);
+        self.points
+            .push(branch_point(solution, &self.tangent, &self.scaling));
+    }
+
+    /// Whether the path, its tests on, wiggles on the spot ([`stalled`]) or walks back over
+    /// what it followed ([`retraced`]).
+    fn wandering(&self) -> bool {
+        let count = self.options.stall_points;
+        self.armed
+            && (stalled(&self.points, count) || retraced(&self.points, &self.travelled, count))
+    }
+
+    /// Restarts the path ahead of its furthest point, from it ([`jump_ahead`]), after it went
+    /// `beyond` the range's start by [`EXCURSION`], stalled or retraced itself; the end of
+    /// the path (`Some`) where that reached the range's end, or where nothing converged
+    /// ahead of a path gone beyond.
+    fn restart_ahead(&mut self, beyond: bool) -> Option<BranchEnd> {
+        let base = &self.points[self.furthest_index].solution;
+        // The last point too: after a retrace it lies on another stretch of the branch
+        // than the furthest, and Newton ahead may converge from it alone.
+        let guesses = [
+            base,
+            &self.points[self.points.len() - 1].solution,
+            &self.points[0].solution,
+        ];
+        let ahead = (self.direction * self.furthest, self.to);
+        let Some((t, s)) = jump_ahead(self.hb, &guesses, ahead, self.direction, &self.scaling)
+        else {
+            if !beyond {
+                // Nothing converges ahead (the furthest point is a fold whose other leg
+                // lies far off), but the path itself can go on, and round an overhang it
+                // comes back past the furthest point on another leg: follow it, the tests
+                // off until it does. Ending here made the outcome hang on round-off (on
+                // the reference rotor with 60 um, a 1e-12 change of the disk mass stopped
+                // the sweep at 154 Hz).
+                self.armed = false;
+                return None;
+            }
+            return Some(BranchEnd::StepTooSmall {
+                frequency: base.frequency,
+                message: "the path turned back, stalled or retraced itself; no restart converged"
+                    .into(),
+            });
+        };
+        self.jumps.push((base.frequency, s.frequency));
+        self.boundaries.push(self.points.len() - 1);
+        self.furthest = self.direction * s.frequency;
+        self.furthest_index = self.points.len();
+        self.step = self.options.initial_step;
+        let reached = s.frequency == self.to;
+        self.push(&t, s);
+        reached.then_some(BranchEnd::Reached)
+    }
+
+    /// The path as followed, ended by `end`.
+    fn finish(self, end: BranchEnd) -> Path {
+        Path {
+            points: self.points,
+            corners: self.corners,
+            jumps: self.jumps,
+            boundaries: self.boundaries,
+            end,
+        }
+    }
 }
 
 /// How far out of the range, as a factor of the speed it starts at, the path follows a

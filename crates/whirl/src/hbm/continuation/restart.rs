@@ -160,18 +160,19 @@ pub(super) fn jump_ahead(
 }
 
 /// Where the corrector and [`step_over`] fail on a leg that climbs along the range below
-/// the furthest point (`furthest`, signed by `direction` as in [`trace`]) and nothing
-/// converges ahead of the furthest point: Newton at fixed frequency ahead of the last
-/// point instead ([`jump_ahead`] from `last`), so the path goes on along the leg it is on,
-/// which round an overhang is the leg that comes back past the furthest point. Ending there
-/// instead made the outcome hang on round-off: on the reference rotor with 60 um and 160
-/// AFT samples the path passed a fold at 153.99 Hz, walked back down to 139.2 Hz, turned,
-/// and climbing again met a corner at 145.185 Hz where Newton cycled at 1e-6 to 1e-3 of the
-/// frequency ahead (a residual stuck at 2e-6 to 2e-5 relative) and converged at 1e-2, on the
-/// same leg (0.077 along the tangent for a 0.01 change of the speed, the tangent's
-/// frequency component 0.13): the sweep stopped there, where 80 and 320 samples reach
-/// 750 Hz. A leg the path walks back down (against the range) is left to [`step_over`]:
-/// sent ahead, it would climb back over what it followed.
+/// the furthest point (`furthest`, signed by `direction` as in
+/// [`trace`](super::path::trace)) and nothing converges ahead of the furthest point: Newton
+/// at fixed frequency ahead of the last point instead ([`jump_ahead`] from `last`), so the
+/// path goes on along the leg it is on, which round an overhang is the leg that comes back
+/// past the furthest point. Ending there instead made the outcome hang on round-off: on the
+/// reference rotor with 60 um and 160 AFT samples the path passed a fold at 153.99 Hz,
+/// walked back down to 139.2 Hz, turned, and climbing again met a corner at 145.185 Hz
+/// where Newton cycled at 1e-6 to 1e-3 of the frequency ahead (a residual stuck at 2e-6 to
+/// 2e-5 relative) and converged at 1e-2, on the same leg (0.077 along the tangent for a
+/// 0.01 change of the speed, the tangent's frequency component 0.13): the sweep stopped
+/// there, where 80 and 320 samples reach 750 Hz. A leg the path walks back down (against
+/// the range) is left to [`step_over`]: sent ahead, it would climb back over what it
+/// followed.
 pub(super) fn climb_on(
     hb: &mut impl Periodic,
     last: &HbSolution,
