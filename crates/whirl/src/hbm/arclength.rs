@@ -4,9 +4,8 @@
 //! ([`continuation`](mod@super::continuation)) and the searches between its points (folds,
 //! [`bifurcation`](super::bifurcation)) share them.
 
-use super::balance::{
-    line_search, relative, GiveUp, HbSolution, Residual, FULL_STEPS, LINE_SEARCH_HALVINGS,
-};
+use super::balance::HbSolution;
+use super::newton::{line_search, relative, GiveUp, Residual, FULL_STEPS, LINE_SEARCH_HALVINGS};
 use super::periodic::Periodic;
 use crate::error::{Error, Result};
 use crate::linalg::{difference, dot_in_order as dot, norm, solve_dense};

@@ -38,6 +38,7 @@ pub mod compare;
 mod condensation;
 pub mod continuation;
 pub mod fourier;
+mod newton;
 mod parallel;
 mod periodic;
 pub mod report;

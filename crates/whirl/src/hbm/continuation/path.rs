@@ -8,8 +8,9 @@ use crate::error::{Error, Result};
 use crate::hbm::arclength::{
     correct, land_on, newton_on_arclength, rescaled, unit_tangent, Scaling,
 };
-use crate::hbm::balance::{HbSolution, FULL_STEPS};
+use crate::hbm::balance::HbSolution;
 use crate::hbm::branch::{BranchEnd, BranchPoint, Path};
+use crate::hbm::newton::FULL_STEPS;
 use crate::hbm::periodic::Periodic;
 use crate::hbm::stability::FloquetProblem;
 use crate::linalg::dot_in_order as dot;
