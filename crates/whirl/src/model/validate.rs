@@ -24,7 +24,7 @@ use crate::units::{check_speed, parse_quantity, Dimension};
 use bearings::{cage_speed_ratio, clearance, defects, linear_bearing, roller_bearing, waviness};
 use elements::{disk, element_options, sections};
 use loads::{damping, operating, unbalance};
-use plausible::{roller_bearing_plausible, BearingSpans};
+use plausible::bearings_plausible;
 
 pub(super) use elements::too_many_elements;
 pub use elements::MAX_ELEMENTS;
@@ -227,45 +227,7 @@ pub(super) fn validate(raw: ModelFile) -> V<Model> {
         .enumerate()
         .map(|(i, d)| disk(d, &format!("disk[{i}]"), &nodes, &materials))
         .collect::<V<Vec<_>>>()?;
-    let mut bearings = raw
-        .bearing
-        .iter()
-        .enumerate()
-        .map(|(i, b)| linear_bearing(b, &format!("bearing[{i}]"), &nodes))
-        .collect::<V<Vec<_>>>()?;
-    let mut roller_bearings = raw
-        .roller_bearing
-        .iter()
-        .enumerate()
-        .map(|(i, b)| roller_bearing(b, &format!("roller_bearing[{i}]"), &nodes))
-        .collect::<V<Vec<_>>>()?;
-    for (i, b) in raw.ball_bearing.iter().enumerate() {
-        roller_bearings.push(ball::ball_bearing(
-            b,
-            &format!("ball_bearing[{i}]"),
-            &nodes,
-        )?);
-    }
-    let housings = housing::housings(&raw.housing)?;
-    let housing_names: Vec<String> = housings.iter().map(|h| h.name.clone()).collect();
-    for (i, (b, file)) in bearings.iter_mut().zip(&raw.bearing).enumerate() {
-        let field = format!("bearing[{i}].housing");
-        b.housing = housing::reference(&file.get_ref().housing, &housing_names, &field)?;
-    }
-    for (i, (b, file)) in roller_bearings
-        .iter_mut()
-        .zip(&raw.roller_bearing)
-        .enumerate()
-    {
-        let field = format!("roller_bearing[{i}].housing");
-        b.housing = housing::reference(&file.get_ref().housing, &housing_names, &field)?;
-    }
-    // Ball bearings follow the roller bearings in `roller_bearings`.
-    let balls = roller_bearings.iter_mut().skip(raw.roller_bearing.len());
-    for (i, (b, file)) in balls.zip(&raw.ball_bearing).enumerate() {
-        let field = format!("ball_bearing[{i}].housing");
-        b.housing = housing::reference(&file.get_ref().housing, &housing_names, &field)?;
-    }
+    let (bearings, roller_bearings, housings) = bearings_and_housings(&raw, &nodes)?;
     let damping = raw
         .damping
         .as_ref()
@@ -293,39 +255,53 @@ pub(super) fn validate(raw: ModelFile) -> V<Model> {
         unbalances,
         operating,
     };
-    for (i, (b, file)) in model
-        .roller_bearings
+    bearings_plausible(&model, &raw)?;
+    Ok(model)
+}
+
+/// The linear, roller and ball bearings of the file (the ball bearings after the roller
+/// bearings, as [`Model::roller_bearings`] holds them) and the housings, each bearing's
+/// `housing` resolved.
+fn bearings_and_housings(
+    raw: &ModelFile,
+    nodes: &Nodes,
+) -> V<(Vec<LinearBearing>, Vec<RollerBearing>, Vec<Housing>)> {
+    let mut bearings = raw
+        .bearing
         .iter()
+        .enumerate()
+        .map(|(i, b)| linear_bearing(b, &format!("bearing[{i}]"), nodes))
+        .collect::<V<Vec<_>>>()?;
+    let mut roller_bearings = raw
+        .roller_bearing
+        .iter()
+        .enumerate()
+        .map(|(i, b)| roller_bearing(b, &format!("roller_bearing[{i}]"), nodes))
+        .collect::<V<Vec<_>>>()?;
+    for (i, b) in raw.ball_bearing.iter().enumerate() {
+        roller_bearings.push(ball::ball_bearing(b, &format!("ball_bearing[{i}]"), nodes)?);
+    }
+    let housings = housing::housings(&raw.housing)?;
+    let housing_names: Vec<String> = housings.iter().map(|h| h.name.clone()).collect();
+    for (i, (b, file)) in bearings.iter_mut().zip(&raw.bearing).enumerate() {
+        let field = format!("bearing[{i}].housing");
+        b.housing = housing::reference(&file.get_ref().housing, &housing_names, &field)?;
+    }
+    for (i, (b, file)) in roller_bearings
+        .iter_mut()
         .zip(&raw.roller_bearing)
         .enumerate()
     {
-        let f = file.get_ref();
-        let spans = BearingSpans {
-            clearance: f.clearance.span(),
-            waviness: f
-                .waviness
-                .iter()
-                .map(|w| w.get_ref().amplitude.span())
-                .collect(),
-            forcing: f.forcing_function.as_ref().map(|l| l.span()),
-        };
-        roller_bearing_plausible(b, &spans, &format!("roller_bearing[{i}]"), model.operating)?;
+        let field = format!("roller_bearing[{i}].housing");
+        b.housing = housing::reference(&file.get_ref().housing, &housing_names, &field)?;
     }
-    let balls = model.roller_bearings.iter().filter(|b| b.is_ball());
+    // Ball bearings follow the roller bearings in `roller_bearings`.
+    let balls = roller_bearings.iter_mut().skip(raw.roller_bearing.len());
     for (i, (b, file)) in balls.zip(&raw.ball_bearing).enumerate() {
-        let f = file.get_ref();
-        let spans = BearingSpans {
-            clearance: f.clearance.as_ref().map_or(file.span(), |c| c.span()),
-            waviness: f
-                .waviness
-                .iter()
-                .map(|w| w.get_ref().amplitude.span())
-                .collect(),
-            forcing: None,
-        };
-        roller_bearing_plausible(b, &spans, &format!("ball_bearing[{i}]"), model.operating)?;
+        let field = format!("ball_bearing[{i}].housing");
+        b.housing = housing::reference(&file.get_ref().housing, &housing_names, &field)?;
     }
-    Ok(model)
+    Ok((bearings, roller_bearings, housings))
 }
 
 fn materials(raw: &[Spanned<MaterialFile>]) -> V<HashMap<String, Material>> {

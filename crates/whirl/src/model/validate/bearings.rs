@@ -121,37 +121,7 @@ pub(super) fn roller_bearing(
     let b = raw.get_ref();
     let f = |name: &str| format!("{field}.{name}");
     let station = nodes.station(&b.node, &b.z, field, raw.span())?;
-    let rollers = count(&b.rollers, &f("rollers"), 3, 1000)?;
-    let dp = positive_q(&b.pitch_diameter, Dimension::Length, &f("pitch_diameter"))?;
-    let db = positive_q(&b.roller_diameter, Dimension::Length, &f("roller_diameter"))?;
-    let length = positive_q(&b.roller_length, Dimension::Length, &f("roller_length"))?;
-    if db >= dp {
-        return Err(err(
-            &f("roller_diameter"),
-            b.roller_diameter.span(),
-            format!(
-                "the roller diameter ({} m) must be smaller than the pitch diameter ({} m)",
-                Si(db),
-                Si(dp)
-            ),
-        ));
-    }
-    // Rollers must fit side by side on the pitch circle.
-    if rollers as f64 * db >= PI * dp {
-        return Err(err(
-            &f("rollers"),
-            b.rollers.span(),
-            format!(
-                "{rollers} rollers of diameter {} m do not fit on a pitch circle of diameter {} m",
-                Si(db),
-                Si(dp)
-            ),
-        )
-        .help(format!(
-            "at most {} rollers fit",
-            ((PI * dp / db).ceil() as usize).saturating_sub(1)
-        )));
-    }
+    let (rollers, dp, db, length) = roller_geometry(b, field)?;
     let clearance = clearance(&b.clearance, &f("clearance"))?;
     let skew = opt_f64(&b.skew_angle, &f("skew_angle"), 0.0)?;
     if skew.abs() >= 45.0 {
@@ -163,50 +133,7 @@ pub(super) fn roller_bearing(
     }
     let roller_tilt = b.roller_tilt.unwrap_or(false);
     let slices = roller_slices(b, skew, &f("slices"))?;
-    let exponent = opt_f64(&b.contact_exponent, &f("contact_exponent"), 10.0 / 9.0)?;
-    if !(MIN_CONTACT_EXPONENT..=MAX_CONTACT_EXPONENT).contains(&exponent) {
-        let span = b
-            .contact_exponent
-            .as_ref()
-            .map(|e| e.span())
-            .unwrap_or(raw.span());
-        return Err(err(
-            &f("contact_exponent"),
-            span,
-            format!(
-                "must lie in [{MIN_CONTACT_EXPONENT}, {MAX_CONTACT_EXPONENT}], got {}: Hertz \
-                 theory gives 10/9 for line and 3/2 for point contact",
-                Si(exponent)
-            ),
-        )
-        .help("10/9 = 1.1111 for line contact, 3/2 for point contact"));
-    }
-    let contact_stiffness = match b.contact_stiffness.get_ref() {
-        ContactStiffnessFile::Value(k) => positive(
-            *k,
-            b.contact_stiffness.span(),
-            &f("contact_stiffness"),
-            "N/m^n",
-        )?,
-        ContactStiffnessFile::Rule(r) if r == "palmgren" => {
-            if (exponent - 10.0 / 9.0).abs() > 1e-9 {
-                return Err(err(
-                    &f("contact_exponent"),
-                    raw.span(),
-                    "Palmgren's stiffness is for the line-contact exponent 10/9",
-                )
-                .help("remove contact_exponent or give contact_stiffness as a number"));
-            }
-            RollerBearing::palmgren_stiffness(length)
-        }
-        ContactStiffnessFile::Rule(r) => {
-            return Err(err(
-                &f("contact_stiffness"),
-                b.contact_stiffness.span(),
-                format!("expected a number (N/m^n) or \"palmgren\", got \"{r}\""),
-            ))
-        }
-    };
+    let (contact_stiffness, exponent) = roller_contact(raw, field, length)?;
     let (race_defects, element_defects) = defects(&b.defect, field, rollers)?;
     Ok(RollerBearing {
         name: b
@@ -255,6 +182,96 @@ pub(super) fn roller_bearing(
             .transpose()?,
         housing: None,
     })
+}
+
+/// The roller count, pitch and roller diameters and roller length (m) of a roller bearing,
+/// the rollers smaller than the pitch diameter and fitting side by side on the pitch circle.
+fn roller_geometry(b: &RollerBearingFile, field: &str) -> V<(usize, f64, f64, f64)> {
+    let f = |name: &str| format!("{field}.{name}");
+    let rollers = count(&b.rollers, &f("rollers"), 3, 1000)?;
+    let dp = positive_q(&b.pitch_diameter, Dimension::Length, &f("pitch_diameter"))?;
+    let db = positive_q(&b.roller_diameter, Dimension::Length, &f("roller_diameter"))?;
+    let length = positive_q(&b.roller_length, Dimension::Length, &f("roller_length"))?;
+    if db >= dp {
+        return Err(err(
+            &f("roller_diameter"),
+            b.roller_diameter.span(),
+            format!(
+                "the roller diameter ({} m) must be smaller than the pitch diameter ({} m)",
+                Si(db),
+                Si(dp)
+            ),
+        ));
+    }
+    // Rollers must fit side by side on the pitch circle.
+    if rollers as f64 * db >= PI * dp {
+        return Err(err(
+            &f("rollers"),
+            b.rollers.span(),
+            format!(
+                "{rollers} rollers of diameter {} m do not fit on a pitch circle of diameter {} m",
+                Si(db),
+                Si(dp)
+            ),
+        )
+        .help(format!(
+            "at most {} rollers fit",
+            ((PI * dp / db).ceil() as usize).saturating_sub(1)
+        )));
+    }
+    Ok((rollers, dp, db, length))
+}
+
+/// The contact law's stiffness (N/m^n; Palmgren's rule for rollers of `length` where asked
+/// for) and exponent n, between [`MIN_CONTACT_EXPONENT`] and [`MAX_CONTACT_EXPONENT`].
+fn roller_contact(raw: &Spanned<RollerBearingFile>, field: &str, length: f64) -> V<(f64, f64)> {
+    let b = raw.get_ref();
+    let f = |name: &str| format!("{field}.{name}");
+    let exponent = opt_f64(&b.contact_exponent, &f("contact_exponent"), 10.0 / 9.0)?;
+    if !(MIN_CONTACT_EXPONENT..=MAX_CONTACT_EXPONENT).contains(&exponent) {
+        let span = b
+            .contact_exponent
+            .as_ref()
+            .map(|e| e.span())
+            .unwrap_or(raw.span());
+        return Err(err(
+            &f("contact_exponent"),
+            span,
+            format!(
+                "must lie in [{MIN_CONTACT_EXPONENT}, {MAX_CONTACT_EXPONENT}], got {}: Hertz \
+                 theory gives 10/9 for line and 3/2 for point contact",
+                Si(exponent)
+            ),
+        )
+        .help("10/9 = 1.1111 for line contact, 3/2 for point contact"));
+    }
+    let contact_stiffness = match b.contact_stiffness.get_ref() {
+        ContactStiffnessFile::Value(k) => positive(
+            *k,
+            b.contact_stiffness.span(),
+            &f("contact_stiffness"),
+            "N/m^n",
+        )?,
+        ContactStiffnessFile::Rule(r) if r == "palmgren" => {
+            if (exponent - 10.0 / 9.0).abs() > 1e-9 {
+                return Err(err(
+                    &f("contact_exponent"),
+                    raw.span(),
+                    "Palmgren's stiffness is for the line-contact exponent 10/9",
+                )
+                .help("remove contact_exponent or give contact_stiffness as a number"));
+            }
+            RollerBearing::palmgren_stiffness(length)
+        }
+        ContactStiffnessFile::Rule(r) => {
+            return Err(err(
+                &f("contact_stiffness"),
+                b.contact_stiffness.span(),
+                format!("expected a number (N/m^n) or \"palmgren\", got \"{r}\""),
+            ))
+        }
+    };
+    Ok((contact_stiffness, exponent))
 }
 
 /// Slices along a roller: 1 unless tilt or skew is modelled, then 10 unless given.

@@ -45,18 +45,56 @@ const MAX_WAVINESS_OVER_CLEARANCE: f64 = 10.0;
 /// zero-clearance (preloaded) bearing is judged against 1e-4 of it.
 const MIN_CLEARANCE_SCALE: f64 = 1e-4;
 
+/// Each roller and ball bearing of `model` checked by [`roller_bearing_plausible`], with the
+/// places in `raw` its messages point at.
+pub(super) fn bearings_plausible(model: &Model, raw: &ModelFile) -> V<()> {
+    for (i, (b, file)) in model
+        .roller_bearings
+        .iter()
+        .zip(&raw.roller_bearing)
+        .enumerate()
+    {
+        let f = file.get_ref();
+        let spans = BearingSpans {
+            clearance: f.clearance.span(),
+            waviness: f
+                .waviness
+                .iter()
+                .map(|w| w.get_ref().amplitude.span())
+                .collect(),
+            forcing: f.forcing_function.as_ref().map(|l| l.span()),
+        };
+        roller_bearing_plausible(b, &spans, &format!("roller_bearing[{i}]"), model.operating)?;
+    }
+    let balls = model.roller_bearings.iter().filter(|b| b.is_ball());
+    for (i, (b, file)) in balls.zip(&raw.ball_bearing).enumerate() {
+        let f = file.get_ref();
+        let spans = BearingSpans {
+            clearance: f.clearance.as_ref().map_or(file.span(), |c| c.span()),
+            waviness: f
+                .waviness
+                .iter()
+                .map(|w| w.get_ref().amplitude.span())
+                .collect(),
+            forcing: None,
+        };
+        roller_bearing_plausible(b, &spans, &format!("ball_bearing[{i}]"), model.operating)?;
+    }
+    Ok(())
+}
+
 /// Where in the file a bearing's checked values are written.
-pub(super) struct BearingSpans {
-    pub(super) clearance: Range<usize>,
+struct BearingSpans {
+    clearance: Range<usize>,
     /// Each waviness component's amplitude.
-    pub(super) waviness: Vec<Range<usize>>,
-    pub(super) forcing: Option<Range<usize>>,
+    waviness: Vec<Range<usize>>,
+    forcing: Option<Range<usize>>,
 }
 
 /// Refuses a roller bearing that cannot exist: a clearance that goes negative or grows past
 /// the rollers within the operating speeds, a forcing law whose coefficients turn negative
 /// there, waviness far above the clearance.
-pub(super) fn roller_bearing_plausible(
+fn roller_bearing_plausible(
     b: &RollerBearing,
     spans: &BearingSpans,
     field: &str,
