@@ -320,6 +320,20 @@ fn tongue_after(
     if ends.iter().all(|e| e.max_real < NEAR_MINUS_ONE.ln()) {
         return Ok(Vec::new());
     }
+    match unstable_round_largest(hb, ends, level)? {
+        Some((point, verdict)) => window(hb, before, &inside(point, verdict), after, i),
+        None => Ok(Vec::new()),
+    }
+}
+
+/// The largest of `ends` (`level` of their verdicts) followed by successive parabolas round
+/// the best, at most [`PROBE_TRIALS`] more points: the first unstable point found, with
+/// its verdict ([`tongue_after`]).
+fn unstable_round_largest(
+    hb: &mut impl Periodic,
+    mut ends: Vec<End>,
+    level: impl Fn(&Stability) -> f64,
+) -> Result<Option<(HbSolution, Stability)>> {
     // Ascending in speed whichever way the path went; the best interior end and its two
     // neighbours bracket the largest.
     ends.sort_by(|x, y| x.at.total_cmp(&y.at));
@@ -329,7 +343,7 @@ fn tongue_after(
     let mut three = ends.drain(best - 1..=best + 1);
     let (Some(mut lo), Some(mut mid), Some(mut hi)) = (three.next(), three.next(), three.next())
     else {
-        return Ok(Vec::new());
+        return Ok(None);
     };
     for _ in 0..PROBE_TRIALS {
         if hi.at - lo.at < BRACKET * mid.at.abs() {
@@ -340,12 +354,12 @@ fn tongue_after(
             break;
         };
         if !verdict.stable {
-            return window(hb, before, &inside(point, verdict), after, i);
+            return Ok(Some((point, verdict)));
         }
         let trial = End::new(w, level(&verdict), point);
         (lo, mid, hi) = best_bracketed(lo, mid, hi, trial);
     }
-    Ok(Vec::new())
+    Ok(None)
 }
 
 /// A window of the other verdict narrower than the spacing of the path's points lies
