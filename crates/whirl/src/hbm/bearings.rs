@@ -198,55 +198,62 @@ impl CagedBearing {
         }
         self.place_rollers(at.speed);
         let w = self.weight();
-        let m = motion.0.len();
         let cage_speed = self.inner.geometry().cage_speed(at.speed);
-        let ball = self.inner.is_ball();
-        for (slices, &angle) in self.slices.iter().zip(&self.angles) {
-            self.force_buffer.fill(0.0);
-            self.buffer.fill(0.0);
-            self.buffer_v.fill(0.0);
-            if ball {
-                // A ball bearing's balls share the axial balance: the whole bearing at this
-                // cage position, not slice by slice.
-                let position = Kinematics {
-                    time: 0.0,
-                    speed: at.speed,
-                    angle,
-                };
-                let (q, v) = motion;
-                if force.is_some() {
-                    self.inner
-                        .force(&position, q, v, &mut self.force_buffer[..m]);
-                }
-                if tangents.is_some() {
-                    self.inner
-                        .jacobian(&position, q, v, &mut self.buffer, &mut self.buffer_v);
-                }
-            }
-            for slice in slices.iter().filter(|_| !ball) {
-                self.inner.add_slice(
-                    slice,
-                    cage_speed,
-                    motion,
-                    force.is_some().then_some(&mut self.force_buffer[..m]),
-                    tangents
-                        .is_some()
-                        .then_some((&mut self.buffer[..], &mut self.buffer_v[..])),
-                );
-            }
+        let wanted = (force.is_some(), tangents.is_some());
+        for k in 0..self.angles.len() {
+            self.position_into_buffers(k, at.speed, cage_speed, motion, wanted);
             if let Some(out) = force.as_deref_mut() {
-                for (o, f) in out.iter_mut().zip(&self.force_buffer) {
-                    *o += w * f;
-                }
+                add_weighted(out, &self.force_buffer, w);
             }
             if let Some((dfdq, dfdv)) = tangents.as_mut() {
-                for (o, f) in dfdq.iter_mut().zip(&self.buffer) {
-                    *o += w * f;
-                }
-                for (o, f) in dfdv.iter_mut().zip(&self.buffer_v) {
-                    *o += w * f;
-                }
+                add_weighted(dfdq, &self.buffer, w);
+                add_weighted(dfdv, &self.buffer_v, w);
             }
+        }
+    }
+
+    /// The force and the tangents (`wanted`: either, both) of cage position `k` alone, into
+    /// the buffers: each slice of its rollers, or for a ball bearing the whole bearing.
+    fn position_into_buffers(
+        &mut self,
+        k: usize,
+        speed: f64,
+        cage_speed: f64,
+        motion: (&[f64], &[f64]),
+        (force, tangents): (bool, bool),
+    ) {
+        let m = motion.0.len();
+        self.force_buffer.fill(0.0);
+        self.buffer.fill(0.0);
+        self.buffer_v.fill(0.0);
+        if self.inner.is_ball() {
+            // A ball bearing's balls share the axial balance: the whole bearing at this
+            // cage position, not slice by slice.
+            let angle = self.angles[k];
+            let position = Kinematics {
+                time: 0.0,
+                speed,
+                angle,
+            };
+            let (q, v) = motion;
+            if force {
+                self.inner
+                    .force(&position, q, v, &mut self.force_buffer[..m]);
+            }
+            if tangents {
+                self.inner
+                    .jacobian(&position, q, v, &mut self.buffer, &mut self.buffer_v);
+            }
+            return;
+        }
+        for slice in &self.slices[k] {
+            self.inner.add_slice(
+                slice,
+                cage_speed,
+                motion,
+                force.then_some(&mut self.force_buffer[..m]),
+                tangents.then_some((&mut self.buffer[..], &mut self.buffer_v[..])),
+            );
         }
     }
 }
@@ -317,6 +324,13 @@ pub fn caged_bearings(
 }
 
 crate::given::choice!(CageKind { "passage" => CageKind::Passage, "frozen" => CageKind::Frozen });
+
+/// out += w values, entry by entry.
+fn add_weighted(out: &mut [f64], values: &[f64], w: f64) {
+    for (o, f) in out.iter_mut().zip(values) {
+        *o += w * f;
+    }
+}
 
 #[cfg(test)]
 mod tests {

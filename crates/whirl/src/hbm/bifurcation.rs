@@ -35,58 +35,16 @@
 //! (whose multiplier need not set the largest real part); both edges of a window found are
 //! located as above.
 
+use super::arclength::{arclength_frame, correct, interpolated_orbit};
 use super::balance::HbSolution;
-use super::continuation::{
-    arclength_frame, correct, interpolated_orbit, on_threads, BranchPoint, Fold, Periodic,
-};
-use super::resolution::Resolution;
+use super::branch::{BranchPoint, Fold};
+use super::parallel::on_threads;
+use super::periodic::Periodic;
 use super::stability::{outside_circle, OrbitMode, Stability};
 use crate::error::Result;
 use crate::linalg::{difference, norm};
 
-/// How a periodic solution loses (or regains) stability.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub enum BifurcationKind {
-    /// A real multiplier crosses +1 where the branch turns.
-    Fold,
-    /// A real multiplier crosses +1 where the branch does not turn: a pitchfork or branch
-    /// point, where another branch (often a less symmetric orbit) meets this one.
-    SymmetryBreaking,
-    /// A real multiplier crosses -1.
-    PeriodDoubling,
-    /// A complex-conjugate pair of multipliers crosses the unit circle.
-    NeimarkSacker,
-}
-
-/// A change of stability between two successive branch points.
-#[derive(Debug, Clone, Copy, serde::Serialize)]
-pub struct Bifurcation {
-    /// The kind, from the multipliers that cross (the module documentation gives the rule).
-    pub kind: BifurcationKind,
-    /// Frequency where the largest real part of the exponents crosses zero, rad/s: located
-    /// on the branch when `located`, otherwise linearly interpolated between the two
-    /// nearest branch points the search reached (the path's or its trial points). At a
-    /// fold, the fold's frequency.
-    pub frequency: f64,
-    /// True when located on the branch by regula falsi to a bracket of 1e-5 of the speed
-    /// (or at a located fold).
-    pub located: bool,
-    /// The crossing multiplier, (real, imaginary), at the trial point nearest the crossing
-    /// (of a complex pair, the one with positive imaginary part).
-    pub multiplier: (f64, f64),
-    /// |Im| of the crossing exponent, rad/s, in [0, w/2]: the frequency of the emerging
-    /// component (0 at +1, w/2 at period doubling); at a Neimark-Sacker point it appears
-    /// with its combinations k w +- this.
-    pub exponent_frequency: f64,
-    /// Index of the branch point before it.
-    pub after: usize,
-    /// True when stability is lost along the path, false when regained.
-    pub loses_stability: bool,
-    /// Whether the change holds at twice the AFT samples and stability modes
-    /// ([`super::resolution`]); `None` when not checked (a branch from
-    /// [`super::continuation()`] itself, or twice the samples above the most).
-    pub resolution: Option<Resolution>,
-}
+pub use super::branch::{Bifurcation, BifurcationKind};
 
 /// A multiplier is real when its imaginary part is below this fraction of its modulus:
 /// the real Schur form gives real eigenvalues an imaginary part of exactly zero, and a
@@ -362,6 +320,20 @@ fn tongue_after(
     if ends.iter().all(|e| e.max_real < NEAR_MINUS_ONE.ln()) {
         return Ok(Vec::new());
     }
+    match unstable_round_largest(hb, ends, level)? {
+        Some((point, verdict)) => window(hb, before, &inside(point, verdict), after, i),
+        None => Ok(Vec::new()),
+    }
+}
+
+/// The largest of `ends` (`level` of their verdicts) followed by successive parabolas round
+/// the best, at most [`PROBE_TRIALS`] more points: the first unstable point found, with
+/// its verdict ([`tongue_after`]).
+fn unstable_round_largest(
+    hb: &mut impl Periodic,
+    mut ends: Vec<End>,
+    level: impl Fn(&Stability) -> f64,
+) -> Result<Option<(HbSolution, Stability)>> {
     // Ascending in speed whichever way the path went; the best interior end and its two
     // neighbours bracket the largest.
     ends.sort_by(|x, y| x.at.total_cmp(&y.at));
@@ -371,7 +343,7 @@ fn tongue_after(
     let mut three = ends.drain(best - 1..=best + 1);
     let (Some(mut lo), Some(mut mid), Some(mut hi)) = (three.next(), three.next(), three.next())
     else {
-        return Ok(Vec::new());
+        return Ok(None);
     };
     for _ in 0..PROBE_TRIALS {
         if hi.at - lo.at < BRACKET * mid.at.abs() {
@@ -382,12 +354,12 @@ fn tongue_after(
             break;
         };
         if !verdict.stable {
-            return window(hb, before, &inside(point, verdict), after, i);
+            return Ok(Some((point, verdict)));
         }
         let trial = End::new(w, level(&verdict), point);
         (lo, mid, hi) = best_bracketed(lo, mid, hi, trial);
     }
-    Ok(Vec::new())
+    Ok(None)
 }
 
 /// A window of the other verdict narrower than the spacing of the path's points lies

@@ -28,14 +28,31 @@
 //!
 //! Nonlinear forces are seen only through [`crate::force::NonlinearForce`], the interface the
 //! time integrators use, so every contact law works in both.
+//!
+//! Inside, one concept a file, each importing only [`fourier`] and those listed before it:
+//! `newton` (when a Newton run gives up, the line search); `balance/` (the problem and
+//! Newton at one frequency; `linear`: the linear part per harmonic; `aft`: the nonlinear
+//! forces); [`stability`]; `condensation/` (the problem and its condensations; `block`: one
+//! harmonic's block condensed; `residual`: residual, Jacobian, Newton, recovery;
+//! `matrices`); `periodic` (the [`Periodic`] trait both problems answer); `arclength`
+//! (scales, tangent, corrector); `branch` (what a path gives: [`Branch`], [`Bifurcation`],
+//! [`Resolution`]); `parallel` (jobs over copies of a problem); [`bifurcation`],
+//! [`resolution`]; and [`continuation`](mod@continuation)`/` (`path`: the path follower, a
+//! state advanced by named steps; `restart`: corners and restarts; `fold`; `crossing`: the
+//! solutions at one speed).
 
+mod arclength;
 mod balance;
 pub mod bearings;
 pub mod bifurcation;
+mod branch;
 pub mod compare;
 mod condensation;
 pub mod continuation;
 pub mod fourier;
+mod newton;
+mod parallel;
+mod periodic;
 pub mod report;
 pub mod request;
 pub mod resolution;

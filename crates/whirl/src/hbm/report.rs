@@ -5,7 +5,8 @@
 use serde::Serialize;
 
 use super::{
-    AtSpeed, BifurcationKind, BranchEnd, SettledResponse, Sweep, SweepOptions, RESOLUTION_TOLERANCE,
+    AtSpeed, Bifurcation, BifurcationKind, BranchEnd, SettledResponse, Sweep, SweepOptions,
+    RESOLUTION_TOLERANCE,
 };
 use crate::fe::{dof, Direction};
 use crate::report::{Report, Table};
@@ -304,11 +305,29 @@ pub fn unstable_note(a: &AtSpeed, c: &SettledResponse) -> Option<String> {
     ))
 }
 
+/// What the summary says of one bifurcation, with its check at more samples when made.
+fn bifurcation_summary(b: &Bifurcation) -> BifurcationSummary {
+    BifurcationSummary {
+        kind: b.kind.name(),
+        speed_hz: hz(b.frequency),
+        exponent_frequency_hz: hz(b.exponent_frequency),
+        loses_stability: b.loses_stability,
+        located: b.located,
+        resolved: b.resolution.map(|r| r.resolved),
+        resolution_check: b.resolution.map(|r| CheckSummary {
+            speeds_hz: r.speeds.map(hz),
+            stable: r.stable,
+            kind: r.kind.map(BifurcationKind::name),
+        }),
+    }
+}
+
 impl Report for SweepReport {
     type Summary = SweepSummary;
 
     fn summary(&self) -> SweepSummary {
         let (options, branch) = (&self.options, &self.sweep.branch);
+        let checked = branch.bifurcations.iter().find_map(|b| b.resolution);
         SweepSummary {
             bearings: self.sweep.bearings.clone(),
             harmonics: options.harmonics,
@@ -340,29 +359,10 @@ impl Report for SweepReport {
             bifurcations: branch
                 .bifurcations
                 .iter()
-                .map(|b| BifurcationSummary {
-                    kind: b.kind.name(),
-                    speed_hz: hz(b.frequency),
-                    exponent_frequency_hz: hz(b.exponent_frequency),
-                    loses_stability: b.loses_stability,
-                    located: b.located,
-                    resolved: b.resolution.map(|r| r.resolved),
-                    resolution_check: b.resolution.map(|r| CheckSummary {
-                        speeds_hz: r.speeds.map(hz),
-                        stable: r.stable,
-                        kind: r.kind.map(BifurcationKind::name),
-                    }),
-                })
+                .map(bifurcation_summary)
                 .collect(),
-            resolution_samples: branch
-                .bifurcations
-                .iter()
-                .find_map(|b| b.resolution.map(|r| r.samples)),
-            resolution_stability_modes: branch
-                .bifurcations
-                .iter()
-                .find_map(|b| b.resolution)
-                .map(|_| 2 * options.stability_modes),
+            resolution_samples: checked.map(|r| r.samples),
+            resolution_stability_modes: checked.map(|_| 2 * options.stability_modes),
             resolution_tolerance: RESOLUTION_TOLERANCE,
             first_stability_loss_hz: branch.first_stability_loss().map(|b| hz(b.frequency)),
             compare_time: self

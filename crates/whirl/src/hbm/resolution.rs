@@ -19,12 +19,13 @@
 //! tolerance; it does not bound where it lies within it, nor prove that 4N or 4M would
 //! agree, and it cannot find a change the branch does not show.
 
-use serde::Serialize;
-
-use super::bifurcation::{crossing_kind, Bifurcation, BifurcationKind};
-use super::continuation::{Branch, BranchPoint, Periodic};
+use super::bifurcation::crossing_kind;
+use super::branch::{Bifurcation, BifurcationKind, Branch, BranchPoint};
+use super::periodic::Periodic;
 use super::stability::Stability;
 use crate::error::Result;
+
+pub use super::branch::Resolution;
 
 /// The sides are this fraction of the bifurcation's speed from it. On the reference rotor
 /// (20 um, H = 5) the changes that hold from 160 samples on move by up to 0.45 % between N
@@ -39,26 +40,6 @@ pub const RESOLUTION_TOLERANCE: f64 = 0.005;
 /// 182.0 Hz) where a time sample sits at a contact's edge, where the contact damping makes
 /// the force jump; a slightly different speed moves the samples off it.
 const DISTANCES: [f64; 4] = [1.0, 1.2, 0.8, 1.4];
-
-/// The check of one bifurcation at more samples (and, in a sweep, more stability modes).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Resolution {
-    /// AFT samples per period of the check (twice the branch's in a sweep).
-    pub samples: usize,
-    /// Speeds of the orbits checked before and after the bifurcation along the path, rad/s:
-    /// [`RESOLUTION_TOLERANCE`] of its speed away (or 0.8-1.4 times that where Newton
-    /// stalled at it), or the last point before a jump or the branch's end when the path
-    /// stops closer.
-    pub speeds: [f64; 2],
-    /// Their stability at `samples`; `None` where Newton did not converge.
-    pub stable: [Option<bool>; 2],
-    /// The kind named by the largest multiplier at `samples` of the side that should be
-    /// unstable, when it is.
-    pub kind: Option<BifurcationKind>,
-    /// The same change at `samples`: stable on one side, unstable on the other, as the
-    /// branch says, and the same kind of crossing.
-    pub resolved: bool,
-}
 
 /// Checks `bifurcation` of `branch` with `fine`, the same problem at more AFT samples per
 /// period (in [`super::sweep()`] twice the branch's, and twice the stability modes:

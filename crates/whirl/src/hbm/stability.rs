@@ -121,8 +121,47 @@ impl FloquetModel {
     /// (on coordinates of this model).
     pub(crate) fn problem(&self, frequency: f64, tangents: &SampledTangents) -> FloquetProblem {
         let (n, samples) = (self.n, tangents.samples);
+        let (stiffness, damping) = self.sampled_blocks(frequency, tangents);
+        // The state (s p, p') with s^2 the largest 1-norm of the stiffness blocks: both
+        // blocks of A then have norms of the highest natural frequency, not its square,
+        // which saves the exponentials about log2(s) squarings. The multipliers do not
+        // depend on s (a similarity).
+        let scale = state_scale(&stiffness, n);
+        let h = std::f64::consts::TAU / frequency / samples as f64;
+        let states = 2 * n;
+        // Column-major, as the exponential reads them: its norm and scaling run along
+        // contiguous columns.
+        let mut generators = vec![0.0; samples * states * states];
+        for ((g, k), d) in generators
+            .chunks_exact_mut(states * states)
+            .zip(&stiffness)
+            .zip(&damping)
+        {
+            for i in 0..n {
+                g[(n + i) * states + i] = h * scale;
+                for col in 0..n {
+                    g[col * states + n + i] = -h * k[i * n + col] / scale;
+                    g[(n + col) * states + n + i] = -h * d[i * n + col];
+                }
+            }
+        }
+        FloquetProblem {
+            generators,
+            states,
+            coupling: h * scale,
+            frequency,
+        }
+    }
+
+    /// M^-1 (K - J_q(t_j)) and M^-1 (C + w G - J_v(t_j)) at every sample j of the orbit
+    /// at w (rad/s) whose force tangents are `tangents`, row-major.
+    fn sampled_blocks(
+        &self,
+        frequency: f64,
+        tangents: &SampledTangents,
+    ) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
+        let (n, samples) = (self.n, tangents.samples);
         let (dofs, m) = (&tangents.dofs, tangents.dofs.len());
-        // M^-1 (K - J_q(t_j)) and M^-1 (C + w G - J_v(t_j)) at every sample.
         let linear_damping: Vec<f64> = (0..n * n)
             .map(|e| self.damping[e] + frequency * self.gyroscopic[e])
             .collect();
@@ -150,47 +189,25 @@ impl FloquetModel {
             stiffness.push(k);
             damping.push(d);
         }
-        // The state (s p, p') with s^2 the largest 1-norm of the stiffness blocks: both
-        // blocks of A then have norms of the highest natural frequency, not its square,
-        // which saves the exponentials about log2(s) squarings. The multipliers do not
-        // depend on s (a similarity).
-        let largest = stiffness
-            .iter()
-            .map(|k| {
-                (0..n)
-                    .map(|col| (0..n).map(|i| k[i * n + col].abs()).sum::<f64>())
-                    .fold(0.0, f64::max)
-            })
-            .fold(0.0, f64::max);
-        let scale = if largest > 0.0 && largest.is_finite() {
-            largest.sqrt()
-        } else {
-            1.0
-        };
-        let h = std::f64::consts::TAU / frequency / samples as f64;
-        let states = 2 * n;
-        // Column-major, as the exponential reads them: its norm and scaling run along
-        // contiguous columns.
-        let mut generators = vec![0.0; samples * states * states];
-        for ((g, k), d) in generators
-            .chunks_exact_mut(states * states)
-            .zip(&stiffness)
-            .zip(&damping)
-        {
-            for i in 0..n {
-                g[(n + i) * states + i] = h * scale;
-                for col in 0..n {
-                    g[col * states + n + i] = -h * k[i * n + col] / scale;
-                    g[(n + col) * states + n + i] = -h * d[i * n + col];
-                }
-            }
-        }
-        FloquetProblem {
-            generators,
-            states,
-            coupling: h * scale,
-            frequency,
-        }
+        (stiffness, damping)
+    }
+}
+
+/// s of the scaled state (s p, p'): the square root of the largest 1-norm of the n x n
+/// `stiffness` blocks (row-major), 1 where that is zero or not finite.
+fn state_scale(stiffness: &[Vec<f64>], n: usize) -> f64 {
+    let largest = stiffness
+        .iter()
+        .map(|k| {
+            (0..n)
+                .map(|col| (0..n).map(|i| k[i * n + col].abs()).sum::<f64>())
+                .fold(0.0, f64::max)
+        })
+        .fold(0.0, f64::max);
+    if largest > 0.0 && largest.is_finite() {
+        largest.sqrt()
+    } else {
+        1.0
     }
 }
 

@@ -9,12 +9,12 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::bearings::{caged_bearings, CageModel};
+use super::branch::{Branch, BranchEnd};
 use super::condensation::DEFAULT_STABILITY_MODES;
-use super::continuation::{
-    continuation, continuation_sharing, on_threads, solutions_at, Branch, BranchEnd,
-    ContinuationOptions, Derivatives, Periodic,
-};
+use super::continuation::{continuation, continuation_sharing, solutions_at, ContinuationOptions};
 use super::fourier::{check_counts, cos_slot, sin_slot, MAX_SAMPLES};
+use super::parallel::on_threads;
+use super::periodic::{Derivatives, Periodic};
 use super::resolution;
 use super::stability::{FloquetProblem, Stability};
 use super::{default_samples, CondensedBalance, HbOptions, HbSolution};
@@ -303,32 +303,13 @@ fn follow_sweep(
         &guess,
         &continuation_options,
     )
-    .map_err(|e| match (options.contact, options.cage) {
-        (ContactLaw::Hertz, CageModel::Frozen) => e.map_message(|m| {
-            format!(
-                "{m}. With the cage frozen, a single roller under the load leaves the journal \
-                 free sideways inside the clearance: set the bearing's cage_angle half a \
-                 roller pitch off, or use the passage average"
-            )
-        }),
-        _ => e,
-    })?;
+    .map_err(|e| with_cage_hint(e, options))?;
     let coefficients = branch
         .points
         .iter()
         .map(|p| hb.inner.recover(&p.solution))
         .collect::<Result<Vec<_>>>()?;
-    let mut at_speeds = Vec::new();
-    for &speed in &options.exact_speeds {
-        for c in solutions_at(&mut hb.inner, &branch, speed)?.crossings {
-            at_speeds.push(AtSpeed {
-                speed,
-                after: c.after,
-                coefficients: hb.inner.recover(&c.solution)?,
-                stability: c.stability,
-            });
-        }
-    }
+    let at_speeds = solutions_at_speeds(&mut hb.inner, &branch, &options.exact_speeds)?;
     let problems = std::iter::once(hb)
         .chain(helpers)
         .map(|h| h.inner)
@@ -344,6 +325,41 @@ fn follow_sweep(
         approached_from,
         wall_time_s: start.elapsed().as_secs_f64(),
     })
+}
+
+/// `e` from a path that failed, with a hint where the cage is frozen under Hertz contacts.
+fn with_cage_hint(e: Error, options: &SweepOptions) -> Error {
+    match (options.contact, options.cage) {
+        (ContactLaw::Hertz, CageModel::Frozen) => e.map_message(|m| {
+            format!(
+                "{m}. With the cage frozen, a single roller under the load leaves the journal \
+                 free sideways inside the clearance: set the bearing's cage_angle half a \
+                 roller pitch off, or use the passage average"
+            )
+        }),
+        _ => e,
+    }
+}
+
+/// Every solution of `branch` at each of `speeds` (rad/s), in that order, with its full
+/// coefficients.
+fn solutions_at_speeds(
+    hb: &mut CondensedBalance,
+    branch: &Branch,
+    speeds: &[f64],
+) -> Result<Vec<AtSpeed>> {
+    let mut at_speeds = Vec::new();
+    for &speed in speeds {
+        for c in solutions_at(hb, branch, speed)?.crossings {
+            at_speeds.push(AtSpeed {
+                speed,
+                after: c.after,
+                coefficients: hb.recover(&c.solution)?,
+                stability: c.stability,
+            });
+        }
+    }
+    Ok(at_speeds)
 }
 
 /// Where Newton from the static equilibrium is trusted: at 1 Hz (rad/s) the unbalance
