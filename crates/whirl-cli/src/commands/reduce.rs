@@ -14,9 +14,9 @@
 
 use std::fmt::Write;
 
+use whirl::reduce::DEFAULT_MODES;
 use whirl::reduce::{reduction_report, ReductionRow, ReductionStudy};
 use whirl::report::Report;
-use whirl::time::DEFAULT_MODES;
 
 use super::{
     check_nodes, default_is, finish, load, node_index, option_error, report_summary, Common,

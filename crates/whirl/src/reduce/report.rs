@@ -72,7 +72,7 @@ pub struct StudyRow {
 
 /// Reduces `model` (linearised bearings) with every DOF of the bearing nodes and of
 /// `extra_nodes` on the boundary and `modes` fixed-interface modes (`None` for
-/// [`crate::time::DEFAULT_MODES`]; at most the internal
+/// [`crate::reduce::DEFAULT_MODES`]; at most the internal
 /// DOFs), and compares the undamped natural frequencies at rest, the first max(`modes`, 4),
 /// with the full model's, for it and for 1 to max(24, 2 `modes`) modes; `progress` is told
 /// after each reduced model of the study.
@@ -86,7 +86,7 @@ pub fn reduction_report(
     extra_nodes: &[usize],
     progress: Option<&Progress>,
 ) -> Result<ReductionReport> {
-    let modes = crate::given::mode_count("modes", modes.unwrap_or(crate::time::DEFAULT_MODES))?;
+    let modes = crate::given::mode_count("modes", modes.unwrap_or(crate::reduce::DEFAULT_MODES))?;
     let system = assemble_banded(model, Bearings::Linearised);
     let boundary = boundary_dofs(model, extra_nodes);
     let internal = system.dofs() - boundary.len();

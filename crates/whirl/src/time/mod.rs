@@ -82,10 +82,8 @@ pub const MAX_STEPS: f64 = 5e8;
 /// sample interval of 10 us.
 pub const MAX_RECORDED_VALUES: usize = 1 << 28;
 
-/// Default number of fixed-interface modes of the Craig-Bampton model of a run: 12 modes
-/// keep the reference rotor's frequencies below 1 kHz within 0.1 % and raise the stable
-/// step tenfold (`whirl reduce`).
-pub const DEFAULT_MODES: usize = 12;
+/// Default number of fixed-interface modes of a run's reduced model.
+pub use crate::reduce::DEFAULT_MODES;
 
 /// Spin speed, step size and length of a run.
 #[derive(Debug, Clone, Copy)]
