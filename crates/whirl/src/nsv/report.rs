@@ -29,7 +29,7 @@ const NOTES: [&str; 9] = [
     "each settled speed power-averages the spectra of records overlapping by half until the NSV's standard error (inflated by the records' correlation) is within averaging.relative_error of it (or averaging.absolute_error_m), or within averaging.decided_error with the NSV at least 2 standard errors from every onset level, from min_records to max_records records; nsv.csv gives records, nsv_standard_error_m and nsv_variation (record-to-record scatter: near 0 for a steady vibration)",
     "started_from_rest_hz: speeds where no static equilibrium was found, so the run started from rest (nsv.csv: start_fallback)",
     "speeds are refined where the NSV changes sharply, around the largest NSV and below each onset level (nsv.csv: added = 1); largest.neighbours and largest.spacing_hz say how finely the largest NSV is resolved",
-    "statistics: each settled speed weighed by the stretch of speed it stands for, so they do not depend on how many speeds a region holds",
+    "statistics: each settled speed weighed by the stretch of speed it stands for, so they do not depend on how many speeds a region holds; their uncertainty is the records' scatter and the speed grid's, not a choice between coexisting steady motions: where two coexist the start picks one, and running every speed again from the other start (compare starts) marks such speeds",
     "onsets[].sustained_hz: the lowest speed from which the NSV reaches the level over at least half of the next 5 % of the speed range (a narrow resonance below it does not count)",
     "direction: forward when the full spectrum of x + i y is larger at +f than at -f",
 ];
