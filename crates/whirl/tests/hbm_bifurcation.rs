@@ -5,7 +5,8 @@
 //!   complex pair (Neimark-Sacker) at the closed-form threshold speed;
 //! - a damped Mathieu oscillator under a constant load, whose first parametric resonance
 //!   is bounded by period doublings, located against the monodromy matrix integrated over
-//!   one period by Runge-Kutta (independent of the library's exponential midpoint rule).
+//!   one period by Runge-Kutta (independent of the library's exponential midpoint rule);
+//!   unloaded, its second resonance, bounded by a real multiplier through +1.
 
 use std::f64::consts::TAU;
 
@@ -230,13 +231,13 @@ fn monodromy(w: f64, depth: f64) -> (f64, f64) {
     (trace, determinant)
 }
 
-/// A boundary of the first instability tongue: where a multiplier is -1, i.e. the
-/// characteristic polynomial mu^2 - tr mu + det vanishes at mu = -1. Bisection between
-/// `lo` and `hi`, which bracket it.
-fn period_doubling_boundary(depth: f64, mut lo: f64, mut hi: f64) -> f64 {
+/// A boundary of an instability tongue: where a multiplier is `mu` (-1 for the first
+/// tongue, +1 for the second), i.e. the characteristic polynomial mu^2 - tr mu + det
+/// vanishes there. Bisection between `lo` and `hi`, which bracket it.
+fn tongue_boundary(depth: f64, mu: f64, mut lo: f64, mut hi: f64) -> f64 {
     let f = |w: f64| {
         let (trace, determinant) = monodromy(w, depth);
-        1.0 + trace + determinant
+        mu * mu - mu * trace + determinant
     };
     let f_lo = f(lo);
     assert!(f_lo * f(hi) < 0.0);
@@ -258,13 +259,18 @@ fn mathieu() -> System {
 
 /// The loaded Mathieu oscillator with stiffness 1 + `depth` cos w t.
 fn mathieu_of_depth(depth: f64) -> System {
+    mathieu_loaded(depth, 1.0)
+}
+
+/// The Mathieu oscillator with stiffness 1 + `depth` cos w t under a constant `load`.
+fn mathieu_loaded(depth: f64, load: f64) -> System {
     let oscillator = Oscillator {
         mass: 1.0,
         stiffness: 1.0,
         damping: MATHIEU_DAMPING,
     };
     System {
-        constant_force: vec![1.0],
+        constant_force: vec![load],
         nonlinear: vec![Box::new(Parametric {
             dofs: [0],
             amplitude: depth,
@@ -288,8 +294,8 @@ fn fine_mathieu() -> HarmonicBalance {
 /// narrows it.
 fn mathieu_tongue() -> [f64; 2] {
     [
-        period_doubling_boundary(MATHIEU_DEPTH, 1.85, 2.0),
-        period_doubling_boundary(MATHIEU_DEPTH, 2.0, 2.15),
+        tongue_boundary(MATHIEU_DEPTH, -1.0, 1.85, 2.0),
+        tongue_boundary(MATHIEU_DEPTH, -1.0, 2.0, 2.15),
     ]
 }
 
@@ -334,20 +340,60 @@ fn mathieu_tongue_is_bounded_by_period_doublings_where_the_monodromy_matrix_says
 #[test]
 fn a_period_doubling_tongue_between_two_stable_points_is_found() {
     let depth = 0.08;
+    let reference = [
+        tongue_boundary(depth, -1.0, 1.9, 2.0),
+        tongue_boundary(depth, -1.0, 2.0, 2.1),
+    ];
+    let system = mathieu_of_depth(depth);
+    found_between_stable_points(
+        system,
+        [1.6, 2.5],
+        reference,
+        BifurcationKind::PeriodDoubling,
+    );
+}
+
+/// The Mathieu oscillator's second tongue, where the mode (1 rad/s) meets the speed and a
+/// real multiplier leaves the circle at +1 where the branch does not turn: narrower than
+/// the path's spacing and between two stable points, as the first tongue in the test above.
+/// Unloaded, so the orbit is the rest at every speed (a load would meet the +1 multiplier
+/// as a resonance, the periodic forced response having no bound there). Depth 0.4: the
+/// second tongue is of order e^2 wide and damping closes it below about e = 0.3; here it
+/// spans about 0.969-1.004 rad/s, between points at 0.944 and 1.038.
+#[test]
+fn a_tongue_through_plus_one_between_two_stable_points_is_found() {
+    let depth = 0.4;
+    let reference = [
+        tongue_boundary(depth, 1.0, 0.94, 0.985),
+        tongue_boundary(depth, 1.0, 0.99, 1.02),
+    ];
+    let system = mathieu_loaded(depth, 0.0);
+    found_between_stable_points(
+        system,
+        [0.78, 1.3],
+        reference,
+        BifurcationKind::SymmetryBreaking,
+    );
+}
+
+/// Follows `system` over `range` (rad/s) with points 10 % apart, every one of them stable,
+/// and finds one tongue of `kind` between two of them, its edges at `reference`.
+fn found_between_stable_points(
+    system: System,
+    [from, to]: [f64; 2],
+    reference: [f64; 2],
+    kind: BifurcationKind,
+) {
     let mut options = HbOptions::new(8);
     options.samples = 1024;
-    let mut hb = HarmonicBalance::new(mathieu_of_depth(depth), options).unwrap();
+    let mut hb = HarmonicBalance::new(system, options).unwrap();
     let steps = ContinuationOptions {
         initial_step: 0.1,
         max_step: 0.1,
         ..ContinuationOptions::default()
     };
     let guess = vec![0.0; hb.unknowns()];
-    let branch = continuation(&mut hb, 1.6, 2.5, &guess, &steps).unwrap();
-    let reference = [
-        period_doubling_boundary(depth, 1.9, 2.0),
-        period_doubling_boundary(depth, 2.0, 2.1),
-    ];
+    let branch = continuation(&mut hb, from, to, &guess, &steps).unwrap();
     let speeds: Vec<f64> = branch.points.iter().map(|p| p.solution.frequency).collect();
     eprintln!(
         "narrow Mathieu tongue {reference:?}: points {speeds:?}, {:?}",
@@ -360,7 +406,7 @@ fn a_period_doubling_tongue_between_two_stable_points_is_found() {
         .all(|p| p.stability.as_ref().is_some_and(|s| s.stable)));
     assert_eq!(branch.bifurcations.len(), 2);
     for (b, exact) in branch.bifurcations.iter().zip(reference) {
-        assert_eq!(b.kind, BifurcationKind::PeriodDoubling);
+        assert_eq!(b.kind, kind);
         // As for the wide tongue above: the midpoint rule at 1024 samples and the bracket.
         assert!(
             (b.frequency - exact).abs() < 1e-6 * exact,

@@ -30,9 +30,10 @@
 //! A window of the other verdict narrower than the spacing of the path's points shows in
 //! no point's verdict; where the largest real part reaches an extremum towards zero at a
 //! point, closer to zero than it varies to the neighbours, the stretch round it is probed
-//! for one, and where a lightly damped mode of the orbit meets half an odd multiple of the
-//! speed between two stable points, that stretch is sampled for a period-doubling tongue
-//! (whose multiplier need not set the largest real part); both edges of a window found are
+//! for one, and where a lightly damped mode of the orbit meets half a multiple of the
+//! speed between two stable points, that stretch is sampled for a parametric tongue
+//! (period doubling at half an odd multiple, a real multiplier through +1 at a whole one;
+//! its multiplier need not set the largest real part); both edges of a window found are
 //! located as above.
 
 use super::arclength::{arclength_frame, correct, interpolated_orbit};
@@ -101,16 +102,18 @@ pub(super) fn locate_bifurcations<H: Periodic + Send>(
     let tongues = points
         .windows(2)
         .enumerate()
-        .filter(|(i, pair)| {
-            let turns = folds.iter().any(|f| f.after == *i);
-            !(turns || boundaries.contains(i)) && may_double_between(&pair[0], &pair[1])
-        })
-        .map(|(i, _)| Stretch::Tongue(i));
+        .filter(|(i, _)| !(folds.iter().any(|f| f.after == *i) || boundaries.contains(i)))
+        .flat_map(|(i, pair)| {
+            [Side::MinusOne, Side::PlusOne]
+                .into_iter()
+                .filter(|&side| may_split_between(&pair[0], &pair[1], side))
+                .map(move |side| Stretch::Tongue(i, side))
+        });
     let stretches: Vec<Stretch> = changes.chain(windows).chain(tongues).collect();
     let found = on_threads(problems, stretches.len(), |hb, k| match stretches[k] {
         Stretch::Change(i) => change_after(&mut **hb, points, folds, i),
         Stretch::Window(i) => window_round(&mut **hb, points, i),
-        Stretch::Tongue(i) => tongue_after(&mut **hb, points, i),
+        Stretch::Tongue(i, side) => tongue_after(&mut **hb, points, i, side),
     })?;
     let mut found: Vec<Bifurcation> = found.into_iter().flatten().collect();
     // A window lies between two points of the same verdict, where no other change is;
@@ -130,12 +133,44 @@ pub(super) fn locate_bifurcations<H: Periodic + Send>(
 
 /// Where a change of stability is sought: between points i and i + 1 of different
 /// verdicts, round point i ([`probe`]), or between stable points i and i + 1 where a
-/// multiplier near -1 may leave the circle ([`tongue_after`]).
+/// multiplier may leave the circle at -1 or +1 ([`tongue_after`]).
 #[derive(Clone, Copy)]
 enum Stretch {
     Change(usize),
     Window(usize),
-    Tongue(usize),
+    Tongue(usize, Side),
+}
+
+/// Where a parametric tongue's multiplier leaves the unit circle: the orbit's stiffness,
+/// periodic at the speed w, drives a mode of frequency w_i unstable where w_i is half a
+/// multiple of w, k w / 2, the multiplier exp(i w_i T) then at (-1)^k.
+#[derive(Clone, Copy, PartialEq, Debug)]
+enum Side {
+    /// At -1, where w_i = (m + 1/2) w: period doubling.
+    MinusOne,
+    /// At +1, where w_i = m w (m >= 1): a real multiplier grows, as at symmetry breaking
+    /// (reference rotor, 60 um: a 0.7 Hz tongue at 30.5-31.2 Hz, exponent up to +6.6/s,
+    /// where a mode near 122 Hz meets 4 w, between points at 29.1 and 31.6 Hz).
+    PlusOne,
+}
+
+impl Side {
+    /// w_i / w at a meeting, less a whole number.
+    fn offset(self) -> f64 {
+        match self {
+            Side::MinusOne => 0.5,
+            Side::PlusOne => 0.0,
+        }
+    }
+
+    /// The least whole number m of a meeting at m + [`Side::offset`]: a mode meeting 0 w
+    /// is a static one, not a resonance.
+    fn first(self) -> f64 {
+        match self {
+            Side::MinusOne => 0.0,
+            Side::PlusOne => 1.0,
+        }
+    }
 }
 
 /// The change of stability between points `i` and `i + 1` (of different verdicts). A +1
@@ -213,7 +248,8 @@ const PROBE_TRIALS: usize = 8;
 
 /// A period-doubling tongue opens where a lightly damped mode of the orbit meets half an
 /// odd multiple of the speed, w_i = (m + 1/2) w (its multiplier exp(i w_i T) at -1): the
-/// parametric resonance the map also draws as a line. Its multiplier pair closes on -1
+/// parametric resonance the map also draws as a line; at a whole multiple the same holds
+/// at +1 ([`Side`]). Its multiplier pair closes on -1
 /// like the square root of the distance to the collision, and the multiplier that leaves
 /// is not the least damped at the path's points, so neither the points' verdicts nor g's
 /// extremum show it (reference rotor, 28 um: a 0.3 Hz tongue at 34.9-35.2 Hz, where the
@@ -223,35 +259,37 @@ const PROBE_TRIALS: usize = 8;
 /// either side of the stretch counts.
 const HALF_ORDER_MARGIN: f64 = 0.01;
 
-/// The highest w_i / w sought: a tongue at w_i = (m + 1/2) w is a parametric resonance
-/// of the bearings' stiffness harmonic 2 m + 1 along the orbit, and those above the 15th
-/// are too weak to open one (the reference rotor's highest found: w_i = 7.5 w).
+/// The highest w_i / w sought: a tongue at w_i = k w / 2 is a parametric resonance of the
+/// bearings' stiffness harmonic k along the orbit, and those above the 16th are too weak
+/// to open one (the reference rotor's highest found: w_i = 7.5 w).
 const MAX_HALF_ORDER: f64 = 8.0;
 
 /// The least modulus of the meeting mode's multiplier, exp(-zeta w_i T / sqrt(1 - zeta^2)):
 /// the two reals a pair of modulus r splits into keep their product near r^2, so the
 /// larger reaches 1 only if the smaller falls to about r^2; below a half that asks a split
 /// of more than four to one (the reference rotor's 28 um tongue opens from a pair of 0.74).
-const NEAR_MINUS_ONE: f64 = 0.5;
+const LIVELY_MODULUS: f64 = 0.5;
 
 /// Evenly spaced speeds sampled between two such points before the meeting mode's
 /// multiplier is followed by parabolas: a tongue 0.3 Hz wide in a split stretch 0.6 Hz
 /// wide, between points 2 Hz apart, falls on one of them.
 const TONGUE_SAMPLES: usize = 2;
 
-/// The largest modulus of a real negative multiplier: what leaves the circle at a period
-/// doubling, once its pair has met the axis.
-fn split_at_minus_one(s: &Stability) -> f64 {
+/// The largest modulus of a real multiplier on `side`'s half of the axis: what leaves the
+/// circle there, once its pair has met the axis.
+fn split_on_axis(s: &Stability, side: Side) -> f64 {
     s.multipliers
         .iter()
-        .filter(|&&(re, im)| re < 0.0 && im.abs() <= ON_AXIS * re.abs())
-        .map(|(re, _)| -re)
+        .filter(|&&(re, _)| (re < 0.0) == (side == Side::MinusOne) && re != 0.0)
+        .filter(|&&(re, im)| im.abs() <= ON_AXIS * re.abs())
+        .map(|(re, _)| re.abs())
         .fold(0.0, f64::max)
 }
 
-/// Whether a period-doubling tongue may hide between two stable points: a mode of the
-/// orbit whose multiplier is at least [`NEAR_MINUS_ONE`] meets w_i = (m + 1/2) w there.
-fn may_double_between(a: &BranchPoint, b: &BranchPoint) -> bool {
+/// Whether a tongue on `side` may hide between two stable points: a mode of the orbit
+/// whose multiplier is at least [`LIVELY_MODULUS`] meets w_i = (m + [`Side::offset`]) w
+/// there.
+fn may_split_between(a: &BranchPoint, b: &BranchPoint, side: Side) -> bool {
     let (Some(sa), Some(sb)) = (&a.stability, &b.stability) else {
         return false;
     };
@@ -262,36 +300,37 @@ fn may_double_between(a: &BranchPoint, b: &BranchPoint) -> bool {
     let lively = |m: &OrbitMode, w: f64| {
         let zeta = m.damping_ratio.clamp(0.0, 0.999);
         let decay = zeta * m.frequency / (1.0 - zeta * zeta).sqrt();
-        (-decay * std::f64::consts::TAU / w).exp() >= NEAR_MINUS_ONE
+        (-decay * std::f64::consts::TAU / w).exp() >= LIVELY_MODULUS
     };
     sa.orbit_modes.iter().zip(&sb.orbit_modes).any(|(ma, mb)| {
         let (ra, rb) = (ma.frequency / wa, mb.frequency / wb);
         let margin = HALF_ORDER_MARGIN * ra.max(rb);
-        let meets = (ra.min(rb) - 0.5 - margin).ceil() <= (ra.max(rb) - 0.5 + margin).floor();
-        let low = ra.min(rb) <= MAX_HALF_ORDER;
-        meets && low && (lively(ma, wa) || lively(mb, wb))
+        let (low, high) = (ra.min(rb) - side.offset(), ra.max(rb) - side.offset());
+        let meets = (low - margin).ceil().max(side.first()) <= (high + margin).floor();
+        meets && ra.min(rb) <= MAX_HALF_ORDER && (lively(ma, wa) || lively(mb, wb))
     })
 }
 
-/// The period-doubling tongue between stable points `i` and `i + 1`, if one is found: the
+/// The tongue on `side` between stable points `i` and `i + 1`, if one is found: the
 /// g-probe ([`probe`]) misses it, because the multiplier that leaves the circle need not
 /// be the least damped one at the points (g is set by another, or is flat), and it leaves
 /// within a fraction of a hertz of where its pair met the axis. [`TONGUE_SAMPLES`] speeds
 /// between the points are solved (Newton at fixed speed: the stretch does not turn); where
-/// one of them or of the points holds a real negative multiplier of at least
-/// [`NEAR_MINUS_ONE`] (the pair has split), the largest is followed by successive
+/// one of them or of the points holds a real multiplier on `side` of at least
+/// [`LIVELY_MODULUS`] (the pair has split), the largest is followed by successive
 /// parabolas round the best, at most [`PROBE_TRIALS`] more points. The first unstable
 /// point found is the inside of a window, whose edges are located as [`window`] does.
 fn tongue_after(
     hb: &mut impl Periodic,
     points: &[BranchPoint],
     i: usize,
+    side: Side,
 ) -> Result<Vec<Bifurcation>> {
     let (before, after) = (&points[i], &points[i + 1]);
     let (Some(sa), Some(sb)) = (&before.stability, &after.stability) else {
         return Ok(Vec::new());
     };
-    let level = |s: &Stability| split_at_minus_one(s).max(f64::MIN_POSITIVE).ln();
+    let level = |s: &Stability| split_on_axis(s, side).max(f64::MIN_POSITIVE).ln();
     let mut ends = vec![
         End::new(
             before.solution.frequency,
@@ -317,7 +356,7 @@ fn tongue_after(
         let end = End::new(w, level(&verdict), point);
         ends.insert(ends.len() - 1, end);
     }
-    if ends.iter().all(|e| e.max_real < NEAR_MINUS_ONE.ln()) {
+    if ends.iter().all(|e| e.max_real < LIVELY_MODULUS.ln()) {
         return Ok(Vec::new());
     }
     match unstable_round_largest(hb, ends, level)? {
