@@ -116,19 +116,38 @@ pub(super) fn locate_bifurcations<H: Periodic + Send>(
         Stretch::Tongue(i, side) => tongue_after(&mut **hb, points, i, side),
     })?;
     let mut found: Vec<Bifurcation> = found.into_iter().flatten().collect();
+    in_path_order(&mut found, points);
     // A window lies between two points of the same verdict, where no other change is;
     // the two probes can find the same one.
-    found.sort_by(|a, b| {
-        a.after
-            .cmp(&b.after)
-            .then(a.frequency.total_cmp(&b.frequency))
-    });
     found.dedup_by(|a, b| {
         a.after == b.after
             && a.loses_stability == b.loses_stability
             && (a.frequency - b.frequency).abs() <= 10.0 * BRACKET * b.frequency
     });
     Ok(found)
+}
+
+/// Sorts `found` in the order the path meets them: by stretch, and within a stretch by
+/// speed the way the path goes there. Past a fold the path goes down in speed, and two
+/// changes in one stretch (a window's edges) read in speed order would swap which one
+/// opens the window and which closes it (the reference rotor at 120 um: a window at
+/// 387.05-387.07 Hz on the way down from the 436.9 Hz fold read that way closed the band
+/// there, and the orbit, unstable up to 750 Hz, was mapped stable).
+fn in_path_order(found: &mut [Bifurcation], points: &[BranchPoint]) {
+    let downward = |i: usize| {
+        points
+            .get(i + 1)
+            .is_some_and(|next| next.solution.frequency < points[i].solution.frequency)
+    };
+    found.sort_by(|a, b| {
+        let by_speed = a.frequency.total_cmp(&b.frequency);
+        let along = if downward(a.after) {
+            by_speed.reverse()
+        } else {
+            by_speed
+        };
+        a.after.cmp(&b.after).then(along)
+    });
 }
 
 /// Where a change of stability is sought: between points i and i + 1 of different
@@ -801,6 +820,51 @@ mod tests {
             nearest: stability(frequency, multipliers),
             unstable: stability(frequency, grown),
         }
+    }
+
+    /// A path point at w, stable or not, with nothing else of a solution.
+    fn point(frequency: f64) -> BranchPoint {
+        BranchPoint {
+            solution: HbSolution {
+                frequency,
+                coefficients: Vec::new(),
+                iterations: 0,
+                relative_residual: 0.0,
+            },
+            frequency_slope: 0.0,
+            stability: None,
+        }
+    }
+
+    #[test]
+    fn changes_are_listed_in_the_order_the_path_meets_them() {
+        // Up from 1 to 3, past a fold, down to 2: a window's edges in each stretch.
+        let points: Vec<BranchPoint> = [1.0, 3.0, 2.0].into_iter().map(point).collect();
+        let change = |frequency: f64, after: usize, loses_stability: bool| {
+            let mut b = classify(
+                crossing(frequency, vec![(-1.000001, 0.0)]),
+                after,
+                true,
+                false,
+            );
+            b.loses_stability = loses_stability;
+            b
+        };
+        let mut found = vec![
+            change(2.4, 1, true),
+            change(2.6, 1, false),
+            change(1.6, 0, false),
+            change(1.4, 0, true),
+        ];
+        in_path_order(&mut found, &points);
+        let order: Vec<(f64, bool)> = found
+            .iter()
+            .map(|b| (b.frequency, b.loses_stability))
+            .collect();
+        assert_eq!(
+            order,
+            [(1.4, true), (1.6, false), (2.6, false), (2.4, true)]
+        );
     }
 
     #[test]
