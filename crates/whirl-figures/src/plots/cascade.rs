@@ -125,7 +125,7 @@ pub fn waterfall(c: &Cascade) -> Figure2d {
 /// everything below them.
 const MAP_TOP_ORDER: f64 = 2.0;
 
-/// The default top of the maps' frequency axis, Hz: [`MAP_TOP_ORDER`] times the highest
+/// The default top of the maps' frequency axis, Hz: `MAP_TOP_ORDER` times the highest
 /// speed, within the band computed.
 pub fn default_map_top_hz(c: &Cascade) -> f64 {
     let fastest = c.points.iter().map(|p| p.speed_hz).fold(0.0, f64::max);

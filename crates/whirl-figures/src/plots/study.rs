@@ -14,7 +14,7 @@ const COLOUR_DECADES: f64 = 3.0;
 /// Most panels in a row of a sweep's cascades.
 const MAX_COLUMNS: usize = 4;
 
-/// The cascades of one sweep in rows of up to [`MAX_COLUMNS`], one colour scale
+/// The cascades of one sweep in rows of up to `MAX_COLUMNS`, one colour scale
 /// (logarithmic) for all, the 1X and 0.5X lines drawn over them. A failed point (`None`)
 /// gets empty axes titled as failed.
 pub fn cascade_grid(sweep: &SweepResult, maps: &[Option<&CascadeMap>]) -> HeatMapGrid {

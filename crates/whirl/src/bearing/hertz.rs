@@ -567,7 +567,7 @@ impl NonlinearForce for HertzBearing {
 
     /// The sum of [`HertzBearing::add_slice`] over [`RollerGeometry::for_each_slice`] to
     /// round-off, arranged for the time step: the rollers' directions are turned from the
-    /// last call's ([`Turning`]) instead of evaluated, the shaft's motion is projected on
+    /// last call's (`Turning`) instead of evaluated, the shaft's motion is projected on
     /// each roller once for all its slices, and a roller that cannot touch over any of its
     /// slices is passed over.
     fn force(&mut self, at: &Kinematics, q: &[f64], v: &[f64], out: &mut [f64]) {

@@ -90,7 +90,7 @@ pub struct ContactFrequency {
 }
 
 /// The varying-compliance frequency N_b w_c, every waviness frequency and every defect's
-/// lines ([`defect_frequencies`]) of `bearing` at
+/// lines (`defect_frequencies`) of `bearing` at
 /// spin speed `speed` (rad/s), in Hz: (N_w - 1) w_c for the thesis' form, k N_b w_c for an
 /// outer ring-fixed waviness of order N_w = k N_b +- 1, |k N_b w_c - N_w Omega| for an
 /// inner one (a ring-fixed waviness of another order exerts no force on a centred shaft).

@@ -15,7 +15,7 @@
 //! The monodromy matrix is real, so its real eigenvalues come out real (an imaginary part
 //! of exactly zero) and the others in conjugate pairs. The kind is named by the
 //! multipliers that have left the circle on the unstable side of the crossing, at the
-//! unstable point nearest it ([`crossing_kind`]): one real multiplier is a +1 or -1
+//! unstable point nearest it (`crossing_kind`): one real multiplier is a +1 or -1
 //! crossing, a complex one or two equal reals leaving together a pair. One multiplier read at the crossing cannot tell
 //! them apart where a pair crosses at -1 (or +1): its imaginary part vanishes there, and
 //! the regula falsi puts its trial points there. Each change found between two branch points is located by the

@@ -4,7 +4,7 @@
 //!
 //! For each value p_j of the parameter the map follows the periodic (synchronous) response
 //! q(t; w, p_j) by harmonic balance over the speed range, with the Floquet multipliers mu of
-//! every orbit ([`crate::hbm::sweep`]). Non-synchronous vibration can only grow where that
+//! every orbit ([`crate::hbm::sweep()`]). Non-synchronous vibration can only grow where that
 //! orbit is unstable, |mu| > 1 for some multiplier, so the unstable bands in (w, p) bound
 //! where it can appear, and the multiplier that crosses the unit circle at a band's edge
 //! says how: +1 a fold (a jump to another orbit) or symmetry breaking, -1 period doubling

@@ -34,7 +34,7 @@ const ROUND_OFF_CHANGE: f64 = 1e-4;
 /// says: what `whirl check` and `whirl import-ross` report.
 ///
 /// # Errors
-/// Those of [`undamped_modes`] and [`sound_modes`].
+/// Those of [`undamped_modes`] and `sound_modes`.
 pub fn trusted_modes(model: &Model, count: usize) -> Result<UndampedModes> {
     let system = assemble_banded(model, Bearings::Linearised);
     sound_modes(model, undamped_modes(&system, count))

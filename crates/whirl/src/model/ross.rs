@@ -15,7 +15,7 @@
 //! coefficient (whirl's default for a circular tube, from the Poisson ratio
 //! nu = E / (2 G_s) - 1), rigid disks, linear bearings with constant coefficients, point
 //! masses on support nodes with the bearings linked to them (`n_link`) as housings
-//! ([`supports`]). What it cannot represent is refused, naming the element: tapered
+//! (`supports`). What it cannot represent is refused, naming the element: tapered
 //! elements, speed-dependent or mass coefficients, seals, magnetic bearings, point masses
 //! with unequal x and y mass, bearings between two shaft nodes, a support node mounted in
 //! two places, element torque, axial loads or damping that differ from element to element,

@@ -99,7 +99,7 @@ pub struct NsvStatistics {
 }
 
 /// The uncertainty of statistics taken over a speed grid, from interleaved sub-grids: the
-/// speeds dealt in turn into [`SUB_GRIDS`] sub-grids, each another grid over the same range
+/// speeds dealt in turn into `SUB_GRIDS` sub-grids, each another grid over the same range
 /// with its own records, and the statistic taken over each. A sub-grid of a k-th of the
 /// speeds scatters about root k times as much as the whole grid does about the statistic
 /// over every speed (a sampling error that falls as one over the root of the speeds), so

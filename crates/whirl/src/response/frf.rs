@@ -119,7 +119,7 @@ impl FrfResult {
 /// Steady response Q to the harmonic force `force` (complex amplitudes, N) at circular
 /// frequency `frequency` (rad/s) while the rotor spins at `speed` (rad/s): the solve of
 /// the dynamic stiffness Z = K - w^2 M + i w (C + Omega G), on its bands where they are
-/// narrow ([`solves_banded`]: an assembled mesh, whose cost grows linearly with the
+/// narrow (`solves_banded`: an assembled mesh, whose cost grows linearly with the
 /// elements) and dense otherwise (a reduced model).
 ///
 /// # Errors

@@ -131,12 +131,12 @@ fn fits_on_bands(model: &Model, bearings: Bearings) -> Result<()> {
 /// The structure is held on its bands and the balance condensed onto the contacts'
 /// coordinates ([`crate::time::static_equilibrium`]'s method), so memory and time grow
 /// linearly with the elements: every mesh a model may have is solved (but for a bearing in
-/// a housing, which widens the bands; see [`fits_on_bands`]).
+/// a housing, which widens the bands; see `fits_on_bands`).
 ///
 /// # Errors
 /// [`Error::NotConverged`] or [`Error::Singular`] when the equilibrium cannot be found (a
 /// rotor not held by its bearings); [`Error::Unsupported`] when a bearing in a housing
-/// widens the bands past memory ([`fits_on_bands`]).
+/// widens the bands past memory (`fits_on_bands`).
 pub fn static_response(model: &Model, rollers: RollerSupport) -> Result<StaticResult> {
     let (bearings, forces): (Bearings, ForceBuilder<'_>) = match rollers {
         RollerSupport::Hertz => (Bearings::NonlinearApart, &hertz_bearings),
