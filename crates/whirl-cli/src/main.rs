@@ -12,6 +12,8 @@
 //! One run per output folder at a time: the folder's lock is taken before any work (see
 //! [`output::lock`]); Ctrl-C stops cleanly (see [`interrupt`]).
 
+#![forbid(unsafe_code)]
+
 mod commands;
 mod error;
 mod interrupt;

@@ -42,6 +42,7 @@
 //! # Ok::<(), whirl_plot::PlotError>(())
 //! ```
 
+#![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
 mod axis;
