@@ -4,7 +4,7 @@
 mod common;
 // The test models; a benchmark uses only the reference rotor.
 #[allow(dead_code)]
-#[path = "../tests/common/reference.rs"]
+#[path = "../tests/suite/common/reference.rs"]
 mod reference;
 
 use reference::reference_rotor;

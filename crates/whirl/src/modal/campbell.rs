@@ -58,7 +58,7 @@ impl CampbellOptions {
 
     /// Basis size for following `modes` branches: twice as many undamped modes plus eight,
     /// which kept every branch of the reference rotors within 2e-4 of the full solve
-    /// (tests/campbell.rs).
+    /// (tests/suite/campbell.rs).
     pub fn default_basis(modes: usize) -> usize {
         2 * modes + 8
     }

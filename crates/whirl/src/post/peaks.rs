@@ -13,7 +13,7 @@
 //! window `delta = alpha / (1 + alpha)`. It is exact for an isolated complex exponential in
 //! a long record; what remains is the leakage of other components into the three bins:
 //! the sinusoid's own negative-frequency image and its neighbours. Measured on a unit sine
-//! swept across one bin 100 bins above DC, N = 4096 (`tests/spectrum.rs`):
+//! swept across one bin 100 bins above DC, N = 4096 (`tests/suite/spectrum.rs`):
 //!
 //! | window | largest bin, uncorrected | corrected amplitude | frequency |
 //! |---|---|---|---|
