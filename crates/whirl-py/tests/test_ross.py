@@ -32,7 +32,7 @@ def test_frequencies_equal_ross(name):
     found = whirl.check(model).frequencies_hz
     # Both build the same element matrices and solve the same symmetric eigenproblem in
     # double precision: measured 1e-13 to 1e-11 on rotor_example, 2e-9 on the damped
-    # example's 1-cm elements (crates/whirl/tests/ross.rs); 1e-6 leaves room above both.
+    # example's 1-cm elements (crates/whirl/tests/suite/ross.rs); 1e-6 leaves room above both.
     np.testing.assert_allclose(found, ross[: len(found)], rtol=1e-6)
 
 
