@@ -158,16 +158,6 @@ impl PyModel {
         self.model.shaft_mass()
     }
 
-    /// `count` speeds from `start` (rad/s) to 1.2 x the top operating speed (or 800 Hz).
-    fn default_speeds<'py>(
-        &self,
-        py: Python<'py>,
-        start: f64,
-        count: usize,
-    ) -> Bound<'py, PyArray1<f64>> {
-        self.model.default_speeds(start, count).into_pyarray(py)
-    }
-
     fn __repr__(&self) -> String {
         format!(
             "Model({:?}: {} nodes, {} disks, {} linear and {} roller bearings)",

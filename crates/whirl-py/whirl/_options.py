@@ -7,17 +7,15 @@ from collections.abc import Sequence
 import numpy as np
 
 from . import _whirl
-from .model import Model
 
 Speeds = str | Sequence[float] | np.ndarray | None
 
 
-def speeds(given: Speeds, model: Model, start: float, count: int, name: str = "speeds") -> np.ndarray:
-    """Speeds in rad/s: a range with a unit (``"0:800Hz:161"``), numbers in rad/s, or by
-    default ``count`` speeds from ``start`` to 1.2 x the model's top operating speed (or
-    800 Hz), as on the command line."""
+def speeds(given: Speeds, name: str = "speeds") -> np.ndarray | None:
+    """Speeds in rad/s: a range with a unit (``"0:800Hz:161"``) or numbers in rad/s, as on
+    the command line; ``None`` when none are given (the library's default)."""
     if given is None:
-        return model._raw.default_speeds(start, count)
+        return None
     if isinstance(given, str):
         return _whirl.parse_speeds(given)
     w = np.asarray(given, dtype=float).ravel()

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -136,7 +135,7 @@ def unbalance(
     model = as_model(model)
     raw, report = _whirl.unbalance(
         model._raw,
-        _options.speeds(speeds, model, 2.0 * math.pi, 800),
+        _options.speeds(speeds),
         report_nodes(model, nodes),
     )
     return UnbalanceResult(

@@ -11,7 +11,10 @@
 use std::fmt::Write;
 
 use whirl::fe::{assemble_banded, Bearings};
-use whirl::modal::{campbell, CampbellRequest, CampbellResult, DEFAULT_BRANCHES, DEFAULT_ORDER};
+use whirl::modal::{
+    campbell, CampbellRequest, CampbellResult, DEFAULT_BRANCHES, DEFAULT_CAMPBELL_SPEEDS,
+    DEFAULT_ORDER,
+};
 use whirl::model::Model;
 use whirl::report::Report;
 
@@ -27,10 +30,9 @@ use crate::progress::shown;
 pub struct Args {
     #[command(flatten)]
     pub common: Common,
-    /// Spin speeds `start:stop:count`, e.g. `0:800Hz:161` or `0:48000rpm:161`; plain
-    /// numbers are rad/s [default: 161 speeds from rest to 1.2 x the model's top
-    /// operating speed].
-    #[arg(long, value_name = "RANGE", value_parser = speeds)]
+    #[arg(long, value_name = "RANGE", value_parser = speeds,
+          help = default_is("Spin speeds `start:stop:count`, e.g. `0:800Hz:161` or `0:48000rpm:161`; plain numbers are rad/s.",
+              format_args!("{DEFAULT_CAMPBELL_SPEEDS} speeds from rest to 1.2 x the model's top operating speed")))]
     pub speeds: Option<Speeds>,
     #[arg(long, value_name = "N",
           help = default_is("Number of whirl branches to follow (1 to 200).", DEFAULT_BRANCHES))]

@@ -35,8 +35,8 @@ use whirl::nsv::{
     compare_starts, other_start_options, records_span, Cascade, CascadeOptions, CascadeReport,
     CascadeRequest, Component, NsvSummary, PreparedCascade, StartComparison, DEFAULT_COMPONENT,
     DEFAULT_MAX_ADDED, DEFAULT_MAX_RECORDS, DEFAULT_MIN_SPACING_HZ, DEFAULT_RECORD,
-    DEFAULT_RELATIVE_ERROR, DEFAULT_SETTLE, DEFAULT_SETTLE_MAX, DEFAULT_START, DEFAULT_THRESHOLD_M,
-    DEFAULT_TOLERANCE_BINS, DEFAULT_WINDOW, STARTS_DIFFER_SIGMAS,
+    DEFAULT_RELATIVE_ERROR, DEFAULT_SETTLE, DEFAULT_SETTLE_MAX, DEFAULT_SPEED_COUNT, DEFAULT_START,
+    DEFAULT_THRESHOLD_M, DEFAULT_TOLERANCE_BINS, DEFAULT_WINDOW, STARTS_DIFFER_SIGMAS,
 };
 use whirl::post::Window;
 use whirl::report::Report;
@@ -60,9 +60,9 @@ use crate::progress::{duration_text, progress_line};
 pub struct Args {
     #[command(flatten)]
     pub common: Common,
-    /// Spin speeds `start:stop:count`, e.g. `1:750Hz:150`; plain numbers are rad/s
-    /// [default: 150 speeds over the model's operating range].
-    #[arg(long, value_name = "RANGE", value_parser = speeds)]
+    #[arg(long, value_name = "RANGE", value_parser = speeds,
+          help = default_is("Spin speeds `start:stop:count`, e.g. `1:750Hz:150`; plain numbers are rad/s.",
+              format_args!("{DEFAULT_SPEED_COUNT} speeds over the model's operating range")))]
     pub speeds: Option<Speeds>,
     #[arg(long, value_name = "TIME", value_parser = time, allow_hyphen_values = true,
           help = default_is("Shortest time simulated and discarded at each speed before the record.", seconds(DEFAULT_SETTLE)))]

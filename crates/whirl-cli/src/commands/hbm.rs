@@ -255,7 +255,7 @@ fn sweep_shown(model: &Model, options: &SweepOptions) -> whirl::Result<Sweep> {
 /// The first and last speed of `--speeds` (rad/s), or the model's default range: a rising
 /// range of positive speeds, as harmonic balance needs.
 pub fn rising_range(speeds: &Option<Speeds>, model: &Model) -> miette::Result<(f64, f64)> {
-    let range = Speeds::or_default(speeds, model, TAU, 2);
+    let range = Speeds::or_default(speeds, || model.default_speeds(TAU, 2));
     match (range.first(), range.last()) {
         (Some(&a), Some(&b)) if a > 0.0 && b > a => Ok((a, b)),
         _ => Err(Diag::new(format!(

@@ -395,13 +395,13 @@ pub fn report_nodes(model: &Model, given: &[usize]) -> miette::Result<Vec<usize>
 pub struct Speeds(pub Vec<f64>);
 
 impl Speeds {
-    /// The given range, or the model's default speeds ([`Model::default_speeds`]).
-    /// A default is announced on stderr (a given range was, when it was parsed).
-    pub fn or_default(given: &Option<Speeds>, model: &Model, start: f64, count: usize) -> Vec<f64> {
+    /// The given range, or the library's `default`, announced on stderr (a given range
+    /// was, when it was parsed).
+    pub fn or_default(given: &Option<Speeds>, default: impl FnOnce() -> Vec<f64>) -> Vec<f64> {
         if let Some(s) = given {
             return s.0.clone();
         }
-        let w = model.default_speeds(start, count);
+        let w = default();
         announce(None, "speeds", &w);
         w
     }

@@ -15,10 +15,14 @@ use std::fmt::Write;
 
 use whirl::fe::{assemble_banded, Bearings};
 use whirl::report::Report;
-use whirl::response::{unbalance_response_refined, UnbalanceResult};
+use whirl::response::{
+    default_unbalance_speeds, unbalance_response_refined, UnbalanceResult,
+    DEFAULT_UNBALANCE_FROM_HZ, DEFAULT_UNBALANCE_SPEEDS,
+};
 
 use super::{
-    finish, lib, load, report_summary, round_off_note, speeds, Common, Nodes, Outcome, Speeds,
+    default_is, finish, lib, load, report_summary, round_off_note, speeds, Common, Nodes, Outcome,
+    Speeds,
 };
 use crate::output::Output;
 use crate::progress::shown;
@@ -28,9 +32,9 @@ use crate::progress::shown;
 pub struct Args {
     #[command(flatten)]
     pub common: Common,
-    /// Spin speeds `start:stop:count`, e.g. `1:800Hz:800`; plain numbers are rad/s
-    /// [default: 800 speeds from 1 Hz to 1.2 x the model's top operating speed].
-    #[arg(long, value_name = "RANGE", value_parser = speeds)]
+    #[arg(long, value_name = "RANGE", value_parser = speeds,
+          help = default_is("Spin speeds `start:stop:count`, e.g. `1:800Hz:800`; plain numbers are rad/s.",
+              format_args!("{DEFAULT_UNBALANCE_SPEEDS} speeds from {DEFAULT_UNBALANCE_FROM_HZ} Hz to 1.2 x the model's top operating speed")))]
     pub speeds: Option<Speeds>,
     #[command(flatten)]
     pub nodes: Nodes,
@@ -41,7 +45,7 @@ pub fn run(args: &Args) -> miette::Result<Outcome> {
     let model = &loaded.model;
     let nodes = args.nodes.resolve(model)?;
     let system = assemble_banded(model, Bearings::Linearised);
-    let speeds = Speeds::or_default(&args.speeds, model, 2.0 * std::f64::consts::PI, 800);
+    let speeds = Speeds::or_default(&args.speeds, || default_unbalance_speeds(model));
     let result = lib(shown("unbalance", |p| {
         unbalance_response_refined(model, &system, &speeds, &nodes, p)
     }))?;

@@ -19,5 +19,6 @@ pub use peaks::{
     margins_not_applicable, separation_margin, ResponsePeak, API617_MIN_SPEED_RATIO, BAND_SAMPLES,
 };
 pub use unbalance::{
-    unbalance_response, unbalance_response_refined, NodeResponse, UnbalanceResult, UnbalanceSummary,
+    default_unbalance_speeds, unbalance_response, unbalance_response_refined, NodeResponse,
+    UnbalanceResult, UnbalanceSummary, DEFAULT_UNBALANCE_FROM_HZ, DEFAULT_UNBALANCE_SPEEDS,
 };

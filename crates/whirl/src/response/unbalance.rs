@@ -95,6 +95,22 @@ fn scaled_force(force: &[c64], omega: f64) -> Vec<c64> {
     force.iter().map(|f| f * (omega * omega)).collect()
 }
 
+/// Speeds of an unbalance response when none are given: a step of about 1 Hz up to 900 Hz,
+/// which meets every peak of a few per cent of damping (half-power bands 2 zeta Nc wide)
+/// before [`unbalance_response_refined`] adds speeds in its band.
+pub const DEFAULT_UNBALANCE_SPEEDS: usize = 800;
+
+/// Lowest speed of the default unbalance speeds, Hz: a sweep starts just above rest.
+pub const DEFAULT_UNBALANCE_FROM_HZ: f64 = 1.0;
+
+/// The speeds of an unbalance response when none are given, rad/s:
+/// [`DEFAULT_UNBALANCE_SPEEDS`] from [`DEFAULT_UNBALANCE_FROM_HZ`] to the model's default
+/// top ([`Model::default_speeds`]).
+pub fn default_unbalance_speeds(model: &Model) -> Vec<f64> {
+    let from = 2.0 * std::f64::consts::PI * DEFAULT_UNBALANCE_FROM_HZ;
+    model.default_speeds(from, DEFAULT_UNBALANCE_SPEEDS)
+}
+
 /// Unbalance response at `nodes` over exactly `speeds` (rad/s).
 ///
 /// # Errors
