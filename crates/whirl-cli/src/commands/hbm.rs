@@ -20,7 +20,6 @@
 //! The roller passage is not periodic in the running speed; summary.json and every plot
 //! title say which periodic approximation was used ([`whirl::hbm::CageModel`]).
 
-use std::f64::consts::TAU;
 use std::fmt::Write;
 
 use whirl::bearing::ContactLaw;
@@ -28,7 +27,8 @@ use whirl::given::{Choice, Given};
 use whirl::hbm::{
     sweep_with_progress, CageKind, CageModel, HbmRequest, Sweep, SweepOptions, SweepReport,
     SweepSettings, DEFAULT_CAGE_POSITIONS, DEFAULT_CONTACT, DEFAULT_CONTACT_SMOOTHING,
-    DEFAULT_HARMONICS, DEFAULT_STABILITY_MODES, MAX_HARMONICS, RESOLUTION_TOLERANCE,
+    DEFAULT_HARMONICS, DEFAULT_LOW_SPEED, DEFAULT_STABILITY_MODES, MAX_HARMONICS,
+    RESOLUTION_TOLERANCE,
 };
 use whirl::model::Model;
 use whirl::nsv::{DEFAULT_RECORD, DEFAULT_SETTLE};
@@ -255,7 +255,7 @@ fn sweep_shown(model: &Model, options: &SweepOptions) -> whirl::Result<Sweep> {
 /// The first and last speed of `--speeds` (rad/s), or the model's default range: a rising
 /// range of positive speeds, as harmonic balance needs.
 pub fn rising_range(speeds: &Option<Speeds>, model: &Model) -> miette::Result<(f64, f64)> {
-    let range = Speeds::or_default(speeds, || model.default_speeds(TAU, 2));
+    let range = Speeds::or_default(speeds, || model.default_speeds(DEFAULT_LOW_SPEED, 2));
     match (range.first(), range.last()) {
         (Some(&a), Some(&b)) if a > 0.0 && b > a => Ok((a, b)),
         _ => Err(Diag::new(format!(
