@@ -11,7 +11,9 @@
 
 use std::fmt::Write;
 
-use whirl::modal::{check_element_count, convergence, DEFAULT_CONVERGENCE_MODES};
+use whirl::modal::{
+    check_element_count, convergence, default_element_counts, DEFAULT_CONVERGENCE_MODES,
+};
 use whirl::report::Report;
 
 use super::{default_is, finish, load, option_error, report_summary, Common, Outcome};
@@ -23,12 +25,24 @@ use crate::progress::shown;
 pub struct Args {
     #[command(flatten)]
     pub common: Common,
-    /// Total element counts, comma-separated [default: 2,4,6,...,40].
-    #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = element_count)]
+    #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = element_count,
+          help = default_is("Total element counts, comma-separated.", counts_text(&default_element_counts())))]
     pub counts: Vec<usize>,
     #[arg(long, value_name = "N",
           help = default_is("Number of modes to follow (1 to 200).", DEFAULT_CONVERGENCE_MODES))]
     pub modes: Option<usize>,
+}
+
+/// Element counts as the help shows them: the first three and the last of a long list.
+fn counts_text(counts: &[usize]) -> String {
+    match counts {
+        [a, b, c, _, .., last] => format!("{a},{b},{c},...,{last}"),
+        _ => counts
+            .iter()
+            .map(ToString::to_string)
+            .collect::<Vec<_>>()
+            .join(","),
+    }
 }
 
 /// Clap parser of an element count: a whole number, in the range the library takes

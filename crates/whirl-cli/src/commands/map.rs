@@ -12,14 +12,15 @@
 
 use std::fmt::Write;
 
+use whirl::map::check::DEFAULT_CHECK_LEVEL_M;
 use whirl::map::{growing_text, map_with, MapReport, MapRequest, Parallelism};
 use whirl::report::Report;
 
 use super::cascade::{cores, LONG_RUN_S};
 use super::hbm::{point_seconds, rising_range, speed_span, HbFlags};
 use super::{
-    finish, lib, load, option_error, positive_length, report_summary, speed, Common, Outcome,
-    Speeds,
+    default_is, finish, lib, load, metres, option_error, positive_length, report_summary, speed,
+    Common, Outcome, Speeds,
 };
 use crate::output::Output;
 use crate::progress::{duration_text, shown};
@@ -53,8 +54,8 @@ pub struct Args {
     /// that are quiet, and the speeds where they disagree.
     #[arg(long, value_name = "LIST", value_delimiter = ',')]
     pub check: Vec<String>,
-    /// NSV level of `--check` and `--confirm`, e.g. `10um` [default: 10 um].
-    #[arg(long, value_name = "LENGTH", value_parser = positive_length)]
+    #[arg(long, value_name = "LENGTH", value_parser = positive_length,
+          help = default_is("NSV level of `--check` and `--confirm`, e.g. `10um`.", metres(DEFAULT_CHECK_LEVEL_M)))]
     pub check_level: Option<f64>,
     /// Run the default cascade of the largest value `--clear-below` finds clear, up to that
     /// speed, and report whether its NSV stays below the check level.
