@@ -487,6 +487,9 @@ struct Reporting<'a> {
     stopped: bool,
 }
 
+/// How far behind the furthest speed reached a solve is named in the progress, Hz.
+const BEHIND_HZ: f64 = 0.05;
+
 impl Reporting<'_> {
     /// `inner` reporting to `progress` over the sweep's range.
     fn new<'a>(
@@ -510,11 +513,18 @@ impl Reporting<'_> {
         }
         self.furthest = self.furthest.max(frequency).min(self.to);
         let (top, to) = (rad_s_to_hz(self.furthest), rad_s_to_hz(self.to));
+        // Behind the furthest speed the path is turning back past a fold, or, once it has
+        // reached the end, the changes of stability are being located: say where.
+        let at = rad_s_to_hz(frequency);
+        let behind = top - at > BEHIND_HZ;
         let flow = tell(
             self.progress,
             top - rad_s_to_hz(self.from),
             to - rad_s_to_hz(self.from),
-            || format!("{top:.1} Hz of {to:.1} Hz"),
+            || match behind {
+                true => format!("{top:.1} Hz of {to:.1} Hz (solving at {at:.1} Hz)"),
+                false => format!("{top:.1} Hz of {to:.1} Hz"),
+            },
         );
         self.stopped |= flow.is_break();
     }

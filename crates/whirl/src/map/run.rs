@@ -8,7 +8,7 @@
 //! ([`crate::hbm::sweep`]), so the map's answer does not depend on this choice.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
@@ -130,7 +130,7 @@ impl ValueRun {
 pub fn value_run(value: &MapValue, options: &SweepOptions) -> Result<ValueRun> {
     let pool = one_thread()?;
     let counter = Counter {
-        done: AtomicUsize::new(0),
+        done: Arc::new(AtomicUsize::new(0)),
         total: 1,
         progress: None,
     };
@@ -156,7 +156,7 @@ pub(super) fn run_sweeps(
     progress: Option<&Progress>,
 ) -> Result<Vec<ValueRun>> {
     let counter = Counter {
-        done: AtomicUsize::new(0),
+        done: Arc::new(AtomicUsize::new(0)),
         total: values.len(),
         progress,
     };
@@ -235,18 +235,19 @@ fn one_sweep(
 /// Counts the finished values and tells the map's progress, passing its answer (stop or
 /// go on) to every sweep.
 struct Counter<'a> {
-    done: AtomicUsize,
+    done: Arc<AtomicUsize>,
     total: usize,
     progress: Option<&'a Progress>,
 }
 
 impl Counter<'_> {
-    /// A progress for the sweep of value `text`: the map's, told of the values done.
+    /// A progress for the sweep of value `text`: the map's, told of the values done by
+    /// the time of each report (sweeps on other threads finish meanwhile).
     fn for_value(&self, text: &str) -> Progress {
         let outer = self.progress.cloned();
-        let (text, total) = (text.to_string(), self.total);
-        let done = self.done.load(Ordering::Relaxed);
+        let (text, total, count) = (text.to_string(), self.total, Arc::clone(&self.done));
         Progress::new(move |r| {
+            let done = count.load(Ordering::Relaxed);
             let message = format!("{done}/{total} values; {text}: {}", r.message);
             tell(outer.as_ref(), done as f64, total as f64, || message)
         })
