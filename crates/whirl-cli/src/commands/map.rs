@@ -175,9 +175,12 @@ fn text_summary(report: &MapReport) -> String {
             } else {
                 "; a stable orbit coexists over part of it".into()
             };
+            let growth = b
+                .largest_growth_per_s
+                .map_or(String::new(), |g| format!(", growth up to {g:.3}/s"));
             let _ = writeln!(
                 text,
-                "    unstable {:.2}-{:.2} Hz: opens by {}{emerging}, closes by {}{coexists}",
+                "    unstable {:.2}-{:.2} Hz{growth}: opens by {}{emerging}, closes by {}{coexists}",
                 b.span_hz[0], b.span_hz[1], b.opens, b.closes
             );
             // A band that wanders through a resonance changes its leading multiplier many

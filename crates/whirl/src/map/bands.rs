@@ -91,6 +91,10 @@ pub struct UnstableBand {
     /// crossed where it opened). A band opened by period doubling can go on unstable
     /// through a complex pair at quite another frequency, which no edge shows.
     pub growing: Vec<Growing>,
+    /// The largest real part of the Floquet exponents at the band's points, 1/s: how fast
+    /// the orbit is left (a tongue at a few per second against a whip band at hundreds);
+    /// `None` for a window between two points, with no point inside.
+    pub largest_growth_per_s: Option<f64>,
 }
 
 /// How the leading multiplier (the largest modulus) leaves the unit circle.
@@ -237,6 +241,12 @@ fn close(branch: &Branch, o: &Open, speed: f64, edge: Edge) -> UnstableBand {
         coexisting_stable_hz: stable_within(branch, lo, hi),
         growing: growing(branch, &o.points)
             .unwrap_or_else(|| grows_by(&o.edge, lo, hi).into_iter().collect()),
+        largest_growth_per_s: o
+            .points
+            .iter()
+            .filter_map(|&i| branch.points[i].stability.as_ref())
+            .map(|s| s.max_real)
+            .reduce(f64::max),
     }
 }
 

@@ -332,6 +332,7 @@ mod tests {
             span_hz: [lo, hi],
             coexisting_stable_hz: Vec::new(),
             growing: Vec::new(),
+            largest_growth_per_s: None,
         }
     }
 

@@ -183,6 +183,9 @@ pub struct BandSummary {
     pub coexisting_stable_hz: Vec<[f64; 2]>,
     /// What grows inside it, stretch by stretch.
     pub growing: Vec<Growing>,
+    /// The largest real part of its points' Floquet exponents, 1/s (none for a window
+    /// between two points).
+    pub largest_growth_per_s: Option<f64>,
 }
 
 /// The answer to "which values keep the orbit free of unstable bands below this speed".
@@ -260,6 +263,7 @@ fn band_summary(b: &UnstableBand) -> BandSummary {
         span_hz: b.span_hz,
         coexisting_stable_hz: b.coexisting_stable_hz.clone(),
         growing: b.growing.clone(),
+        largest_growth_per_s: b.largest_growth_per_s,
     }
 }
 
@@ -354,6 +358,10 @@ impl MapReport {
             .text(
                 "growing",
                 rows.iter().map(|(_, b)| growing_text(&b.growing)),
+            )
+            .optional(
+                "largest_growth_per_s",
+                rows.iter().map(|(_, b)| b.largest_growth_per_s),
             );
         t
     }
