@@ -521,9 +521,12 @@ impl Reporting<'_> {
             self.progress,
             top - rad_s_to_hz(self.from),
             to - rad_s_to_hz(self.from),
-            || match behind {
-                true => format!("{top:.1} Hz of {to:.1} Hz (solving at {at:.1} Hz)"),
-                false => format!("{top:.1} Hz of {to:.1} Hz"),
+            || {
+                if behind {
+                    format!("{top:.1} Hz of {to:.1} Hz (solving at {at:.1} Hz)")
+                } else {
+                    format!("{top:.1} Hz of {to:.1} Hz")
+                }
             },
         );
         self.stopped |= flow.is_break();
